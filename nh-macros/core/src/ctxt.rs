@@ -1,0 +1,99 @@
+//! Error collection, modelled on serde_derive's `Ctxt`: every stage records
+//! its errors here and carries on, so one compilation reports every
+//! independent mistake; the caller combines them at the end.
+
+use proc_macro2::{Ident, Span, TokenStream};
+use quote::ToTokens;
+use std::fmt::Display;
+
+/// Collects errors during parsing, lowering and derivation.
+#[derive(Default)]
+pub struct Ctxt {
+    errors: Vec<syn::Error>,
+}
+
+/// A source range given by its first and last token spans; used to point an
+/// error at a whole subexpression on stable Rust (where `Span::join` is not
+/// available, `syn::Error::new_spanned` covers first-to-last token).
+#[derive(Clone, Copy, Debug)]
+pub struct SpanRange {
+    /// Span of the first token.
+    pub first: Span,
+    /// Span of the last token.
+    pub last: Span,
+}
+
+impl SpanRange {
+    /// A range of one token.
+    pub fn single(s: Span) -> SpanRange {
+        SpanRange { first: s, last: s }
+    }
+
+    /// The range from the start of `self` to the end of `other`.
+    pub fn to(self, other: SpanRange) -> SpanRange {
+        SpanRange {
+            first: self.first,
+            last: other.last,
+        }
+    }
+}
+
+impl ToTokens for SpanRange {
+    fn to_tokens(&self, tokens: &mut TokenStream) {
+        tokens.extend([
+            proc_macro2::TokenTree::Ident(Ident::new("first", self.first)),
+            proc_macro2::TokenTree::Ident(Ident::new("last", self.last)),
+        ]);
+    }
+}
+
+impl Ctxt {
+    /// A new, empty context.
+    pub fn new() -> Ctxt {
+        Ctxt::default()
+    }
+
+    /// Records an error spanning `range`.
+    pub fn error(&mut self, range: SpanRange, msg: impl Display) {
+        self.errors.push(syn::Error::new_spanned(range, msg));
+    }
+
+    /// Records an error at one span.
+    pub fn error_at(&mut self, span: Span, msg: impl Display) {
+        self.errors.push(syn::Error::new(span, msg));
+    }
+
+    /// Records a syn error (from a failed parse).
+    pub fn syn_error(&mut self, e: syn::Error) {
+        self.errors.push(e);
+    }
+
+    /// Number of errors so far.
+    pub fn len(&self) -> usize {
+        self.errors.len()
+    }
+
+    /// Whether no error has been recorded.
+    pub fn is_empty(&self) -> bool {
+        self.errors.is_empty()
+    }
+
+    /// The recorded errors, one combined error if there are any.
+    pub fn finish(self) -> Result<(), syn::Error> {
+        let mut it = self.errors.into_iter();
+        match it.next() {
+            None => Ok(()),
+            Some(mut first) => {
+                for e in it {
+                    first.combine(e);
+                }
+                Err(first)
+            }
+        }
+    }
+
+    /// The individual errors (for tests).
+    pub fn errors(&self) -> &[syn::Error] {
+        &self.errors
+    }
+}

@@ -1,0 +1,59 @@
+//! The engine behind `nonholonomic_system!`: parsing, symbolic algebra,
+//! mechanics and code emission, each in its own module.
+//!
+//! [`expand`] is the whole macro: it never panics, collects every error it
+//! finds and reports them together, pointing at the tokens at fault.
+#![forbid(unsafe_code)]
+
+pub mod ctxt;
+pub mod emit;
+pub mod generate;
+pub mod lower;
+pub mod mechanics;
+pub mod names;
+pub mod parse;
+pub mod sym;
+
+use proc_macro2::TokenStream;
+use quote::quote;
+
+/// Expands a `nonholonomic_system!` invocation.
+pub fn expand(input: TokenStream) -> TokenStream {
+    expand_with_stats(input).0
+}
+
+/// Expands and reports figures about the expansion (operation counts, the
+/// route chosen, what was derived).
+pub fn expand_with_stats(input: TokenStream) -> (TokenStream, generate::Stats) {
+    let mut cx = ctxt::Ctxt::new();
+    let def = parse::parse_system(input, &mut cx);
+    let mut out = TokenStream::new();
+    let mut stats = generate::Stats::default();
+    if let Some(def) = &def
+        && let Some(model) = lower::lower(def, &mut cx)
+    {
+        let (tokens, s) = generate::generate(def, model, &mut cx);
+        out = tokens;
+        stats = s;
+    }
+    match cx.finish() {
+        Ok(()) => (out, stats),
+        Err(e) => {
+            let errors = e.to_compile_error();
+            let fallback = def.as_ref().map(fallback).unwrap_or_default();
+            (quote!(#fallback #errors), stats)
+        }
+    }
+}
+
+/// A stand-in struct emitted next to the errors so that the user's other
+/// code that names the system still type-checks and no follow-up errors
+/// bury the real ones.
+fn fallback(def: &parse::SystemDef) -> TokenStream {
+    let name = &def.name;
+    let vis = &def.vis;
+    quote! {
+        #[allow(non_snake_case, dead_code)]
+        #vis struct #name<T = f64>(::core::marker::PhantomData<T>);
+    }
+}

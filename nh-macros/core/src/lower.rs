@@ -1,0 +1,888 @@
+//! Name resolution and lowering of the surface syntax into the symbolic
+//! engine: the Lagrangian, forces and constraints become expressions in the
+//! coordinates, velocities, parameters, inputs and time, and every misuse of
+//! a name is reported at its token.
+
+use crate::ctxt::{Ctxt, SpanRange};
+use crate::names;
+use crate::parse::{BinOp, Expr, SystemDef};
+use crate::sym::{Engine, ExprId, Fun, ONE, Rational, SymId, ZERO};
+use proc_macro2::{Ident, Span};
+use std::collections::HashMap;
+
+/// The functions of the input language.
+pub const FUNCTIONS: [&str; 6] = ["sin", "cos", "tan", "exp", "ln", "sqrt"];
+
+/// Names that cannot be declared: the language's own words.
+const RESERVED: [&str; 9] = ["t", "pi", "dot", "sin", "cos", "tan", "exp", "ln", "sqrt"];
+
+/// The opt-in outputs (DESIGN §3) plus `routes`.
+pub const OUTPUTS: [&str; 7] = [
+    "multipliers",
+    "curvature",
+    "energy",
+    "constraint_matrix",
+    "mass_matrix",
+    "jacobian",
+    "routes",
+];
+
+/// Which opt-in outputs a system asked for.
+#[derive(Clone, Debug, Default)]
+pub struct Outputs {
+    /// `multipliers`
+    pub multipliers: bool,
+    /// `curvature`
+    pub curvature: bool,
+    /// `energy`
+    pub energy: bool,
+    /// `constraint_matrix`
+    pub constraint_matrix: bool,
+    /// `mass_matrix`
+    pub mass_matrix: bool,
+    /// `jacobian`
+    pub jacobian: bool,
+    /// `routes`: both derivation routes as separate methods
+    pub routes: bool,
+}
+
+/// A system after lowering: everything the mechanics needs, as symbols and
+/// expressions of one engine.
+pub struct Model {
+    /// The engine holding every expression below.
+    pub engine: Engine,
+    /// Parameter names in declared order.
+    pub params: Vec<Ident>,
+    /// Coordinate names in declared order (THE coordinate order).
+    pub coords: Vec<Ident>,
+    /// Input names.
+    pub inputs: Vec<Ident>,
+    /// Symbols of the parameters.
+    pub param_syms: Vec<SymId>,
+    /// Symbols of the coordinates.
+    pub coord_syms: Vec<SymId>,
+    /// Symbols of the velocities (same order).
+    pub vel_syms: Vec<SymId>,
+    /// Symbols of the inputs.
+    pub input_syms: Vec<SymId>,
+    /// Time.
+    pub t_sym: SymId,
+    /// π.
+    pub pi_sym: SymId,
+    /// L(q, q̇, t).
+    pub lagrangian: ExprId,
+    /// Q_j per coordinate (zero where none is given).
+    pub forces: Vec<ExprId>,
+    /// Indices of the independent coordinates r, ascending.
+    pub independent: Vec<usize>,
+    /// Indices of the dependent coordinates s, ascending.
+    pub dependent: Vec<usize>,
+    /// ṡ_a as written (a linear form in ṙ), per dependent coordinate in `dependent` order.
+    pub dependent_velocity: Vec<ExprId>,
+    /// A^a_α (p × k): minus the coefficient of ṙ_α in the constraint of s_a.
+    pub a_matrix: Vec<Vec<ExprId>>,
+    /// Requested outputs.
+    pub outputs: Outputs,
+    /// Span of the `constraints` keyword, if any (for diagnostics).
+    pub constraints_span: Option<Span>,
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Binding {
+    Param(usize),
+    Coord(usize),
+    Input(usize),
+    Let(usize),
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Place {
+    Let,
+    Lagrangian,
+    Force,
+    Constraint,
+}
+
+struct LetInfo {
+    value: Option<ExprId>,
+    name: Ident,
+}
+
+struct Lowerer<'a> {
+    cx: &'a mut Ctxt,
+    e: Engine,
+    scope: HashMap<String, Binding>,
+    param_syms: Vec<SymId>,
+    coord_syms: Vec<SymId>,
+    vel_syms: Vec<SymId>,
+    input_syms: Vec<SymId>,
+    lets: Vec<LetInfo>,
+    t_sym: SymId,
+    pi_sym: SymId,
+    place: Place,
+}
+
+/// Lowers a parsed system. Returns `None` when errors make a model
+/// meaningless; all errors are in `cx`.
+pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
+    let mut e = Engine::new();
+    let t_sym = e.symbol("t");
+    let pi_sym = e.symbol("pi");
+    let params: Vec<Ident> = def
+        .parameters
+        .as_ref()
+        .map(|p| p.1.clone())
+        .unwrap_or_default();
+    let coords: Vec<Ident> = def
+        .coordinates
+        .as_ref()
+        .map(|p| p.1.clone())
+        .unwrap_or_default();
+    let inputs: Vec<Ident> = def.inputs.as_ref().map(|p| p.1.clone()).unwrap_or_default();
+    if def.coordinates.is_none() {
+        cx.error_at(
+            def.name.span(),
+            "missing `coordinates { .. }`: list the generalized coordinates, e.g. `coordinates { x, y, theta }`",
+        );
+    } else if coords.is_empty() {
+        cx.error_at(
+            def.coordinates
+                .as_ref()
+                .map(|c| c.0.span())
+                .unwrap_or(def.name.span()),
+            "`coordinates` is empty: a system needs at least one coordinate",
+        );
+    }
+
+    // declarations: duplicates, shadowing and reserved words
+    let mut scope: HashMap<String, Binding> = HashMap::new();
+    let mut declared: HashMap<String, (&'static str, Span)> = HashMap::new();
+    let mut declare = |cx: &mut Ctxt, id: &Ident, kind: &'static str| -> bool {
+        let s = id.to_string();
+        if RESERVED.contains(&s.as_str()) {
+            let what = match s.as_str() {
+                "t" => "`t` is time",
+                "pi" => "`pi` is the constant π",
+                "dot" => "`dot` is the time derivative",
+                _ => "it is a function of the language",
+            };
+            cx.error_at(
+                id.span(),
+                format!("`{s}` cannot be used as a {kind} name: {what}; choose another name"),
+            );
+            return false;
+        }
+        if let Some((prev_kind, _)) = declared.get(&s) {
+            cx.error_at(
+                id.span(),
+                format!("`{s}` is already declared as a {prev_kind}; every parameter, coordinate, input and `let` needs its own name"),
+            );
+            return false;
+        }
+        declared.insert(s, (kind, id.span()));
+        true
+    };
+    let mut param_syms = Vec::new();
+    for (i, p) in params.iter().enumerate() {
+        if declare(cx, p, "parameter") {
+            scope.insert(p.to_string(), Binding::Param(i));
+        }
+        param_syms.push(e.symbol(&p.to_string()));
+    }
+    let mut coord_syms = Vec::new();
+    let mut vel_syms = Vec::new();
+    for (i, c) in coords.iter().enumerate() {
+        if declare(cx, c, "coordinate") {
+            scope.insert(c.to_string(), Binding::Coord(i));
+        }
+        coord_syms.push(e.symbol(&c.to_string()));
+    }
+    for c in &coords {
+        vel_syms.push(e.symbol(&format!("dot({c})")));
+    }
+    let mut input_syms = Vec::new();
+    for (i, u) in inputs.iter().enumerate() {
+        if declare(cx, u, "input") {
+            scope.insert(u.to_string(), Binding::Input(i));
+        }
+        input_syms.push(e.symbol(&u.to_string()));
+    }
+    let let_names: Vec<Ident> = def.lets.iter().map(|l| l.name.clone()).collect();
+    let mut let_ok = Vec::new();
+    for l in &let_names {
+        let_ok.push(declare(cx, l, "`let`"));
+    }
+
+    let mut lw = Lowerer {
+        cx,
+        e,
+        scope,
+        param_syms,
+        coord_syms,
+        vel_syms,
+        input_syms,
+        lets: Vec::new(),
+        t_sym,
+        pi_sym,
+        place: Place::Let,
+    };
+
+    // lets, in order: later ones may use earlier ones
+    for (i, l) in def.lets.iter().enumerate() {
+        lw.place = Place::Let;
+        let v = lw.lower(&l.value, 0);
+        lw.lets.push(LetInfo {
+            value: v,
+            name: l.name.clone(),
+        });
+        if let_ok[i] {
+            lw.scope.insert(l.name.to_string(), Binding::Let(i));
+        }
+    }
+
+    // the Lagrangian: exactly one
+    let mut lagrangian = None;
+    match def.lagrangians.as_slice() {
+        [] => lw.cx.error_at(
+            def.name.span(),
+            "missing `lagrangian = ..;`: give the Lagrangian L = T - V in terms of the coordinates and `dot(q)` velocities",
+        ),
+        [(_, expr), rest @ ..] => {
+            for (kw, _) in rest {
+                lw.cx.error_at(kw.span(), "duplicate `lagrangian`: a system has exactly one Lagrangian; combine the terms into one expression");
+            }
+            lw.place = Place::Lagrangian;
+            lagrangian = lw.lower(expr, 0);
+        }
+    }
+
+    // forces
+    let n = coords.len();
+    let mut forces = vec![ZERO; n];
+    let mut force_seen: Vec<Option<Span>> = vec![None; n];
+    if let Some((_, list)) = &def.forces {
+        for f in list {
+            lw.place = Place::Force;
+            let v = lw.lower(&f.value, 0);
+            match lw.scope.get(&f.coordinate.to_string()) {
+                Some(Binding::Coord(i)) => {
+                    let i = *i;
+                    if force_seen[i].is_some() {
+                        lw.cx.error_at(f.coordinate.span(), format!("a second force on `{}`: write the sum of the forces on one coordinate as one expression", f.coordinate));
+                    } else if let Some(v) = v {
+                        forces[i] = v;
+                        force_seen[i] = Some(f.coordinate.span());
+                    }
+                }
+                _ => {
+                    let cands: Vec<String> = coords.iter().map(|c| c.to_string()).collect();
+                    let refs: Vec<&str> = cands.iter().map(|s| s.as_str()).collect();
+                    let hint = names::suggest(&f.coordinate.to_string(), &refs);
+                    lw.cx.error_at(
+                        f.coordinate.span(),
+                        format!("`{}` is not a coordinate{hint}: a force is given as `coordinate: Q;` for one of {}", f.coordinate, list_names(&coords)),
+                    );
+                }
+            }
+        }
+    }
+
+    // constraints
+    let mut dep_of: Vec<Option<usize>> = vec![None; n]; // coordinate -> constraint index
+    let mut constraint_rhs: Vec<(usize, ExprId, &crate::parse::Constraint)> = Vec::new();
+    let constraints_span = def.constraints.as_ref().map(|c| c.0.span());
+    if let Some((_, list)) = &def.constraints {
+        for (ci, c) in list.iter().enumerate() {
+            let Some(s) = lw.constraint_lhs(&c.lhs, &coords) else {
+                continue;
+            };
+            if let Some(prev) = dep_of[s] {
+                let _ = prev;
+                lw.cx.error(
+                    c.lhs.range(),
+                    format!("`{}` is constrained twice: each dependent coordinate has exactly one constraint `dot({}) = ..`; merge them or choose another dependent coordinate", coords[s], coords[s]),
+                );
+                continue;
+            }
+            dep_of[s] = Some(ci);
+            lw.place = Place::Constraint;
+            if let Some(v) = lw.lower(&c.rhs, 0) {
+                constraint_rhs.push((s, v, c));
+            }
+        }
+    }
+    let dependent: Vec<usize> = (0..n).filter(|&i| dep_of[i].is_some()).collect();
+    let independent: Vec<usize> = (0..n).filter(|&i| dep_of[i].is_none()).collect();
+    if n > 0 && independent.is_empty() {
+        lw.cx.error_at(
+            constraints_span.unwrap_or(def.name.span()),
+            "every coordinate is constrained: no independent coordinate is left; a system needs at least one coordinate that is not on the left side of a constraint",
+        );
+    }
+
+    // constraint right sides: linear and homogeneous in the independent velocities
+    let mut a_matrix = vec![vec![ZERO; independent.len()]; dependent.len()];
+    let mut dependent_velocity = vec![ZERO; dependent.len()];
+    for (s, rhs, c) in &constraint_rhs {
+        let a = dependent.iter().position(|d| d == s).unwrap_or(0);
+        if let Some(row) = lw.analyse_constraint(*s, *rhs, c, &coords, &dependent, &independent) {
+            a_matrix[a] = row;
+            dependent_velocity[a] = *rhs;
+        }
+    }
+
+    // outputs
+    let mut outputs = Outputs::default();
+    if let Some((_, list)) = &def.outputs {
+        for o in list {
+            let name = o.to_string();
+            let flag = match name.as_str() {
+                "multipliers" => &mut outputs.multipliers,
+                "curvature" => &mut outputs.curvature,
+                "energy" => &mut outputs.energy,
+                "constraint_matrix" => &mut outputs.constraint_matrix,
+                "mass_matrix" => &mut outputs.mass_matrix,
+                "jacobian" => &mut outputs.jacobian,
+                "routes" => &mut outputs.routes,
+                _ => {
+                    let hint = names::suggest(&name, &OUTPUTS);
+                    lw.cx.error_at(
+                        o.span(),
+                        format!(
+                            "unknown output `{name}`{hint}; the outputs are {}",
+                            OUTPUTS.map(|s| format!("`{s}`")).join(", ")
+                        ),
+                    );
+                    continue;
+                }
+            };
+            if *flag {
+                lw.cx
+                    .error_at(o.span(), format!("output `{name}` is listed twice"));
+            }
+            *flag = true;
+        }
+    }
+
+    if lw.e.overflowed() {
+        lw.cx.error_at(
+            def.name.span(),
+            "a rational coefficient overflowed 128 bits or an expression grew beyond the engine's limit: simplify the input (fewer digits in literals, smaller powers)",
+        );
+    }
+    let lagrangian = lagrangian?;
+    if !lw.cx.is_empty() {
+        return None;
+    }
+    Some(Model {
+        engine: lw.e,
+        params,
+        coords,
+        inputs,
+        param_syms: lw.param_syms,
+        coord_syms: lw.coord_syms,
+        vel_syms: lw.vel_syms,
+        input_syms: lw.input_syms,
+        t_sym: lw.t_sym,
+        pi_sym: lw.pi_sym,
+        lagrangian,
+        forces,
+        independent,
+        dependent,
+        dependent_velocity,
+        a_matrix,
+        outputs,
+        constraints_span,
+    })
+}
+
+fn list_names(ids: &[Ident]) -> String {
+    ids.iter()
+        .map(|i| format!("`{i}`"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+impl Lowerer<'_> {
+    fn known_names(&self) -> Vec<String> {
+        let mut v: Vec<String> = self.scope.keys().cloned().collect();
+        v.push("t".into());
+        v.push("pi".into());
+        v.sort();
+        v
+    }
+
+    /// Lowers a surface expression; `None` after recording an error.
+    fn lower(&mut self, x: &Expr, depth: usize) -> Option<ExprId> {
+        if depth > crate::parse::MAX_DEPTH {
+            self.cx.error(
+                x.range(),
+                "expression nested too deeply: split it into `let` items",
+            );
+            return None;
+        }
+        match x {
+            Expr::Num(q, _) => Some(self.e.constant(*q)),
+            Expr::Name(id) => self.lower_name(id),
+            Expr::Neg(inner, _) => {
+                let v = self.lower(inner, depth + 1)?;
+                Some(self.e.neg(v))
+            }
+            Expr::Bin { op, lhs, rhs, .. } => {
+                let l = self.lower(lhs, depth + 1);
+                let r = self.lower(rhs, depth + 1);
+                let (l, r) = (l?, r?);
+                Some(match op {
+                    BinOp::Add => self.e.add(l, r),
+                    BinOp::Sub => self.e.sub(l, r),
+                    BinOp::Mul => self.e.mul(l, r),
+                    BinOp::Div => {
+                        if r == ZERO {
+                            self.cx.error(rhs.range(), "division by zero");
+                            return None;
+                        }
+                        self.e.div(l, r)
+                    }
+                    BinOp::Pow => match self.e.as_constant(r) {
+                        Some(q) => {
+                            if l == ZERO && !(q > Rational::ZERO) {
+                                self.cx
+                                    .error(x.range(), "zero to a non-positive power is undefined");
+                                return None;
+                            }
+                            if q.abs() > Rational::int(64) && self.e.as_constant(l).is_none() {
+                                self.cx.error(
+                                    rhs.range(),
+                                    "exponent too large: powers up to 64 are supported",
+                                );
+                                return None;
+                            }
+                            self.e.pow(l, q)
+                        }
+                        // a^b = exp(b ln a) for a symbolic exponent
+                        None => {
+                            let ln = self.e.func(Fun::Ln, l);
+                            let p = self.e.mul(r, ln);
+                            self.e.func(Fun::Exp, p)
+                        }
+                    },
+                })
+            }
+            Expr::Call { func, arg, range } => self.lower_call(func, arg, *range, depth),
+        }
+    }
+
+    fn lower_name(&mut self, id: &Ident) -> Option<ExprId> {
+        let s = id.to_string();
+        match self.scope.get(&s).copied() {
+            Some(Binding::Param(i)) => Some(self.e.sym(self.param_syms[i])),
+            Some(Binding::Coord(i)) => Some(self.e.sym(self.coord_syms[i])),
+            Some(Binding::Input(i)) => {
+                match self.place {
+                    Place::Lagrangian => {
+                        self.cx.error_at(id.span(), format!("input `{s}` cannot appear in the Lagrangian: inputs act through `forces {{ q: ..; }}` (generalized forces), which is where actuation belongs"));
+                        return None;
+                    }
+                    Place::Constraint => {
+                        self.cx.error_at(id.span(), format!("input `{s}` cannot appear in a constraint: constraints depend on the coordinates only"));
+                        return None;
+                    }
+                    _ => {}
+                }
+                Some(self.e.sym(self.input_syms[i]))
+            }
+            Some(Binding::Let(i)) => {
+                let v = self.lets[i].value?;
+                if self.place == Place::Lagrangian
+                    && self.input_syms.iter().any(|&u| self.e.depends_on(v, u))
+                {
+                    self.cx.error_at(id.span(), format!("`{s}` depends on an input, and inputs cannot appear in the Lagrangian: put actuation in `forces`"));
+                    return None;
+                }
+                Some(v)
+            }
+            None => match s.as_str() {
+                "t" => {
+                    if self.place == Place::Constraint {
+                        self.cx.error_at(id.span(), "time-dependent (rheonomic) constraints are not supported: a constraint may depend on the coordinates only");
+                        return None;
+                    }
+                    Some(self.e.sym(self.t_sym))
+                }
+                "pi" => Some(self.e.sym(self.pi_sym)),
+                _ if FUNCTIONS.contains(&s.as_str()) || s == "dot" => {
+                    self.cx.error_at(
+                        id.span(),
+                        format!("`{s}` is a function: call it with an argument, as in `{s}(x)`"),
+                    );
+                    None
+                }
+                _ => {
+                    let known = self.known_names();
+                    let refs: Vec<&str> = known.iter().map(|k| k.as_str()).collect();
+                    let hint = names::suggest(&s, &refs);
+                    let is_future_let = self.lets.len() < usize::MAX && false;
+                    let _ = is_future_let;
+                    self.cx.error_at(id.span(), format!("unknown name `{s}`{hint}: declare it in `parameters {{ .. }}`, `coordinates {{ .. }}`, `inputs {{ .. }}` or with an earlier `let`"));
+                    None
+                }
+            },
+        }
+    }
+
+    fn lower_call(
+        &mut self,
+        func: &Ident,
+        arg: &Expr,
+        range: SpanRange,
+        depth: usize,
+    ) -> Option<ExprId> {
+        let f = func.to_string();
+        if f == "dot" {
+            return self.lower_dot(arg, range);
+        }
+        let fun = match f.as_str() {
+            "sin" => Some(Fun::Sin),
+            "cos" => Some(Fun::Cos),
+            "tan" => Some(Fun::Tan),
+            "exp" => Some(Fun::Exp),
+            "ln" => Some(Fun::Ln),
+            "sqrt" => None,
+            _ => {
+                let mut cands: Vec<&str> = FUNCTIONS.to_vec();
+                cands.push("dot");
+                let hint = names::suggest(&f, &cands);
+                let extra = if f == "log" {
+                    " (the natural logarithm is `ln`)"
+                } else {
+                    ""
+                };
+                self.cx.error_at(
+                    func.span(),
+                    format!("unknown function `{f}`{hint}{extra}; the functions are `sin`, `cos`, `tan`, `exp`, `ln`, `sqrt` and `dot` (time derivative)"),
+                );
+                // still lower the argument to find errors inside it
+                let _ = self.lower(arg, depth + 1);
+                return None;
+            }
+        };
+        let a = self.lower(arg, depth + 1)?;
+        Some(match fun {
+            Some(fun) => self.e.func(fun, a),
+            None => self.e.pow(a, Rational::new(1, 2).unwrap_or(Rational::ONE)),
+        })
+    }
+
+    fn lower_dot(&mut self, arg: &Expr, range: SpanRange) -> Option<ExprId> {
+        let id = match arg {
+            Expr::Name(id) => id,
+            Expr::Call { func, .. } if func == "dot" => {
+                self.cx.error(range, "`dot(dot(..))`: second derivatives cannot be written; the equations of motion are derived from the Lagrangian, which needs only velocities `dot(q)`");
+                return None;
+            }
+            _ => {
+                self.cx.error(arg.range(), "`dot` takes a coordinate or the name of a `let`; to differentiate an expression, name it first: `let X = ..;` then `dot(X)`");
+                return None;
+            }
+        };
+        let s = id.to_string();
+        match self.scope.get(&s).copied() {
+            Some(Binding::Coord(i)) => Some(self.e.sym(self.vel_syms[i])),
+            Some(Binding::Let(i)) => {
+                let v = self.lets[i].value?;
+                let name = self.lets[i].name.clone();
+                let fs = self.e.free_symbols(v).to_vec();
+                if self.vel_syms.iter().any(|vs| fs.contains(vs)) {
+                    self.cx.error(range, format!("`dot({name})`: `{name}` contains velocities, and its time derivative would need accelerations; `dot` applies to velocity-free `let`s only"));
+                    return None;
+                }
+                if self.input_syms.iter().any(|u| fs.contains(u)) {
+                    self.cx.error(range, format!("`dot({name})`: `{name}` depends on an input, whose time derivative is unknown"));
+                    return None;
+                }
+                // total derivative by the chain rule: Σ ∂/∂q_i q̇_i + ∂/∂t
+                let mut parts = Vec::new();
+                for i in 0..self.coord_syms.len() {
+                    let d = self.e.diff(v, self.coord_syms[i]);
+                    if d != ZERO {
+                        let vel = self.e.sym(self.vel_syms[i]);
+                        parts.push(self.e.mul(d, vel));
+                    }
+                }
+                let dt = self.e.diff(v, self.t_sym);
+                parts.push(dt);
+                Some(self.e.sum(&parts))
+            }
+            Some(Binding::Param(_)) => {
+                self.cx.error(range, format!("`dot({s})`: `{s}` is a parameter, constant in time, so its derivative is 0; remove the term"));
+                None
+            }
+            Some(Binding::Input(_)) => {
+                self.cx.error(
+                    range,
+                    format!("`dot({s})`: the time derivative of input `{s}` is unknown"),
+                );
+                None
+            }
+            None => {
+                if s == "t" {
+                    self.cx.error(range, "`dot(t)` is 1: write `1`");
+                    return None;
+                }
+                let known = self.known_names();
+                let refs: Vec<&str> = known.iter().map(|k| k.as_str()).collect();
+                let hint = names::suggest(&s, &refs);
+                self.cx.error_at(id.span(), format!("unknown name `{s}`{hint} in `dot(..)`: `dot` takes a coordinate or a `let` name"));
+                None
+            }
+        }
+    }
+
+    /// The dependent coordinate of a constraint's left side `dot(s)`.
+    fn constraint_lhs(&mut self, lhs: &Expr, coords: &[Ident]) -> Option<usize> {
+        let msg = "the left side of a constraint must be `dot(s)` for a coordinate `s`, which becomes dependent: write `dot(s) = a1(q)*dot(r1) + ..`";
+        match lhs {
+            Expr::Call { func, arg, .. } if func == "dot" => match &**arg {
+                Expr::Name(id) => match self.scope.get(&id.to_string()) {
+                    Some(Binding::Coord(i)) => Some(*i),
+                    _ => {
+                        let cands: Vec<String> = coords.iter().map(|c| c.to_string()).collect();
+                        let refs: Vec<&str> = cands.iter().map(|s| s.as_str()).collect();
+                        let hint = names::suggest(&id.to_string(), &refs);
+                        self.cx.error_at(
+                            id.span(),
+                            format!("`{id}` is not a coordinate{hint}: {msg}"),
+                        );
+                        None
+                    }
+                },
+                _ => {
+                    self.cx.error(lhs.range(), msg);
+                    None
+                }
+            },
+            _ => {
+                self.cx.error(lhs.range(), msg);
+                None
+            }
+        }
+    }
+
+    /// Checks a constraint's right side and returns its row of A.
+    fn analyse_constraint(
+        &mut self,
+        s: usize,
+        rhs: ExprId,
+        c: &crate::parse::Constraint,
+        coords: &[Ident],
+        dependent: &[usize],
+        independent: &[usize],
+    ) -> Option<Vec<ExprId>> {
+        let sname = &coords[s];
+        let form = "a constraint must have the form `dot(s) = a1(q)*dot(r1) + a2(q)*dot(r2) + ..`, linear and homogeneous in the velocities of the independent coordinates";
+        // dependent velocities on the right side
+        for &d in dependent {
+            if self.e.depends_on(rhs, self.vel_syms[d]) {
+                let culprit = self.find_velocity_use(&c.rhs, d).unwrap_or(c.rhs.range());
+                if d == s {
+                    self.cx.error(culprit, format!("`dot({sname})` appears on both sides of its own constraint, so the constraint cannot be solved for it at a generic point; move the term to the left and divide by its coefficient"));
+                } else {
+                    self.cx.error(culprit, format!("the constraint for `{sname}` uses `dot({})`, the velocity of a dependent coordinate; substitute its constraint so that the right side has only independent velocities", coords[d]));
+                }
+                return None;
+            }
+        }
+        // every term: exactly one independent velocity to the first power
+        let terms = self.e.terms(rhs).to_vec();
+        let mut ok = true;
+        for (m, _) in &terms {
+            let factors = self.e.factors(*m).to_vec();
+            let mut vel_count = 0;
+            let mut nonlinear = false;
+            for (a, ex) in &factors {
+                let syms = self.e.atom_symbols(*a).to_vec();
+                let has_vel = independent
+                    .iter()
+                    .any(|&i| syms.contains(&self.vel_syms[i]));
+                if !has_vel {
+                    continue;
+                }
+                match self.e.atom(*a) {
+                    crate::sym::Atom::Sym(_) if ex.is_one() => vel_count += 1,
+                    _ => nonlinear = true,
+                }
+            }
+            if nonlinear || vel_count > 1 {
+                ok = false;
+            } else if vel_count == 0 {
+                ok = false;
+            }
+        }
+        if !ok {
+            // locate the offending top-level term in the source
+            let mut reported = false;
+            for term in top_level_terms(&c.rhs) {
+                let Some(v) = self.lower(term, 0) else {
+                    continue;
+                };
+                let kind = self.term_kind(v, independent);
+                match kind {
+                    TermKind::Linear => {}
+                    TermKind::Affine => {
+                        self.cx.error(term.range(), format!("the constraint for `{sname}` has a term without any velocity (an affine term); {form}"));
+                        reported = true;
+                    }
+                    TermKind::Nonlinear => {
+                        let culprit = self
+                            .find_nonlinear(term, independent)
+                            .unwrap_or(term.range());
+                        self.cx.error(culprit, format!("the constraint for `{sname}` is not linear in the velocities; {form}"));
+                        reported = true;
+                    }
+                }
+            }
+            if !reported {
+                self.cx.error(c.rhs.range(), format!("the constraint for `{sname}` is not linear and homogeneous in the velocities once expanded; {form}"));
+            }
+            return None;
+        }
+        let mut row = Vec::with_capacity(independent.len());
+        for &i in independent {
+            let coef = self.e.diff(rhs, self.vel_syms[i]);
+            row.push(self.e.neg(coef));
+        }
+        let _ = ONE;
+        Some(row)
+    }
+
+    fn term_kind(&mut self, v: ExprId, independent: &[usize]) -> TermKind {
+        let mut kind = TermKind::Linear;
+        let terms = self.e.terms(v).to_vec();
+        if terms.is_empty() {
+            return TermKind::Linear;
+        }
+        for (m, _) in terms {
+            let mut count = 0;
+            for (a, ex) in self.e.factors(m).to_vec() {
+                let syms = self.e.atom_symbols(a).to_vec();
+                if !independent
+                    .iter()
+                    .any(|&i| syms.contains(&self.vel_syms[i]))
+                {
+                    continue;
+                }
+                match self.e.atom(a) {
+                    crate::sym::Atom::Sym(_) if ex.is_one() => count += 1,
+                    _ => count += 2,
+                }
+            }
+            if count > 1 {
+                return TermKind::Nonlinear;
+            }
+            if count == 0 {
+                kind = TermKind::Affine;
+            }
+        }
+        kind
+    }
+
+    fn has_velocity(&mut self, x: &Expr, independent: &[usize]) -> bool {
+        match self.lower(x, 0) {
+            Some(v) => independent
+                .iter()
+                .any(|&i| self.e.depends_on(v, self.vel_syms[i])),
+            None => false,
+        }
+    }
+
+    /// The smallest subexpression that makes a term nonlinear in the velocities.
+    fn find_nonlinear(&mut self, x: &Expr, independent: &[usize]) -> Option<SpanRange> {
+        match x {
+            Expr::Neg(inner, _) => self.find_nonlinear(inner, independent),
+            Expr::Bin {
+                op: BinOp::Mul,
+                lhs,
+                rhs,
+                ..
+            } => {
+                let (l, r) = (
+                    self.has_velocity(lhs, independent),
+                    self.has_velocity(rhs, independent),
+                );
+                match (l, r) {
+                    (true, true) => Some(x.range()),
+                    (true, false) => self.find_nonlinear(lhs, independent).or(Some(x.range())),
+                    (false, true) => self.find_nonlinear(rhs, independent).or(Some(x.range())),
+                    _ => None,
+                }
+            }
+            Expr::Bin {
+                op: BinOp::Div,
+                lhs,
+                rhs,
+                ..
+            } => {
+                if self.has_velocity(rhs, independent) {
+                    Some(rhs.range())
+                } else {
+                    self.find_nonlinear(lhs, independent)
+                }
+            }
+            Expr::Bin { op: BinOp::Pow, .. } | Expr::Call { .. } => {
+                if self.has_velocity(x, independent) {
+                    Some(x.range())
+                } else {
+                    None
+                }
+            }
+            _ => None,
+        }
+    }
+
+    /// Where the velocity of coordinate `d` is used in `x`.
+    fn find_velocity_use(&mut self, x: &Expr, d: usize) -> Option<SpanRange> {
+        match x {
+            Expr::Call { func, arg, range } if func == "dot" => match &**arg {
+                Expr::Name(id)
+                    if self
+                        .scope
+                        .get(&id.to_string())
+                        .is_some_and(|b| matches!(b, Binding::Coord(i) if *i == d)) =>
+                {
+                    Some(*range)
+                }
+                _ => None,
+            },
+            Expr::Call { arg, .. } => self.find_velocity_use(arg, d),
+            Expr::Neg(inner, _) => self.find_velocity_use(inner, d),
+            Expr::Bin { lhs, rhs, .. } => self
+                .find_velocity_use(lhs, d)
+                .or_else(|| self.find_velocity_use(rhs, d)),
+            Expr::Name(_) | Expr::Num(..) => None,
+        }
+    }
+}
+
+enum TermKind {
+    Linear,
+    Affine,
+    Nonlinear,
+}
+
+/// The top-level additive terms of an expression (through `+`, `-` and unary minus).
+fn top_level_terms(x: &Expr) -> Vec<&Expr> {
+    match x {
+        Expr::Bin {
+            op: BinOp::Add | BinOp::Sub,
+            lhs,
+            rhs,
+            ..
+        } => {
+            let mut v = top_level_terms(lhs);
+            v.extend(top_level_terms(rhs));
+            v
+        }
+        Expr::Neg(inner, _) => top_level_terms(inner),
+        _ => vec![x],
+    }
+}

@@ -1,0 +1,241 @@
+//! The mechanics of DESIGN §4, derived symbolically: the mass matrix and
+//! Euler–Lagrange terms, the constraint matrix, the multiplier route (5.9)/(5.10),
+//! the constrained Lagrangian and the curvature route (5.12)–(5.21), and the
+//! energy. Every function derives only what it is asked for.
+
+use crate::lower::Model;
+use crate::sym::{ExprId, SymId, ZERO};
+use std::collections::HashMap;
+
+/// The pieces of the multiplier route, with the full velocity vector q̇
+/// symbolic (dependent velocities are evaluated numerically first).
+pub struct MultiplierRoute {
+    /// M_ij = ∂²L/∂q̇_i∂q̇_j, n × n, symmetric.
+    pub mass: Vec<Vec<ExprId>>,
+    /// h_j = Σ_i ∂²L/∂q̇_j∂q_i q̇_i + ∂²L/∂q̇_j∂t − ∂L/∂q_j − Q_j, so that E_j = Σ_i M_ji q̈_i + h_j (3.9).
+    pub bias: Vec<ExprId>,
+    /// −(Ȧ ṙ)_a: the part of s̈_a that does not depend on r̈ (from differentiating (5.3)).
+    pub dependent_bias: Vec<ExprId>,
+}
+
+/// The curvature route: the reduced equations Mc r̈ = f in closed form.
+pub struct CurvatureRoute {
+    /// ∂²Lc/∂ṙ_α∂ṙ_β, k × k.
+    pub mass: Vec<Vec<ExprId>>,
+    /// Right side f of Mc r̈ = f, from (5.20) with the forces projected.
+    pub rhs: Vec<ExprId>,
+}
+
+impl Model {
+    /// Number of coordinates n.
+    pub fn n(&self) -> usize {
+        self.coords.len()
+    }
+
+    /// Number of independent coordinates k.
+    pub fn k(&self) -> usize {
+        self.independent.len()
+    }
+
+    /// Number of constraints p.
+    pub fn p(&self) -> usize {
+        self.dependent.len()
+    }
+
+    /// The substitution ṡ_a ↦ −Σ_α A^a_α ṙ_α of (5.11).
+    pub fn constrained_velocities(&self) -> HashMap<SymId, ExprId> {
+        self.dependent
+            .iter()
+            .zip(&self.dependent_velocity)
+            .map(|(&s, &v)| (self.vel_syms[s], v))
+            .collect()
+    }
+
+    /// q̇ at the constrained velocities, per coordinate.
+    fn constrained_qdot(&mut self) -> Vec<ExprId> {
+        let mut out = Vec::with_capacity(self.n());
+        for i in 0..self.n() {
+            match self.dependent.iter().position(|&d| d == i) {
+                Some(a) => out.push(self.dependent_velocity[a]),
+                None => out.push(self.engine.sym(self.vel_syms[i])),
+            }
+        }
+        out
+    }
+
+    /// The multiplier route's symbolic pieces.
+    pub fn multiplier_route(&mut self) -> MultiplierRoute {
+        let n = self.n();
+        let l = self.lagrangian;
+        let e = &mut self.engine;
+        let momenta: Vec<ExprId> = (0..n).map(|j| e.diff(l, self.vel_syms[j])).collect();
+        let mut mass = vec![vec![ZERO; n]; n];
+        for i in 0..n {
+            for j in i..n {
+                let m = e.diff(momenta[i], self.vel_syms[j]);
+                mass[i][j] = m;
+                mass[j][i] = m;
+            }
+        }
+        let mut bias = Vec::with_capacity(n);
+        for j in 0..n {
+            let mut parts = Vec::new();
+            for i in 0..n {
+                let d = e.diff(momenta[j], self.coord_syms[i]);
+                if d != ZERO {
+                    let v = e.sym(self.vel_syms[i]);
+                    parts.push(e.mul(d, v));
+                }
+            }
+            parts.push(e.diff(momenta[j], self.t_sym));
+            let dl = e.diff(l, self.coord_syms[j]);
+            parts.push(e.neg(dl));
+            parts.push(e.neg(self.forces[j]));
+            bias.push(e.sum(&parts));
+        }
+        let mut dependent_bias = Vec::with_capacity(self.dependent.len());
+        for a in 0..self.dependent.len() {
+            let sdot = self.dependent_velocity[a];
+            let mut parts = Vec::new();
+            for i in 0..n {
+                let d = e.diff(sdot, self.coord_syms[i]);
+                if d != ZERO {
+                    let v = e.sym(self.vel_syms[i]);
+                    parts.push(e.mul(d, v));
+                }
+            }
+            dependent_bias.push(e.sum(&parts));
+        }
+        MultiplierRoute {
+            mass,
+            bias,
+            dependent_bias,
+        }
+    }
+
+    /// B^b_{αβ} of (5.21), p × k × k, antisymmetric in (α, β).
+    pub fn curvature(&mut self) -> Vec<Vec<Vec<ExprId>>> {
+        let (k, p) = (self.k(), self.p());
+        let mut b = vec![vec![vec![ZERO; k]; k]; p];
+        for bb in 0..p {
+            for al in 0..k {
+                for be in (al + 1)..k {
+                    let e = &mut self.engine;
+                    let a = &self.a_matrix;
+                    let r_al = self.coord_syms[self.independent[al]];
+                    let r_be = self.coord_syms[self.independent[be]];
+                    let d1 = e.diff(a[bb][al], r_be);
+                    let d2 = e.diff(a[bb][be], r_al);
+                    let mut parts = vec![d1, e.neg(d2)];
+                    for (aa, &s) in self.dependent.iter().enumerate() {
+                        let s_sym = self.coord_syms[s];
+                        let x = e.diff(a[bb][be], s_sym);
+                        let x = e.mul(a[aa][al], x);
+                        let y = e.diff(a[bb][al], s_sym);
+                        let y = e.mul(a[aa][be], y);
+                        parts.push(x);
+                        parts.push(e.neg(y));
+                    }
+                    let v = e.sum(&parts);
+                    b[bb][al][be] = v;
+                    b[bb][be][al] = e.neg(v);
+                }
+            }
+        }
+        b
+    }
+
+    /// The curvature route (5.12)–(5.20): Lc, its reduced mass matrix and the
+    /// right side with the curvature term and projected forces.
+    pub fn curvature_route(&mut self, curvature: &[Vec<Vec<ExprId>>]) -> CurvatureRoute {
+        let (n, k) = (self.n(), self.k());
+        let map = self.constrained_velocities();
+        let qdot_c = self.constrained_qdot();
+        let l = self.lagrangian;
+        let e = &mut self.engine;
+        let mut memo = HashMap::new();
+        let lc = e.subst(l, &map, &mut memo); // (5.12)
+        let r_vel: Vec<SymId> = self.independent.iter().map(|&i| self.vel_syms[i]).collect();
+        let pc: Vec<ExprId> = r_vel.iter().map(|&v| e.diff(lc, v)).collect();
+        let mut mass = vec![vec![ZERO; k]; k];
+        for al in 0..k {
+            for be in al..k {
+                let m = e.diff(pc[al], r_vel[be]);
+                mass[al][be] = m;
+                mass[be][al] = m;
+            }
+        }
+        // ∂L/∂ṡ_b at the constrained velocities
+        let p_dep: Vec<ExprId> = self
+            .dependent
+            .iter()
+            .map(|&s| {
+                let d = e.diff(l, self.vel_syms[s]);
+                e.subst(d, &map, &mut memo)
+            })
+            .collect();
+        let mut rhs = Vec::with_capacity(k);
+        for al in 0..k {
+            let mut lhs = Vec::new();
+            // velocity part of d/dt ∂Lc/∂ṙ_α
+            for i in 0..n {
+                let d = e.diff(pc[al], self.coord_syms[i]);
+                if d != ZERO {
+                    lhs.push(e.mul(d, qdot_c[i]));
+                }
+            }
+            lhs.push(e.diff(pc[al], self.t_sym));
+            // − ∂Lc/∂r_α
+            let d = e.diff(lc, self.coord_syms[self.independent[al]]);
+            lhs.push(e.neg(d));
+            // + Σ_a A^a_α ∂Lc/∂s_a
+            for (a, &s) in self.dependent.iter().enumerate() {
+                let d = e.diff(lc, self.coord_syms[s]);
+                if d != ZERO {
+                    lhs.push(e.mul(self.a_matrix[a][al], d));
+                }
+            }
+            // + Σ_b Σ_β B^b_αβ ṙ_β ∂L/∂ṡ_b   (moved from the right side of (5.20))
+            for (b, pb) in p_dep.iter().enumerate() {
+                for (be, &rv) in r_vel.iter().enumerate() {
+                    let bab = curvature[b][al][be];
+                    if bab != ZERO {
+                        let v = e.sym(rv);
+                        let t = e.mul(bab, v);
+                        lhs.push(e.mul(t, *pb));
+                    }
+                }
+            }
+            // projected forces Q_r − Σ_a A^a_α Q_s at the constrained velocities
+            let mut q = vec![self.forces[self.independent[al]]];
+            for (a, &s) in self.dependent.iter().enumerate() {
+                if self.forces[s] != ZERO {
+                    let t = e.mul(self.a_matrix[a][al], self.forces[s]);
+                    q.push(e.neg(t));
+                }
+            }
+            let q = e.sum(&q);
+            let q = e.subst(q, &map, &mut memo);
+            let lhs = e.sum(&lhs);
+            rhs.push(e.sub(q, lhs));
+        }
+        CurvatureRoute { mass, rhs }
+    }
+
+    /// E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities.
+    pub fn energy(&mut self) -> ExprId {
+        let map = self.constrained_velocities();
+        let l = self.lagrangian;
+        let e = &mut self.engine;
+        let mut parts = Vec::new();
+        for &v in &self.vel_syms {
+            let p = e.diff(l, v);
+            let vs = e.sym(v);
+            parts.push(e.mul(vs, p));
+        }
+        parts.push(e.neg(l));
+        let en = e.sum(&parts);
+        let mut memo = HashMap::new();
+        e.subst(en, &map, &mut memo)
+    }
+}

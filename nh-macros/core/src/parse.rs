@@ -1,0 +1,768 @@
+//! Parsing of the `nonholonomic_system!` input language (DESIGN §2) into a
+//! surface syntax tree that keeps every token's span.
+//!
+//! The body of the struct is split into items before any item is parsed, and
+//! each item (and each statement of a block) is parsed on its own, so a
+//! syntax error in one item does not hide the errors in the others.
+
+use crate::ctxt::{Ctxt, SpanRange};
+use crate::sym::Rational;
+use proc_macro2::{Delimiter, Ident, Span, TokenStream, TokenTree};
+use syn::parse::{ParseStream, Parser};
+use syn::{Attribute, Token, Visibility};
+
+/// Deepest expression nesting accepted; deeper input is a clear error rather
+/// than a stack overflow.
+pub const MAX_DEPTH: usize = 256;
+
+/// A binary operator of the input language.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BinOp {
+    /// `+`
+    Add,
+    /// `-`
+    Sub,
+    /// `*`
+    Mul,
+    /// `/`
+    Div,
+    /// `^`
+    Pow,
+}
+
+/// A surface expression.
+#[derive(Clone, Debug)]
+pub enum Expr {
+    /// A numeric literal, as an exact rational.
+    Num(Rational, SpanRange),
+    /// A name.
+    Name(Ident),
+    /// `f(arg)`: a function call, or `dot(arg)`.
+    Call {
+        /// the function name
+        func: Ident,
+        /// the argument
+        arg: Box<Expr>,
+        /// the whole call
+        range: SpanRange,
+    },
+    /// `-e`.
+    Neg(Box<Expr>, SpanRange),
+    /// `l op r`.
+    Bin {
+        /// operator
+        op: BinOp,
+        /// span of the operator token
+        op_span: Span,
+        /// left operand
+        lhs: Box<Expr>,
+        /// right operand
+        rhs: Box<Expr>,
+    },
+}
+
+impl Expr {
+    /// The source range of the whole expression.
+    pub fn range(&self) -> SpanRange {
+        match self {
+            Expr::Num(_, r) | Expr::Neg(_, r) => *r,
+            Expr::Name(i) => SpanRange::single(i.span()),
+            Expr::Call { range, .. } => *range,
+            Expr::Bin { lhs, rhs, .. } => lhs.range().to(rhs.range()),
+        }
+    }
+}
+
+/// A `let NAME = expr;` item.
+#[derive(Clone, Debug)]
+pub struct Let {
+    /// the name
+    pub name: Ident,
+    /// the value
+    pub value: Expr,
+}
+
+/// One `dot(s) = rhs;` constraint.
+#[derive(Clone, Debug)]
+pub struct Constraint {
+    /// left side as written
+    pub lhs: Expr,
+    /// right side
+    pub rhs: Expr,
+    /// the whole statement
+    pub range: SpanRange,
+}
+
+/// One `q: expr;` generalized force.
+#[derive(Clone, Debug)]
+pub struct Force {
+    /// the coordinate the force acts on
+    pub coordinate: Ident,
+    /// Q_j
+    pub value: Expr,
+}
+
+/// A parsed system definition.
+#[derive(Clone, Debug)]
+pub struct SystemDef {
+    /// attributes (doc comments) for the struct
+    pub attrs: Vec<Attribute>,
+    /// visibility
+    pub vis: Visibility,
+    /// struct name
+    pub name: Ident,
+    /// span of the brace group of the body
+    pub body_span: Span,
+    /// `parameters { .. }` (keyword span, names)
+    pub parameters: Option<(Ident, Vec<Ident>)>,
+    /// `coordinates { .. }`
+    pub coordinates: Option<(Ident, Vec<Ident>)>,
+    /// `inputs { .. }`
+    pub inputs: Option<(Ident, Vec<Ident>)>,
+    /// `let` items in order
+    pub lets: Vec<Let>,
+    /// `lagrangian = ..;` items (more than one is an error reported later)
+    pub lagrangians: Vec<(Ident, Expr)>,
+    /// `forces { .. }`
+    pub forces: Option<(Ident, Vec<Force>)>,
+    /// `constraints { .. }`
+    pub constraints: Option<(Ident, Vec<Constraint>)>,
+    /// `outputs { .. }`
+    pub outputs: Option<(Ident, Vec<Ident>)>,
+}
+
+/// Parses the macro input. Returns the definition as far as it could be
+/// parsed; errors are recorded in `cx`. `None` if not even the struct header
+/// could be read.
+pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
+    let header = |stream: ParseStream| -> syn::Result<(Vec<Attribute>, Visibility, Ident, proc_macro2::Group)> {
+        let attrs = stream.call(Attribute::parse_outer)?;
+        let vis: Visibility = stream.parse()?;
+        let _: Token![struct] = stream.parse().map_err(|e| {
+            syn::Error::new(
+                e.span(),
+                "expected `struct Name { .. }`: a system is written as `pub struct Name { parameters { .. } coordinates { .. } lagrangian = ..; }`",
+            )
+        })?;
+        let name: Ident = stream.parse()?;
+        let body: proc_macro2::Group = match stream.parse::<TokenTree>()? {
+            TokenTree::Group(g) if g.delimiter() == Delimiter::Brace => g,
+            other => {
+                return Err(syn::Error::new(
+                    other.span(),
+                    "expected `{` after the struct name (generics are added by the macro: the struct is generic over its scalar type)",
+                ));
+            }
+        };
+        if !stream.is_empty() {
+            return Err(stream.error("unexpected tokens after the system's closing brace: one `nonholonomic_system!` defines one struct"));
+        }
+        Ok((attrs, vis, name, body))
+    };
+    let (attrs, vis, name, body) = match header.parse2(input) {
+        Ok(h) => h,
+        Err(e) => {
+            cx.syn_error(e);
+            return None;
+        }
+    };
+    let mut def = SystemDef {
+        attrs,
+        vis,
+        name,
+        body_span: body.span(),
+        parameters: None,
+        coordinates: None,
+        inputs: None,
+        lets: Vec::new(),
+        lagrangians: Vec::new(),
+        forces: None,
+        constraints: None,
+        outputs: None,
+    };
+    for item in split_items(body.stream(), cx) {
+        parse_item(item, &mut def, cx);
+    }
+    Some(def)
+}
+
+/// One top-level item of the body: either `keyword { .. }` or tokens up to `;`.
+enum Item {
+    Block(Ident, proc_macro2::Group),
+    Statement(Vec<TokenTree>, Span),
+}
+
+fn split_items(stream: TokenStream, cx: &mut Ctxt) -> Vec<Item> {
+    let mut items = Vec::new();
+    let mut cur: Vec<TokenTree> = Vec::new();
+    let mut it = stream.into_iter().peekable();
+    while let Some(tt) = it.next() {
+        // `keyword { .. }` at the start of an item is a block item
+        if cur.is_empty()
+            && let TokenTree::Ident(id) = &tt
+            && id != "let"
+            && let Some(TokenTree::Group(g)) = it.peek()
+            && g.delimiter() == Delimiter::Brace
+        {
+            let g = g.clone();
+            it.next();
+            items.push(Item::Block(id.clone(), g));
+            // a stray `;` after a block is harmless
+            if let Some(TokenTree::Punct(p)) = it.peek()
+                && p.as_char() == ';'
+            {
+                it.next();
+            }
+            continue;
+        }
+        match &tt {
+            TokenTree::Punct(p) if p.as_char() == ';' => {
+                let span = p.span();
+                items.push(Item::Statement(std::mem::take(&mut cur), span));
+            }
+            _ => cur.push(tt),
+        }
+    }
+    if let Some(last) = cur.last() {
+        cx.error(
+            SpanRange {
+                first: cur[0].span(),
+                last: last.span(),
+            },
+            "expected `;` at the end of this item",
+        );
+        let span = last.span();
+        items.push(Item::Statement(cur, span));
+    }
+    items
+}
+
+fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
+    match item {
+        Item::Block(kw, group) => {
+            let which = kw.to_string();
+            match which.as_str() {
+                "parameters" | "coordinates" | "inputs" | "outputs" => {
+                    let names = match parse_name_list.parse2(group.stream()) {
+                        Ok(n) => n,
+                        Err(e) => {
+                            cx.syn_error(e);
+                            return;
+                        }
+                    };
+                    let slot = match which.as_str() {
+                        "parameters" => &mut def.parameters,
+                        "coordinates" => &mut def.coordinates,
+                        "inputs" => &mut def.inputs,
+                        _ => &mut def.outputs,
+                    };
+                    if let Some((prev, _)) = slot {
+                        cx.error_at(
+                            kw.span(),
+                            format!("duplicate `{which}` block: list all names in the first `{prev}` block"),
+                        );
+                    } else {
+                        *slot = Some((kw, names));
+                    }
+                }
+                "constraints" => {
+                    let mut list = Vec::new();
+                    for (toks, _) in split_statements(group.stream()) {
+                        match parse_constraint.parse2(toks.into_iter().collect()) {
+                            Ok(c) => list.push(c),
+                            Err(e) => cx.syn_error(e),
+                        }
+                    }
+                    if def.constraints.is_some() {
+                        cx.error_at(
+                            kw.span(),
+                            "duplicate `constraints` block: write all constraints in one block",
+                        );
+                    } else {
+                        def.constraints = Some((kw, list));
+                    }
+                }
+                "forces" => {
+                    let mut list = Vec::new();
+                    for (toks, _) in split_statements(group.stream()) {
+                        match parse_force.parse2(toks.into_iter().collect()) {
+                            Ok(c) => list.push(c),
+                            Err(e) => cx.syn_error(e),
+                        }
+                    }
+                    if def.forces.is_some() {
+                        cx.error_at(
+                            kw.span(),
+                            "duplicate `forces` block: write all forces in one block",
+                        );
+                    } else {
+                        def.forces = Some((kw, list));
+                    }
+                }
+                _ => {
+                    let hint = crate::names::suggest(
+                        &which,
+                        &[
+                            "parameters",
+                            "coordinates",
+                            "inputs",
+                            "forces",
+                            "constraints",
+                            "outputs",
+                        ],
+                    );
+                    cx.error_at(
+                        kw.span(),
+                        format!(
+                            "unknown block `{which}`{hint}; the blocks are `parameters`, `coordinates`, `inputs`, `forces`, `constraints` and `outputs`"
+                        ),
+                    );
+                }
+            }
+        }
+        Item::Statement(toks, semi) => {
+            if toks.is_empty() {
+                return;
+            }
+            let stream: TokenStream = toks.into_iter().collect();
+            match parse_statement.parse2(stream) {
+                Ok(Statement::Let(l)) => def.lets.push(l),
+                Ok(Statement::Lagrangian(kw, e)) => def.lagrangians.push((kw, e)),
+                Err(e) => cx.syn_error(e),
+            }
+            let _ = semi;
+        }
+    }
+}
+
+fn split_statements(stream: TokenStream) -> Vec<(Vec<TokenTree>, Span)> {
+    let mut out = Vec::new();
+    let mut cur = Vec::new();
+    for tt in stream {
+        match &tt {
+            TokenTree::Punct(p) if p.as_char() == ';' => {
+                if !cur.is_empty() {
+                    out.push((std::mem::take(&mut cur), p.span()));
+                }
+            }
+            _ => cur.push(tt),
+        }
+    }
+    if !cur.is_empty() {
+        let s = cur[cur.len() - 1].span();
+        out.push((cur, s));
+    }
+    out
+}
+
+enum Statement {
+    Let(Let),
+    Lagrangian(Ident, Expr),
+}
+
+fn parse_statement(input: ParseStream) -> syn::Result<Statement> {
+    if input.peek(Token![let]) {
+        let _: Token![let] = input.parse()?;
+        let name: Ident = input
+            .parse()
+            .map_err(|e| syn::Error::new(e.span(), "expected a name after `let`"))?;
+        let _: Token![=] = input
+            .parse()
+            .map_err(|e| syn::Error::new(e.span(), format!("expected `=` after `let {name}`")))?;
+        let value = parse_expr_all(input)?;
+        return Ok(Statement::Let(Let { name, value }));
+    }
+    let kw: Ident = input.parse().map_err(|e| {
+        syn::Error::new(
+            e.span(),
+            "expected an item: `let NAME = ..;`, `lagrangian = ..;` or a block such as `constraints { .. }`",
+        )
+    })?;
+    if kw == "lagrangian" {
+        let _: Token![=] = input
+            .parse()
+            .map_err(|e| syn::Error::new(e.span(), "expected `=` after `lagrangian`"))?;
+        let value = parse_expr_all(input)?;
+        return Ok(Statement::Lagrangian(kw, value));
+    }
+    let hint = crate::names::suggest(&kw.to_string(), &["lagrangian"]);
+    Err(syn::Error::new(
+        kw.span(),
+        format!(
+            "unexpected `{kw}`{hint}: an item is `let NAME = ..;`, `lagrangian = ..;` or a block `parameters {{ .. }}`, `coordinates {{ .. }}`, `inputs {{ .. }}`, `forces {{ .. }}`, `constraints {{ .. }}`, `outputs {{ .. }}`"
+        ),
+    ))
+}
+
+fn parse_name_list(input: ParseStream) -> syn::Result<Vec<Ident>> {
+    let mut names = Vec::new();
+    while !input.is_empty() {
+        let id: Ident = input.parse().map_err(|e| {
+            syn::Error::new(
+                e.span(),
+                "expected a name: this block is a comma-separated list of names",
+            )
+        })?;
+        names.push(id);
+        if input.is_empty() {
+            break;
+        }
+        let _: Token![,] = input
+            .parse()
+            .map_err(|e| syn::Error::new(e.span(), "expected `,` between names"))?;
+    }
+    Ok(names)
+}
+
+fn parse_constraint(input: ParseStream) -> syn::Result<Constraint> {
+    let lhs = parse_expr(input, 0)?;
+    if !input.peek(Token![=]) {
+        return Err(
+            input.error("expected `=`: a constraint is written `dot(s) = a(q)*dot(r) + ..;`")
+        );
+    }
+    let _: Token![=] = input.parse()?;
+    let rhs = parse_expr_all(input)?;
+    let range = lhs.range().to(rhs.range());
+    Ok(Constraint { lhs, rhs, range })
+}
+
+fn parse_force(input: ParseStream) -> syn::Result<Force> {
+    let coordinate: Ident = input.parse().map_err(|e| {
+        syn::Error::new(
+            e.span(),
+            "expected a coordinate name: a force is written `q: expr;`",
+        )
+    })?;
+    let _: Token![:] = input.parse().map_err(|e| {
+        syn::Error::new(
+            e.span(),
+            format!("expected `:` after `{coordinate}`: a force is written `{coordinate}: expr;`"),
+        )
+    })?;
+    let value = parse_expr_all(input)?;
+    Ok(Force { coordinate, value })
+}
+
+/// Parses an expression that must use up the whole stream.
+fn parse_expr_all(input: ParseStream) -> syn::Result<Expr> {
+    if input.is_empty() {
+        return Err(input.error("expected an expression"));
+    }
+    let e = parse_expr(input, 0)?;
+    if !input.is_empty() {
+        let tt: TokenTree = input.parse()?;
+        let msg = match &tt {
+            TokenTree::Punct(p) if p.as_char() == ';' => "unexpected `;`".to_string(),
+            _ => format!(
+                "unexpected `{tt}` after a complete expression: is an operator (`+ - * / ^`) missing, or a `;`?"
+            ),
+        };
+        return Err(syn::Error::new(tt.span(), msg));
+    }
+    Ok(e)
+}
+
+/// expr := term (('+' | '-') term)*
+fn parse_expr(input: ParseStream, depth: usize) -> syn::Result<Expr> {
+    if depth > MAX_DEPTH {
+        return Err(input.error(format!(
+            "expression nested more than {MAX_DEPTH} levels deep: split it into `let` items"
+        )));
+    }
+    let mut lhs = parse_term(input, depth)?;
+    loop {
+        let op = if input.peek(Token![+]) {
+            let t: Token![+] = input.parse()?;
+            (BinOp::Add, t.span)
+        } else if input.peek(Token![-]) && !input.peek(Token![-=]) {
+            let t: Token![-] = input.parse()?;
+            (BinOp::Sub, t.span)
+        } else {
+            break;
+        };
+        let rhs = parse_term(input, depth)?;
+        lhs = Expr::Bin {
+            op: op.0,
+            op_span: op.1,
+            lhs: Box::new(lhs),
+            rhs: Box::new(rhs),
+        };
+    }
+    Ok(lhs)
+}
+
+/// term := unary (('*' | '/') unary)*
+fn parse_term(input: ParseStream, depth: usize) -> syn::Result<Expr> {
+    let mut lhs = parse_unary(input, depth)?;
+    loop {
+        let op = if input.peek(Token![*]) && !input.peek(Token![*=]) {
+            let t: Token![*] = input.parse()?;
+            if input.peek(Token![*]) {
+                return Err(syn::Error::new(
+                    t.span,
+                    "`**` is not an operator here: write powers with `^`, as in `x^2`",
+                ));
+            }
+            (BinOp::Mul, t.span)
+        } else if input.peek(Token![/]) && !input.peek(Token![/=]) {
+            let t: Token![/] = input.parse()?;
+            (BinOp::Div, t.span)
+        } else {
+            break;
+        };
+        let rhs = parse_unary(input, depth)?;
+        lhs = Expr::Bin {
+            op: op.0,
+            op_span: op.1,
+            lhs: Box::new(lhs),
+            rhs: Box::new(rhs),
+        };
+    }
+    Ok(lhs)
+}
+
+/// unary := '-' unary | power
+fn parse_unary(input: ParseStream, depth: usize) -> syn::Result<Expr> {
+    let mut minus_spans = Vec::new();
+    while input.peek(Token![-]) {
+        let t: Token![-] = input.parse()?;
+        minus_spans.push(t.span);
+        if minus_spans.len() > MAX_DEPTH {
+            return Err(syn::Error::new(t.span, "too many consecutive minus signs"));
+        }
+    }
+    if input.peek(Token![+]) {
+        let t: Token![+] = input.parse()?;
+        return Err(syn::Error::new(
+            t.span,
+            "unary `+` is not supported: remove it",
+        ));
+    }
+    let mut e = parse_power(input, depth)?;
+    for s in minus_spans.into_iter().rev() {
+        let r = SpanRange::single(s).to(e.range());
+        e = Expr::Neg(Box::new(e), r);
+    }
+    Ok(e)
+}
+
+/// power := primary ('^' unary)?
+fn parse_power(input: ParseStream, depth: usize) -> syn::Result<Expr> {
+    let base = parse_primary(input, depth)?;
+    if input.peek(Token![^]) && !input.peek(Token![^=]) {
+        let t: Token![^] = input.parse()?;
+        let exp = parse_unary(input, depth + 1)?;
+        return Ok(Expr::Bin {
+            op: BinOp::Pow,
+            op_span: t.span,
+            lhs: Box::new(base),
+            rhs: Box::new(exp),
+        });
+    }
+    Ok(base)
+}
+
+/// primary := number | name | name '(' expr ')' | '(' expr ')'
+fn parse_primary(input: ParseStream, depth: usize) -> syn::Result<Expr> {
+    if input.is_empty() {
+        return Err(input.error("expected an operand (a number, a name, `dot(q)`, a function call or a parenthesised expression)"));
+    }
+    let tt: TokenTree = input.fork().parse()?;
+    match tt {
+        TokenTree::Literal(_) => {
+            let lit: syn::Lit = input.parse()?;
+            let span = lit.span();
+            let text = match &lit {
+                syn::Lit::Int(i) => {
+                    if !i.suffix().is_empty() {
+                        return Err(syn::Error::new(
+                            span,
+                            format!(
+                                "remove the type suffix `{}`: numbers are exact rationals here",
+                                i.suffix()
+                            ),
+                        ));
+                    }
+                    i.base10_digits().to_string()
+                }
+                syn::Lit::Float(f) => {
+                    if !f.suffix().is_empty() {
+                        return Err(syn::Error::new(
+                            span,
+                            format!(
+                                "remove the type suffix `{}`: numbers are exact rationals here",
+                                f.suffix()
+                            ),
+                        ));
+                    }
+                    f.base10_digits().to_string()
+                }
+                _ => {
+                    return Err(syn::Error::new(
+                        span,
+                        "expected a number; string and character literals have no meaning here",
+                    ));
+                }
+            };
+            match decimal_to_rational(&text) {
+                Some(q) => Ok(Expr::Num(q, SpanRange::single(span))),
+                None => Err(syn::Error::new(
+                    span,
+                    "this number is too large or too precise to be represented exactly; use fewer digits",
+                )),
+            }
+        }
+        TokenTree::Ident(_) => {
+            let id: Ident = input.call(syn::ext::IdentExt::parse_any)?;
+            if input.peek(syn::token::Paren) {
+                let content;
+                let paren = syn::parenthesized!(content in input);
+                let arg = if content.is_empty() {
+                    return Err(syn::Error::new(
+                        paren.span.join(),
+                        format!("`{id}()` needs an argument"),
+                    ));
+                } else {
+                    parse_expr(&content, depth + 1)?
+                };
+                if !content.is_empty() {
+                    let t: TokenTree = content.parse()?;
+                    let msg = if matches!(&t, TokenTree::Punct(p) if p.as_char() == ',') {
+                        format!("`{id}` takes one argument")
+                    } else {
+                        format!("unexpected `{t}` in the argument of `{id}`")
+                    };
+                    return Err(syn::Error::new(t.span(), msg));
+                }
+                let range = SpanRange {
+                    first: id.span(),
+                    last: paren.span.close(),
+                };
+                return Ok(Expr::Call {
+                    func: id,
+                    arg: Box::new(arg),
+                    range,
+                });
+            }
+            Ok(Expr::Name(id))
+        }
+        TokenTree::Group(g) if g.delimiter() == Delimiter::Parenthesis => {
+            let content;
+            let paren = syn::parenthesized!(content in input);
+            if content.is_empty() {
+                return Err(syn::Error::new(
+                    paren.span.join(),
+                    "empty parentheses: expected an expression inside",
+                ));
+            }
+            let e = parse_expr(&content, depth + 1)?;
+            if !content.is_empty() {
+                let t: TokenTree = content.parse()?;
+                return Err(syn::Error::new(
+                    t.span(),
+                    format!("unexpected `{t}` inside parentheses"),
+                ));
+            }
+            // keep the parentheses in the range so errors cover them
+            Ok(match e {
+                Expr::Num(q, _) => Expr::Num(
+                    q,
+                    SpanRange {
+                        first: paren.span.open(),
+                        last: paren.span.close(),
+                    },
+                ),
+                other => other,
+            })
+        }
+        TokenTree::Group(g) => {
+            let what = match g.delimiter() {
+                Delimiter::Bracket => "brackets `[..]`",
+                Delimiter::Brace => "braces `{..}`",
+                _ => "this group",
+            };
+            Err(syn::Error::new(
+                g.span(),
+                format!("{what} cannot be used in an expression: group with parentheses `(..)`"),
+            ))
+        }
+        TokenTree::Punct(p) => {
+            let c = p.as_char();
+            let msg = match c {
+                '*' | '/' | '^' => format!("`{c}` is missing its left operand"),
+                ';' => "expected an expression before `;`".to_string(),
+                _ => format!("unexpected `{c}`: expected a number, a name, `dot(q)` or `(`"),
+            };
+            Err(syn::Error::new(p.span(), msg))
+        }
+    }
+}
+
+/// Converts decimal literal digits (`12`, `0.25`, `1e-3`, `2.5E4`) to an exact rational.
+pub fn decimal_to_rational(text: &str) -> Option<Rational> {
+    let text = text.replace('_', "");
+    let (mantissa, exp) = match text.find(['e', 'E']) {
+        Some(i) => (&text[..i], text[i + 1..].parse::<i32>().ok()?),
+        None => (text.as_str(), 0),
+    };
+    let (int_part, frac_part) = match mantissa.find('.') {
+        Some(i) => (&mantissa[..i], &mantissa[i + 1..]),
+        None => (mantissa, ""),
+    };
+    let digits = format!("{int_part}{frac_part}");
+    let digits = digits.trim_start_matches('0');
+    let num: i128 = if digits.is_empty() {
+        0
+    } else {
+        digits.parse().ok()?
+    };
+    let scale = exp - frac_part.len() as i32;
+    let ten = Rational::int(10);
+    let factor = ten.checked_powi(scale as i64)?;
+    Rational::int(num).checked_mul(factor)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use quote::quote;
+
+    #[test]
+    fn decimals_are_exact() {
+        assert_eq!(decimal_to_rational("0.25"), Rational::new(1, 4));
+        assert_eq!(decimal_to_rational("1e-3"), Rational::new(1, 1000));
+        assert_eq!(decimal_to_rational("2.5E2"), Rational::new(250, 1));
+        assert_eq!(decimal_to_rational("007"), Rational::new(7, 1));
+    }
+
+    #[test]
+    fn precedence_of_power_and_minus() {
+        let e = parse_expr_all.parse2(quote!(-x ^ 2)).unwrap();
+        assert!(matches!(e, Expr::Neg(..)));
+        let e = parse_expr_all.parse2(quote!(a ^ b ^ c)).unwrap();
+        match e {
+            Expr::Bin {
+                op: BinOp::Pow,
+                rhs,
+                ..
+            } => {
+                assert!(matches!(*rhs, Expr::Bin { op: BinOp::Pow, .. }))
+            }
+            _ => panic!("expected a power"),
+        }
+        let e = parse_expr_all.parse2(quote!(m * x ^ 2)).unwrap();
+        assert!(matches!(e, Expr::Bin { op: BinOp::Mul, .. }));
+    }
+
+    #[test]
+    fn all_item_errors_are_collected() {
+        let mut cx = Ctxt::new();
+        let def = parse_system(
+            quote!(struct S { parameters { m, } coordinates { x y } lagrangian = m * ; let a = 1 + ; }),
+            &mut cx,
+        );
+        assert!(def.is_some());
+        assert_eq!(cx.len(), 3, "{:?}", cx.errors());
+    }
+}

@@ -1,0 +1,920 @@
+//! The symbolic engine: a hash-consed expression graph in a canonical
+//! expanded form, with exact rational coefficients and memoised derivatives.
+//!
+//! # Representation
+//!
+//! Every expression is a sum of monomials with rational coefficients (an
+//! [`ExprId`]); a monomial is a product of atoms raised to rational powers (a
+//! [`MonoId`]); an atom is a symbol, a function of an expression, or an
+//! expression used as the base of a power that cannot be expanded (a sum to a
+//! negative or fractional power). All three are interned: each distinct
+//! expression, monomial and atom is stored once and compared by id.
+//!
+//! The canonical form is: products distributed over sums, like monomials
+//! collected, constants folded, sums sorted by monomial id, monomials sorted by
+//! atom id, and trigonometric polynomials reduced modulo `sin² + cos² = 1`
+//! (every `cos(u)^k` with `k ≥ 2` becomes `cos(u)^(k mod 2) (1 - sin(u)²)^(k div 2)`).
+//! Two expressions that are equal as polynomials in their atoms, modulo the
+//! Pythagorean identity, therefore have the same id, and zero is recognised
+//! exactly for the trigonometric polynomials that mechanics produces.
+//!
+//! Arithmetic never panics: a coefficient overflow sets a flag
+//! ([`Engine::overflowed`]) that the caller turns into a compile error.
+
+pub mod rational;
+
+use std::collections::HashMap;
+
+pub use rational::Rational;
+
+/// Index of a symbol (parameter, coordinate, velocity, input, time, π).
+pub type SymId = u32;
+/// Index of an interned atom.
+pub type AtomId = u32;
+/// Index of an interned monomial.
+pub type MonoId = u32;
+/// Index of an interned expression.
+pub type ExprId = u32;
+
+/// The elementary functions the input language supports (`sqrt` is a power).
+#[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, PartialOrd, Ord)]
+pub enum Fun {
+    /// sine
+    Sin,
+    /// cosine
+    Cos,
+    /// tangent
+    Tan,
+    /// exponential
+    Exp,
+    /// natural logarithm
+    Ln,
+}
+
+impl Fun {
+    /// The name as written in the input language.
+    pub fn name(self) -> &'static str {
+        match self {
+            Fun::Sin => "sin",
+            Fun::Cos => "cos",
+            Fun::Tan => "tan",
+            Fun::Exp => "exp",
+            Fun::Ln => "ln",
+        }
+    }
+
+    fn eval(self, x: f64) -> f64 {
+        match self {
+            Fun::Sin => x.sin(),
+            Fun::Cos => x.cos(),
+            Fun::Tan => x.tan(),
+            Fun::Exp => x.exp(),
+            Fun::Ln => x.ln(),
+        }
+    }
+}
+
+/// An atom: what a monomial is a product of.
+#[derive(Clone, PartialEq, Eq, Hash, Debug)]
+pub enum Atom {
+    /// A symbol.
+    Sym(SymId),
+    /// `f(arg)`.
+    Func(Fun, ExprId),
+    /// An expression used as the base of a power that is not expanded.
+    Base(ExprId),
+}
+
+type Factors = Vec<(AtomId, Rational)>;
+type Terms = Vec<(MonoId, Rational)>;
+
+/// The expression graph with its interners and memo tables.
+#[derive(Default)]
+pub struct Engine {
+    sym_names: Vec<String>,
+    atoms: Vec<Atom>,
+    atom_ix: HashMap<Atom, AtomId>,
+    atom_syms: Vec<Vec<SymId>>,
+    monos: Vec<Factors>,
+    mono_ix: HashMap<Factors, MonoId>,
+    exprs: Vec<Terms>,
+    expr_ix: HashMap<Terms, ExprId>,
+    expr_syms: Vec<Vec<SymId>>,
+    memo_mul: HashMap<(ExprId, ExprId), ExprId>,
+    memo_diff: HashMap<(ExprId, SymId), ExprId>,
+    overflow: bool,
+    /// Counts of work done, for statistics and tests of what is derived.
+    pub counters: Counters,
+}
+
+/// Work counters of the engine.
+#[derive(Default, Clone, Debug)]
+pub struct Counters {
+    /// Number of derivative computations that were not memo hits.
+    pub derivatives: usize,
+    /// Number of polynomial products that were not memo hits.
+    pub products: usize,
+}
+
+/// The empty monomial, i.e. the constant 1.
+pub const MONO_ONE: MonoId = 0;
+/// The expression 0.
+pub const ZERO: ExprId = 0;
+/// The expression 1.
+pub const ONE: ExprId = 1;
+
+/// Largest number of terms a single expression may have before the engine
+/// reports expression swell instead of growing without bound.
+pub const MAX_TERMS: usize = 200_000;
+
+impl Engine {
+    /// A fresh engine with `0` and `1` interned.
+    pub fn new() -> Engine {
+        let mut e = Engine::default();
+        let one = e.intern_mono(Vec::new());
+        debug_assert_eq!(one, MONO_ONE);
+        let z = e.intern_expr(Vec::new());
+        let o = e.intern_expr(vec![(MONO_ONE, Rational::ONE)]);
+        debug_assert_eq!((z, o), (ZERO, ONE));
+        e
+    }
+
+    /// True if some coefficient overflowed 128 bits or an expression exceeded
+    /// [`MAX_TERMS`]; results are then meaningless.
+    pub fn overflowed(&self) -> bool {
+        self.overflow
+    }
+
+    /// Declares a new symbol.
+    pub fn symbol(&mut self, name: &str) -> SymId {
+        self.sym_names.push(name.to_string());
+        (self.sym_names.len() - 1) as SymId
+    }
+
+    /// Name of a symbol.
+    pub fn sym_name(&self, s: SymId) -> &str {
+        &self.sym_names[s as usize]
+    }
+
+    /// Number of declared symbols.
+    pub fn num_symbols(&self) -> usize {
+        self.sym_names.len()
+    }
+
+    /// Number of distinct expressions stored (size of the graph).
+    pub fn num_exprs(&self) -> usize {
+        self.exprs.len()
+    }
+
+    // ------------------------------------------------------------ interning
+
+    fn intern_atom(&mut self, a: Atom) -> AtomId {
+        if let Some(&id) = self.atom_ix.get(&a) {
+            return id;
+        }
+        let syms = match &a {
+            Atom::Sym(s) => vec![*s],
+            Atom::Func(_, e) | Atom::Base(e) => self.expr_syms[*e as usize].clone(),
+        };
+        let id = self.atoms.len() as AtomId;
+        self.atoms.push(a.clone());
+        self.atom_syms.push(syms);
+        self.atom_ix.insert(a, id);
+        id
+    }
+
+    fn intern_mono(&mut self, f: Factors) -> MonoId {
+        if let Some(&id) = self.mono_ix.get(&f) {
+            return id;
+        }
+        let id = self.monos.len() as MonoId;
+        self.monos.push(f.clone());
+        self.mono_ix.insert(f, id);
+        id
+    }
+
+    fn intern_expr(&mut self, t: Terms) -> ExprId {
+        if let Some(&id) = self.expr_ix.get(&t) {
+            return id;
+        }
+        if t.len() > MAX_TERMS {
+            self.overflow = true;
+            return ZERO;
+        }
+        let mut syms: Vec<SymId> = Vec::new();
+        for (m, _) in &t {
+            for (a, _) in &self.monos[*m as usize] {
+                syms.extend_from_slice(&self.atom_syms[*a as usize]);
+            }
+        }
+        syms.sort_unstable();
+        syms.dedup();
+        let id = self.exprs.len() as ExprId;
+        self.exprs.push(t.clone());
+        self.expr_syms.push(syms);
+        self.expr_ix.insert(t, id);
+        id
+    }
+
+    // ------------------------------------------------------------ accessors
+
+    /// The terms `(monomial, coefficient)` of an expression, sorted.
+    pub fn terms(&self, e: ExprId) -> &[(MonoId, Rational)] {
+        &self.exprs[e as usize]
+    }
+
+    /// The factors `(atom, exponent)` of a monomial, sorted.
+    pub fn factors(&self, m: MonoId) -> &[(AtomId, Rational)] {
+        &self.monos[m as usize]
+    }
+
+    /// An atom.
+    pub fn atom(&self, a: AtomId) -> &Atom {
+        &self.atoms[a as usize]
+    }
+
+    /// Free symbols of an expression, sorted.
+    pub fn free_symbols(&self, e: ExprId) -> &[SymId] {
+        &self.expr_syms[e as usize]
+    }
+
+    /// Free symbols of an atom, sorted.
+    pub fn atom_symbols(&self, a: AtomId) -> &[SymId] {
+        &self.atom_syms[a as usize]
+    }
+
+    /// Does `e` depend on symbol `s`?
+    pub fn depends_on(&self, e: ExprId, s: SymId) -> bool {
+        self.expr_syms[e as usize].binary_search(&s).is_ok()
+    }
+
+    /// Is `e` identically zero (in canonical form)?
+    pub fn is_zero(&self, e: ExprId) -> bool {
+        e == ZERO
+    }
+
+    /// The constant value if `e` is a rational constant.
+    pub fn as_constant(&self, e: ExprId) -> Option<Rational> {
+        match self.terms(e) {
+            [] => Some(Rational::ZERO),
+            [(MONO_ONE, c)] => Some(*c),
+            _ => None,
+        }
+    }
+
+    /// Number of terms of an expression.
+    pub fn num_terms(&self, e: ExprId) -> usize {
+        self.exprs[e as usize].len()
+    }
+
+    // ------------------------------------------------------------ rational helpers
+
+    fn qmul(&mut self, a: Rational, b: Rational) -> Rational {
+        a.checked_mul(b).unwrap_or_else(|| {
+            self.overflow = true;
+            Rational::ZERO
+        })
+    }
+
+    fn qpowi(&mut self, a: Rational, e: i64) -> Rational {
+        a.checked_powi(e).unwrap_or_else(|| {
+            self.overflow = true;
+            Rational::ZERO
+        })
+    }
+
+    // ------------------------------------------------------------ constructors
+
+    /// The rational constant `c`.
+    pub fn constant(&mut self, c: Rational) -> ExprId {
+        if c.is_zero() {
+            ZERO
+        } else {
+            self.intern_expr(vec![(MONO_ONE, c)])
+        }
+    }
+
+    /// The integer constant `n`.
+    pub fn int(&mut self, n: i128) -> ExprId {
+        self.constant(Rational::int(n))
+    }
+
+    /// The expression consisting of symbol `s`.
+    pub fn sym(&mut self, s: SymId) -> ExprId {
+        let a = self.intern_atom(Atom::Sym(s));
+        self.atom_power(a, Rational::ONE)
+    }
+
+    fn atom_power(&mut self, a: AtomId, e: Rational) -> ExprId {
+        let m = self.intern_mono(vec![(a, e)]);
+        self.intern_expr(vec![(m, Rational::ONE)])
+    }
+
+    /// Builds an expression from unsorted terms, collecting like monomials.
+    fn collect(&mut self, mut acc: Vec<(MonoId, Rational)>) -> ExprId {
+        acc.sort_unstable_by_key(|t| t.0);
+        let mut out: Terms = Vec::with_capacity(acc.len());
+        for (m, c) in acc {
+            match out.last_mut() {
+                Some((lm, lc)) if *lm == m => {
+                    *lc = lc.checked_add(c).unwrap_or_else(|| {
+                        self.overflow = true;
+                        Rational::ZERO
+                    })
+                }
+                _ => out.push((m, c)),
+            }
+        }
+        out.retain(|(_, c)| !c.is_zero());
+        self.intern_expr(out)
+    }
+
+    /// `a + b`.
+    pub fn add(&mut self, a: ExprId, b: ExprId) -> ExprId {
+        if a == ZERO {
+            return b;
+        }
+        if b == ZERO {
+            return a;
+        }
+        let mut acc = self.exprs[a as usize].clone();
+        acc.extend_from_slice(&self.exprs[b as usize]);
+        self.collect(acc)
+    }
+
+    /// Sum of many expressions.
+    pub fn sum(&mut self, items: &[ExprId]) -> ExprId {
+        let mut acc = Vec::new();
+        for &i in items {
+            acc.extend_from_slice(&self.exprs[i as usize]);
+        }
+        self.collect(acc)
+    }
+
+    /// `c * a` for a rational `c`.
+    pub fn scale(&mut self, a: ExprId, c: Rational) -> ExprId {
+        if c.is_zero() {
+            return ZERO;
+        }
+        if c.is_one() {
+            return a;
+        }
+        let t: Terms = self.exprs[a as usize].clone();
+        let t = t.into_iter().map(|(m, k)| (m, self.qmul(k, c))).collect();
+        self.collect(t)
+    }
+
+    /// `-a`.
+    pub fn neg(&mut self, a: ExprId) -> ExprId {
+        self.scale(a, Rational::MINUS_ONE)
+    }
+
+    /// `a - b`.
+    pub fn sub(&mut self, a: ExprId, b: ExprId) -> ExprId {
+        let nb = self.neg(b);
+        self.add(a, nb)
+    }
+
+    /// `a * b`, distributed and normalised.
+    pub fn mul(&mut self, a: ExprId, b: ExprId) -> ExprId {
+        if a == ZERO || b == ZERO {
+            return ZERO;
+        }
+        if a == ONE {
+            return b;
+        }
+        if b == ONE {
+            return a;
+        }
+        let key = if a <= b { (a, b) } else { (b, a) };
+        if let Some(&r) = self.memo_mul.get(&key) {
+            return r;
+        }
+        self.counters.products += 1;
+        let ta = self.exprs[a as usize].clone();
+        let tb = self.exprs[b as usize].clone();
+        let mut acc: Vec<(MonoId, Rational)> = Vec::with_capacity(ta.len() * tb.len());
+        let mut extra: Vec<ExprId> = Vec::new();
+        for &(ma, ca) in &ta {
+            for &(mb, cb) in &tb {
+                let c = self.qmul(ca, cb);
+                let f = merge_factors(&self.monos[ma as usize], &self.monos[mb as usize]);
+                match self.normal_mono(f) {
+                    Normal::Mono(m, k) => {
+                        let c2 = self.qmul(c, k);
+                        acc.push((m, c2))
+                    }
+                    Normal::Expr(e) => {
+                        let e2 = self.scale(e, c);
+                        extra.push(e2)
+                    }
+                }
+                if acc.len() > MAX_TERMS {
+                    self.overflow = true;
+                    return ZERO;
+                }
+            }
+        }
+        for e in extra {
+            acc.extend_from_slice(&self.exprs[e as usize]);
+        }
+        let r = self.collect(acc);
+        self.memo_mul.insert(key, r);
+        r
+    }
+
+    /// Product of many expressions.
+    pub fn product(&mut self, items: &[ExprId]) -> ExprId {
+        let mut r = ONE;
+        for &i in items {
+            r = self.mul(r, i);
+        }
+        r
+    }
+
+    /// Normalises a merged factor list: folds constant bases into the
+    /// coefficient, expands integer powers of sums, distributes integer powers
+    /// of monomial bases and reduces `cos²`.
+    fn normal_mono(&mut self, f: Factors) -> Normal {
+        let needs = f.iter().any(|&(a, e)| self.factor_needs_work(a, e));
+        if !needs {
+            let m = self.intern_mono(f);
+            return Normal::Mono(m, Rational::ONE);
+        }
+        let mut kept: Factors = Vec::new();
+        let mut coef = Rational::ONE;
+        let mut multiplicands: Vec<ExprId> = Vec::new();
+        for (a, e) in f {
+            if e.is_zero() {
+                continue;
+            }
+            match self.atoms[a as usize].clone() {
+                Atom::Func(Fun::Cos, u) if e.is_integer() && e >= Rational::int(2) => {
+                    let k = e.to_integer().unwrap_or(0);
+                    if k % 2 == 1 {
+                        kept.push((a, Rational::ONE));
+                    }
+                    // (1 - sin(u)^2)^(k div 2)
+                    let s = self.func(Fun::Sin, u);
+                    let s2 = self.mul(s, s);
+                    let one_minus = self.sub(ONE, s2);
+                    let p = self.pow_int(one_minus, (k / 2) as u32);
+                    multiplicands.push(p);
+                }
+                Atom::Base(b) => {
+                    if let Some(c) = self.as_constant(b) {
+                        // c^e = c^floor(e) * c^(e - floor(e))
+                        let k = floor(e);
+                        let ck = self.qpowi(c, k);
+                        coef = self.qmul(coef, ck);
+                        let frac = e
+                            .checked_sub(Rational::int(k as i128))
+                            .unwrap_or(Rational::ZERO);
+                        if !frac.is_zero() {
+                            kept.push((a, frac));
+                        }
+                    } else if self.exprs[b as usize].len() == 1 {
+                        // a monomial base: integer part distributes
+                        let k = floor(e);
+                        let frac = e
+                            .checked_sub(Rational::int(k as i128))
+                            .unwrap_or(Rational::ZERO);
+                        let p = self.pow_signed(b, k);
+                        multiplicands.push(p);
+                        if !frac.is_zero() {
+                            kept.push((a, frac));
+                        }
+                    } else if e >= Rational::ONE {
+                        let k = floor(e);
+                        let frac = e
+                            .checked_sub(Rational::int(k as i128))
+                            .unwrap_or(Rational::ZERO);
+                        let p = self.pow_int(b, k as u32);
+                        multiplicands.push(p);
+                        if !frac.is_zero() {
+                            kept.push((a, frac));
+                        }
+                    } else {
+                        kept.push((a, e));
+                    }
+                }
+                _ => kept.push((a, e)),
+            }
+        }
+        let m = self.intern_mono(kept);
+        let base = self.intern_expr(vec![(m, Rational::ONE)]);
+        let mut r = self.scale(base, coef);
+        for p in multiplicands {
+            r = self.mul(r, p);
+        }
+        Normal::Expr(r)
+    }
+
+    fn factor_needs_work(&self, a: AtomId, e: Rational) -> bool {
+        if e.is_zero() {
+            return true;
+        }
+        match &self.atoms[a as usize] {
+            Atom::Func(Fun::Cos, _) => e.is_integer() && e >= Rational::int(2),
+            Atom::Base(b) => {
+                // normal exponents: in (0, 1) for constant and monomial bases,
+                // below 1 for sums
+                if self.exprs[*b as usize].len() <= 1 {
+                    !(e > Rational::ZERO && e < Rational::ONE)
+                } else {
+                    e >= Rational::ONE
+                }
+            }
+            Atom::Sym(_) | Atom::Func(..) => false,
+        }
+    }
+
+    /// `a^k` for a non-negative integer `k`, by repeated squaring.
+    pub fn pow_int(&mut self, a: ExprId, k: u32) -> ExprId {
+        let mut acc = ONE;
+        let mut b = a;
+        let mut k = k;
+        while k > 0 {
+            if k & 1 == 1 {
+                acc = self.mul(acc, b);
+            }
+            k >>= 1;
+            if k > 0 {
+                b = self.mul(b, b);
+            }
+        }
+        acc
+    }
+
+    /// `a^k` for an integer `k` of either sign.
+    fn pow_signed(&mut self, a: ExprId, k: i64) -> ExprId {
+        if k >= 0 {
+            return self.pow_int(a, k as u32);
+        }
+        self.pow(a, Rational::int(k as i128))
+    }
+
+    /// `a^q` for a rational exponent, following real-valued semantics: the
+    /// exponents of a power are multiplied only where that is an identity on
+    /// the reals (`(x²)^(1/2)` stays as written; it is `|x|`).
+    pub fn pow(&mut self, a: ExprId, q: Rational) -> ExprId {
+        if q.is_zero() {
+            return ONE;
+        }
+        if q.is_one() {
+            return a;
+        }
+        if q.is_integer() && !q.is_negative() {
+            return self.pow_int(a, q.to_integer().unwrap_or(0).min(u32::MAX as i64) as u32);
+        }
+        if a == ZERO {
+            // 0 to a negative or fractional power: keep it symbolic (∞ or 0 at run time).
+            let b = self.intern_atom(Atom::Base(ZERO));
+            return self.atom_power(b, q);
+        }
+        let terms = self.exprs[a as usize].clone();
+        if let [(m, c)] = terms.as_slice() {
+            let factors = self.monos[*m as usize].clone();
+            let distributable = q.is_integer()
+                || (!c.is_negative()
+                    && factors
+                        .iter()
+                        .all(|&(_, e)| !e.is_integer() || e.abs().is_one()));
+            if distributable {
+                // coefficient part
+                let cpart = if c.is_one() {
+                    ONE
+                } else if q.is_integer() {
+                    let v = self.qpowi(*c, q.to_integer().unwrap_or(0));
+                    self.constant(v)
+                } else {
+                    let cc = self.constant(*c);
+                    let b = self.intern_atom(Atom::Base(cc));
+                    let e = self.atom_power_normal(b, q);
+                    e
+                };
+                let mut prod: Factors = Vec::with_capacity(factors.len());
+                for (at, e) in factors {
+                    let ne = self.qmul(e, q);
+                    prod.push((at, ne));
+                }
+                let mono = match self.normal_mono(prod) {
+                    Normal::Mono(m, k) => {
+                        let e = self.intern_expr(vec![(m, Rational::ONE)]);
+                        self.scale(e, k)
+                    }
+                    Normal::Expr(e) => e,
+                };
+                return self.mul(cpart, mono);
+            }
+        }
+        let b = self.intern_atom(Atom::Base(a));
+        self.atom_power_normal(b, q)
+    }
+
+    fn atom_power_normal(&mut self, a: AtomId, q: Rational) -> ExprId {
+        match self.normal_mono(vec![(a, q)]) {
+            Normal::Mono(m, k) => {
+                let e = self.intern_expr(vec![(m, Rational::ONE)]);
+                self.scale(e, k)
+            }
+            Normal::Expr(e) => e,
+        }
+    }
+
+    /// `a / b`.
+    pub fn div(&mut self, a: ExprId, b: ExprId) -> ExprId {
+        let r = self.pow(b, Rational::MINUS_ONE);
+        self.mul(a, r)
+    }
+
+    /// `f(a)`, with sign symmetries and values at zero folded.
+    pub fn func(&mut self, f: Fun, a: ExprId) -> ExprId {
+        if a == ZERO {
+            return match f {
+                Fun::Sin | Fun::Tan => ZERO,
+                Fun::Cos | Fun::Exp => ONE,
+                Fun::Ln => {
+                    let at = self.intern_atom(Atom::Func(f, a));
+                    self.atom_power(at, Rational::ONE)
+                }
+            };
+        }
+        if f == Fun::Ln && a == ONE {
+            return ZERO;
+        }
+        let leading_negative = self.exprs[a as usize]
+            .first()
+            .is_some_and(|(_, c)| c.is_negative());
+        if leading_negative && matches!(f, Fun::Sin | Fun::Tan | Fun::Cos) {
+            let na = self.neg(a);
+            let inner = self.func(f, na);
+            return if f == Fun::Cos {
+                inner
+            } else {
+                self.neg(inner)
+            };
+        }
+        let at = self.intern_atom(Atom::Func(f, a));
+        self.atom_power(at, Rational::ONE)
+    }
+
+    // ------------------------------------------------------------ calculus
+
+    /// `∂e/∂s`, memoised.
+    pub fn diff(&mut self, e: ExprId, s: SymId) -> ExprId {
+        if !self.depends_on(e, s) {
+            return ZERO;
+        }
+        if let Some(&r) = self.memo_diff.get(&(e, s)) {
+            return r;
+        }
+        self.counters.derivatives += 1;
+        let terms = self.exprs[e as usize].clone();
+        let mut parts = Vec::new();
+        for (m, c) in terms {
+            let dm = self.diff_mono(m, s);
+            let t = self.scale(dm, c);
+            parts.push(t);
+        }
+        let r = self.sum(&parts);
+        self.memo_diff.insert((e, s), r);
+        r
+    }
+
+    fn diff_mono(&mut self, m: MonoId, s: SymId) -> ExprId {
+        let factors = self.monos[m as usize].clone();
+        let mut parts = Vec::new();
+        for (i, &(a, e)) in factors.iter().enumerate() {
+            if self.atom_syms[a as usize].binary_search(&s).is_err() {
+                continue;
+            }
+            let da = self.diff_atom(a, s);
+            if da == ZERO {
+                continue;
+            }
+            let mut f = factors.clone();
+            let ne = e.checked_sub(Rational::ONE).unwrap_or_else(|| {
+                self.overflow = true;
+                Rational::ZERO
+            });
+            f[i].1 = ne;
+            let rest = match self.normal_mono(f) {
+                Normal::Mono(m, k) => {
+                    let x = self.intern_expr(vec![(m, Rational::ONE)]);
+                    self.scale(x, k)
+                }
+                Normal::Expr(x) => x,
+            };
+            let t = self.mul(rest, da);
+            let t = self.scale(t, e);
+            parts.push(t);
+        }
+        self.sum(&parts)
+    }
+
+    /// Derivative of an atom with respect to `s` (for `Base(b)`, the derivative of `b`).
+    fn diff_atom(&mut self, a: AtomId, s: SymId) -> ExprId {
+        match self.atoms[a as usize].clone() {
+            Atom::Sym(x) => {
+                if x == s {
+                    ONE
+                } else {
+                    ZERO
+                }
+            }
+            Atom::Base(b) => self.diff(b, s),
+            Atom::Func(f, u) => {
+                let du = self.diff(u, s);
+                if du == ZERO {
+                    return ZERO;
+                }
+                let outer = match f {
+                    Fun::Sin => self.func(Fun::Cos, u),
+                    Fun::Cos => {
+                        let x = self.func(Fun::Sin, u);
+                        self.neg(x)
+                    }
+                    Fun::Tan => {
+                        let t = self.func(Fun::Tan, u);
+                        let t2 = self.mul(t, t);
+                        self.add(ONE, t2)
+                    }
+                    Fun::Exp => self.func(Fun::Exp, u),
+                    Fun::Ln => self.pow(u, Rational::MINUS_ONE),
+                };
+                self.mul(outer, du)
+            }
+        }
+    }
+
+    /// Substitutes expressions for symbols everywhere in `e`.
+    pub fn subst(
+        &mut self,
+        e: ExprId,
+        map: &HashMap<SymId, ExprId>,
+        memo: &mut HashMap<ExprId, ExprId>,
+    ) -> ExprId {
+        if self.expr_syms[e as usize]
+            .iter()
+            .all(|s| !map.contains_key(s))
+        {
+            return e;
+        }
+        if let Some(&r) = memo.get(&e) {
+            return r;
+        }
+        let terms = self.exprs[e as usize].clone();
+        let mut parts = Vec::with_capacity(terms.len());
+        for (m, c) in terms {
+            let mut t = self.constant(c);
+            for (a, ex) in self.monos[m as usize].clone() {
+                let base = match self.atoms[a as usize].clone() {
+                    Atom::Sym(s) => match map.get(&s) {
+                        Some(&v) => v,
+                        None => self.sym(s),
+                    },
+                    Atom::Func(f, u) => {
+                        let u2 = self.subst(u, map, memo);
+                        self.func(f, u2)
+                    }
+                    Atom::Base(b) => self.subst(b, map, memo),
+                };
+                let p = self.pow(base, ex);
+                t = self.mul(t, p);
+            }
+            parts.push(t);
+        }
+        let r = self.sum(&parts);
+        memo.insert(e, r);
+        r
+    }
+
+    // ------------------------------------------------------------ evaluation
+
+    /// Evaluates `e` in `f64` with `vals[s]` the value of symbol `s`.
+    pub fn eval(&self, e: ExprId, vals: &[f64]) -> f64 {
+        let mut memo = HashMap::new();
+        self.eval_memo(e, vals, &mut memo)
+    }
+
+    /// Evaluates with a caller-held memo (for many expressions at one point).
+    pub fn eval_memo(&self, e: ExprId, vals: &[f64], memo: &mut HashMap<ExprId, f64>) -> f64 {
+        if let Some(&v) = memo.get(&e) {
+            return v;
+        }
+        let mut acc = 0.0;
+        for &(m, c) in &self.exprs[e as usize] {
+            let mut t = c.to_f64();
+            for &(a, ex) in &self.monos[m as usize] {
+                let b = match &self.atoms[a as usize] {
+                    Atom::Sym(s) => vals[*s as usize],
+                    Atom::Func(f, u) => f.eval(self.eval_memo(*u, vals, memo)),
+                    Atom::Base(b) => self.eval_memo(*b, vals, memo),
+                };
+                t *= match ex.to_integer() {
+                    Some(k) if k.abs() < i32::MAX as i64 => b.powi(k as i32),
+                    _ => b.powf(ex.to_f64()),
+                };
+            }
+            acc += t;
+        }
+        memo.insert(e, acc);
+        acc
+    }
+
+    // ------------------------------------------------------------ printing
+
+    /// Human-readable form, for messages and debugging.
+    pub fn display(&self, e: ExprId) -> String {
+        let terms = &self.exprs[e as usize];
+        if terms.is_empty() {
+            return "0".to_string();
+        }
+        let mut s = String::new();
+        for (i, &(m, c)) in terms.iter().enumerate() {
+            let mono = self.display_mono(m);
+            let neg = c.is_negative();
+            let ac = c.abs();
+            if i == 0 {
+                if neg {
+                    s.push('-');
+                }
+            } else {
+                s.push_str(if neg { " - " } else { " + " });
+            }
+            match (mono.is_empty(), ac.is_one()) {
+                (true, _) => s.push_str(&ac.to_string()),
+                (false, true) => s.push_str(&mono),
+                (false, false) => {
+                    s.push_str(&ac.to_string());
+                    s.push('*');
+                    s.push_str(&mono)
+                }
+            }
+        }
+        s
+    }
+
+    fn display_mono(&self, m: MonoId) -> String {
+        let mut parts = Vec::new();
+        for &(a, e) in &self.monos[m as usize] {
+            let base = match &self.atoms[a as usize] {
+                Atom::Sym(s) => self.sym_names[*s as usize].clone(),
+                Atom::Func(f, u) => format!("{}({})", f.name(), self.display(*u)),
+                Atom::Base(b) => format!("({})", self.display(*b)),
+            };
+            if e.is_one() {
+                parts.push(base);
+            } else if e.is_integer() && !e.is_negative() {
+                parts.push(format!("{base}^{e}"));
+            } else {
+                parts.push(format!("{base}^({e})"));
+            }
+        }
+        parts.join("*")
+    }
+}
+
+enum Normal {
+    Mono(MonoId, Rational),
+    Expr(ExprId),
+}
+
+fn floor(e: Rational) -> i64 {
+    let n = e.numer();
+    let d = e.denom();
+    let q = n.div_euclid(d);
+    i64::try_from(q).unwrap_or(if q < 0 { i64::MIN / 2 } else { i64::MAX / 2 })
+}
+
+fn merge_factors(a: &[(AtomId, Rational)], b: &[(AtomId, Rational)]) -> Factors {
+    let mut out = Vec::with_capacity(a.len() + b.len());
+    let (mut i, mut j) = (0, 0);
+    while i < a.len() && j < b.len() {
+        match a[i].0.cmp(&b[j].0) {
+            std::cmp::Ordering::Less => {
+                out.push(a[i]);
+                i += 1;
+            }
+            std::cmp::Ordering::Greater => {
+                out.push(b[j]);
+                j += 1;
+            }
+            std::cmp::Ordering::Equal => {
+                // exponent sums of small rationals do not overflow in practice;
+                // on overflow keep the first (the engine flags elsewhere).
+                let e = a[i].1.checked_add(b[j].1).unwrap_or(a[i].1);
+                out.push((a[i].0, e));
+                i += 1;
+                j += 1;
+            }
+        }
+    }
+    out.extend_from_slice(&a[i..]);
+    out.extend_from_slice(&b[j..]);
+    out
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,73 @@
+use super::*;
+
+fn q(n: i128, d: i128) -> Rational {
+    Rational::new(n, d).unwrap()
+}
+
+#[test]
+fn pythagorean_identity_is_zero() {
+    let mut e = Engine::new();
+    let x = e.symbol("x");
+    let xs = e.sym(x);
+    let s = e.func(Fun::Sin, xs);
+    let c = e.func(Fun::Cos, xs);
+    let s2 = e.mul(s, s);
+    let c2 = e.mul(c, c);
+    let sum = e.add(s2, c2);
+    assert_eq!(sum, ONE);
+}
+
+#[test]
+fn hash_consing_shares() {
+    let mut e = Engine::new();
+    let x = e.symbol("x");
+    let y = e.symbol("y");
+    let (xs, ys) = (e.sym(x), e.sym(y));
+    let a = e.add(xs, ys);
+    let b = e.add(ys, xs);
+    assert_eq!(a, b);
+    let a2 = e.mul(a, a);
+    let expanded = {
+        let xx = e.mul(xs, xs);
+        let yy = e.mul(ys, ys);
+        let xy = e.mul(xs, ys);
+        let two_xy = e.scale(xy, Rational::int(2));
+        e.sum(&[xx, yy, two_xy])
+    };
+    assert_eq!(a2, expanded);
+}
+
+#[test]
+fn derivative_rules() {
+    let mut e = Engine::new();
+    let x = e.symbol("x");
+    let xs = e.sym(x);
+    let t = e.func(Fun::Tan, xs);
+    let dt = e.diff(t, x);
+    let t2 = e.mul(t, t);
+    let expect = e.add(ONE, t2);
+    assert_eq!(dt, expect);
+    let sq = e.pow(xs, q(1, 2));
+    let dsq = e.diff(sq, x);
+    let expect = e.pow(xs, q(-1, 2));
+    let expect = e.scale(expect, q(1, 2));
+    assert_eq!(dsq, expect);
+}
+
+#[test]
+fn powers_follow_real_semantics() {
+    let mut e = Engine::new();
+    let x = e.symbol("x");
+    let xs = e.sym(x);
+    let x2 = e.mul(xs, xs);
+    let r = e.pow(x2, q(1, 2));
+    assert_ne!(r, xs, "(x^2)^(1/2) is |x|, not x");
+    let s = e.pow(xs, q(1, 2));
+    let back = e.mul(s, s);
+    assert_eq!(back, xs);
+    let one_plus = e.add(ONE, xs);
+    let inv = e.pow(one_plus, Rational::MINUS_ONE);
+    let prod = e.mul(inv, one_plus);
+    // (1+x)^-1 * (1+x) is not simplified (distributed), but evaluates to 1
+    assert!((e.eval(prod, &[0.7]) - 1.0).abs() < 1e-15);
+}

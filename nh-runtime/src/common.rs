@@ -1,0 +1,136 @@
+//! Numeric helpers shared by all integrators (one place, no duplication).
+
+use nalgebra::{RealField, SVector};
+
+use crate::SimError;
+
+/// Converts an `f64` constant to `T`.
+#[inline(always)]
+pub(crate) fn c<T: RealField + Copy>(x: f64) -> T {
+    nalgebra::convert::<f64, T>(x)
+}
+
+/// Machine epsilon of `T`: the smallest power of two `e` with `1 + e > 1`.
+///
+/// Computed rather than looked up, because `RealField` does not expose it.
+pub(crate) fn machine_epsilon<T: RealField + Copy>() -> T {
+    let one = T::one();
+    let half = c::<T>(0.5);
+    let mut eps = one;
+    // The iteration cap only matters for exotic number types.
+    for _ in 0..2048 {
+        let next = eps * half;
+        if one + next <= one {
+            break;
+        }
+        eps = next;
+    }
+    eps
+}
+
+/// Whether every component of `x` is finite.
+#[inline]
+pub(crate) fn all_finite<T: RealField + Copy, const D: usize>(x: &SVector<T, D>) -> bool {
+    x.iter().all(|v| v.is_finite())
+}
+
+/// Hairer's error norm: the RMS over components of
+/// `err_i / (atol + rtol * max(|x_i|, |x_new_i|))`.
+pub(crate) fn error_norm<T: RealField + Copy, const D: usize>(
+    err: &SVector<T, D>,
+    x: &SVector<T, D>,
+    x_new: &SVector<T, D>,
+    rtol: T,
+    atol: T,
+) -> T {
+    if D == 0 {
+        return T::zero();
+    }
+    let mut sum = T::zero();
+    for i in 0..D {
+        let sk = atol + rtol * x[i].abs().max(x_new[i].abs());
+        let r = err[i] / sk;
+        sum += r * r;
+    }
+    (sum / c::<T>(D as f64)).sqrt()
+}
+
+/// Validates the arguments common to every integrator and returns the
+/// direction of integration (`+1` or `-1`, or `0` when `t1 == t0`).
+pub(crate) fn check_arguments<T: RealField + Copy, const D: usize>(
+    t0: T,
+    x0: &SVector<T, D>,
+    t1: T,
+) -> Result<T, SimError<T, D>> {
+    if !t0.is_finite() {
+        return Err(SimError::InvalidInput {
+            what: "t0 must be finite",
+        });
+    }
+    if !t1.is_finite() {
+        return Err(SimError::InvalidInput {
+            what: "t1 must be finite",
+        });
+    }
+    if !all_finite(x0) {
+        return Err(SimError::InvalidInput {
+            what: "x0 must be finite",
+        });
+    }
+    Ok(if t1 > t0 {
+        T::one()
+    } else if t1 < t0 {
+        -T::one()
+    } else {
+        T::zero()
+    })
+}
+
+/// Returns `Ok(())` if `v` is finite and positive, else `InvalidInput`.
+pub(crate) fn check_positive<T: RealField + Copy, const D: usize>(
+    v: T,
+    what: &'static str,
+) -> Result<(), SimError<T, D>> {
+    if v.is_finite() && v > T::zero() {
+        Ok(())
+    } else {
+        Err(SimError::InvalidInput { what })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::Vector2;
+
+    #[test]
+    fn machine_epsilon_matches_std() {
+        assert_eq!(machine_epsilon::<f64>(), f64::EPSILON);
+        assert_eq!(machine_epsilon::<f32>(), f32::EPSILON);
+    }
+
+    #[test]
+    fn error_norm_is_hairer_rms() {
+        let err = Vector2::new(1e-6, 2e-6);
+        let x = Vector2::new(1.0, -3.0);
+        let x_new = Vector2::new(2.0, 0.5);
+        // sk = atol + rtol * max(|x|, |x_new|) = 1e-6 * (1 + [2, 3]).
+        let n = error_norm(&err, &x, &x_new, 1e-6, 1e-6);
+        let expected = (((1.0f64 / 3.0).powi(2) + (2.0f64 / 4.0).powi(2)) / 2.0).sqrt();
+        assert!((n - expected).abs() < 1e-12, "{n} vs {expected}");
+    }
+
+    #[test]
+    fn arguments_are_validated() {
+        let ok = Vector2::new(1.0, 2.0);
+        assert_eq!(check_arguments(0.0, &ok, 1.0), Ok(1.0));
+        assert_eq!(check_arguments(1.0, &ok, 0.0), Ok(-1.0));
+        assert_eq!(check_arguments(1.0, &ok, 1.0), Ok(0.0));
+        assert!(check_arguments(f64::NAN, &ok, 1.0).is_err());
+        assert!(check_arguments(0.0, &ok, f64::INFINITY).is_err());
+        assert!(check_arguments(0.0, &Vector2::new(1.0, f64::NAN), 1.0).is_err());
+        assert!(check_positive::<f64, 2>(0.0, "x").is_err());
+        assert!(check_positive::<f64, 2>(f64::NAN, "x").is_err());
+        assert!(check_positive::<f64, 2>(1e-300, "x").is_ok());
+    }
+}

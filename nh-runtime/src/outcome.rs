@@ -1,0 +1,171 @@
+//! Results of an integration: [`Outcome`], [`Stats`] and [`SimError`].
+
+use core::fmt;
+
+use nalgebra::SVector;
+
+/// Work counters of one integration call.
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::Vector1;
+/// use nh_runtime::{Integrator, Rk4};
+///
+/// let decay = |_t: f64, x: &Vector1<f64>| -x;
+/// let out = Rk4::new(0.25).integrate(&decay, 0.0, Vector1::new(1.0), 1.0).unwrap();
+/// assert_eq!(out.stats.steps, 4);
+/// assert_eq!(out.stats.rhs_evals, 16);
+/// assert_eq!(out.stats.rejected, 0);
+/// ```
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Hash)]
+pub struct Stats {
+    /// Accepted steps.
+    pub steps: usize,
+    /// Rejected step attempts (error too large, or a non-finite trial state).
+    pub rejected: usize,
+    /// Evaluations of [`OdeSystem::rhs`](crate::OdeSystem::rhs).
+    pub rhs_evals: usize,
+    /// Evaluations of [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian)
+    /// (always 0 for the explicit methods of this crate).
+    pub jacobian_evals: usize,
+    /// Whether the integrator's stiffness test fired (only
+    /// [`DormandPrince`](crate::DormandPrince) performs one). The integration
+    /// still continues; a stiff problem is merely slow for an explicit method.
+    pub stiffness_detected: bool,
+}
+
+/// A successful integration: the final time and state, plus work counters.
+///
+/// `t` equals the requested end time exactly.
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::Vector1;
+/// use nh_runtime::{DormandPrince, Integrator};
+///
+/// let decay = |_t: f64, x: &Vector1<f64>| -x;
+/// let out = DormandPrince::new(1e-9, 1e-12)
+///     .integrate(&decay, 0.0, Vector1::new(1.0), 1.0)
+///     .unwrap();
+/// assert_eq!(out.t, 1.0);
+/// assert!((out.x[0] - (-1.0f64).exp()).abs() < 1e-8);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Outcome<T, const D: usize> {
+    /// Final time (equal to the requested `t1`).
+    pub t: T,
+    /// State at `t`.
+    pub x: SVector<T, D>,
+    /// Work counters.
+    pub stats: Stats,
+}
+
+/// Why an integration failed.
+///
+/// Every variant that happens after integration started carries the last
+/// *good* (finite, accepted) time and state, so a caller can inspect or
+/// restart from there; see [`SimError::time`] and [`SimError::state`].
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::Vector1;
+/// use nh_runtime::{Integrator, Rk4, SimError};
+///
+/// // x' = x^2, x(0) = 1 blows up at t = 1.
+/// let blow_up = |_t: f64, x: &Vector1<f64>| x.component_mul(x);
+/// let err = Rk4::new(0.01).integrate(&blow_up, 0.0, Vector1::new(1.0), 2.0).unwrap_err();
+/// assert!(matches!(err, SimError::NonFinite { .. }));
+/// assert!(err.state().unwrap()[0].is_finite());
+/// assert!(err.time().unwrap() > 0.9);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum SimError<T, const D: usize> {
+    /// The right-hand side or the state became NaN or infinite and the
+    /// integrator could not recover. `x` is the last good state, at `t`.
+    NonFinite {
+        /// Time of the last good state.
+        t: T,
+        /// Last good state.
+        x: SVector<T, D>,
+    },
+    /// The adaptive step size fell below the resolution of `t` (about
+    /// `10 * eps * max(|t|, |t1|)`), or a fixed step no longer advances `t`.
+    StepSizeTooSmall {
+        /// Time of the last good state.
+        t: T,
+        /// Last good state.
+        x: SVector<T, D>,
+        /// The step size that was too small.
+        h: T,
+    },
+    /// The step budget (`with_max_steps`) was used up before reaching `t1`.
+    MaxSteps {
+        /// Time of the last good state.
+        t: T,
+        /// Last good state.
+        x: SVector<T, D>,
+        /// Step attempts made (accepted plus rejected).
+        steps: usize,
+    },
+    /// A linear system could not be solved (reserved for implicit methods).
+    Singular {
+        /// Time of the last good state.
+        t: T,
+        /// Last good state.
+        x: SVector<T, D>,
+    },
+    /// The arguments or the integrator's settings are invalid; nothing was
+    /// integrated. `what` names the offending value.
+    InvalidInput {
+        /// Human-readable description of the invalid value.
+        what: &'static str,
+    },
+}
+
+impl<T: Copy, const D: usize> SimError<T, D> {
+    /// Time of the last good state, or `None` for [`SimError::InvalidInput`].
+    pub fn time(&self) -> Option<T> {
+        match self {
+            Self::NonFinite { t, .. }
+            | Self::StepSizeTooSmall { t, .. }
+            | Self::MaxSteps { t, .. }
+            | Self::Singular { t, .. } => Some(*t),
+            Self::InvalidInput { .. } => None,
+        }
+    }
+
+    /// Last good state, or `None` for [`SimError::InvalidInput`].
+    pub fn state(&self) -> Option<&SVector<T, D>> {
+        match self {
+            Self::NonFinite { x, .. }
+            | Self::StepSizeTooSmall { x, .. }
+            | Self::MaxSteps { x, .. }
+            | Self::Singular { x, .. } => Some(x),
+            Self::InvalidInput { .. } => None,
+        }
+    }
+}
+
+impl<T: fmt::Display, const D: usize> fmt::Display for SimError<T, D> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Self::NonFinite { t, .. } => {
+                write!(f, "state or derivative became non-finite after t = {t}")
+            }
+            Self::StepSizeTooSmall { t, h, .. } => {
+                write!(f, "step size {h} too small at t = {t}")
+            }
+            Self::MaxSteps { t, steps, .. } => {
+                write!(f, "maximum number of steps ({steps}) reached at t = {t}")
+            }
+            Self::Singular { t, .. } => write!(f, "singular linear system at t = {t}"),
+            Self::InvalidInput { what } => write!(f, "invalid input: {what}"),
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl<T: fmt::Debug + fmt::Display, const D: usize> std::error::Error for SimError<T, D> {}

@@ -1,0 +1,252 @@
+//! The traits a system implements to be integrated, and the [`Driven`] adapter.
+
+use core::fmt;
+
+use nalgebra::{SMatrix, SVector};
+
+use crate::{Outcome, SimError};
+
+/// An autonomous or time-dependent first-order ODE `x' = f(t, x)` with a
+/// state of fixed dimension `D`.
+///
+/// Every closure `Fn(T, &SVector<T, D>) -> SVector<T, D>` is an `OdeSystem`
+/// too, which is handy for small problems and tests.
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::Vector2;
+/// use nh_runtime::OdeSystem;
+///
+/// /// Harmonic oscillator `q'' = -q` written as `(q, p)' = (p, -q)`.
+/// struct Oscillator;
+///
+/// impl OdeSystem<f64, 2> for Oscillator {
+///     fn rhs(&self, _t: f64, x: &Vector2<f64>) -> Vector2<f64> {
+///         Vector2::new(x[1], -x[0])
+///     }
+/// }
+///
+/// assert_eq!(Oscillator.rhs(0.0, &Vector2::new(1.0, 0.0)), Vector2::new(0.0, -1.0));
+/// ```
+pub trait OdeSystem<T, const D: usize> {
+    /// The right-hand side `f(t, x)`.
+    fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D>;
+}
+
+impl<T, const D: usize, F> OdeSystem<T, D> for F
+where
+    F: Fn(T, &SVector<T, D>) -> SVector<T, D>,
+{
+    #[inline]
+    fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
+        self(t, x)
+    }
+}
+
+/// An [`OdeSystem`] that can also provide its Jacobian `∂f/∂x`, for implicit
+/// methods.
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::{Matrix2, Vector2};
+/// use nh_runtime::{OdeJacobian, OdeSystem};
+///
+/// struct Oscillator;
+///
+/// impl OdeSystem<f64, 2> for Oscillator {
+///     fn rhs(&self, _t: f64, x: &Vector2<f64>) -> Vector2<f64> {
+///         Vector2::new(x[1], -x[0])
+///     }
+/// }
+///
+/// impl OdeJacobian<f64, 2> for Oscillator {
+///     fn jacobian(&self, _t: f64, _x: &Vector2<f64>) -> Matrix2<f64> {
+///         Matrix2::new(0.0, 1.0, -1.0, 0.0)
+///     }
+/// }
+///
+/// let j = Oscillator.jacobian(0.0, &Vector2::zeros());
+/// assert_eq!(j * Vector2::new(1.0, 0.0), Vector2::new(0.0, -1.0));
+/// ```
+pub trait OdeJacobian<T, const D: usize>: OdeSystem<T, D> {
+    /// The Jacobian `∂f/∂x` evaluated at `(t, x)`.
+    fn jacobian(&self, t: T, x: &SVector<T, D>) -> SMatrix<T, D, D>;
+}
+
+/// A system with `M` control inputs `u`: `x' = f(t, x, u)`.
+///
+/// Hold the input fixed with [`Driven`] to obtain an [`OdeSystem`].
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::{Vector1, Vector2};
+/// use nh_runtime::ControlledSystem;
+///
+/// /// A double integrator pushed by a force `u`.
+/// struct Cart;
+///
+/// impl ControlledSystem<f64, 2, 1> for Cart {
+///     fn rhs_with_input(&self, _t: f64, x: &Vector2<f64>, u: &Vector1<f64>) -> Vector2<f64> {
+///         Vector2::new(x[1], u[0])
+///     }
+/// }
+///
+/// let dx = Cart.rhs_with_input(0.0, &Vector2::new(0.0, 1.0), &Vector1::new(2.0));
+/// assert_eq!(dx, Vector2::new(1.0, 2.0));
+/// ```
+pub trait ControlledSystem<T, const D: usize, const M: usize> {
+    /// The right-hand side `f(t, x, u)`.
+    fn rhs_with_input(&self, t: T, x: &SVector<T, D>, u: &SVector<T, M>) -> SVector<T, D>;
+}
+
+/// Adapter: a [`ControlledSystem`] with a held (zero-order-hold) input `u`
+/// is an [`OdeSystem`].
+///
+/// Typical use is a control loop that integrates one sampling period at a
+/// time with the input computed at the start of the period.
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::{Vector1, Vector2};
+/// use nh_runtime::{ControlledSystem, Driven, Integrator, Rk4};
+///
+/// struct Cart;
+///
+/// impl ControlledSystem<f64, 2, 1> for Cart {
+///     fn rhs_with_input(&self, _t: f64, x: &Vector2<f64>, u: &Vector1<f64>) -> Vector2<f64> {
+///         Vector2::new(x[1], u[0])
+///     }
+/// }
+///
+/// // Constant acceleration 2 for one second from rest: position 1, velocity 2.
+/// let driven = Driven::new(&Cart, Vector1::new(2.0));
+/// let out = Rk4::new(0.1).integrate(&driven, 0.0, Vector2::zeros(), 1.0).unwrap();
+/// assert!((out.x[0] - 1.0).abs() < 1e-12);
+/// assert!((out.x[1] - 2.0).abs() < 1e-12);
+/// ```
+pub struct Driven<'a, S: ?Sized, T, const M: usize> {
+    /// The controlled system.
+    pub system: &'a S,
+    /// The input held constant during integration.
+    pub u: SVector<T, M>,
+}
+
+impl<'a, S: ?Sized, T, const M: usize> Driven<'a, S, T, M> {
+    /// Holds the input `u` for `system`.
+    pub fn new(system: &'a S, u: SVector<T, M>) -> Self {
+        Self { system, u }
+    }
+}
+
+impl<S: ?Sized, T: Clone, const M: usize> Clone for Driven<'_, S, T, M> {
+    fn clone(&self) -> Self {
+        Self {
+            system: self.system,
+            u: self.u.clone(),
+        }
+    }
+}
+
+impl<S: ?Sized, T: Copy, const M: usize> Copy for Driven<'_, S, T, M> {}
+
+impl<S: ?Sized + fmt::Debug, T: fmt::Debug, const M: usize> fmt::Debug for Driven<'_, S, T, M> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("Driven")
+            .field("system", &self.system)
+            .field("u", &self.u)
+            .finish()
+    }
+}
+
+impl<S, T, const D: usize, const M: usize> OdeSystem<T, D> for Driven<'_, S, T, M>
+where
+    S: ControlledSystem<T, D, M> + ?Sized,
+{
+    #[inline]
+    fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
+        self.system.rhs_with_input(t, x, &self.u)
+    }
+}
+
+/// A method that advances an [`OdeSystem`] from `(t0, x0)` to `t1`.
+///
+/// Conventions shared by every integrator of this crate:
+///
+/// * `t0`, `t1` and every component of `x0` must be finite, otherwise
+///   [`SimError::InvalidInput`] is returned and nothing is evaluated.
+/// * `t1 < t0` is allowed: the integration runs backwards in time with
+///   negative steps (step sizes given to the builders are magnitudes).
+/// * `t1 == t0` returns `Ok` with `x0` and zeroed [`Stats`](crate::Stats)
+///   (the observer is still called once, at `t0`).
+/// * On success, [`Outcome::t`] is exactly `t1`.
+/// * No heap allocation: states live in `SVector` stack arrays.
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::Vector2;
+/// use nh_runtime::{DormandPrince, Integrator, Rk4};
+///
+/// let oscillator = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -x[0]);
+/// let x0 = Vector2::new(1.0, 0.0);
+///
+/// fn run<I: Integrator<f64>>(i: &mut I, sys: &impl nh_runtime::OdeSystem<f64, 2>, x0: Vector2<f64>) -> f64 {
+///     i.integrate(sys, 0.0, x0, 1.0).unwrap().x[0]
+/// }
+///
+/// let exact = 1.0f64.cos();
+/// assert!((run(&mut Rk4::new(0.01), &oscillator, x0) - exact).abs() < 1e-9);
+/// assert!((run(&mut DormandPrince::new(1e-10, 1e-12), &oscillator, x0) - exact).abs() < 1e-9);
+/// ```
+pub trait Integrator<T> {
+    /// Integrates `sys` from `(t0, x0)` to `t1`.
+    ///
+    /// Equivalent to [`Integrator::integrate_with_observer`] with an observer
+    /// that does nothing.
+    fn integrate<S: OdeSystem<T, D> + ?Sized, const D: usize>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        x0: SVector<T, D>,
+        t1: T,
+    ) -> Result<Outcome<T, D>, SimError<T, D>> {
+        self.integrate_with_observer(sys, t0, x0, t1, |_, _| {})
+    }
+
+    /// Like [`Integrator::integrate`], but calls `observer(t, &x)` at `t0`
+    /// and after every accepted step (including the final one, at `t1`).
+    ///
+    /// # Example
+    ///
+    /// ```rust
+    /// use nalgebra::Vector1;
+    /// use nh_runtime::{Integrator, Rk4};
+    ///
+    /// let decay = |_t: f64, x: &Vector1<f64>| -x;
+    /// let mut calls = 0;
+    /// let mut last_t = f64::NAN;
+    /// Rk4::new(0.1)
+    ///     .integrate_with_observer(&decay, 0.0, Vector1::new(1.0), 1.0, |t, _x| {
+    ///         calls += 1;
+    ///         last_t = t;
+    ///     })
+    ///     .unwrap();
+    /// assert_eq!(calls, 11); // t0 plus 10 steps
+    /// assert_eq!(last_t, 1.0);
+    /// ```
+    fn integrate_with_observer<S, F, const D: usize>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        x0: SVector<T, D>,
+        t1: T,
+        observer: F,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        S: OdeSystem<T, D> + ?Sized,
+        F: FnMut(T, &SVector<T, D>);
+}
