@@ -22,10 +22,16 @@ pub enum Route {
 /// Figures about one expansion, for statistics and tests.
 #[derive(Clone, Debug, Default)]
 pub struct Stats {
+    /// The struct's name.
+    pub name: String,
     /// Operations of `accelerations` by the multiplier route, after CSE.
     pub ops_multiplier: usize,
     /// Operations of `accelerations` by the curvature route, after CSE.
     pub ops_curvature: usize,
+    /// Estimated cost (in additions) of the multiplier route.
+    pub cost_multiplier: usize,
+    /// Estimated cost (in additions) of the curvature route.
+    pub cost_curvature: usize,
     /// The route `accelerations` uses.
     pub route: Option<Route>,
     /// Distinct expressions in the engine's graph at the end.
@@ -36,6 +42,30 @@ pub struct Stats {
     pub integrable: bool,
     /// Which outputs were derived.
     pub derived: Vec<&'static str>,
+    /// Lines of generated code (one statement or item per line, as `cargo expand` prints it).
+    pub lines: usize,
+}
+
+impl Stats {
+    /// One line: operation counts, route, graph size.
+    pub fn summary(&self) -> String {
+        format!(
+            "accelerations: multiplier route {} ops (cost {}), curvature route {} ops (cost {}) after CSE, using the {} route; {} generated lines; graph {} expressions, {} derivatives; integrable: {}",
+            self.ops_multiplier,
+            self.cost_multiplier,
+            self.ops_curvature,
+            self.cost_curvature,
+            match self.route {
+                Some(Route::Multiplier) => "multiplier",
+                Some(Route::Curvature) => "curvature",
+                None => "(none)",
+            },
+            self.lines,
+            self.graph_size,
+            self.derivatives,
+            self.integrable
+        )
+    }
 }
 
 /// Where the values of a function's arguments come from.
@@ -201,7 +231,10 @@ fn vector_expr(k: usize, items: &[TokenStream]) -> TokenStream {
 /// Builds the whole expansion for a lowered model.
 pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, Stats) {
     let (n, k, p) = (m.n(), m.k(), m.p());
-    let mut stats = Stats::default();
+    let mut stats = Stats {
+        name: def.name.to_string(),
+        ..Stats::default()
+    };
     let name = &def.name;
     let vis = &def.vis;
     let attrs = &def.attrs;
@@ -250,7 +283,9 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         );
         return (TokenStream::new(), stats);
     }
-    let route = if stats.ops_curvature <= stats.ops_multiplier {
+    stats.cost_multiplier = d1.cost_estimate(&mn.rdd);
+    stats.cost_curvature = d2.cost_estimate(&rdd2);
+    let route = if stats.cost_curvature <= stats.cost_multiplier {
         Route::Curvature
     } else {
         Route::Multiplier
@@ -344,6 +379,19 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         ),
     ));
     if m.outputs.routes {
+        let (om, oc) = (stats.ops_multiplier, stats.ops_curvature);
+        let chosen = match route {
+            Route::Multiplier => "multiplier",
+            Route::Curvature => "curvature",
+        };
+        methods.extend(quote! {
+            /// Operations (after CSE) of r̈ by the multiplier route (5.9).
+            pub const OPS_MULTIPLIER_ROUTE: usize = #om;
+            /// Operations (after CSE) of r̈ by the curvature route (5.20).
+            pub const OPS_CURVATURE_ROUTE: usize = #oc;
+            /// The route [`Self::accelerations`] uses: `"multiplier"` or `"curvature"`.
+            pub const ROUTE: &'static str = #chosen;
+        });
         methods.extend(acc_method(
             format_ident!("accelerations_multiplier_route"),
             Route::Multiplier,
@@ -685,6 +733,28 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         #runtime_impl
     };
     stats.graph_size = m.engine.num_exprs();
+    stats.lines = count_lines(&tokens);
     stats.derivatives = m.engine.counters.derivatives;
     (tokens, stats)
+}
+
+/// Lines of code the way a pretty-printer lays them out: one per statement,
+/// item, attribute and brace.
+fn count_lines(tokens: &TokenStream) -> usize {
+    let mut lines = 0;
+    for tt in tokens.clone() {
+        match tt {
+            proc_macro2::TokenTree::Punct(p) if p.as_char() == ';' => lines += 1,
+            proc_macro2::TokenTree::Group(g) if g.delimiter() == proc_macro2::Delimiter::Brace => {
+                lines += 2 + count_lines(&g.stream())
+            }
+            proc_macro2::TokenTree::Group(g)
+                if g.delimiter() == proc_macro2::Delimiter::Bracket =>
+            {
+                lines += 1
+            }
+            _ => {}
+        }
+    }
+    lines
 }

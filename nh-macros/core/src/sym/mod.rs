@@ -436,7 +436,8 @@ impl Engine {
     /// coefficient, expands integer powers of sums, distributes integer powers
     /// of monomial bases and reduces `cos²`.
     fn normal_mono(&mut self, f: Factors) -> Normal {
-        let needs = f.iter().any(|&(a, e)| self.factor_needs_work(a, e));
+        let needs =
+            f.iter().any(|&(a, e)| self.factor_needs_work(a, e)) || self.sin_over_cos(&f).is_some();
         if !needs {
             let m = self.intern_mono(f);
             return Normal::Mono(m, Rational::ONE);
@@ -444,6 +445,29 @@ impl Engine {
         let mut kept: Factors = Vec::new();
         let mut coef = Rational::ONE;
         let mut multiplicands: Vec<ExprId> = Vec::new();
+        // sin(u)^a cos(u)^b with a ≥ 2 and b < 0: sin² = 1 − cos² (this keeps
+        // the Laurent part in the basis {cos^b, sin·cos^b}, so that, e.g.,
+        // tan² + 1 becomes cos⁻²). Split into the two monomials directly:
+        // multiplying by 1 − cos² would canonicalise back to sin².
+        if let Some((si, u)) = self.sin_over_cos(&f) {
+            let mut f1 = f.clone();
+            f1[si].1 = f1[si]
+                .1
+                .checked_sub(Rational::int(2))
+                .unwrap_or(Rational::ZERO);
+            let mut f2 = f1.clone();
+            if let Some(&c) = self.atom_ix.get(&Atom::Func(Fun::Cos, u))
+                && let Some(slot) = f2.iter_mut().find(|x| x.0 == c)
+            {
+                slot.1 = slot
+                    .1
+                    .checked_add(Rational::int(2))
+                    .unwrap_or(Rational::ZERO);
+            }
+            let e1 = self.normal_expr(f1);
+            let e2 = self.normal_expr(f2);
+            return Normal::Expr(self.sub(e1, e2));
+        }
         for (a, e) in f {
             if e.is_zero() {
                 continue;
@@ -508,6 +532,33 @@ impl Engine {
             r = self.mul(r, p);
         }
         Normal::Expr(r)
+    }
+
+    /// A factor list as a normalised expression.
+    fn normal_expr(&mut self, f: Factors) -> ExprId {
+        match self.normal_mono(f) {
+            Normal::Mono(m, k) => {
+                let e = self.intern_expr(vec![(m, Rational::ONE)]);
+                self.scale(e, k)
+            }
+            Normal::Expr(e) => e,
+        }
+    }
+
+    /// In a factor list, the position of `sin(u)^a` (a ≥ 2) whose `cos(u)`
+    /// has a negative exponent, and `u`.
+    fn sin_over_cos(&self, f: &[(AtomId, Rational)]) -> Option<(usize, ExprId)> {
+        for (i, &(a, e)) in f.iter().enumerate() {
+            if let Atom::Func(Fun::Sin, u) = self.atoms[a as usize]
+                && e.is_integer()
+                && e >= Rational::int(2)
+                && let Some(&c) = self.atom_ix.get(&Atom::Func(Fun::Cos, u))
+                && f.iter().any(|&(x, ex)| x == c && ex.is_negative())
+            {
+                return Some((i, u));
+            }
+        }
+        None
     }
 
     fn factor_needs_work(&self, a: AtomId, e: Rational) -> bool {
@@ -654,6 +705,13 @@ impl Engine {
             } else {
                 self.neg(inner)
             };
+        }
+        if f == Fun::Tan {
+            // tan = sin / cos, so that identities between tan, sin and cos cancel
+            let s = self.func(Fun::Sin, a);
+            let c = self.func(Fun::Cos, a);
+            let ci = self.pow(c, Rational::MINUS_ONE);
+            return self.mul(s, ci);
         }
         let at = self.intern_atom(Atom::Func(f, a));
         self.atom_power(at, Rational::ONE)
