@@ -51,8 +51,9 @@ pub enum Op {
 pub struct Dag {
     ops: Vec<Op>,
     ix: HashMap<Op, Node>,
-    leaves: Vec<TokenStream>,
+    leaves: Vec<(TokenStream, Option<String>)>,
     leaf_ix: HashMap<String, Node>,
+    labels: HashMap<Node, String>,
     expr_memo: HashMap<ExprId, Node>,
     atom_memo: HashMap<AtomId, Node>,
     sym_nodes: HashMap<SymId, Node>,
@@ -94,6 +95,7 @@ impl Dag {
             ix: HashMap::new(),
             leaves: Vec::new(),
             leaf_ix: HashMap::new(),
+            labels: HashMap::new(),
             expr_memo: HashMap::new(),
             atom_memo: HashMap::new(),
             sym_nodes: HashMap::new(),
@@ -116,14 +118,32 @@ impl Dag {
     /// A leaf: a value the generated function reads (its tokens are emitted
     /// once, as a `let`, if used). Leaves with the same text are one node.
     pub fn leaf(&mut self, tokens: TokenStream) -> Node {
+        self.leaf_with_name(tokens, None)
+    }
+
+    /// A leaf whose `let` gets a readable name (which must be a fresh
+    /// identifier, distinct from `v<number>`).
+    pub fn leaf_named(&mut self, tokens: TokenStream, name: &str) -> Node {
+        self.leaf_with_name(tokens, Some(name.to_string()))
+    }
+
+    fn leaf_with_name(&mut self, tokens: TokenStream, name: Option<String>) -> Node {
         let key = tokens.to_string();
         if let Some(&n) = self.leaf_ix.get(&key) {
             return n;
         }
-        self.leaves.push(tokens);
+        self.leaves.push((tokens, name));
         let n = self.intern(Op::Leaf(self.leaves.len() - 1));
         self.leaf_ix.insert(key, n);
         n
+    }
+
+    /// Attaches a comment to a node; emitted as a doc comment on its `let`
+    /// (shown by `cargo expand`). The first label of a node wins.
+    pub fn label(&mut self, n: Node, text: impl Into<String>) {
+        if !matches!(self.ops[n as usize], Op::Const(_) | Op::Pi) {
+            self.labels.entry(n).or_insert_with(|| text.into());
+        }
     }
 
     /// Binds a symbol to a node (a leaf, or a computed value such as a
@@ -604,7 +624,24 @@ impl Dag {
                 pair_of.insert(c, (n, c));
             }
         }
-        let name = |n: Node| -> Ident { Ident::new(&format!("v{n}"), Span::call_site()) };
+        let name = |n: Node| -> Ident {
+            match &self.ops[n as usize] {
+                Op::Leaf(i) if self.leaves[*i].1.is_some() => Ident::new(
+                    self.leaves[*i].1.as_deref().unwrap_or("leaf"),
+                    Span::call_site(),
+                ),
+                _ => Ident::new(&format!("v{n}"), Span::call_site()),
+            }
+        };
+        let doc = |n: Node| -> TokenStream {
+            match self.labels.get(&n) {
+                Some(text) => {
+                    let text = format!(" {text}");
+                    quote!(#[doc = #text])
+                }
+                None => quote!(),
+            }
+        };
         let mut stmts = TokenStream::new();
         let mut done: HashSet<Node> = HashSet::new();
         for &n in &live {
@@ -618,7 +655,8 @@ impl Dag {
                     Op::Call(_, a) => name(a),
                     _ => continue,
                 };
-                stmts.extend(quote!(let (#sv, #cv): (T, T) = #a.sin_cos();));
+                let (ds, dc) = (doc(s), doc(c));
+                stmts.extend(quote!(#ds #dc let (#sv, #cv): (T, T) = #a.sin_cos();));
                 done.insert(s);
                 done.insert(c);
                 continue;
@@ -626,7 +664,7 @@ impl Dag {
             let rhs = match &self.ops[n as usize] {
                 Op::Const(q) => const_tokens(*q),
                 Op::Pi => quote!(T::pi()),
-                Op::Leaf(i) => self.leaves[*i].clone(),
+                Op::Leaf(i) => self.leaves[*i].0.clone(),
                 Op::Add(a, b) => {
                     let (a, b) = (name(*a), name(*b));
                     quote!(#a + #b)
@@ -662,7 +700,8 @@ impl Dag {
                     quote!(#a.powf(#b))
                 }
             };
-            stmts.extend(quote!(let #v: T = #rhs;));
+            let d = doc(n);
+            stmts.extend(quote!(#d let #v: T = #rhs;));
         }
         let outs = outputs
             .iter()

@@ -99,28 +99,35 @@ impl Args {
 fn bound_dag(m: &Model, args: &Args) -> Dag {
     let mut d = Dag::new();
     for (i, &s) in m.coord_syms.iter().enumerate() {
-        let l = d.leaf(args.coord[i].clone());
+        let l = d.leaf_named(args.coord[i].clone(), &format!("q_{}", m.coords[i]));
         d.bind(s, l);
     }
     for (j, &i) in m.independent.iter().enumerate() {
-        let l = d.leaf(args.rvel[j].clone());
+        let l = d.leaf_named(args.rvel[j].clone(), &format!("dot_{}", m.coords[i]));
         d.bind(m.vel_syms[i], l);
     }
     for (p, &s) in m.params.iter().zip(&m.param_syms) {
-        let l = d.leaf(quote!(self.#p));
+        let l = d.leaf_named(quote!(self.#p), &format!("p_{p}"));
         d.bind(s, l);
     }
     for (j, &s) in m.input_syms.iter().enumerate() {
-        let l = d.leaf(quote!(u[#j]));
+        let l = d.leaf_named(quote!(u[#j]), &format!("u_{}", m.inputs[j]));
         d.bind(s, l);
     }
-    let t = d.leaf(quote!(t));
+    let t = d.leaf_named(quote!(t), "time");
     d.bind(m.t_sym, t);
     let pi = d.pi();
     d.bind(m.pi_sym, pi);
     // dependent velocities: computed from the constraints (5.3)
     for (a, &s) in m.dependent.iter().enumerate() {
         let v = d.expr(&m.engine, m.dependent_velocity[a]);
+        d.label(
+            v,
+            format!(
+                "dot({}): dependent velocity from the constraint (5.3)",
+                m.coords[s]
+            ),
+        );
         d.bind(m.vel_syms[s], v);
     }
     d
@@ -148,7 +155,18 @@ struct MultiplierNodes {
 fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNodes {
     let (n, k) = (m.n(), m.k());
     let mass = matrix(d, m, &r.mass);
+    for (i, row) in mass.iter().enumerate() {
+        for (j, &x) in row.iter().enumerate().skip(i) {
+            d.label(x, format!("mass matrix ∂²L/∂q̇{i}∂q̇{j}"));
+        }
+    }
     let bias = exprs(d, m, &r.bias);
+    for (i, &x) in bias.iter().enumerate() {
+        d.label(
+            x,
+            format!("Euler–Lagrange term {i} without accelerations (3.9), forces included"),
+        );
+    }
     // q̇ = C ṙ with C = [I; −A] (rows in coordinate order)
     let mut c = vec![vec![ZERO_NODE; k]; n];
     for (j, &i) in m.independent.iter().enumerate() {
@@ -207,7 +225,18 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
         }
         f.push(d.neg(acc));
     }
+    for (a, row) in mr.iter().enumerate() {
+        for (b, &x) in row.iter().enumerate().skip(a) {
+            d.label(
+                x,
+                format!("projected mass matrix (Cᵀ M C)[{a}][{b}] of (5.9)"),
+            );
+        }
+    }
     let (rdd, pivots) = d.solve_symmetric(&mr, &f);
+    for (a, &v) in rdd.iter().enumerate() {
+        d.label(v, format!("r̈{a}: (5.9) solved by LDLᵀ"));
+    }
     MultiplierNodes {
         rdd,
         mass,
@@ -220,8 +249,23 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
 
 fn curvature_nodes(d: &mut Dag, m: &Model, r: &CurvatureRoute) -> (Vec<Node>, Vec<Node>) {
     let mass = matrix(d, m, &r.mass);
+    for (a, row) in mass.iter().enumerate() {
+        for (b, &x) in row.iter().enumerate().skip(a) {
+            d.label(
+                x,
+                format!("reduced mass matrix ∂²Lc/∂ṙ{a}∂ṙ{b} of the constrained Lagrangian (5.12)"),
+            );
+        }
+    }
     let rhs = exprs(d, m, &r.rhs);
-    d.solve_symmetric(&mass, &rhs)
+    for (a, &x) in rhs.iter().enumerate() {
+        d.label(x, format!("right side {a} of (5.20): projected forces minus the velocity terms and the curvature term Σ B ṙ ∂L/∂ṡ (5.21)"));
+    }
+    let (x, piv) = d.solve_symmetric(&mass, &rhs);
+    for (a, &v) in x.iter().enumerate() {
+        d.label(v, format!("r̈{a}: the reduced mass matrix solved by LDLᵀ"));
+    }
+    (x, piv)
 }
 
 fn vector_expr(k: usize, items: &[TokenStream]) -> TokenStream {
@@ -599,10 +643,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     let mut outs = Vec::with_capacity(dim);
     for i in 0..n {
         let node = match m.independent.iter().position(|&r| r == i) {
-            Some(j) => {
-                let leaf = dx.leaf(args_x.rvel[j].clone());
-                leaf
-            }
+            Some(j) => dx.leaf_named(args_x.rvel[j].clone(), &format!("dot_{}", m.coords[i])),
             None => {
                 let a = m.dependent.iter().position(|&s| s == i).unwrap_or(0);
                 dx.expr(&m.engine, m.dependent_velocity[a])
@@ -701,7 +742,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
             #phantom_field
         }
 
-        #[allow(non_snake_case, clippy::all, clippy::pedantic, unused_variables, unused_parens)]
+        #[allow(non_snake_case, clippy::all, clippy::pedantic, unused_variables, unused_parens, unused_doc_comments)]
         impl<T: ::nonholonomic::__private::nalgebra::RealField + Copy> #name<T> {
             /// The generalized coordinates in declared order: the coordinate order of `q` everywhere.
             pub const COORDINATES: [&'static str; #n] = [#(#coord_names),*];
