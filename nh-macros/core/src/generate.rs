@@ -657,6 +657,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     let xty = svec(dim);
     let runtime_impl = if has_inputs {
         quote! {
+            #[allow(non_snake_case, clippy::all, clippy::pedantic, unused_variables, unused_parens, unused_doc_comments)]
             impl<T: ::nonholonomic::__private::nalgebra::RealField + Copy>
                 ::nonholonomic::__private::nh_runtime::ControlledSystem<T, #dim, #n_in> for #name<T>
             {
@@ -671,6 +672,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         }
     } else {
         quote! {
+            #[allow(non_snake_case, clippy::all, clippy::pedantic, unused_variables, unused_parens, unused_doc_comments)]
             impl<T: ::nonholonomic::__private::nalgebra::RealField + Copy>
                 ::nonholonomic::__private::nh_runtime::OdeSystem<T, #dim> for #name<T>
             {

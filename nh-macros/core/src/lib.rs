@@ -4,6 +4,8 @@
 //! [`expand`] is the whole macro: it never panics, collects every error it
 //! finds and reports them together, pointing at the tokens at fault.
 #![forbid(unsafe_code)]
+// Index loops over matrices read like the formulas they implement.
+#![allow(clippy::needless_range_loop)]
 
 pub mod ctxt;
 pub mod emit;

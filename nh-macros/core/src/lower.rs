@@ -445,7 +445,7 @@ impl Lowerer<'_> {
                     }
                     BinOp::Pow => match self.e.as_constant(r) {
                         Some(q) => {
-                            if l == ZERO && !(q > Rational::ZERO) {
+                            if l == ZERO && q <= Rational::ZERO {
                                 self.cx
                                     .error(x.range(), "zero to a non-positive power is undefined");
                                 return None;
@@ -521,8 +521,6 @@ impl Lowerer<'_> {
                     let known = self.known_names();
                     let refs: Vec<&str> = known.iter().map(|k| k.as_str()).collect();
                     let hint = names::suggest(&s, &refs);
-                    let is_future_let = self.lets.len() < usize::MAX && false;
-                    let _ = is_future_let;
                     self.cx.error_at(id.span(), format!("unknown name `{s}`{hint}: declare it in `parameters {{ .. }}`, `coordinates {{ .. }}`, `inputs {{ .. }}` or with an earlier `let`"));
                     None
                 }
@@ -712,9 +710,7 @@ impl Lowerer<'_> {
                     _ => nonlinear = true,
                 }
             }
-            if nonlinear || vel_count > 1 {
-                ok = false;
-            } else if vel_count == 0 {
+            if nonlinear || vel_count != 1 {
                 ok = false;
             }
         }

@@ -641,8 +641,7 @@ impl Engine {
                 } else {
                     let cc = self.constant(*c);
                     let b = self.intern_atom(Atom::Base(cc));
-                    let e = self.atom_power_normal(b, q);
-                    e
+                    self.atom_power_normal(b, q)
                 };
                 let mut prod: Factors = Vec::with_capacity(factors.len());
                 for (at, e) in factors {
