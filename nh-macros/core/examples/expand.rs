@@ -1,27 +1,88 @@
-//! Expands a `nonholonomic_system!` body read from standard input and prints
-//! the generated code and the expansion's figures:
-//! `cargo run -p nh-core --example expand < system.txt`.
+//! Expands `nonholonomic_system!` invocations outside the compiler and
+//! prints each expansion's figures (expansion time, operation counts after
+//! CSE of both routes, generated lines):
+//!
+//! ```text
+//! cargo run --release -p nh-core --example expand -- FILE.rs [--code]
+//! cargo run --release -p nh-core --example expand < BODY.txt
+//! ```
+//!
+//! With a file, every `nonholonomic_system! { .. }` in it is expanded; with
+//! standard input, the input is the macro's body. `--code` also prints the
+//! generated code. Expansion time is the median of 21 runs.
+use proc_macro2::{TokenStream, TokenTree};
 use std::io::Read;
+use std::time::Instant;
+
+fn find_invocations(ts: TokenStream, out: &mut Vec<TokenStream>) {
+    let tokens: Vec<TokenTree> = ts.into_iter().collect();
+    for (i, tt) in tokens.iter().enumerate() {
+        if let TokenTree::Ident(id) = tt
+            && id == "nonholonomic_system"
+            && let Some(TokenTree::Punct(p)) = tokens.get(i + 1)
+            && p.as_char() == '!'
+            && let Some(TokenTree::Group(g)) = tokens.get(i + 2)
+        {
+            out.push(g.stream());
+            continue;
+        }
+        if let TokenTree::Group(g) = tt {
+            find_invocations(g.stream(), out);
+        }
+    }
+}
 
 fn main() {
-    let mut src = String::new();
-    if std::io::stdin().read_to_string(&mut src).is_err() {
-        eprintln!("could not read standard input");
-        std::process::exit(2);
-    }
-    let tokens: proc_macro2::TokenStream = match src.parse() {
-        Ok(t) => t,
-        Err(e) => {
-            eprintln!("not Rust tokens: {e}");
-            std::process::exit(2);
+    let args: Vec<String> = std::env::args().skip(1).collect();
+    let show_code = args.iter().any(|a| a == "--code");
+    let file = args.iter().find(|a| !a.starts_with("--"));
+    let src = match file {
+        Some(path) => std::fs::read_to_string(path).unwrap_or_else(|e| {
+            eprintln!("cannot read {path}: {e}");
+            std::process::exit(2)
+        }),
+        None => {
+            let mut s = String::new();
+            if std::io::stdin().read_to_string(&mut s).is_err() {
+                eprintln!("could not read standard input");
+                std::process::exit(2);
+            }
+            s
         }
     };
-    let start = std::time::Instant::now();
-    let (out, stats) = nh_core::expand_with_stats(tokens);
-    let elapsed = start.elapsed();
-    println!("{out}");
-    eprintln!(
-        "expansion: {:.2} ms; {stats:?}",
-        elapsed.as_secs_f64() * 1e3
-    );
+    let tokens: TokenStream = src.parse().unwrap_or_else(|e| {
+        eprintln!("not Rust tokens: {e}");
+        std::process::exit(2)
+    });
+    let bodies = if file.is_some() {
+        let mut v = Vec::new();
+        find_invocations(tokens, &mut v);
+        v
+    } else {
+        vec![tokens]
+    };
+    for body in bodies {
+        let mut times = Vec::new();
+        let mut result = None;
+        for _ in 0..21 {
+            let start = Instant::now();
+            let r = nh_core::expand_with_stats(body.clone());
+            times.push(start.elapsed().as_secs_f64() * 1e3);
+            result = Some(r);
+        }
+        times.sort_by(f64::total_cmp);
+        if let Some((code, stats)) = result {
+            if show_code {
+                println!("{code}");
+            }
+            println!(
+                "{}: expansion {:.2} ms (median of 21; min {:.2}, max {:.2}); {}",
+                stats.name,
+                times[10],
+                times[0],
+                times[20],
+                stats.summary()
+            );
+        }
+    }
 }
