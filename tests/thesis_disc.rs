@@ -146,7 +146,7 @@ fn curvature_is_6_35_to_6_38() {
             }
         }
     }
-    assert!(!ThesisDisc::<f64>::INTEGRABLE);
+    const { assert!(!ThesisDisc::<f64>::INTEGRABLE) };
 }
 
 #[test]
@@ -217,4 +217,29 @@ fn state_layout_and_runtime_rhs() {
     // ṡ = −A ṙ with A of (6.33)-(6.34)
     assert!(rel(sdot[0], d.R * q[1].cos() * rdot[0]) <= 1e-15);
     assert!(rel(sdot[1], d.R * q[1].sin() * rdot[0]) <= 1e-15);
+}
+
+/// Constants of the user's scope named like parameters must not break the expansion.
+mod scope_hygiene {
+    #![allow(dead_code, non_upper_case_globals)]
+    use nonholonomic::prelude::*;
+    const R: f64 = 0.35;
+    const m: f64 = 1.0;
+    nonholonomic_system! {
+        pub struct Hoop {
+            parameters { m, R }
+            coordinates { x }
+            lagrangian = m*R^2*dot(x)^2/2;
+        }
+    }
+    #[test]
+    fn parameters_named_like_constants() {
+        let h = Hoop::new(m, R);
+        let a = h.accelerations(
+            0.0,
+            &SVector::<f64, 1>::from([0.1]),
+            &SVector::<f64, 1>::from([1.0]),
+        );
+        assert_eq!(a[0], 0.0);
+    }
 }

@@ -99,19 +99,31 @@ impl Args {
 fn bound_dag(m: &Model, args: &Args) -> Dag {
     let mut d = Dag::new();
     for (i, &s) in m.coord_syms.iter().enumerate() {
-        let l = d.leaf_named(args.coord[i].clone(), &format!("q_{}", m.coords[i]));
+        let l = d.leaf_named(
+            args.coord[i].clone(),
+            &format!("q_{}", syn::ext::IdentExt::unraw(&m.coords[i])),
+        );
         d.bind(s, l);
     }
     for (j, &i) in m.independent.iter().enumerate() {
-        let l = d.leaf_named(args.rvel[j].clone(), &format!("dot_{}", m.coords[i]));
+        let l = d.leaf_named(
+            args.rvel[j].clone(),
+            &format!("dot_{}", syn::ext::IdentExt::unraw(&m.coords[i])),
+        );
         d.bind(m.vel_syms[i], l);
     }
     for (p, &s) in m.params.iter().zip(&m.param_syms) {
-        let l = d.leaf_named(quote!(self.#p), &format!("p_{p}"));
+        let l = d.leaf_named(
+            quote!(self.#p),
+            &format!("p_{}", syn::ext::IdentExt::unraw(p)),
+        );
         d.bind(s, l);
     }
     for (j, &s) in m.input_syms.iter().enumerate() {
-        let l = d.leaf_named(quote!(u[#j]), &format!("u_{}", m.inputs[j]));
+        let l = d.leaf_named(
+            quote!(u[#j]),
+            &format!("u_{}", syn::ext::IdentExt::unraw(&m.inputs[j])),
+        );
         d.bind(s, l);
     }
     let t = d.leaf_named(quote!(t), "time");
@@ -643,7 +655,10 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     let mut outs = Vec::with_capacity(dim);
     for i in 0..n {
         let node = match m.independent.iter().position(|&r| r == i) {
-            Some(j) => dx.leaf_named(args_x.rvel[j].clone(), &format!("dot_{}", m.coords[i])),
+            Some(j) => dx.leaf_named(
+                args_x.rvel[j].clone(),
+                &format!("dot_{}", syn::ext::IdentExt::unraw(&m.coords[i])),
+            ),
             None => {
                 let a = m.dependent.iter().position(|&s| s == i).unwrap_or(0);
                 dx.expr(&m.engine, m.dependent_velocity[a])
@@ -719,6 +734,12 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
                 .join(", ")
         }
     );
+    // argument names that cannot collide with a constant of the user's scope
+    // (an identifier pattern that names a constant would match it instead)
+    let param_args: Vec<proc_macro2::Ident> = params
+        .iter()
+        .map(|p| format_ident!("p_{}", syn::ext::IdentExt::unraw(p)))
+        .collect();
     let field_docs: Vec<String> = params.iter().map(|p| format!("Parameter `{p}`.")).collect();
     let phantom_field = if params.is_empty() {
         quote!(#[doc(hidden)] pub __scalar: ::core::marker::PhantomData<T>,)
@@ -766,8 +787,8 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
             pub const INTEGRABLE: bool = #integrable;
 
             #[doc = #new_doc]
-            pub const fn new(#(#params: T),*) -> Self {
-                Self { #(#params,)* #phantom_init }
+            pub const fn new(#(#param_args: T),*) -> Self {
+                Self { #(#params: #param_args,)* #phantom_init }
             }
 
             #methods
