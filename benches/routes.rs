@@ -67,7 +67,8 @@ fn time_per_call(calls: usize, reps: usize, mut f: impl FnMut(usize) -> f64) -> 
 }
 
 macro_rules! bench_system {
-    ($ty:ty, $sys:expr, $n:literal, $k:literal) => {{
+    ($solves:ident, $ty:ty, $sys:expr, $n:literal, $k:literal) => {{
+        let solves = &mut $solves;
         let sys = $sys;
         // a ring of states so the branch predictor and constant folding see varied input
         let states: Vec<(SVector<f64, $n>, SVector<f64, $k>)> = (0..64)
@@ -89,6 +90,27 @@ macro_rules! bench_system {
             let (q, r) = &states[i & 63];
             black_box(&sys).accelerations_curvature_route(0.0, black_box(q), black_box(r))[0]
         });
+        let chol = time_per_call(calls, reps, |i| {
+            let (q, r) = &states[i & 63];
+            let (mm, f) = black_box(&sys).reduced_system(0.0, black_box(q), black_box(r));
+            mm.cholesky().map(|c| c.solve(&f)[0]).unwrap_or(f64::NAN)
+        });
+        let lu = time_per_call(calls, reps, |i| {
+            let (q, r) = &states[i & 63];
+            let (mm, f) = black_box(&sys).reduced_system(0.0, black_box(q), black_box(r));
+            mm.lu().solve(&f).map(|x| x[0]).unwrap_or(f64::NAN)
+        });
+        let ldl = time_per_call(calls, reps, |i| {
+            let (q, r) = &states[i & 63];
+            black_box(&sys).accelerations_curvature_route(0.0, black_box(q), black_box(r))[0]
+        });
+        solves.push(format!(
+            "| {:<18} | {:>10.2} ({:.2}–{:.2}) | {:>10.2} ({:.2}–{:.2}) | {:>10.2} ({:.2}–{:.2}) |",
+            stringify!($ty),
+            ldl.1, ldl.0, ldl.2,
+            chol.1, chol.0, chol.2,
+            lu.1, lu.0, lu.2
+        ));
         println!(
             "| {:<13} | {:>4} | {:>16.2} ({:.2}–{:.2}) | {:>4} | {:>16.2} ({:.2}–{:.2}) | {:>10} | {:>6.2}x |",
             stringify!($ty),
@@ -111,7 +133,29 @@ fn main() {
         "| system        | ops (multiplier) | ns/call median (min–max) | ops (curvature) | ns/call median (min–max) | chosen | multiplier/curvature time |"
     );
     println!("|---|---|---|---|---|---|---|");
-    bench_system!(ThesisDisc<f64>, ThesisDisc::new(1.7, 0.35, 9.81), 5, 3);
-    bench_system!(ChaplyginSled<f64>, ChaplyginSled::new(2.0, 0.3, 0.5), 3, 2);
-    bench_system!(Random03<f64>, Random03::new(1.495, 0.319), 6, 4);
+    let mut solves: Vec<String> = Vec::new();
+    bench_system!(
+        solves,
+        ThesisDisc<f64>,
+        ThesisDisc::new(1.7, 0.35, 9.81),
+        5,
+        3
+    );
+    bench_system!(
+        solves,
+        ChaplyginSled<f64>,
+        ChaplyginSled::new(2.0, 0.3, 0.5),
+        3,
+        2
+    );
+    bench_system!(solves, Random03<f64>, Random03::new(1.495, 0.319), 6, 4);
+    println!();
+    println!(
+        "Curvature route, ns/call median (min–max): the reduced system solved by the generated unrolled LDLᵀ, or built and handed to nalgebra's static Cholesky / LU:"
+    );
+    println!("| system | generated LDLᵀ | nalgebra Cholesky | nalgebra LU |");
+    println!("|---|---|---|---|");
+    for line in solves {
+        println!("{line}");
+    }
 }

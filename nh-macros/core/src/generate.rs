@@ -466,6 +466,29 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
                 stats.ops_curvature
             ),
         ));
+        // the curvature route's reduced system, for measuring solvers against
+        // the unrolled LDLᵀ and for conditioning checks
+        let mut d = bound_dag(&m, &args_v);
+        let mass = matrix(&mut d, &m, &croute.mass);
+        let rhs = exprs(&mut d, &m, &croute.rhs);
+        let mut outs: Vec<Node> = mass.iter().flatten().copied().collect();
+        outs.extend(&rhs);
+        let (stmts, o) = d.emit(&outs);
+        let (mo, fo) = o.split_at(k * k);
+        let kk_expr = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #k, #k>);
+        let kk = quote!(::nonholonomic::__private::nalgebra::SMatrix<T, #k, #k>);
+        let fvec = vector_expr(k, fo);
+        methods.extend(quote! {
+            /// The reduced equations Mc r̈ = f of the curvature route as a matrix and
+            /// a vector: Mc = ∂²Lc/∂ṙ∂ṙ (5.12) and f the right side of (5.20).
+            /// [`Self::accelerations`] solves them by an unrolled LDLᵀ factorisation.
+            #[inline]
+            pub fn reduced_system(&self, t: T, q: &#qty, rdot: &#rty #u_arg) -> (#kk, #rty) {
+                let _ = (t, q, rdot);
+                #stmts
+                (#kk_expr::from_row_slice(&[#(#mo),*]), #fvec)
+            }
+        });
         stats.derived.push("routes");
     }
 
