@@ -428,44 +428,54 @@ impl Lowerer<'_> {
                 let v = self.lower(inner, depth + 1)?;
                 Some(self.e.neg(v))
             }
-            Expr::Bin { op, lhs, rhs, .. } => {
-                let l = self.lower(lhs, depth + 1);
-                let r = self.lower(rhs, depth + 1);
+            Expr::Chain { first, rest } => {
+                // every operand is lowered, so that all their errors are reported
+                let mut acc = self.lower(first, depth + 1);
+                for (op, _, operand) in rest {
+                    let v = self.lower(operand, depth + 1);
+                    acc = match (acc, v) {
+                        (Some(a), Some(v)) => match op {
+                            BinOp::Add => Some(self.e.add(a, v)),
+                            BinOp::Sub => Some(self.e.sub(a, v)),
+                            BinOp::Mul => Some(self.e.mul(a, v)),
+                            BinOp::Div if v == ZERO => {
+                                self.cx.error(operand.range(), "division by zero");
+                                None
+                            }
+                            BinOp::Div => Some(self.e.div(a, v)),
+                            BinOp::Pow => None,
+                        },
+                        _ => None,
+                    };
+                }
+                acc
+            }
+            Expr::Pow { base, exp, .. } => {
+                let l = self.lower(base, depth + 1);
+                let r = self.lower(exp, depth + 1);
                 let (l, r) = (l?, r?);
-                Some(match op {
-                    BinOp::Add => self.e.add(l, r),
-                    BinOp::Sub => self.e.sub(l, r),
-                    BinOp::Mul => self.e.mul(l, r),
-                    BinOp::Div => {
-                        if r == ZERO {
-                            self.cx.error(rhs.range(), "division by zero");
+                Some(match self.e.as_constant(r) {
+                    Some(q) => {
+                        if l == ZERO && q <= Rational::ZERO {
+                            self.cx
+                                .error(x.range(), "zero to a non-positive power is undefined");
                             return None;
                         }
-                        self.e.div(l, r)
+                        if q.abs() > Rational::int(64) && self.e.as_constant(l).is_none() {
+                            self.cx.error(
+                                exp.range(),
+                                "exponent too large: powers up to 64 are supported",
+                            );
+                            return None;
+                        }
+                        self.e.pow(l, q)
                     }
-                    BinOp::Pow => match self.e.as_constant(r) {
-                        Some(q) => {
-                            if l == ZERO && q <= Rational::ZERO {
-                                self.cx
-                                    .error(x.range(), "zero to a non-positive power is undefined");
-                                return None;
-                            }
-                            if q.abs() > Rational::int(64) && self.e.as_constant(l).is_none() {
-                                self.cx.error(
-                                    rhs.range(),
-                                    "exponent too large: powers up to 64 are supported",
-                                );
-                                return None;
-                            }
-                            self.e.pow(l, q)
-                        }
-                        // a^b = exp(b ln a) for a symbolic exponent
-                        None => {
-                            let ln = self.e.func(Fun::Ln, l);
-                            let p = self.e.mul(r, ln);
-                            self.e.func(Fun::Exp, p)
-                        }
-                    },
+                    // a^b = exp(b ln a) for a symbolic exponent
+                    None => {
+                        let ln = self.e.func(Fun::Ln, l);
+                        let p = self.e.mul(r, ln);
+                        self.e.func(Fun::Exp, p)
+                    }
                 })
             }
             Expr::Call { func, arg, range } => self.lower_call(func, arg, *range, depth),
@@ -795,36 +805,27 @@ impl Lowerer<'_> {
     fn find_nonlinear(&mut self, x: &Expr, independent: &[usize]) -> Option<SpanRange> {
         match x {
             Expr::Neg(inner, _) => self.find_nonlinear(inner, independent),
-            Expr::Bin {
-                op: BinOp::Mul,
-                lhs,
-                rhs,
-                ..
-            } => {
-                let (l, r) = (
-                    self.has_velocity(lhs, independent),
-                    self.has_velocity(rhs, independent),
-                );
-                match (l, r) {
-                    (true, true) => Some(x.range()),
-                    (true, false) => self.find_nonlinear(lhs, independent).or(Some(x.range())),
-                    (false, true) => self.find_nonlinear(rhs, independent).or(Some(x.range())),
-                    _ => None,
+            Expr::Chain { first, rest } if !x.is_sum() => {
+                // a product: two factors with velocities, or one in a denominator
+                let mut with_velocity: Vec<&Expr> = Vec::new();
+                if self.has_velocity(first, independent) {
+                    with_velocity.push(first);
+                }
+                for (op, _, f) in rest {
+                    if self.has_velocity(f, independent) {
+                        if *op == BinOp::Div {
+                            return Some(f.range());
+                        }
+                        with_velocity.push(f);
+                    }
+                }
+                match with_velocity.as_slice() {
+                    [] => None,
+                    [one] => self.find_nonlinear(one, independent).or(Some(x.range())),
+                    [a, .., b] => Some(a.range().to(b.range())),
                 }
             }
-            Expr::Bin {
-                op: BinOp::Div,
-                lhs,
-                rhs,
-                ..
-            } => {
-                if self.has_velocity(rhs, independent) {
-                    Some(rhs.range())
-                } else {
-                    self.find_nonlinear(lhs, independent)
-                }
-            }
-            Expr::Bin { op: BinOp::Pow, .. } | Expr::Call { .. } => {
+            Expr::Pow { .. } | Expr::Call { .. } => {
                 if self.has_velocity(x, independent) {
                     Some(x.range())
                 } else {
@@ -835,27 +836,37 @@ impl Lowerer<'_> {
         }
     }
 
-    /// Where the velocity of coordinate `d` is used in `x`.
+    /// Where the velocity of coordinate `d` is used in `x` (depth first, left to right).
     fn find_velocity_use(&mut self, x: &Expr, d: usize) -> Option<SpanRange> {
-        match x {
-            Expr::Call { func, arg, range } if func == "dot" => match &**arg {
-                Expr::Name(id)
-                    if self
-                        .scope
-                        .get(&id.to_string())
-                        .is_some_and(|b| matches!(b, Binding::Coord(i) if *i == d)) =>
-                {
-                    Some(*range)
+        let mut stack = vec![x];
+        while let Some(x) = stack.pop() {
+            match x {
+                Expr::Call { func, arg, range } if func == "dot" => {
+                    if let Expr::Name(id) = &**arg
+                        && self
+                            .scope
+                            .get(&id.to_string())
+                            .is_some_and(|b| matches!(b, Binding::Coord(i) if *i == d))
+                    {
+                        return Some(*range);
+                    }
                 }
-                _ => None,
-            },
-            Expr::Call { arg, .. } => self.find_velocity_use(arg, d),
-            Expr::Neg(inner, _) => self.find_velocity_use(inner, d),
-            Expr::Bin { lhs, rhs, .. } => self
-                .find_velocity_use(lhs, d)
-                .or_else(|| self.find_velocity_use(rhs, d)),
-            Expr::Name(_) | Expr::Num(..) => None,
+                Expr::Call { arg, .. } => stack.push(arg),
+                Expr::Neg(inner, _) => stack.push(inner),
+                Expr::Chain { first, rest } => {
+                    for (_, _, e) in rest.iter().rev() {
+                        stack.push(e);
+                    }
+                    stack.push(first);
+                }
+                Expr::Pow { base, exp, .. } => {
+                    stack.push(exp);
+                    stack.push(base);
+                }
+                Expr::Name(_) | Expr::Num(..) => {}
+            }
         }
+        None
     }
 }
 
@@ -867,18 +878,19 @@ enum TermKind {
 
 /// The top-level additive terms of an expression (through `+`, `-` and unary minus).
 fn top_level_terms(x: &Expr) -> Vec<&Expr> {
-    match x {
-        Expr::Bin {
-            op: BinOp::Add | BinOp::Sub,
-            lhs,
-            rhs,
-            ..
-        } => {
-            let mut v = top_level_terms(lhs);
-            v.extend(top_level_terms(rhs));
-            v
+    let mut out = Vec::new();
+    let mut stack = vec![x];
+    while let Some(x) = stack.pop() {
+        match x {
+            Expr::Chain { first, rest } if x.is_sum() => {
+                for (_, _, e) in rest.iter().rev() {
+                    stack.push(e);
+                }
+                stack.push(first);
+            }
+            Expr::Neg(inner, _) => stack.push(inner),
+            _ => out.push(x),
         }
-        Expr::Neg(inner, _) => top_level_terms(inner),
-        _ => vec![x],
     }
+    out
 }

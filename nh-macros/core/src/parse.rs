@@ -30,7 +30,8 @@ pub enum BinOp {
     Pow,
 }
 
-/// A surface expression.
+/// A surface expression. Chains of `+ -` and of `* /` are flat lists, so a
+/// long sum costs no recursion depth anywhere (parsing, lowering, dropping).
 #[derive(Clone, Debug)]
 pub enum Expr {
     /// A numeric literal, as an exact rational.
@@ -48,16 +49,21 @@ pub enum Expr {
     },
     /// `-e`.
     Neg(Box<Expr>, SpanRange),
-    /// `l op r`.
-    Bin {
-        /// operator
-        op: BinOp,
-        /// span of the operator token
+    /// `first op e1 op e2 ...` with all operators `+`/`-` (a sum) or all `*`/`/` (a product).
+    Chain {
+        /// the first operand
+        first: Box<Expr>,
+        /// the operators (with their spans) and the following operands
+        rest: Vec<(BinOp, Span, Expr)>,
+    },
+    /// `base ^ exp`.
+    Pow {
+        /// the base
+        base: Box<Expr>,
+        /// the exponent
+        exp: Box<Expr>,
+        /// span of `^`
         op_span: Span,
-        /// left operand
-        lhs: Box<Expr>,
-        /// right operand
-        rhs: Box<Expr>,
     },
 }
 
@@ -68,8 +74,18 @@ impl Expr {
             Expr::Num(_, r) | Expr::Neg(_, r) => *r,
             Expr::Name(i) => SpanRange::single(i.span()),
             Expr::Call { range, .. } => *range,
-            Expr::Bin { lhs, rhs, .. } => lhs.range().to(rhs.range()),
+            Expr::Chain { first, rest } => match rest.last() {
+                Some((_, _, last)) => first.range().to(last.range()),
+                None => first.range(),
+            },
+            Expr::Pow { base, exp, .. } => base.range().to(exp.range()),
         }
+    }
+
+    /// Is this a sum (a chain of `+`/`-`)?
+    pub fn is_sum(&self) -> bool {
+        matches!(self, Expr::Chain { rest, .. }
+            if rest.first().is_some_and(|r| matches!(r.0, BinOp::Add | BinOp::Sub)))
     }
 }
 
@@ -470,7 +486,8 @@ fn parse_expr(input: ParseStream, depth: usize) -> syn::Result<Expr> {
             "expression nested more than {MAX_DEPTH} levels deep: split it into `let` items"
         )));
     }
-    let mut lhs = parse_term(input, depth)?;
+    let first = parse_term(input, depth)?;
+    let mut rest = Vec::new();
     loop {
         let op = if input.peek(Token![+]) {
             let t: Token![+] = input.parse()?;
@@ -481,20 +498,43 @@ fn parse_expr(input: ParseStream, depth: usize) -> syn::Result<Expr> {
         } else {
             break;
         };
+        check_chain_length(&rest, op.1)?;
         let rhs = parse_term(input, depth)?;
-        lhs = Expr::Bin {
-            op: op.0,
-            op_span: op.1,
-            lhs: Box::new(lhs),
-            rhs: Box::new(rhs),
-        };
+        rest.push((op.0, op.1, rhs));
     }
-    Ok(lhs)
+    Ok(chain(first, rest))
+}
+
+/// Longest chain of operands accepted in one sum or product.
+pub const MAX_CHAIN: usize = 100_000;
+
+fn check_chain_length(rest: &[(BinOp, Span, Expr)], span: Span) -> syn::Result<()> {
+    if rest.len() >= MAX_CHAIN {
+        return Err(syn::Error::new(
+            span,
+            format!(
+                "more than {MAX_CHAIN} operands in one sum or product: split it into `let` items"
+            ),
+        ));
+    }
+    Ok(())
+}
+
+fn chain(first: Expr, rest: Vec<(BinOp, Span, Expr)>) -> Expr {
+    if rest.is_empty() {
+        first
+    } else {
+        Expr::Chain {
+            first: Box::new(first),
+            rest,
+        }
+    }
 }
 
 /// term := unary (('*' | '/') unary)*
 fn parse_term(input: ParseStream, depth: usize) -> syn::Result<Expr> {
-    let mut lhs = parse_unary(input, depth)?;
+    let first = parse_unary(input, depth)?;
+    let mut rest = Vec::new();
     loop {
         let op = if input.peek(Token![*]) && !input.peek(Token![*=]) {
             let t: Token![*] = input.parse()?;
@@ -511,15 +551,11 @@ fn parse_term(input: ParseStream, depth: usize) -> syn::Result<Expr> {
         } else {
             break;
         };
+        check_chain_length(&rest, op.1)?;
         let rhs = parse_unary(input, depth)?;
-        lhs = Expr::Bin {
-            op: op.0,
-            op_span: op.1,
-            lhs: Box::new(lhs),
-            rhs: Box::new(rhs),
-        };
+        rest.push((op.0, op.1, rhs));
     }
-    Ok(lhs)
+    Ok(chain(first, rest))
 }
 
 /// unary := '-' unary | power
@@ -553,11 +589,10 @@ fn parse_power(input: ParseStream, depth: usize) -> syn::Result<Expr> {
     if input.peek(Token![^]) && !input.peek(Token![^=]) {
         let t: Token![^] = input.parse()?;
         let exp = parse_unary(input, depth + 1)?;
-        return Ok(Expr::Bin {
-            op: BinOp::Pow,
+        return Ok(Expr::Pow {
+            base: Box::new(base),
+            exp: Box::new(exp),
             op_span: t.span,
-            lhs: Box::new(base),
-            rhs: Box::new(exp),
         });
     }
     Ok(base)
@@ -742,17 +777,17 @@ mod tests {
         assert!(matches!(e, Expr::Neg(..)));
         let e = parse_expr_all.parse2(quote!(a ^ b ^ c)).unwrap();
         match e {
-            Expr::Bin {
-                op: BinOp::Pow,
-                rhs,
-                ..
-            } => {
-                assert!(matches!(*rhs, Expr::Bin { op: BinOp::Pow, .. }))
-            }
+            Expr::Pow { exp, .. } => assert!(matches!(*exp, Expr::Pow { .. })),
             _ => panic!("expected a power"),
         }
         let e = parse_expr_all.parse2(quote!(m * x ^ 2)).unwrap();
-        assert!(matches!(e, Expr::Bin { op: BinOp::Mul, .. }));
+        match e {
+            Expr::Chain { first, rest } => {
+                assert!(matches!(*first, Expr::Name(_)));
+                assert!(matches!(rest[0], (BinOp::Mul, _, Expr::Pow { .. })));
+            }
+            _ => panic!("expected a product"),
+        }
     }
 
     #[test]
