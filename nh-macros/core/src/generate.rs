@@ -1,14 +1,15 @@
 //! Assembly of the generated struct, its inherent methods and its runtime
 //! trait implementation (DESIGN §3), from the derived mechanics.
 
+use crate::api::{Bodies, Method, Shape};
 use crate::ctxt::Ctxt;
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::lower::Model;
 use crate::mechanics::{CurvatureRoute, MultiplierRoute};
 use crate::parse::SystemDef;
 use crate::sym::{ExprId, ZERO};
-use proc_macro2::{Literal, TokenStream};
-use quote::{format_ident, quote};
+use proc_macro2::{Ident, TokenStream};
+use quote::quote;
 
 /// Which derivation `accelerations` uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -284,21 +285,350 @@ fn vector_expr(k: usize, items: &[TokenStream]) -> TokenStream {
     quote!(::nonholonomic::__private::nalgebra::SVector::<T, #k>::from([#(#items),*]))
 }
 
+/// The route descriptions used in the generated docs.
+fn route_doc(route: Route) -> &'static str {
+    match route {
+        Route::Multiplier => {
+            "the multiplier route: the Euler–Lagrange terms (3.9) projected onto the constraint distribution, (5.9)"
+        }
+        Route::Curvature => {
+            "the curvature route: the constrained Lagrangian Lc (5.12) with the curvature term of (5.20)–(5.21)"
+        }
+    }
+}
+
+/// Method bodies computed from the derivation, on demand: a method that is
+/// not requested is never emitted.
+struct Derived<'a> {
+    m: &'a mut Model,
+    mult: MultiplierRoute,
+    curv: Vec<Vec<Vec<ExprId>>>,
+    croute: CurvatureRoute,
+    route: Route,
+    stats: &'a mut Stats,
+    energy: Option<ExprId>,
+}
+
+impl Derived<'_> {
+    fn acc_nodes(&self, d: &mut Dag, route: Route) -> Vec<Node> {
+        match route {
+            Route::Multiplier => multiplier_nodes(d, self.m, &self.mult).rdd,
+            Route::Curvature => curvature_nodes(d, self.m, &self.croute).0,
+        }
+    }
+
+    fn accelerations(&mut self, route: Route, doc: String) -> Method {
+        let (n, k) = (self.m.n(), self.m.k());
+        let mut d = bound_dag(self.m, &Args::vectors(n, k));
+        let rdd = self.acc_nodes(&mut d, route);
+        let (stmts, o) = d.emit(&rdd);
+        let ret = vector_expr(k, &o);
+        Method {
+            doc,
+            body: quote! { let _ = (t, q, rdot); #stmts #ret },
+        }
+    }
+}
+
+impl Bodies for Derived<'_> {
+    fn method(&mut self, name: &str) -> Method {
+        let (n, k, p) = (self.m.n(), self.m.k(), self.m.p());
+        let args = Args::vectors(n, k);
+        let u_doc = if self.m.inputs.is_empty() {
+            ""
+        } else {
+            "\n\n`u` holds the inputs in declared order."
+        };
+        match name {
+            "dependent_velocities" => {
+                let mut d = bound_dag(self.m, &args);
+                let outs = exprs(&mut d, self.m, &self.m.dependent_velocity);
+                let (stmts, o) = d.emit(&outs);
+                let ret = vector_expr(p, &o);
+                Method {
+                    doc: "The dependent velocities ṡ = −A(q) ṙ of the constraints (5.3), in the order of [`Self::DEPENDENT`].".into(),
+                    body: quote! { let _ = (q, rdot); #stmts #ret },
+                }
+            }
+            "accelerations" => {
+                let (used, other) = match self.route {
+                    Route::Curvature => (self.stats.ops_curvature, self.stats.ops_multiplier),
+                    Route::Multiplier => (self.stats.ops_multiplier, self.stats.ops_curvature),
+                };
+                let doc = format!(
+                    "The reduced equations of motion: r̈, the accelerations of the independent coordinates (in the order of [`Self::INDEPENDENT`]) at time `t`, coordinates `q` and independent velocities `rdot`.{u_doc}\n\nDerived by {}; {used} operations after common-subexpression elimination (the other route needs {other}). The k × k reduced mass matrix is factorised as LDLᵀ, unrolled, with its structural zeros pruned.",
+                    route_doc(self.route),
+                );
+                self.accelerations(self.route, doc)
+            }
+            "accelerations_multiplier_route" => {
+                let doc = format!(
+                    "r̈ by {} ({} operations). Agrees with [`Self::accelerations`] to rounding.",
+                    route_doc(Route::Multiplier),
+                    self.stats.ops_multiplier
+                );
+                self.accelerations(Route::Multiplier, doc)
+            }
+            "accelerations_curvature_route" => {
+                let doc = format!(
+                    "r̈ by {} ({} operations). Agrees with [`Self::accelerations`] to rounding.",
+                    route_doc(Route::Curvature),
+                    self.stats.ops_curvature
+                );
+                self.accelerations(Route::Curvature, doc)
+            }
+            "reduced_system" => {
+                let mut d = bound_dag(self.m, &args);
+                let mass = matrix(&mut d, self.m, &self.croute.mass);
+                let rhs = exprs(&mut d, self.m, &self.croute.rhs);
+                let mut outs: Vec<Node> = mass.iter().flatten().copied().collect();
+                outs.extend(&rhs);
+                let (stmts, o) = d.emit(&outs);
+                let (mo, fo) = o.split_at(k * k);
+                let kk = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #k, #k>);
+                let f = vector_expr(k, fo);
+                Method {
+                    doc: "The reduced equations Mc r̈ = f of the curvature route as a matrix and a vector: Mc = ∂²Lc/∂ṙ∂ṙ (5.12) and f the right side of (5.20). [`Self::accelerations`] solves them by an unrolled LDLᵀ factorisation.".into(),
+                    body: quote! { let _ = (t, q, rdot); #stmts (#kk::from_row_slice(&[#(#mo),*]), #f) },
+                }
+            }
+            "multipliers" => {
+                let mut d = bound_dag(self.m, &args);
+                let mn = multiplier_nodes(&mut d, self.m, &self.mult);
+                // q̈ = C r̈ + acc_bias; λ_a = E_{s_a} = (M q̈ + h)_{s_a}   (5.10)
+                let mut qdd = mn.acc_bias.clone();
+                for (i, row) in mn.c.iter().enumerate() {
+                    for (b, &cib) in row.iter().enumerate() {
+                        let t = d.mul(cib, mn.rdd[b]);
+                        qdd[i] = d.add(qdd[i], t);
+                    }
+                }
+                let mut lam = Vec::with_capacity(p);
+                for (a, &s) in self.m.dependent.iter().enumerate() {
+                    let mut acc = mn.bias[s];
+                    for j in 0..n {
+                        let t = d.mul(mn.mass[s][j], qdd[j]);
+                        acc = d.add(acc, t);
+                    }
+                    d.label(acc, format!("λ{a} = E_(s{a}) (5.10)"));
+                    lam.push(acc);
+                }
+                let (stmts, o) = d.emit(&lam);
+                let ret = vector_expr(p, &o);
+                self.stats.derived.push("multipliers");
+                Method {
+                    doc: "The Lagrange multipliers λ_a = d/dt ∂L/∂ṡ_a − ∂L/∂s_a − Q_{s_a} along the motion (5.10), one per dependent coordinate: the generalized constraint forces, with the sign convention E(L) = Cᵀλ, C = [A | I].".into(),
+                    body: quote! { let _ = (t, q, rdot); #stmts #ret },
+                }
+            }
+            "curvature" => {
+                let mut d = bound_dag(self.m, &args);
+                let mut nodes = Vec::new();
+                let mut places = Vec::new();
+                for (b, mat) in self.curv.iter().enumerate() {
+                    for al in 0..k {
+                        for be in (al + 1)..k {
+                            if mat[al][be] != ZERO {
+                                let x = d.expr(&self.m.engine, mat[al][be]);
+                                d.label(x, format!("B^{b}_({al},{be}) (5.21)"));
+                                nodes.push(x);
+                                places.push((b, al, be));
+                            }
+                        }
+                    }
+                }
+                let (stmts, o) = d.emit(&nodes);
+                let mut sets = TokenStream::new();
+                for ((b, al, be), v) in places.iter().zip(&o) {
+                    sets.extend(quote! {
+                        b[#b][(#al, #be)] = #v;
+                        b[#b][(#be, #al)] = -#v;
+                    });
+                }
+                let kk = quote!(::nonholonomic::__private::nalgebra::SMatrix<T, #k, #k>);
+                let kk_expr = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #k, #k>);
+                let mutable = if places.is_empty() {
+                    quote!()
+                } else {
+                    quote!(mut)
+                };
+                self.stats.derived.push("curvature");
+                Method {
+                    doc: "The curvature of the constraint connection, (5.21): `B[b][(α, β)]` = B^b_{αβ}, antisymmetric in (α, β); entries that are identically zero are not computed.".into(),
+                    body: quote! {
+                        let _ = q;
+                        #stmts
+                        let #mutable b: [#kk; #p] = [#kk_expr::zeros(); #p];
+                        #sets
+                        b
+                    },
+                }
+            }
+            "energy" => {
+                let en = self.energy.unwrap_or(ZERO);
+                let mut d = bound_dag(self.m, &args);
+                let node = d.expr(&self.m.engine, en);
+                let (stmts, o) = d.emit(&[node]);
+                let v = &o[0];
+                self.stats.derived.push("energy");
+                Method {
+                    doc: "The energy E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities.".into(),
+                    body: quote! { let _ = (q, rdot); #stmts #v },
+                }
+            }
+            "constraint_matrix" => {
+                let mut d = bound_dag(self.m, &args);
+                let flat: Vec<ExprId> = self.m.a_matrix.iter().flatten().copied().collect();
+                let nodes = exprs(&mut d, self.m, &flat);
+                let (stmts, o) = d.emit(&nodes);
+                let pk = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #p, #k>);
+                self.stats.derived.push("constraint_matrix");
+                Method {
+                    doc: "The constraint matrix A^a_α of ṡ_a = −Σ_α A^a_α ṙ_α (5.3): rows follow [`Self::DEPENDENT`], columns [`Self::INDEPENDENT`].".into(),
+                    body: quote! { let _ = q; #stmts #pk::from_row_slice(&[#(#o),*]) },
+                }
+            }
+            "mass_matrix" => {
+                let mut d = bound_dag(self.m, &args);
+                let flat: Vec<ExprId> = self.mult.mass.iter().flatten().copied().collect();
+                let nodes = exprs(&mut d, self.m, &flat);
+                let (stmts, o) = d.emit(&nodes);
+                let nn = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #n, #n>);
+                self.stats.derived.push("mass_matrix");
+                Method {
+                    doc: "The mass matrix ∂²L/∂q̇_i∂q̇_j in coordinate order.".into(),
+                    body: quote! { let _ = q; #stmts #nn::from_row_slice(&[#(#o),*]) },
+                }
+            }
+            // "rhs": the first-order system for the runtime
+            _ => {
+                let args_x = Args::state(n, k);
+                let mut d = bound_dag(self.m, &args_x);
+                let rdd = self.acc_nodes(&mut d, self.route);
+                let mut outs = Vec::with_capacity(n + k);
+                for i in 0..n {
+                    let node = match self.m.independent.iter().position(|&r| r == i) {
+                        Some(j) => d.leaf_named(
+                            args_x.rvel[j].clone(),
+                            &format!("dot_{}", syn::ext::IdentExt::unraw(&self.m.coords[i])),
+                        ),
+                        None => {
+                            let a = self.m.dependent.iter().position(|&s| s == i).unwrap_or(0);
+                            d.expr(&self.m.engine, self.m.dependent_velocity[a])
+                        }
+                    };
+                    outs.push(node);
+                }
+                outs.extend(rdd);
+                let (stmts, o) = d.emit(&outs);
+                let ret = vector_expr(n + k, &o);
+                let u = if self.m.inputs.is_empty() {
+                    quote!()
+                } else {
+                    quote!(let _ = u;)
+                };
+                Method {
+                    doc: "ẋ for the state x = [q, ṙ]: ẋ = [q̇(q, ṙ), r̈], with the dependent velocities from the constraints.".into(),
+                    body: quote! { let _ = (t, x); #u #stmts #ret },
+                }
+            }
+        }
+    }
+
+    fn route_consts(&mut self) -> TokenStream {
+        let (om, oc) = (self.stats.ops_multiplier, self.stats.ops_curvature);
+        let chosen = match self.route {
+            Route::Multiplier => "multiplier",
+            Route::Curvature => "curvature",
+        };
+        self.stats.derived.push("routes");
+        quote! {
+            /// Operations (after CSE) of r̈ by the multiplier route (5.9).
+            pub const OPS_MULTIPLIER_ROUTE: usize = #om;
+            /// Operations (after CSE) of r̈ by the curvature route (5.20).
+            pub const OPS_CURVATURE_ROUTE: usize = #oc;
+            /// The route [`Self::accelerations`] uses: `"multiplier"` or `"curvature"`.
+            pub const ROUTE: &'static str = #chosen;
+        }
+    }
+}
+
+/// The shape of the API for a definition, as far as it could be parsed
+/// (used for the stand-in of a system with errors).
+pub fn shape_of(def: &SystemDef) -> Shape<'_> {
+    let coords: Vec<Ident> = def
+        .coordinates
+        .as_ref()
+        .map(|c| c.1.clone())
+        .unwrap_or_default();
+    let mut dependent: Vec<usize> = Vec::new();
+    if let Some((_, list)) = &def.constraints {
+        for c in list {
+            if let crate::parse::Expr::Call { func, arg, .. } = &c.lhs
+                && func == "dot"
+                && let crate::parse::Expr::Name(id) = &**arg
+                && let Some(i) = coords.iter().position(|x| x == id)
+                && !dependent.contains(&i)
+            {
+                dependent.push(i);
+            }
+        }
+    }
+    dependent.sort_unstable();
+    let independent = (0..coords.len())
+        .filter(|i| !dependent.contains(i))
+        .collect();
+    let mut outputs = crate::lower::Outputs::default();
+    if let Some((_, list)) = &def.outputs {
+        for o in list {
+            outputs.set(&o.to_string());
+        }
+    }
+    // an unknown or malformed parameter list leaves no fields: fine for a stand-in
+    Shape {
+        attrs: &def.attrs,
+        vis: &def.vis,
+        name: &def.name,
+        params: def
+            .parameters
+            .as_ref()
+            .map(|p| p.1.clone())
+            .unwrap_or_default(),
+        coords: coords
+            .iter()
+            .map(|c| syn::ext::IdentExt::unraw(c).to_string())
+            .collect(),
+        inputs: def
+            .inputs
+            .as_ref()
+            .map(|p| {
+                p.1.iter()
+                    .map(|c| syn::ext::IdentExt::unraw(c).to_string())
+                    .collect()
+            })
+            .unwrap_or_default(),
+        independent,
+        dependent,
+        outputs,
+        integrable: false,
+    }
+}
+
 /// Builds the whole expansion for a lowered model.
 pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, Stats) {
-    let (n, k, p) = (m.n(), m.k(), m.p());
+    let (n, k) = (m.n(), m.k());
     let mut stats = Stats {
         name: def.name.to_string(),
         ..Stats::default()
     };
     let name = &def.name;
-    let vis = &def.vis;
-    let attrs = &def.attrs;
-    let params = m.params.clone();
-    let has_inputs = !m.inputs.is_empty();
-    let n_in = m.inputs.len();
+    let outputs_span = def
+        .outputs
+        .as_ref()
+        .map(|o| o.0.span())
+        .unwrap_or(name.span());
 
-    // ---- derivations (only what is needed)
+    // ---- derivations: both routes (to choose), and the requested outputs
     let mult = m.multiplier_route();
     let curv = m.curvature();
     let croute = m.curvature_route(&curv);
@@ -320,18 +650,39 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
             );
         }
     }
+    let energy = if m.outputs.energy {
+        let en = m.energy();
+        if m.engine.depends_on(en, m.t_sym) {
+            cx.error_at(outputs_span, "output `energy` needs a Lagrangian that does not depend on time `t` explicitly: remove `energy` from `outputs`");
+        }
+        Some(en)
+    } else {
+        None
+    };
+    if m.outputs.mass_matrix {
+        let varying = mult.mass.iter().flatten().any(|&e| {
+            m.vel_syms.iter().any(|&v| m.engine.depends_on(e, v)) || m.engine.depends_on(e, m.t_sym)
+        });
+        if varying {
+            cx.error_at(outputs_span, "output `mass_matrix` needs a Lagrangian quadratic in the velocities with time-independent coefficients (the method takes only `q`)");
+        }
+    }
+    if m.outputs.jacobian {
+        cx.error_at(
+            outputs_span,
+            "output `jacobian` is not available yet: the runtime's Rosenbrock solver falls back to finite differences; remove `jacobian` from `outputs`",
+        );
+    }
     if !cx.is_empty() {
         return (TokenStream::new(), stats);
     }
 
-    // ---- the two routes for accelerations, measured by operation count
+    // ---- the two routes for accelerations, measured by estimated cost
     let args_v = Args::vectors(n, k);
     let mut d1 = bound_dag(&m, &args_v);
     let mn = multiplier_nodes(&mut d1, &m, &mult);
-    stats.ops_multiplier = d1.op_count(&mn.rdd);
     let mut d2 = bound_dag(&m, &args_v);
     let (rdd2, piv2) = curvature_nodes(&mut d2, &m, &croute);
-    stats.ops_curvature = d2.op_count(&rdd2);
     if mn.pivots.iter().chain(&piv2).any(|&x| x == ZERO_NODE) {
         cx.error_at(
             name.span(),
@@ -339,6 +690,8 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         );
         return (TokenStream::new(), stats);
     }
+    stats.ops_multiplier = d1.op_count(&mn.rdd);
+    stats.ops_curvature = d2.op_count(&rdd2);
     stats.cost_multiplier = d1.cost_estimate(&mn.rdd);
     stats.cost_curvature = d2.cost_estimate(&rdd2);
     let route = if stats.cost_curvature <= stats.cost_multiplier {
@@ -348,480 +701,22 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     };
     stats.route = Some(route);
 
-    let build_acc = |m: &Model, args: &Args, route: Route| -> (Dag, Vec<Node>) {
-        let mut d = bound_dag(m, args);
-        let rdd = match route {
-            Route::Multiplier => multiplier_nodes(&mut d, m, &mult).rdd,
-            Route::Curvature => curvature_nodes(&mut d, m, &croute).0,
-        };
-        (d, rdd)
-    };
-
-    let svec = |len: usize| quote!(::nonholonomic::__private::nalgebra::SVector<T, #len>);
-    let qty = svec(n);
-    let rty = svec(k);
-    let pty = svec(p);
-    let uty = svec(n_in);
-    let u_arg = if has_inputs {
-        quote!(, u: &#uty)
-    } else {
-        quote!()
-    };
-    let u_doc = if has_inputs {
-        "\n\n`u` holds the inputs in declared order."
-    } else {
-        ""
-    };
-
-    let mut methods = TokenStream::new();
-
-    // ---- dependent_velocities
-    {
-        let mut d = bound_dag(&m, &args_v);
-        let outs: Vec<Node> = m
-            .dependent_velocity
-            .iter()
-            .map(|&e| d.expr(&m.engine, e))
-            .collect();
-        let (stmts, o) = d.emit(&outs);
-        let body = vector_expr(p, &o);
-        methods.extend(quote! {
-            /// The dependent velocities ṡ = −A(q) ṙ of the constraints (5.3), in
-            /// the order of [`Self::DEPENDENT`].
-            #[inline]
-            pub fn dependent_velocities(&self, q: &#qty, rdot: &#rty) -> #pty {
-                let _ = (q, rdot);
-                #stmts
-                #body
-            }
-        });
-    }
-
-    // ---- accelerations
-    let route_doc = |route: Route| match route {
-        Route::Multiplier => {
-            "the multiplier route: the Euler–Lagrange terms (3.9) projected onto the constraint distribution, (5.9)"
-        }
-        Route::Curvature => {
-            "the curvature route: the constrained Lagrangian Lc (5.12) with the curvature term of (5.20)–(5.21)"
-        }
-    };
-    let acc_method = |fname: proc_macro2::Ident, route: Route, doc: String| -> TokenStream {
-        let (d, rdd) = build_acc(&m, &args_v, route);
-        let (stmts, o) = d.emit(&rdd);
-        let body = vector_expr(k, &o);
-        quote! {
-            #[doc = #doc]
-            #[inline]
-            pub fn #fname(&self, t: T, q: &#qty, rdot: &#rty #u_arg) -> #rty {
-                let _ = (t, q, rdot);
-                #stmts
-                #body
-            }
-        }
-    };
-    let (ops_used, ops_other) = match route {
-        Route::Curvature => (stats.ops_curvature, stats.ops_multiplier),
-        Route::Multiplier => (stats.ops_multiplier, stats.ops_curvature),
-    };
-    methods.extend(acc_method(
-        format_ident!("accelerations"),
+    let mut shape = shape_of(def);
+    shape.integrable = integrable;
+    shape.outputs = m.outputs.clone();
+    let mut bodies = Derived {
+        m: &mut m,
+        mult,
+        curv,
+        croute,
         route,
-        format!(
-            "The reduced equations of motion: r̈, the accelerations of the independent coordinates (in the order of [`Self::INDEPENDENT`]) at time `t`, coordinates `q` and independent velocities `rdot`.{u_doc}\n\nDerived by {}; {} operations after common-subexpression elimination (the other route needs {}). The k × k reduced mass matrix is factorised as LDLᵀ, unrolled, with its structural zeros pruned.",
-            route_doc(route),
-            ops_used,
-            ops_other
-        ),
-    ));
-    if m.outputs.routes {
-        let (om, oc) = (stats.ops_multiplier, stats.ops_curvature);
-        let chosen = match route {
-            Route::Multiplier => "multiplier",
-            Route::Curvature => "curvature",
-        };
-        methods.extend(quote! {
-            /// Operations (after CSE) of r̈ by the multiplier route (5.9).
-            pub const OPS_MULTIPLIER_ROUTE: usize = #om;
-            /// Operations (after CSE) of r̈ by the curvature route (5.20).
-            pub const OPS_CURVATURE_ROUTE: usize = #oc;
-            /// The route [`Self::accelerations`] uses: `"multiplier"` or `"curvature"`.
-            pub const ROUTE: &'static str = #chosen;
-        });
-        methods.extend(acc_method(
-            format_ident!("accelerations_multiplier_route"),
-            Route::Multiplier,
-            format!(
-                "r̈ by {} ({} operations). Agrees with [`Self::accelerations`] to rounding.",
-                route_doc(Route::Multiplier),
-                stats.ops_multiplier
-            ),
-        ));
-        methods.extend(acc_method(
-            format_ident!("accelerations_curvature_route"),
-            Route::Curvature,
-            format!(
-                "r̈ by {} ({} operations). Agrees with [`Self::accelerations`] to rounding.",
-                route_doc(Route::Curvature),
-                stats.ops_curvature
-            ),
-        ));
-        // the curvature route's reduced system, for measuring solvers against
-        // the unrolled LDLᵀ and for conditioning checks
-        let mut d = bound_dag(&m, &args_v);
-        let mass = matrix(&mut d, &m, &croute.mass);
-        let rhs = exprs(&mut d, &m, &croute.rhs);
-        let mut outs: Vec<Node> = mass.iter().flatten().copied().collect();
-        outs.extend(&rhs);
-        let (stmts, o) = d.emit(&outs);
-        let (mo, fo) = o.split_at(k * k);
-        let kk_expr = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #k, #k>);
-        let kk = quote!(::nonholonomic::__private::nalgebra::SMatrix<T, #k, #k>);
-        let fvec = vector_expr(k, fo);
-        methods.extend(quote! {
-            /// The reduced equations Mc r̈ = f of the curvature route as a matrix and
-            /// a vector: Mc = ∂²Lc/∂ṙ∂ṙ (5.12) and f the right side of (5.20).
-            /// [`Self::accelerations`] solves them by an unrolled LDLᵀ factorisation.
-            #[inline]
-            pub fn reduced_system(&self, t: T, q: &#qty, rdot: &#rty #u_arg) -> (#kk, #rty) {
-                let _ = (t, q, rdot);
-                #stmts
-                (#kk_expr::from_row_slice(&[#(#mo),*]), #fvec)
-            }
-        });
-        stats.derived.push("routes");
-    }
-
-    // ---- multipliers
-    if m.outputs.multipliers {
-        let mut d = bound_dag(&m, &args_v);
-        let mn = multiplier_nodes(&mut d, &m, &mult);
-        // q̈ = C r̈ + acc_bias; λ_a = E_{s_a} = (M q̈ + h)_{s_a}   (5.10)
-        let mut qdd = mn.acc_bias.clone();
-        for (i, row) in mn.c.iter().enumerate() {
-            for (b, &cib) in row.iter().enumerate() {
-                let t = d.mul(cib, mn.rdd[b]);
-                qdd[i] = d.add(qdd[i], t);
-            }
-        }
-        let mut lam = Vec::with_capacity(p);
-        for &s in &m.dependent {
-            let mut acc = mn.bias[s];
-            for j in 0..n {
-                let t = d.mul(mn.mass[s][j], qdd[j]);
-                acc = d.add(acc, t);
-            }
-            lam.push(acc);
-        }
-        let (stmts, o) = d.emit(&lam);
-        let body = vector_expr(p, &o);
-        methods.extend(quote! {
-            /// The Lagrange multipliers λ_a = d/dt ∂L/∂ṡ_a − ∂L/∂s_a − Q_{s_a} along
-            /// the motion (5.10), one per dependent coordinate: the generalized
-            /// constraint forces, with the sign convention E(L) = Cᵀλ, C = [A | I].
-            #[inline]
-            pub fn multipliers(&self, t: T, q: &#qty, rdot: &#rty #u_arg) -> #pty {
-                let _ = (t, q, rdot);
-                #stmts
-                #body
-            }
-        });
-        stats.derived.push("multipliers");
-    }
-
-    // ---- curvature
-    if m.outputs.curvature {
-        let mut d = bound_dag(&m, &args_v);
-        let mut nodes = Vec::new();
-        let mut places = Vec::new();
-        for (b, mat) in curv.iter().enumerate() {
-            for al in 0..k {
-                for be in (al + 1)..k {
-                    if mat[al][be] != ZERO {
-                        nodes.push(d.expr(&m.engine, mat[al][be]));
-                        places.push((b, al, be));
-                    }
-                }
-            }
-        }
-        let (stmts, o) = d.emit(&nodes);
-        let mut sets = TokenStream::new();
-        for ((b, al, be), v) in places.iter().zip(&o) {
-            sets.extend(quote! {
-                b[#b][(#al, #be)] = #v;
-                b[#b][(#be, #al)] = -#v;
-            });
-        }
-        let kk = quote!(::nonholonomic::__private::nalgebra::SMatrix<T, #k, #k>);
-        let kk_expr = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #k, #k>);
-        let mutable = if places.is_empty() {
-            quote!()
-        } else {
-            quote!(mut)
-        };
-        methods.extend(quote! {
-            /// The curvature of the constraint connection, (5.21):
-            /// `B[b][(α, β)]` = B^b_{αβ}, antisymmetric in (α, β); entries that are
-            /// identically zero are not computed.
-            #[inline]
-            pub fn curvature(&self, q: &#qty) -> [#kk; #p] {
-                let _ = q;
-                #stmts
-                let #mutable b: [#kk; #p] = [#kk_expr::zeros(); #p];
-                #sets
-                b
-            }
-        });
-        stats.derived.push("curvature");
-    }
-
-    // ---- energy
-    if m.outputs.energy {
-        let en = m.energy();
-        if m.engine.depends_on(en, m.t_sym)
-            || m.input_syms.iter().any(|&u| m.engine.depends_on(en, u))
-        {
-            cx.error_at(
-                def.outputs
-                    .as_ref()
-                    .map(|o| o.0.span())
-                    .unwrap_or(name.span()),
-                "output `energy` needs a Lagrangian that does not depend on time `t`",
-            );
-        }
-        let mut d = bound_dag(&m, &args_v);
-        let node = d.expr(&m.engine, en);
-        let (stmts, o) = d.emit(&[node]);
-        let v = &o[0];
-        methods.extend(quote! {
-            /// The energy E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities.
-            #[inline]
-            pub fn energy(&self, q: &#qty, rdot: &#rty) -> T {
-                let _ = (q, rdot);
-                #stmts
-                #v
-            }
-        });
-        stats.derived.push("energy");
-    }
-
-    // ---- constraint_matrix
-    if m.outputs.constraint_matrix {
-        let mut d = bound_dag(&m, &args_v);
-        let nodes: Vec<Node> = m
-            .a_matrix
-            .iter()
-            .flatten()
-            .map(|&e| d.expr(&m.engine, e))
-            .collect();
-        let (stmts, o) = d.emit(&nodes);
-        let pk = quote!(::nonholonomic::__private::nalgebra::SMatrix<T, #p, #k>);
-        let pk_expr = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #p, #k>);
-        methods.extend(quote! {
-            /// The constraint matrix A^a_α of ṡ_a = −Σ_α A^a_α ṙ_α (5.3): rows follow
-            /// [`Self::DEPENDENT`], columns [`Self::INDEPENDENT`].
-            #[inline]
-            pub fn constraint_matrix(&self, q: &#qty) -> #pk {
-                let _ = q;
-                #stmts
-                #pk_expr::from_row_slice(&[#(#o),*])
-            }
-        });
-        stats.derived.push("constraint_matrix");
-    }
-
-    // ---- mass_matrix
-    if m.outputs.mass_matrix {
-        let depends_on_vel = mult.mass.iter().flatten().any(|&e| {
-            m.vel_syms.iter().any(|&v| m.engine.depends_on(e, v)) || m.engine.depends_on(e, m.t_sym)
-        });
-        if depends_on_vel {
-            cx.error_at(
-                def.outputs.as_ref().map(|o| o.0.span()).unwrap_or(name.span()),
-                "output `mass_matrix` needs a Lagrangian quadratic in the velocities with time-independent coefficients",
-            );
-        }
-        let mut d = bound_dag(&m, &args_v);
-        let nodes: Vec<Node> = mult
-            .mass
-            .iter()
-            .flatten()
-            .map(|&e| d.expr(&m.engine, e))
-            .collect();
-        let (stmts, o) = d.emit(&nodes);
-        let nn = quote!(::nonholonomic::__private::nalgebra::SMatrix<T, #n, #n>);
-        let nn_expr = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #n, #n>);
-        methods.extend(quote! {
-            /// The mass matrix ∂²L/∂q̇_i∂q̇_j in coordinate order.
-            #[inline]
-            pub fn mass_matrix(&self, q: &#qty) -> #nn {
-                let _ = q;
-                #stmts
-                #nn_expr::from_row_slice(&[#(#o),*])
-            }
-        });
-        stats.derived.push("mass_matrix");
-    }
-
-    if m.outputs.jacobian {
-        cx.error_at(
-            def.outputs.as_ref().map(|o| o.0.span()).unwrap_or(name.span()),
-            "output `jacobian` is not available yet: the runtime's Rosenbrock solver falls back to finite differences; remove `jacobian` from `outputs`",
-        );
-    }
-
-    // ---- the first-order system for the runtime
-    let dim = n + k;
-    let args_x = Args::state(n, k);
-    let (dx, rdd_x) = build_acc(&m, &args_x, route);
-    let mut dx = dx;
-    let mut outs = Vec::with_capacity(dim);
-    for i in 0..n {
-        let node = match m.independent.iter().position(|&r| r == i) {
-            Some(j) => dx.leaf_named(
-                args_x.rvel[j].clone(),
-                &format!("dot_{}", syn::ext::IdentExt::unraw(&m.coords[i])),
-            ),
-            None => {
-                let a = m.dependent.iter().position(|&s| s == i).unwrap_or(0);
-                dx.expr(&m.engine, m.dependent_velocity[a])
-            }
-        };
-        outs.push(node);
-    }
-    outs.extend(rdd_x);
-    let (rhs_stmts, rhs_o) = dx.emit(&outs);
-    let rhs_body = vector_expr(dim, &rhs_o);
-    let xty = svec(dim);
-    let runtime_impl = if has_inputs {
-        quote! {
-            #[allow(non_snake_case, clippy::all, clippy::pedantic, unused_variables, unused_parens, unused_doc_comments)]
-            impl<T: ::nonholonomic::__private::nalgebra::RealField + Copy>
-                ::nonholonomic::__private::nh_runtime::ControlledSystem<T, #dim, #n_in> for #name<T>
-            {
-                /// ẋ for the state x = [q, ṙ]: ẋ = [q̇(q, ṙ), r̈(t, q, ṙ, u)].
-                #[inline]
-                fn rhs_with_input(&self, t: T, x: &#xty, u: &#uty) -> #xty {
-                    let _ = (t, x, u);
-                    #rhs_stmts
-                    #rhs_body
-                }
-            }
-        }
-    } else {
-        quote! {
-            #[allow(non_snake_case, clippy::all, clippy::pedantic, unused_variables, unused_parens, unused_doc_comments)]
-            impl<T: ::nonholonomic::__private::nalgebra::RealField + Copy>
-                ::nonholonomic::__private::nh_runtime::OdeSystem<T, #dim> for #name<T>
-            {
-                /// ẋ for the state x = [q, ṙ]: ẋ = [q̇(q, ṙ), r̈(t, q, ṙ)].
-                #[inline]
-                fn rhs(&self, t: T, x: &#xty) -> #xty {
-                    let _ = (t, x);
-                    #rhs_stmts
-                    #rhs_body
-                }
-            }
-        }
+        stats: &mut stats,
+        energy,
     };
-
-    // ---- constants, struct, constructor
-    let coord_names: Vec<Literal> = m
-        .coords
-        .iter()
-        .map(|c| Literal::string(&c.to_string()))
-        .collect();
-    let input_names: Vec<Literal> = m
-        .inputs
-        .iter()
-        .map(|c| Literal::string(&c.to_string()))
-        .collect();
-    let indep = &m.independent;
-    let dep = &m.dependent;
-    let integrable_doc = if p == 0 {
-        "No constraints: trivially `true`.".to_string()
-    } else if integrable {
-        "`true`: every curvature coefficient B^b_{αβ} (5.21) is identically zero, so the constraints are integrable (holonomic in disguise) and could be eliminated by integrating them.".to_string()
-    } else {
-        "`false`: some curvature coefficient B^b_{αβ} (5.21) is not identically zero, so the constraints are genuinely nonholonomic.".to_string()
-    };
-    let new_doc = format!(
-        "A system with the given parameters ({}).",
-        if params.is_empty() {
-            "none".to_string()
-        } else {
-            params
-                .iter()
-                .map(|p| format!("`{p}`"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        }
-    );
-    // argument names that cannot collide with a constant of the user's scope
-    // (an identifier pattern that names a constant would match it instead)
-    let param_args: Vec<proc_macro2::Ident> = params
-        .iter()
-        .map(|p| format_ident!("p_{}", syn::ext::IdentExt::unraw(p)))
-        .collect();
-    let field_docs: Vec<String> = params.iter().map(|p| format!("Parameter `{p}`.")).collect();
-    let phantom_field = if params.is_empty() {
-        quote!(#[doc(hidden)] pub __scalar: ::core::marker::PhantomData<T>,)
-    } else {
-        quote!()
-    };
-    let phantom_init = if params.is_empty() {
-        quote!(__scalar: ::core::marker::PhantomData,)
-    } else {
-        quote!()
-    };
-    let derive = if params.is_empty() {
-        quote!(#[derive(Clone, Copy, Debug, PartialEq, Default)])
-    } else {
-        quote!(#[derive(Clone, Copy, Debug, PartialEq)])
-    };
-    let tokens = quote! {
-        #(#attrs)*
-        #[allow(non_snake_case)]
-        #derive
-        #vis struct #name<T = f64> {
-            #(#[doc = #field_docs] pub #params: T,)*
-            #phantom_field
-        }
-
-        #[allow(non_snake_case, clippy::all, clippy::pedantic, unused_variables, unused_parens, unused_doc_comments)]
-        impl<T: ::nonholonomic::__private::nalgebra::RealField + Copy> #name<T> {
-            /// The generalized coordinates in declared order: the coordinate order of `q` everywhere.
-            pub const COORDINATES: [&'static str; #n] = [#(#coord_names),*];
-            /// Indices in `q` of the independent coordinates r, ascending.
-            pub const INDEPENDENT: [usize; #k] = [#(#indep),*];
-            /// Indices in `q` of the dependent coordinates s (one per constraint), ascending.
-            pub const DEPENDENT: [usize; #p] = [#(#dep),*];
-            /// The inputs in declared order.
-            pub const INPUTS: [&'static str; #n_in] = [#(#input_names),*];
-            /// Number of coordinates n.
-            pub const N: usize = #n;
-            /// Number of independent coordinates k = n − p.
-            pub const K: usize = #k;
-            /// Number of constraints p.
-            pub const P: usize = #p;
-            /// Length of the runtime state x = [q, ṙ]: n + k.
-            pub const STATE_DIM: usize = #dim;
-            #[doc = #integrable_doc]
-            pub const INTEGRABLE: bool = #integrable;
-
-            #[doc = #new_doc]
-            pub const fn new(#(#param_args: T),*) -> Self {
-                Self { #(#params: #param_args,)* #phantom_init }
-            }
-
-            #methods
-        }
-
-        #runtime_impl
-    };
+    let tokens = crate::api::expand(&shape, &mut bodies);
     stats.graph_size = m.engine.num_exprs();
-    stats.lines = count_lines(&tokens);
     stats.derivatives = m.engine.counters.derivatives;
+    stats.lines = count_lines(&tokens);
     (tokens, stats)
 }
 

@@ -7,6 +7,7 @@
 // Index loops over matrices read like the formulas they implement.
 #![allow(clippy::needless_range_loop)]
 
+pub mod api;
 pub mod ctxt;
 pub mod emit;
 pub mod generate;
@@ -48,14 +49,9 @@ pub fn expand_with_stats(input: TokenStream) -> (TokenStream, generate::Stats) {
     }
 }
 
-/// A stand-in struct emitted next to the errors so that the user's other
-/// code that names the system still type-checks and no follow-up errors
-/// bury the real ones.
+/// The stand-in emitted next to the errors: the full API with diverging
+/// bodies, so that the user's other code that uses the system still
+/// type-checks and no follow-up errors bury the real ones (as thiserror does).
 fn fallback(def: &parse::SystemDef) -> TokenStream {
-    let name = &def.name;
-    let vis = &def.vis;
-    quote! {
-        #[allow(non_snake_case, dead_code)]
-        #vis struct #name<T = f64>(::core::marker::PhantomData<T>);
-    }
+    api::expand(&generate::shape_of(def), &mut api::StandIn)
 }

@@ -46,6 +46,23 @@ pub struct Outputs {
     pub routes: bool,
 }
 
+impl Outputs {
+    /// Sets the flag of output `name`; `Some(previous)` if the name is known.
+    pub fn set(&mut self, name: &str) -> Option<bool> {
+        let flag = match name {
+            "multipliers" => &mut self.multipliers,
+            "curvature" => &mut self.curvature,
+            "energy" => &mut self.energy,
+            "constraint_matrix" => &mut self.constraint_matrix,
+            "mass_matrix" => &mut self.mass_matrix,
+            "jacobian" => &mut self.jacobian,
+            "routes" => &mut self.routes,
+            _ => return None,
+        };
+        Some(std::mem::replace(flag, true))
+    }
+}
+
 /// A system after lowering: everything the mechanics needs, as symbols and
 /// expressions of one engine.
 pub struct Model {
@@ -336,15 +353,13 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     if let Some((_, list)) = &def.outputs {
         for o in list {
             let name = o.to_string();
-            let flag = match name.as_str() {
-                "multipliers" => &mut outputs.multipliers,
-                "curvature" => &mut outputs.curvature,
-                "energy" => &mut outputs.energy,
-                "constraint_matrix" => &mut outputs.constraint_matrix,
-                "mass_matrix" => &mut outputs.mass_matrix,
-                "jacobian" => &mut outputs.jacobian,
-                "routes" => &mut outputs.routes,
-                _ => {
+            match outputs.set(&name) {
+                Some(true) => lw.cx.error_at(
+                    o.span(),
+                    format!("output `{name}` is listed twice: remove one"),
+                ),
+                Some(false) => {}
+                None => {
                     let hint = names::suggest(&name, &OUTPUTS);
                     lw.cx.error_at(
                         o.span(),
@@ -353,14 +368,8 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
                             OUTPUTS.map(|s| format!("`{s}`")).join(", ")
                         ),
                     );
-                    continue;
                 }
-            };
-            if *flag {
-                lw.cx
-                    .error_at(o.span(), format!("output `{name}` is listed twice"));
             }
-            *flag = true;
         }
     }
 

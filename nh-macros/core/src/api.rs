@@ -1,0 +1,318 @@
+//! The generated API of DESIGN §3: the struct, its constants, the method
+//! signatures and the runtime trait implementation. Method bodies are
+//! supplied by the caller: the derivation's straight-line code, or, for a
+//! system with errors, a stand-in that keeps the user's other code
+//! type-checking so that no follow-up errors bury the real ones.
+
+use crate::lower::Outputs;
+use proc_macro2::{Ident, Literal, TokenStream};
+use quote::{format_ident, quote};
+use syn::{Attribute, Visibility};
+
+/// Everything the signatures depend on.
+pub struct Shape<'a> {
+    /// Attributes (doc comments) for the struct.
+    pub attrs: &'a [Attribute],
+    /// Visibility.
+    pub vis: &'a Visibility,
+    /// Struct name.
+    pub name: &'a Ident,
+    /// Parameters in declared order.
+    pub params: Vec<Ident>,
+    /// Coordinate names in declared order.
+    pub coords: Vec<String>,
+    /// Input names.
+    pub inputs: Vec<String>,
+    /// Indices of the independent coordinates.
+    pub independent: Vec<usize>,
+    /// Indices of the dependent coordinates.
+    pub dependent: Vec<usize>,
+    /// Requested outputs.
+    pub outputs: Outputs,
+    /// Whether every curvature coefficient vanishes identically.
+    pub integrable: bool,
+}
+
+/// The body and documentation of one generated method.
+pub struct Method {
+    /// Rustdoc text.
+    pub doc: String,
+    /// Statements and final expression.
+    pub body: TokenStream,
+}
+
+/// Supplies method bodies by method name: `dependent_velocities`,
+/// `accelerations`, `accelerations_multiplier_route`,
+/// `accelerations_curvature_route`, `reduced_system`, `multipliers`,
+/// `curvature`, `energy`, `constraint_matrix`, `mass_matrix`, `rhs`.
+pub trait Bodies {
+    /// The method named `name`.
+    fn method(&mut self, name: &str) -> Method;
+    /// Extra associated constants (route figures), emitted with `routes`.
+    fn route_consts(&mut self) -> TokenStream;
+}
+
+/// Path of nalgebra's static vector type in generated code.
+pub fn svector(len: usize) -> TokenStream {
+    quote!(::nonholonomic::__private::nalgebra::SVector<T, #len>)
+}
+
+/// Path of nalgebra's static matrix type in generated code.
+pub fn smatrix(r: usize, c: usize) -> TokenStream {
+    quote!(::nonholonomic::__private::nalgebra::SMatrix<T, #r, #c>)
+}
+
+/// Lints that do not apply to generated straight-line code.
+fn allow_lints() -> TokenStream {
+    quote!(#[allow(non_snake_case, clippy::all, clippy::pedantic, unused_variables, unused_parens, unused_doc_comments)])
+}
+
+/// The whole expansion for a system of the given shape.
+pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
+    let (n, k, p) = (
+        shape.coords.len(),
+        shape.independent.len(),
+        shape.dependent.len(),
+    );
+    let n_in = shape.inputs.len();
+    let dim = n + k;
+    let Shape {
+        attrs, vis, name, ..
+    } = shape;
+    let params = &shape.params;
+    let (qty, rty, pty, uty, xty) = (
+        svector(n),
+        svector(k),
+        svector(p),
+        svector(n_in),
+        svector(dim),
+    );
+    let has_inputs = n_in > 0;
+    let u_arg = if has_inputs {
+        quote!(, u: &#uty)
+    } else {
+        quote!()
+    };
+    let allow = allow_lints();
+
+    let mut method = |fname: &str, sig: TokenStream| -> TokenStream {
+        let Method { doc, body } = bodies.method(fname);
+        quote! {
+            #[doc = #doc]
+            #[inline]
+            #sig {
+                #body
+            }
+        }
+    };
+    let mut methods = TokenStream::new();
+    methods.extend(method(
+        "dependent_velocities",
+        quote!(pub fn dependent_velocities(&self, q: &#qty, rdot: &#rty) -> #pty),
+    ));
+    methods.extend(method(
+        "accelerations",
+        quote!(pub fn accelerations(&self, t: T, q: &#qty, rdot: &#rty #u_arg) -> #rty),
+    ));
+    let o = &shape.outputs;
+    if o.routes {
+        for f in [
+            "accelerations_multiplier_route",
+            "accelerations_curvature_route",
+        ] {
+            let id = format_ident!("{f}");
+            methods.extend(method(
+                f,
+                quote!(pub fn #id(&self, t: T, q: &#qty, rdot: &#rty #u_arg) -> #rty),
+            ));
+        }
+        let kk = smatrix(k, k);
+        methods.extend(method(
+            "reduced_system",
+            quote!(pub fn reduced_system(&self, t: T, q: &#qty, rdot: &#rty #u_arg) -> (#kk, #rty)),
+        ));
+    }
+    if o.multipliers {
+        methods.extend(method(
+            "multipliers",
+            quote!(pub fn multipliers(&self, t: T, q: &#qty, rdot: &#rty #u_arg) -> #pty),
+        ));
+    }
+    if o.curvature {
+        let kk = smatrix(k, k);
+        methods.extend(method(
+            "curvature",
+            quote!(pub fn curvature(&self, q: &#qty) -> [#kk; #p]),
+        ));
+    }
+    if o.energy {
+        methods.extend(method(
+            "energy",
+            quote!(pub fn energy(&self, q: &#qty, rdot: &#rty) -> T),
+        ));
+    }
+    if o.constraint_matrix {
+        let pk = smatrix(p, k);
+        methods.extend(method(
+            "constraint_matrix",
+            quote!(pub fn constraint_matrix(&self, q: &#qty) -> #pk),
+        ));
+    }
+    if o.mass_matrix {
+        let nn = smatrix(n, n);
+        methods.extend(method(
+            "mass_matrix",
+            quote!(pub fn mass_matrix(&self, q: &#qty) -> #nn),
+        ));
+    }
+    let route_consts = if o.routes {
+        bodies.route_consts()
+    } else {
+        quote!()
+    };
+
+    let Method {
+        doc: rhs_doc,
+        body: rhs_body,
+    } = bodies.method("rhs");
+    let runtime_impl = if has_inputs {
+        quote! {
+            #allow
+            impl<T: ::nonholonomic::__private::nalgebra::RealField + Copy>
+                ::nonholonomic::__private::nh_runtime::ControlledSystem<T, #dim, #n_in> for #name<T>
+            {
+                #[doc = #rhs_doc]
+                #[inline]
+                fn rhs_with_input(&self, t: T, x: &#xty, u: &#uty) -> #xty {
+                    #rhs_body
+                }
+            }
+        }
+    } else {
+        quote! {
+            #allow
+            impl<T: ::nonholonomic::__private::nalgebra::RealField + Copy>
+                ::nonholonomic::__private::nh_runtime::OdeSystem<T, #dim> for #name<T>
+            {
+                #[doc = #rhs_doc]
+                #[inline]
+                fn rhs(&self, t: T, x: &#xty) -> #xty {
+                    #rhs_body
+                }
+            }
+        }
+    };
+
+    let coord_names: Vec<Literal> = shape.coords.iter().map(|c| Literal::string(c)).collect();
+    let input_names: Vec<Literal> = shape.inputs.iter().map(|c| Literal::string(c)).collect();
+    let indep = &shape.independent;
+    let dep = &shape.dependent;
+    let integrable = shape.integrable;
+    let integrable_doc = if p == 0 {
+        "No constraints: trivially `true`.".to_string()
+    } else if integrable {
+        "`true`: every curvature coefficient B^b_{αβ} (5.21) is identically zero, so the constraints are integrable (holonomic in disguise) and could be eliminated by integrating them.".to_string()
+    } else {
+        "`false`: some curvature coefficient B^b_{αβ} (5.21) is not identically zero, so the constraints are genuinely nonholonomic.".to_string()
+    };
+    let new_doc = format!(
+        "A system with the given parameters ({}).",
+        if params.is_empty() {
+            "none".to_string()
+        } else {
+            params
+                .iter()
+                .map(|p| format!("`{p}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        }
+    );
+    // argument names that cannot collide with a constant of the user's scope
+    // (an identifier pattern that names a constant would match it instead)
+    let param_args: Vec<Ident> = params
+        .iter()
+        .map(|p| format_ident!("p_{}", syn::ext::IdentExt::unraw(p)))
+        .collect();
+    let field_docs: Vec<String> = params.iter().map(|p| format!("Parameter `{p}`.")).collect();
+    let (phantom_field, phantom_init, derive) = if params.is_empty() {
+        (
+            quote!(#[doc(hidden)] pub __scalar: ::core::marker::PhantomData<T>,),
+            quote!(__scalar: ::core::marker::PhantomData,),
+            quote!(#[derive(Clone, Copy, Debug, PartialEq, Default)]),
+        )
+    } else {
+        (
+            quote!(),
+            quote!(),
+            quote!(#[derive(Clone, Copy, Debug, PartialEq)]),
+        )
+    };
+    quote! {
+        #(#attrs)*
+        #[allow(non_snake_case)]
+        #derive
+        #vis struct #name<T = f64> {
+            #(#[doc = #field_docs] pub #params: T,)*
+            #phantom_field
+        }
+
+        #allow
+        impl<T: ::nonholonomic::__private::nalgebra::RealField + Copy> #name<T> {
+            /// The generalized coordinates in declared order: the coordinate order of `q` everywhere.
+            pub const COORDINATES: [&'static str; #n] = [#(#coord_names),*];
+            /// Indices in `q` of the independent coordinates r, ascending.
+            pub const INDEPENDENT: [usize; #k] = [#(#indep),*];
+            /// Indices in `q` of the dependent coordinates s (one per constraint), ascending.
+            pub const DEPENDENT: [usize; #p] = [#(#dep),*];
+            /// The inputs in declared order.
+            pub const INPUTS: [&'static str; #n_in] = [#(#input_names),*];
+            /// Number of coordinates n.
+            pub const N: usize = #n;
+            /// Number of independent coordinates k = n − p.
+            pub const K: usize = #k;
+            /// Number of constraints p.
+            pub const P: usize = #p;
+            /// Length of the runtime state x = [q, ṙ]: n + k.
+            pub const STATE_DIM: usize = #dim;
+            #[doc = #integrable_doc]
+            pub const INTEGRABLE: bool = #integrable;
+            #route_consts
+
+            #[doc = #new_doc]
+            pub const fn new(#(#param_args: T),*) -> Self {
+                Self { #(#params: #param_args,)* #phantom_init }
+            }
+
+            #methods
+        }
+
+        #runtime_impl
+    }
+}
+
+/// Bodies of a system that failed to expand: each method diverges. They are
+/// never run, since the expansion also carries the compile errors; they only
+/// keep the user's code that calls the system free of follow-up errors.
+pub struct StandIn;
+
+impl Bodies for StandIn {
+    fn method(&mut self, _name: &str) -> Method {
+        Method {
+            doc: "Not generated: the system definition has errors (see the compile errors).".into(),
+            body: quote!(::core::panic!(
+                "nonholonomic_system! did not expand: see the compile errors"
+            )),
+        }
+    }
+
+    fn route_consts(&mut self) -> TokenStream {
+        quote! {
+            /// Not generated (the system has errors).
+            pub const OPS_MULTIPLIER_ROUTE: usize = 0;
+            /// Not generated (the system has errors).
+            pub const OPS_CURVATURE_ROUTE: usize = 0;
+            /// Not generated (the system has errors).
+            pub const ROUTE: &'static str = "";
+        }
+    }
+}
