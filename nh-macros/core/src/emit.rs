@@ -467,6 +467,15 @@ impl Dag {
         let mut num = ONE_NODE;
         let mut den = ONE_NODE;
         for &(a, e) in f {
+            if let Atom::Func(Fun::Exp, u) = eng.atom(a) {
+                // exp(u)^e is emitted as exp(e·u): one call, no power
+                let un = self.expr(eng, *u);
+                let ec = self.constant(e);
+                let arg = self.mul(ec, un);
+                let x = self.call(Fun::Exp, arg);
+                num = self.mul(num, x);
+                continue;
+            }
             let an = self.atom(eng, a);
             if e.is_negative() {
                 let p = self.pow(an, e.abs());

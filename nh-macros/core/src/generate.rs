@@ -41,6 +41,8 @@ pub struct Stats {
     pub derivatives: usize,
     /// Whether every curvature entry is identically zero.
     pub integrable: bool,
+    /// Whether that was proved symbolically (otherwise numerically).
+    pub integrable_proved: bool,
     /// Which outputs were derived.
     pub derived: Vec<&'static str>,
     /// Lines of generated code (one statement or item per line, as `cargo expand` prints it).
@@ -635,8 +637,9 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     stats
         .derived
         .extend(["accelerations (both routes)", "curvature terms"]);
-    let integrable = curv.iter().flatten().flatten().all(|&b| b == ZERO);
+    let (integrable, proved) = integrability(&m, &curv);
     stats.integrable = integrable;
+    stats.integrable_proved = proved;
 
     // a coordinate whose velocity is absent from the constrained Lagrangian
     for (a, &i) in m.independent.iter().enumerate() {
@@ -713,11 +716,94 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         stats: &mut stats,
         energy,
     };
-    let tokens = crate::api::expand(&shape, &mut bodies);
+    let mut tokens = crate::api::expand(&shape, &mut bodies);
+    if integrable && m.p() > 0 {
+        tokens.extend(integrability_warning(
+            def,
+            m.constraints_span.unwrap_or(name.span()),
+            proved,
+        ));
+    }
     stats.graph_size = m.engine.num_exprs();
     stats.derivatives = m.engine.counters.derivatives;
     stats.lines = count_lines(&tokens);
     (tokens, stats)
+}
+
+/// Whether the constraints are integrable (all B^b_αβ ≡ 0), and whether that
+/// was proved symbolically. An entry whose canonical form is not zero is
+/// evaluated at 16 random points: any point where it is not negligible
+/// against its own terms proves it nonzero; an entry negligible at every
+/// point is taken as zero (an identity the canonical form does not know,
+/// such as an angle-addition formula). A nonholonomic system is therefore
+/// never called integrable unless its curvature vanishes at all 16 points.
+fn integrability(m: &Model, curv: &[Vec<Vec<ExprId>>]) -> (bool, bool) {
+    let entries: Vec<ExprId> = curv
+        .iter()
+        .flatten()
+        .flatten()
+        .copied()
+        .filter(|&b| b != ZERO)
+        .collect();
+    if entries.is_empty() {
+        return (true, true);
+    }
+    let mut state = 0x243F_6A88_85A3_08D3u64; // deterministic: the same verdict every build
+    let mut next = move || {
+        state ^= state >> 12;
+        state ^= state << 25;
+        state ^= state >> 27;
+        ((state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64) / (1u64 << 53) as f64
+    };
+    let mut vals = vec![0.0; m.engine.num_symbols()];
+    let mut points = 0;
+    for _ in 0..64 {
+        if points == 16 {
+            break;
+        }
+        for v in vals.iter_mut() {
+            *v = 0.3 + 1.1 * next(); // positive: keeps sqrt and ln arguments valid
+        }
+        vals[m.pi_sym as usize] = std::f64::consts::PI;
+        let mut usable = true;
+        for &b in &entries {
+            let (v, scale) = m.engine.eval_with_scale(b, &vals);
+            if !v.is_finite() || !scale.is_finite() {
+                usable = false;
+                break;
+            }
+            if v.abs() > 1e-10 * scale {
+                return (false, false);
+            }
+        }
+        if usable {
+            points += 1;
+        }
+    }
+    (points == 16, false)
+}
+
+/// A compile-time warning on stable Rust (the deprecation-note technique):
+/// a deprecated constant used at the span of the `constraints` keyword.
+fn integrability_warning(def: &SystemDef, span: proc_macro2::Span, proved: bool) -> TokenStream {
+    let how = if proved {
+        "every curvature coefficient B^b_αβ of (5.21) vanishes identically"
+    } else {
+        "every curvature coefficient B^b_αβ of (5.21) evaluates to zero (to 1e-10 of its terms) at 16 random points, though the simplifier could not prove it"
+    };
+    let note = format!(
+        "the constraints of `{}` are integrable: {how}, so they are holonomic in disguise. Integrate them and eliminate the dependent coordinates (a smaller system with no constraints), or keep them: the equations of motion are still correct. `{}::INTEGRABLE` is `true`.",
+        def.name, def.name
+    );
+    let item = proc_macro2::Ident::new("integrable_constraints", span);
+    quote::quote_spanned! {span=>
+        const _: () = {
+            #[deprecated(note = #note)]
+            #[allow(non_upper_case_globals)]
+            const integrable_constraints: () = ();
+            let _ = #item;
+        };
+    }
 }
 
 /// Lines of code the way a pretty-printer lays them out: one per statement,

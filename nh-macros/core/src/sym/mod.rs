@@ -705,6 +705,19 @@ impl Engine {
                 self.neg(inner)
             };
         }
+        if f == Fun::Exp {
+            return self.exp(a);
+        }
+        if f == Fun::Ln
+            && let [(m, c)] = self.exprs[a as usize].as_slice()
+            && c.is_one()
+            && let [(at, e)] = self.monos[*m as usize].as_slice()
+            && let Atom::Func(Fun::Exp, u) = self.atoms[*at as usize]
+        {
+            // ln(exp(u)^e) = e·u
+            let e = *e;
+            return self.scale(u, e);
+        }
         if f == Fun::Tan {
             // tan = sin / cos, so that identities between tan, sin and cos cancel
             let s = self.func(Fun::Sin, a);
@@ -714,6 +727,28 @@ impl Engine {
         }
         let at = self.intern_atom(Atom::Func(f, a));
         self.atom_power(at, Rational::ONE)
+    }
+
+    /// `exp(a)` in canonical form: exp(Σ c_i m_i) = Π exp(m_i)^c_i, so that
+    /// exp(x)·exp(y) and exp(x + y) are one expression; exp(c·ln u) = u^c.
+    fn exp(&mut self, a: ExprId) -> ExprId {
+        let terms = self.exprs[a as usize].clone();
+        let mut r = ONE;
+        for (m, c) in terms {
+            if let [(at, e)] = self.monos[m as usize].as_slice()
+                && e.is_one()
+                && let Atom::Func(Fun::Ln, u) = self.atoms[*at as usize]
+            {
+                let p = self.pow(u, c);
+                r = self.mul(r, p);
+                continue;
+            }
+            let arg = self.intern_expr(vec![(m, Rational::ONE)]);
+            let at = self.intern_atom(Atom::Func(Fun::Exp, arg));
+            let p = self.atom_power_normal(at, c);
+            r = self.mul(r, p);
+        }
+        r
     }
 
     // ------------------------------------------------------------ calculus
@@ -862,22 +897,46 @@ impl Engine {
         }
         let mut acc = 0.0;
         for &(m, c) in &self.exprs[e as usize] {
-            let mut t = c.to_f64();
-            for &(a, ex) in &self.monos[m as usize] {
-                let b = match &self.atoms[a as usize] {
-                    Atom::Sym(s) => vals[*s as usize],
-                    Atom::Func(f, u) => f.eval(self.eval_memo(*u, vals, memo)),
-                    Atom::Base(b) => self.eval_memo(*b, vals, memo),
-                };
-                t *= match ex.to_integer() {
-                    Some(k) if k.abs() < i32::MAX as i64 => b.powi(k as i32),
-                    _ => b.powf(ex.to_f64()),
-                };
-            }
-            acc += t;
+            acc += self.eval_term(m, c, vals, memo);
         }
         memo.insert(e, acc);
         acc
+    }
+
+    fn eval_term(
+        &self,
+        m: MonoId,
+        c: Rational,
+        vals: &[f64],
+        memo: &mut HashMap<ExprId, f64>,
+    ) -> f64 {
+        let mut t = c.to_f64();
+        for &(a, ex) in &self.monos[m as usize] {
+            let b = match &self.atoms[a as usize] {
+                Atom::Sym(s) => vals[*s as usize],
+                Atom::Func(f, u) => f.eval(self.eval_memo(*u, vals, memo)),
+                Atom::Base(b) => self.eval_memo(*b, vals, memo),
+            };
+            t *= match ex.to_integer() {
+                Some(k) if k.abs() < i32::MAX as i64 => b.powi(k as i32),
+                _ => b.powf(ex.to_f64()),
+            };
+        }
+        t
+    }
+
+    /// Evaluates `e` and the sum of the absolute values of its terms (the
+    /// scale against which cancellation to zero is judged).
+    pub fn eval_with_scale(&self, e: ExprId, vals: &[f64]) -> (f64, f64) {
+        let mut memo = HashMap::new();
+        let mut value = 0.0;
+        let mut scale = 0.0;
+        for &(m, c) in &self.exprs[e as usize] {
+            let t = self.eval_term(m, c, vals, &mut memo);
+            value += t;
+            scale += t.abs();
+        }
+        (value, scale)
     }
 
     // ------------------------------------------------------------ printing

@@ -71,3 +71,31 @@ fn powers_follow_real_semantics() {
     // (1+x)^-1 * (1+x) is not simplified (distributed), but evaluates to 1
     assert!((e.eval(prod, &[0.7]) - 1.0).abs() < 1e-15);
 }
+
+#[test]
+fn exponentials_are_canonical() {
+    let mut e = Engine::new();
+    let x = e.symbol("x");
+    let y = e.symbol("y");
+    let (xs, ys) = (e.sym(x), e.sym(y));
+    let s = e.add(xs, ys);
+    let exy = e.func(Fun::Exp, s);
+    let ex = e.func(Fun::Exp, xs);
+    let ey = e.func(Fun::Exp, ys);
+    let prod = e.mul(ex, ey);
+    assert_eq!(exy, prod, "exp(x + y) = exp(x) exp(y)");
+    let third = e.scale(xs, q(1, 3));
+    let e3 = e.func(Fun::Exp, third);
+    let cube = e.pow_int(e3, 3);
+    assert_eq!(cube, ex, "exp(x/3)^3 = exp(x)");
+    let ln = e.func(Fun::Ln, ex);
+    assert_eq!(ln, xs, "ln(exp(x)) = x");
+    let lnx = e.func(Fun::Ln, xs);
+    let two_ln = e.scale(lnx, Rational::int(2));
+    let back = e.func(Fun::Exp, two_ln);
+    let x2 = e.mul(xs, xs);
+    assert_eq!(back, x2, "exp(2 ln x) = x^2");
+    let d = e.diff(e3, x);
+    let expect = e.scale(e3, q(1, 3));
+    assert_eq!(d, expect);
+}
