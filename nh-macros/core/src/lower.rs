@@ -137,6 +137,10 @@ struct Lowerer<'a> {
     t_sym: SymId,
     pi_sym: SymId,
     place: Place,
+    /// every `let` name, to tell a use before the definition from a typo
+    all_lets: Vec<String>,
+    /// names whose declaration failed: uses are not reported again
+    poisoned: Vec<String>,
 }
 
 /// Lowers a parsed system. Returns `None` when errors make a model
@@ -174,6 +178,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     // declarations: duplicates, shadowing and reserved words
     let mut scope: HashMap<String, Binding> = HashMap::new();
     let mut declared: HashMap<String, (&'static str, Span)> = HashMap::new();
+    let mut poisoned: Vec<String> = def.poisoned.iter().map(|p| p.to_string()).collect();
     let mut declare = |cx: &mut Ctxt, id: &Ident, kind: &'static str| -> bool {
         let s = id.to_string();
         if RESERVED.contains(&s.as_str()) {
@@ -185,15 +190,17 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
             };
             cx.error_at(
                 id.span(),
-                format!("`{s}` cannot be used as a {kind} name: {what}; choose another name"),
+                format!("`{s}` cannot be used as {kind} name: {what}; choose another name"),
             );
             return false;
         }
         if let Some((prev_kind, _)) = declared.get(&s) {
             cx.error_at(
                 id.span(),
-                format!("`{s}` is already declared as a {prev_kind}; every parameter, coordinate, input and `let` needs its own name"),
+                format!("`{s}` is already declared as {prev_kind}; every parameter, coordinate, input and `let` needs its own name"),
             );
+            // uses of an ambiguous name are not reported again
+            poisoned.push(s);
             return false;
         }
         declared.insert(s, (kind, id.span()));
@@ -201,7 +208,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     };
     let mut param_syms = Vec::new();
     for (i, p) in params.iter().enumerate() {
-        if declare(cx, p, "parameter") {
+        if declare(cx, p, "a parameter") {
             scope.insert(p.to_string(), Binding::Param(i));
         }
         param_syms.push(e.symbol(&p.to_string()));
@@ -209,7 +216,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     let mut coord_syms = Vec::new();
     let mut vel_syms = Vec::new();
     for (i, c) in coords.iter().enumerate() {
-        if declare(cx, c, "coordinate") {
+        if declare(cx, c, "a coordinate") {
             scope.insert(c.to_string(), Binding::Coord(i));
         }
         coord_syms.push(e.symbol(&c.to_string()));
@@ -219,7 +226,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     }
     let mut input_syms = Vec::new();
     for (i, u) in inputs.iter().enumerate() {
-        if declare(cx, u, "input") {
+        if declare(cx, u, "an input") {
             scope.insert(u.to_string(), Binding::Input(i));
         }
         input_syms.push(e.symbol(&u.to_string()));
@@ -227,9 +234,12 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     let let_names: Vec<Ident> = def.lets.iter().map(|l| l.name.clone()).collect();
     let mut let_ok = Vec::new();
     for l in &let_names {
-        let_ok.push(declare(cx, l, "`let`"));
+        let_ok.push(declare(cx, l, "a `let`"));
     }
 
+    for p in &poisoned {
+        scope.remove(p);
+    }
     let mut lw = Lowerer {
         cx,
         e,
@@ -242,6 +252,8 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         t_sym,
         pi_sym,
         place: Place::Let,
+        all_lets: let_names.iter().map(|l| l.to_string()).collect(),
+        poisoned,
     };
 
     // lets, in order: later ones may use earlier ones
@@ -260,6 +272,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     // the Lagrangian: exactly one
     let mut lagrangian = None;
     match def.lagrangians.as_slice() {
+        [] if def.lagrangian_written => {} // it failed to parse: already reported
         [] => lw.cx.error_at(
             def.name.span(),
             "missing `lagrangian = ..;`: give the Lagrangian L = T - V in terms of the coordinates and `dot(q)` velocities",
@@ -282,6 +295,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
             lw.place = Place::Force;
             let v = lw.lower(&f.value, 0);
             match lw.scope.get(&f.coordinate.to_string()) {
+                _ if lw.poisoned.contains(&f.coordinate.to_string()) => {}
                 Some(Binding::Coord(i)) => {
                     let i = *i;
                     if force_seen[i].is_some() {
@@ -340,7 +354,12 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     // constraint right sides: linear and homogeneous in the independent velocities
     let mut a_matrix = vec![vec![ZERO; independent.len()]; dependent.len()];
     let mut dependent_velocity = vec![ZERO; dependent.len()];
-    for (s, rhs, c) in &constraint_rhs {
+    let analysable = if independent.is_empty() {
+        &[][..]
+    } else {
+        &constraint_rhs[..]
+    };
+    for (s, rhs, c) in analysable {
         let a = dependent.iter().position(|d| d == s).unwrap_or(0);
         if let Some(row) = lw.analyse_constraint(*s, *rhs, c, &coords, &dependent, &independent) {
             a_matrix[a] = row;
@@ -493,6 +512,9 @@ impl Lowerer<'_> {
 
     fn lower_name(&mut self, id: &Ident) -> Option<ExprId> {
         let s = id.to_string();
+        if self.poisoned.contains(&s) {
+            return None;
+        }
         match self.scope.get(&s).copied() {
             Some(Binding::Param(i)) => Some(self.e.sym(self.param_syms[i])),
             Some(Binding::Coord(i)) => Some(self.e.sym(self.coord_syms[i])),
@@ -533,6 +555,13 @@ impl Lowerer<'_> {
                     self.cx.error_at(
                         id.span(),
                         format!("`{s}` is a function: call it with an argument, as in `{s}(x)`"),
+                    );
+                    None
+                }
+                _ if self.all_lets.contains(&s) => {
+                    self.cx.error_at(
+                        id.span(),
+                        format!("`{s}` is used before its `let`: a `let` may use only the items above it; move `let {s} = ..;` up"),
                     );
                     None
                 }
@@ -603,6 +632,9 @@ impl Lowerer<'_> {
             }
         };
         let s = id.to_string();
+        if self.poisoned.contains(&s) {
+            return None;
+        }
         match self.scope.get(&s).copied() {
             Some(Binding::Coord(i)) => Some(self.e.sym(self.vel_syms[i])),
             Some(Binding::Let(i)) => {
@@ -660,6 +692,7 @@ impl Lowerer<'_> {
         let msg = "the left side of a constraint must be `dot(s)` for a coordinate `s`, which becomes dependent: write `dot(s) = a1(q)*dot(r1) + ..`";
         match lhs {
             Expr::Call { func, arg, .. } if func == "dot" => match &**arg {
+                Expr::Name(id) if self.poisoned.contains(&id.to_string()) => None,
                 Expr::Name(id) => match self.scope.get(&id.to_string()) {
                     Some(Binding::Coord(i)) => Some(*i),
                     _ => {
@@ -744,14 +777,22 @@ impl Lowerer<'_> {
                 match kind {
                     TermKind::Linear => {}
                     TermKind::Affine => {
-                        self.cx.error(term.range(), format!("the constraint for `{sname}` has a term without any velocity (an affine term); {form}"));
+                        let text = term.to_source();
+                        self.cx.error(
+                            term.range(),
+                            format!("the constraint for `{sname}` has a term without any velocity, `{text}` (an affine term: ṡ would not vanish with the independent velocities); {form}"),
+                        );
                         reported = true;
                     }
                     TermKind::Nonlinear => {
-                        let culprit = self
+                        let (culprit, why) = self
                             .find_nonlinear(term, independent)
-                            .unwrap_or(term.range());
-                        self.cx.error(culprit, format!("the constraint for `{sname}` is not linear in the velocities; {form}"));
+                            .unwrap_or((term, "is not linear in the velocities"));
+                        let text = culprit.to_source();
+                        self.cx.error(
+                            culprit.range(),
+                            format!("the constraint for `{sname}` is not linear in the velocities: `{text}` {why}; {form}"),
+                        );
                         reported = true;
                     }
                 }
@@ -810,8 +851,13 @@ impl Lowerer<'_> {
         }
     }
 
-    /// The smallest subexpression that makes a term nonlinear in the velocities.
-    fn find_nonlinear(&mut self, x: &Expr, independent: &[usize]) -> Option<SpanRange> {
+    /// The smallest subexpression that makes a term nonlinear in the
+    /// velocities, and what is wrong with it.
+    fn find_nonlinear<'e>(
+        &mut self,
+        x: &'e Expr,
+        independent: &[usize],
+    ) -> Option<(&'e Expr, &'static str)> {
         match x {
             Expr::Neg(inner, _) => self.find_nonlinear(inner, independent),
             Expr::Chain { first, rest } if !x.is_sum() => {
@@ -823,20 +869,35 @@ impl Lowerer<'_> {
                 for (op, _, f) in rest {
                     if self.has_velocity(f, independent) {
                         if *op == BinOp::Div {
-                            return Some(f.range());
+                            return Some((f, "divides by a velocity"));
                         }
                         with_velocity.push(f);
                     }
                 }
+                // a factor that is nonlinear by itself (a power, a function) first
+                for f in &with_velocity {
+                    if let Some(r) = self.find_nonlinear(f, independent) {
+                        return Some(r);
+                    }
+                }
                 match with_velocity.as_slice() {
-                    [] => None,
-                    [one] => self.find_nonlinear(one, independent).or(Some(x.range())),
-                    [a, .., b] => Some(a.range().to(b.range())),
+                    [] | [_] => None,
+                    [_, ..] => Some((x, "multiplies velocities together")),
                 }
             }
-            Expr::Pow { .. } | Expr::Call { .. } => {
+            Expr::Pow { base, .. } => {
+                if self.has_velocity(base, independent) {
+                    Some((x, "is a power of a velocity"))
+                } else if self.has_velocity(x, independent) {
+                    Some((x, "has a velocity in an exponent"))
+                } else {
+                    None
+                }
+            }
+            Expr::Call { func, .. } if func == "dot" => None,
+            Expr::Call { .. } => {
                 if self.has_velocity(x, independent) {
-                    Some(x.range())
+                    Some((x, "has a velocity inside a function"))
                 } else {
                     None
                 }

@@ -82,6 +82,55 @@ impl Expr {
         }
     }
 
+    /// The expression as source text, with the parentheses it needs
+    /// (for messages: "`dot(theta)^2` is ...").
+    pub fn to_source(&self) -> String {
+        fn atomic(e: &Expr) -> bool {
+            matches!(e, Expr::Num(..) | Expr::Name(_) | Expr::Call { .. })
+        }
+        fn paren(e: &Expr, need: bool) -> String {
+            if need {
+                format!("({})", e.to_source())
+            } else {
+                e.to_source()
+            }
+        }
+        match self {
+            Expr::Num(q, _) => q.to_string(),
+            Expr::Name(i) => i.to_string(),
+            Expr::Call { func, arg, .. } => format!("{func}({})", arg.to_source()),
+            Expr::Neg(inner, _) => format!("-{}", paren(inner, inner.is_sum())),
+            Expr::Chain { first, rest } => {
+                let sum = self.is_sum();
+                let mut out = paren(first, !sum && first.is_sum());
+                for (op, _, e) in rest {
+                    let sym = match op {
+                        BinOp::Add => " + ",
+                        BinOp::Sub => " - ",
+                        BinOp::Mul => "*",
+                        BinOp::Div => "/",
+                        BinOp::Pow => "^",
+                    };
+                    out.push_str(sym);
+                    let need = if sum {
+                        *op == BinOp::Sub && e.is_sum()
+                    } else {
+                        matches!(e, Expr::Chain { .. } | Expr::Neg(..))
+                    };
+                    out.push_str(&paren(e, need));
+                }
+                out
+            }
+            Expr::Pow { base, exp, .. } => {
+                format!(
+                    "{}^{}",
+                    paren(base, !atomic(base)),
+                    paren(exp, !atomic(exp) && !matches!(**exp, Expr::Pow { .. }))
+                )
+            }
+        }
+    }
+
     /// Is this a sum (a chain of `+`/`-`)?
     pub fn is_sum(&self) -> bool {
         matches!(self, Expr::Chain { rest, .. }
@@ -145,6 +194,11 @@ pub struct SystemDef {
     pub constraints: Option<(Ident, Vec<Constraint>)>,
     /// `outputs { .. }`
     pub outputs: Option<(Ident, Vec<Ident>)>,
+    /// Names declared by items that failed to parse: their uses are not
+    /// reported again as unknown (no follow-up errors).
+    pub poisoned: Vec<Ident>,
+    /// Whether a `lagrangian` item was written, even if it failed to parse.
+    pub lagrangian_written: bool,
 }
 
 /// Parses the macro input. Returns the definition as far as it could be
@@ -195,6 +249,8 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         forces: None,
         constraints: None,
         outputs: None,
+        poisoned: Vec::new(),
+        lagrangian_written: false,
     };
     for item in split_items(body.stream(), cx) {
         parse_item(item, &mut def, cx);
@@ -234,6 +290,10 @@ fn split_items(stream: TokenStream, cx: &mut Ctxt) -> Vec<Item> {
         match &tt {
             TokenTree::Punct(p) if p.as_char() == ';' => {
                 let span = p.span();
+                if !cur.is_empty() {
+                    // the `;` stays in the statement: an error at its end points at it
+                    cur.push(tt.clone());
+                }
                 items.push(Item::Statement(std::mem::take(&mut cur), span));
             }
             _ => cur.push(tt),
@@ -263,6 +323,12 @@ fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
                         Ok(n) => n,
                         Err(e) => {
                             cx.syn_error(e);
+                            // the names it meant to declare must not cause follow-up errors
+                            for tt in group.stream() {
+                                if let TokenTree::Ident(id) = tt {
+                                    def.poisoned.push(id);
+                                }
+                            }
                             return;
                         }
                     };
@@ -283,7 +349,7 @@ fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
                 }
                 "constraints" => {
                     let mut list = Vec::new();
-                    for (toks, _) in split_statements(group.stream()) {
+                    for (toks, _) in split_statements(&group) {
                         match parse_constraint.parse2(toks.into_iter().collect()) {
                             Ok(c) => list.push(c),
                             Err(e) => cx.syn_error(e),
@@ -300,7 +366,7 @@ fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
                 }
                 "forces" => {
                     let mut list = Vec::new();
-                    for (toks, _) in split_statements(group.stream()) {
+                    for (toks, _) in split_statements(&group) {
                         match parse_force.parse2(toks.into_iter().collect()) {
                             Ok(c) => list.push(c),
                             Err(e) => cx.syn_error(e),
@@ -340,9 +406,19 @@ fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
             if toks.is_empty() {
                 return;
             }
+            match (&toks[0], toks.get(1)) {
+                (TokenTree::Ident(kw), _) if kw == "lagrangian" => def.lagrangian_written = true,
+                (TokenTree::Ident(kw), Some(TokenTree::Ident(name))) if kw == "let" => {
+                    def.poisoned.push(name.clone())
+                }
+                _ => {}
+            }
             let stream: TokenStream = toks.into_iter().collect();
             match parse_statement.parse2(stream) {
-                Ok(Statement::Let(l)) => def.lets.push(l),
+                Ok(Statement::Let(l)) => {
+                    def.poisoned.retain(|p| p != &l.name);
+                    def.lets.push(l)
+                }
                 Ok(Statement::Lagrangian(kw, e)) => def.lagrangians.push((kw, e)),
                 Err(e) => cx.syn_error(e),
             }
@@ -351,22 +427,30 @@ fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
     }
 }
 
-fn split_statements(stream: TokenStream) -> Vec<(Vec<TokenTree>, Span)> {
+/// The `;`-separated statements of a block, each ending in its `;` (the last
+/// one, which may omit it, gets one at the closing brace) so that an error
+/// at the end of a statement points into the source, not at the macro call.
+fn split_statements(group: &proc_macro2::Group) -> Vec<(Vec<TokenTree>, Span)> {
     let mut out = Vec::new();
     let mut cur = Vec::new();
-    for tt in stream {
+    for tt in group.stream() {
         match &tt {
             TokenTree::Punct(p) if p.as_char() == ';' => {
                 if !cur.is_empty() {
-                    out.push((std::mem::take(&mut cur), p.span()));
+                    let span = p.span();
+                    cur.push(tt);
+                    out.push((std::mem::take(&mut cur), span));
                 }
             }
             _ => cur.push(tt),
         }
     }
     if !cur.is_empty() {
-        let s = cur[cur.len() - 1].span();
-        out.push((cur, s));
+        let close = group.span_close();
+        let mut semi = proc_macro2::Punct::new(';', proc_macro2::Spacing::Alone);
+        semi.set_span(close);
+        cur.push(TokenTree::Punct(semi));
+        out.push((cur, close));
     }
     out
 }
@@ -462,10 +546,13 @@ fn parse_force(input: ParseStream) -> syn::Result<Force> {
 
 /// Parses an expression that must use up the whole stream.
 fn parse_expr_all(input: ParseStream) -> syn::Result<Expr> {
-    if input.is_empty() {
+    if input.is_empty() || input.peek(Token![;]) {
         return Err(input.error("expected an expression"));
     }
     let e = parse_expr(input, 0)?;
+    if input.peek(Token![;]) {
+        let _: Token![;] = input.parse()?;
+    }
     if !input.is_empty() {
         let tt: TokenTree = input.parse()?;
         let msg = match &tt {

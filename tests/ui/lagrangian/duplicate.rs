@@ -1,0 +1,12 @@
+use nonholonomic::prelude::*;
+
+nonholonomic_system! {
+    pub struct Slide {
+        parameters { m, k }
+        coordinates { x }
+        lagrangian = m*dot(x)^2/2;
+        lagrangian = -k*x^2/2;
+    }
+}
+
+fn main() {}

@@ -1,0 +1,11 @@
+use nonholonomic::prelude::*;
+
+nonholonomic_system! {
+    pub struct Pendulum {
+        parameters { m, l, g }
+        coordinates { theta }
+        lagrangian = m*l^2*dot(theta)^2/2 + m*g*l*cosh(theta);
+    }
+}
+
+fn main() {}

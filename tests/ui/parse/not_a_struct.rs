@@ -1,0 +1,10 @@
+use nonholonomic::prelude::*;
+
+nonholonomic_system! {
+    pub fn Slide {
+        coordinates { x }
+        lagrangian = dot(x)^2;
+    }
+}
+
+fn main() {}
