@@ -7,12 +7,12 @@
 use crate::lower::Outputs;
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
-use syn::{Attribute, Visibility};
+use syn::Visibility;
 
 /// Everything the signatures depend on.
 pub struct Shape<'a> {
     /// Attributes (doc comments) for the struct.
-    pub attrs: &'a [Attribute],
+    pub attrs: &'a [TokenStream],
     /// Visibility.
     pub vis: &'a Visibility,
     /// Struct name.

@@ -641,6 +641,13 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     stats.integrable = integrable;
     stats.integrable_proved = proved;
 
+    if m.engine.overflowed() {
+        cx.error_at(
+            name.span(),
+            "the derivation grew beyond the engine's limits (a coefficient over 128 bits, or expression swell): simplify the Lagrangian or the constraints, or split the system",
+        );
+        return (TokenStream::new(), stats);
+    }
     // a coordinate whose velocity is absent from the constrained Lagrangian
     for (a, &i) in m.independent.iter().enumerate() {
         if croute.mass[a][a] == ZERO {

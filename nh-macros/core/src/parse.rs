@@ -9,7 +9,7 @@ use crate::ctxt::{Ctxt, SpanRange};
 use crate::sym::Rational;
 use proc_macro2::{Delimiter, Ident, Span, TokenStream, TokenTree};
 use syn::parse::{ParseStream, Parser};
-use syn::{Attribute, Token, Visibility};
+use syn::{Token, Visibility};
 
 /// Deepest expression nesting accepted; deeper input is a clear error rather
 /// than a stack overflow.
@@ -170,8 +170,9 @@ pub struct Force {
 /// A parsed system definition.
 #[derive(Clone, Debug)]
 pub struct SystemDef {
-    /// attributes (doc comments) for the struct
-    pub attrs: Vec<Attribute>,
+    /// outer attributes (doc comments) for the struct, as `#[..]` tokens:
+    /// passed through unparsed, for rustc to check
+    pub attrs: Vec<TokenStream>,
     /// visibility
     pub vis: Visibility,
     /// struct name
@@ -205,8 +206,19 @@ pub struct SystemDef {
 /// parsed; errors are recorded in `cx`. `None` if not even the struct header
 /// could be read.
 pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
-    let header = |stream: ParseStream| -> syn::Result<(Vec<Attribute>, Visibility, Ident, proc_macro2::Group)> {
-        let attrs = stream.call(Attribute::parse_outer)?;
+    let header = |stream: ParseStream| -> syn::Result<(Vec<TokenStream>, Visibility, Ident, proc_macro2::Group)> {
+        // outer attributes are kept as tokens: their contents are rustc's business
+        let mut attrs = Vec::new();
+        while stream.peek(Token![#]) {
+            let pound: TokenTree = stream.parse()?;
+            let group: TokenTree = match stream.parse::<TokenTree>()? {
+                TokenTree::Group(g) if g.delimiter() == Delimiter::Bracket => TokenTree::Group(g),
+                other => {
+                    return Err(syn::Error::new(other.span(), "expected `[` after `#`: an attribute is written `#[..]`"));
+                }
+            };
+            attrs.push(TokenStream::from_iter([pound, group]));
+        }
         let vis: Visibility = stream.parse()?;
         let _: Token![struct] = stream.parse().map_err(|e| {
             syn::Error::new(
@@ -224,11 +236,29 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
                 ));
             }
         };
+        // the sentinel `;` appended below
+        if stream.peek(Token![;]) {
+            let _: Token![;] = stream.parse()?;
+        }
         if !stream.is_empty() {
             return Err(stream.error("unexpected tokens after the system's closing brace: one `nonholonomic_system!` defines one struct"));
         }
         Ok((attrs, vis, name, body))
     };
+    // Huge input gets a clear error instead of minutes of work.
+    if let Some(e) = too_large(&input) {
+        cx.syn_error(e);
+        return None;
+    }
+    // A sentinel `;` at the last token: an input that ends too early gets an
+    // error at its end rather than at the whole macro call.
+    let mut input: Vec<TokenTree> = input.into_iter().collect();
+    if let Some(last) = input.last() {
+        let mut semi = proc_macro2::Punct::new(';', proc_macro2::Spacing::Alone);
+        semi.set_span(last.span());
+        input.push(TokenTree::Punct(semi));
+    }
+    let input: TokenStream = input.into_iter().collect();
     let (attrs, vis, name, body) = match header.parse2(input) {
         Ok(h) => h,
         Err(e) => {
@@ -256,6 +286,33 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         parse_item(item, &mut def, cx);
     }
     Some(def)
+}
+
+/// Most tokens accepted in one system (counting the tokens inside groups).
+pub const MAX_TOKENS: usize = 200_000;
+
+fn too_large(input: &TokenStream) -> Option<syn::Error> {
+    let mut count = 0usize;
+    let mut stack: Vec<TokenStream> = vec![input.clone()];
+    let mut first: Option<Span> = None;
+    while let Some(ts) = stack.pop() {
+        for tt in ts {
+            count += 1;
+            first.get_or_insert(tt.span());
+            if let TokenTree::Group(g) = tt {
+                stack.push(g.stream());
+            }
+        }
+        if count > MAX_TOKENS {
+            return Some(syn::Error::new(
+                first.unwrap_or_else(Span::call_site),
+                format!(
+                    "this system has more than {MAX_TOKENS} tokens: split the expressions into `let` items or generate the system in parts"
+                ),
+            ));
+        }
+    }
+    None
 }
 
 /// One top-level item of the body: either `keyword { .. }` or tokens up to `;`.
@@ -308,6 +365,10 @@ fn split_items(stream: TokenStream, cx: &mut Ctxt) -> Vec<Item> {
             "expected `;` at the end of this item",
         );
         let span = last.span();
+        // a `;` at its last token, so that errors at its end point into the source
+        let mut semi = proc_macro2::Punct::new(';', proc_macro2::Spacing::Alone);
+        semi.set_span(span);
+        cur.push(TokenTree::Punct(semi));
         items.push(Item::Statement(cur, span));
     }
     items
@@ -672,6 +733,11 @@ fn parse_unary(input: ParseStream, depth: usize) -> syn::Result<Expr> {
 
 /// power := primary ('^' unary)?
 fn parse_power(input: ParseStream, depth: usize) -> syn::Result<Expr> {
+    if depth > MAX_DEPTH {
+        return Err(input.error(format!(
+            "expression nested more than {MAX_DEPTH} levels deep (a tower of powers?): split it into `let` items"
+        )));
+    }
     let base = parse_primary(input, depth)?;
     if input.peek(Token![^]) && !input.peek(Token![^=]) {
         let t: Token![^] = input.parse()?;

@@ -103,6 +103,7 @@ pub struct Engine {
     memo_mul: HashMap<(ExprId, ExprId), ExprId>,
     memo_diff: HashMap<(ExprId, SymId), ExprId>,
     overflow: bool,
+    work: usize,
     /// Counts of work done, for statistics and tests of what is derived.
     pub counters: Counters,
 }
@@ -126,6 +127,10 @@ pub const ONE: ExprId = 1;
 /// Largest number of terms a single expression may have before the engine
 /// reports expression swell instead of growing without bound.
 pub const MAX_TERMS: usize = 200_000;
+
+/// Largest number of monomial products one derivation may compute: past it
+/// the engine stops and reports expression swell (a few seconds of work).
+pub const MAX_WORK: usize = 50_000_000;
 
 impl Engine {
     /// A fresh engine with `0` and `1` interned.
@@ -390,9 +395,17 @@ impl Engine {
         if let Some(&r) = self.memo_mul.get(&key) {
             return r;
         }
+        if self.overflow {
+            return ZERO;
+        }
         self.counters.products += 1;
         let ta = self.exprs[a as usize].clone();
         let tb = self.exprs[b as usize].clone();
+        self.work = self.work.saturating_add(ta.len().saturating_mul(tb.len()));
+        if self.work > MAX_WORK {
+            self.overflow = true;
+            return ZERO;
+        }
         let mut acc: Vec<(MonoId, Rational)> = Vec::with_capacity(ta.len() * tb.len());
         let mut extra: Vec<ExprId> = Vec::new();
         for &(ma, ca) in &ta {
@@ -482,7 +495,8 @@ impl Engine {
                     let s = self.func(Fun::Sin, u);
                     let s2 = self.mul(s, s);
                     let one_minus = self.sub(ONE, s2);
-                    let p = self.pow_int(one_minus, (k / 2) as u32);
+                    let half = self.exponent_count(k / 2);
+                    let p = self.pow_int(one_minus, half);
                     multiplicands.push(p);
                 }
                 Atom::Base(b) => {
@@ -513,7 +527,8 @@ impl Engine {
                         let frac = e
                             .checked_sub(Rational::int(k as i128))
                             .unwrap_or(Rational::ZERO);
-                        let p = self.pow_int(b, k as u32);
+                        let kk = self.exponent_count(k);
+                        let p = self.pow_int(b, kk);
                         multiplicands.push(p);
                         if !frac.is_zero() {
                             kept.push((a, frac));
@@ -580,6 +595,15 @@ impl Engine {
         }
     }
 
+    /// An integer exponent to expand by; beyond 2³² it is expression swell
+    /// (flagged, and 0 returned).
+    fn exponent_count(&mut self, k: i64) -> u32 {
+        u32::try_from(k).unwrap_or_else(|_| {
+            self.overflow = true;
+            0
+        })
+    }
+
     /// `a^k` for a non-negative integer `k`, by repeated squaring.
     pub fn pow_int(&mut self, a: ExprId, k: u32) -> ExprId {
         let mut acc = ONE;
@@ -600,7 +624,8 @@ impl Engine {
     /// `a^k` for an integer `k` of either sign.
     fn pow_signed(&mut self, a: ExprId, k: i64) -> ExprId {
         if k >= 0 {
-            return self.pow_int(a, k as u32);
+            let kk = self.exponent_count(k);
+            return self.pow_int(a, kk);
         }
         self.pow(a, Rational::int(k as i128))
     }
@@ -616,7 +641,9 @@ impl Engine {
             return a;
         }
         if q.is_integer() && !q.is_negative() {
-            return self.pow_int(a, q.to_integer().unwrap_or(0).min(u32::MAX as i64) as u32);
+            let k = q.to_integer().unwrap_or(i64::MAX);
+            let kk = self.exponent_count(k);
+            return self.pow_int(a, kk);
         }
         if a == ZERO {
             // 0 to a negative or fractional power: keep it symbolic (∞ or 0 at run time).
@@ -760,6 +787,9 @@ impl Engine {
         }
         if let Some(&r) = self.memo_diff.get(&(e, s)) {
             return r;
+        }
+        if self.overflow {
+            return ZERO;
         }
         self.counters.derivatives += 1;
         let terms = self.exprs[e as usize].clone();

@@ -14,15 +14,17 @@ pub struct Rational {
     den: i128,
 }
 
-fn gcd(mut a: i128, mut b: i128) -> i128 {
-    a = a.abs();
-    b = b.abs();
+/// Greatest common divisor of |a| and |b| (never overflows: magnitudes are
+/// taken as unsigned; the result fits an i128 because `Rational` excludes
+/// `i128::MIN`).
+fn gcd(a: i128, b: i128) -> i128 {
+    let (mut a, mut b) = (a.unsigned_abs(), b.unsigned_abs());
     while b != 0 {
         let r = a % b;
         a = b;
         b = r;
     }
-    a
+    i128::try_from(a).unwrap_or(i128::MAX)
 }
 
 impl Rational {
@@ -40,7 +42,8 @@ impl Rational {
 
     /// `num / den` reduced to lowest terms; `None` if `den == 0` or on overflow.
     pub fn new(num: i128, den: i128) -> Option<Rational> {
-        if den == 0 {
+        // i128::MIN has no positive counterpart: treat it as overflow
+        if den == 0 || num == i128::MIN || den == i128::MIN {
             return None;
         }
         let g = gcd(num, den);
@@ -223,6 +226,14 @@ mod tests {
         assert_eq!(q(6, 5).gcd(q(9, 10)), Some(q(3, 10)));
         assert!(q(1, 3) < q(1, 2));
         assert_eq!(Rational::new(1, 0), None);
+    }
+
+    #[test]
+    fn the_most_negative_integer_is_overflow_not_a_panic() {
+        assert_eq!(Rational::new(i128::MIN, 1), None);
+        let big = Rational::int(-(1i128 << 126));
+        assert_eq!(big.checked_mul(Rational::int(2)), None);
+        assert_eq!(big.checked_add(big), None);
     }
 
     #[test]
