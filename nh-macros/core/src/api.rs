@@ -165,6 +165,28 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
             quote!(pub fn mass_matrix(&self, q: &#qty) -> #nn),
         ));
     }
+    let mut jacobian_impl = quote!();
+    if o.jacobian {
+        let dd = smatrix(dim, dim);
+        methods.extend(method(
+            "jacobian",
+            quote!(pub fn jacobian(&self, t: T, x: &#xty #u_arg) -> #dd),
+        ));
+        if !has_inputs {
+            jacobian_impl = quote! {
+                #allow
+                impl<T: ::nonholonomic::__private::nalgebra::RealField + Copy>
+                    ::nonholonomic::__private::nh_runtime::OdeJacobian<T, #dim> for #name<T>
+                {
+                    /// ∂f/∂x of the first-order system, derived symbolically (see the inherent `jacobian`).
+                    #[inline]
+                    fn jacobian(&self, t: T, x: &#xty) -> #dd {
+                        #name::jacobian(self, t, x)
+                    }
+                }
+            };
+        }
+    }
     let route_consts = if o.routes {
         bodies.route_consts()
     } else {
@@ -287,6 +309,7 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
         }
 
         #runtime_impl
+        #jacobian_impl
     }
 }
 

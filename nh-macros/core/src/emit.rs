@@ -76,6 +76,14 @@ fn powi_muls(k: u32) -> usize {
     bits - 1 + k.count_ones() as usize - 1
 }
 
+/// An LDLᵀ factorisation held as graph nodes.
+pub struct Ldlt {
+    l: Vec<Vec<Node>>,
+    /// The pivots D.
+    pub d: Vec<Node>,
+    dinv: Vec<Node>,
+}
+
 /// The zero node (always node 0).
 pub const ZERO_NODE: Node = 0;
 /// The one node (always node 1).
@@ -370,56 +378,60 @@ impl Dag {
     }
 
     /// A sum of monomials, factored greedily: the atom that occurs in the
-    /// most terms is factored out, recursively (multivariate Horner).
-    fn poly(&mut self, eng: &Engine, mut terms: Vec<(Vec<(AtomId, Rational)>, Rational)>) -> Node {
-        terms.retain(|t| !t.1.is_zero());
-        match terms.len() {
-            0 => return ZERO_NODE,
-            1 => {
-                let (f, c) = terms.pop().unwrap_or((Vec::new(), Rational::ZERO));
-                return self.monomial(eng, &f, c);
+    /// most terms is factored out, recursively (multivariate Horner). The
+    /// remainder is processed in a loop, so the recursion depth is bounded by
+    /// the degree of the monomials, not by the number of terms.
+    fn poly(&mut self, eng: &Engine, terms: Vec<(Vec<(AtomId, Rational)>, Rational)>) -> Node {
+        let mut terms: Vec<_> = terms.into_iter().filter(|t| !t.1.is_zero()).collect();
+        if terms.len() >= 2 {
+            // content: factor out the common rational factor
+            let mut g = terms[0].1.abs();
+            for t in &terms[1..] {
+                g = g.gcd(t.1).unwrap_or(Rational::ONE);
             }
-            _ => {}
+            if terms.iter().all(|t| t.1.is_negative()) {
+                g = g.checked_neg().unwrap_or(g);
+            }
+            if !g.is_one() && !g.is_zero() {
+                for t in terms.iter_mut() {
+                    t.1 = t.1.checked_div(g).unwrap_or(t.1);
+                }
+                let inner = self.poly(eng, terms);
+                let gc = self.constant(g);
+                return self.mul(gc, inner);
+            }
         }
-        // content: factor out the common rational factor
-        let mut g = terms[0].1.abs();
-        for t in &terms[1..] {
-            g = g.gcd(t.1).unwrap_or(Rational::ONE);
-        }
-        if terms[0].1.is_negative() && terms.iter().all(|t| t.1.is_negative()) {
-            g = g.checked_neg().unwrap_or(g);
-        }
-        if !g.is_one() && !g.is_zero() {
-            let scaled: Vec<_> = terms
-                .iter()
-                .map(|(f, c)| (f.clone(), c.checked_div(g).unwrap_or(*c)))
-                .collect();
-            let inner = self.poly(eng, scaled);
-            let gc = self.constant(g);
-            return self.mul(gc, inner);
-        }
-        // the most frequent atom with a positive exponent
-        let mut count: HashMap<AtomId, (usize, Rational)> = HashMap::new();
-        for (f, _) in &terms {
-            for &(a, e) in f {
-                if e > Rational::ZERO {
-                    let ent = count.entry(a).or_insert((0, e));
-                    ent.0 += 1;
-                    if e < ent.1 {
-                        ent.1 = e;
+        let mut acc = ZERO_NODE;
+        loop {
+            match terms.len() {
+                0 => return acc,
+                1 => {
+                    let (f, c) = terms.pop().unwrap_or((Vec::new(), Rational::ZERO));
+                    let m = self.monomial(eng, &f, c);
+                    return self.add(acc, m);
+                }
+                _ => {}
+            }
+            // the most frequent atom with a positive exponent
+            let mut count: HashMap<AtomId, (usize, Rational)> = HashMap::new();
+            for (f, _) in &terms {
+                for &(a, e) in f {
+                    if e > Rational::ZERO {
+                        let ent = count.entry(a).or_insert((0, e));
+                        ent.0 += 1;
+                        if e < ent.1 {
+                            ent.1 = e;
+                        }
                     }
                 }
             }
-        }
-        let best = count
-            .iter()
-            .filter(|(_, (c, _))| *c >= 2)
-            .max_by_key(|(a, (c, _))| (*c, std::cmp::Reverse(**a)))
-            .map(|(a, (_, e))| (*a, *e));
-        match best {
-            None => {
+            let best = count
+                .iter()
+                .filter(|(_, (c, _))| *c >= 2)
+                .max_by_key(|(a, (c, _))| (*c, std::cmp::Reverse(**a)))
+                .map(|(a, (_, e))| (*a, *e));
+            let Some((a, emin)) = best else {
                 // plain sum: positive terms first, then subtract the negative ones
-                let mut pos = ZERO_NODE;
                 let mut neg = Vec::new();
                 for (f, c) in &terms {
                     if c.is_negative() {
@@ -427,39 +439,36 @@ impl Dag {
                         neg.push(m);
                     } else {
                         let m = self.monomial(eng, f, *c);
-                        pos = self.add(pos, m);
+                        acc = self.add(acc, m);
                     }
                 }
-                let mut acc = pos;
                 for m in neg {
                     acc = self.sub(acc, m);
                 }
-                acc
-            }
-            Some((a, emin)) => {
-                let mut with = Vec::new();
-                let mut without = Vec::new();
-                for (f, c) in terms {
-                    if let Some(pos) = f.iter().position(|&(x, e)| x == a && e > Rational::ZERO) {
-                        let mut f2 = f.clone();
-                        let ne = f2[pos].1.checked_sub(emin).unwrap_or(Rational::ZERO);
-                        if ne.is_zero() {
-                            f2.remove(pos);
-                        } else {
-                            f2[pos].1 = ne;
-                        }
-                        with.push((f2, c));
+                return acc;
+            };
+            let mut with = Vec::new();
+            let mut without = Vec::new();
+            for (f, c) in terms {
+                if let Some(pos) = f.iter().position(|&(x, e)| x == a && e > Rational::ZERO) {
+                    let mut f2 = f;
+                    let ne = f2[pos].1.checked_sub(emin).unwrap_or(Rational::ZERO);
+                    if ne.is_zero() {
+                        f2.remove(pos);
                     } else {
-                        without.push((f, c));
+                        f2[pos].1 = ne;
                     }
+                    with.push((f2, c));
+                } else {
+                    without.push((f, c));
                 }
-                let an = self.atom(eng, a);
-                let ap = self.pow(an, emin);
-                let inner = self.poly(eng, with);
-                let prod = self.mul(ap, inner);
-                let rest = self.poly(eng, without);
-                self.add(rest, prod)
             }
+            let an = self.atom(eng, a);
+            let ap = self.pow(an, emin);
+            let inner = self.poly(eng, with);
+            let prod = self.mul(ap, inner);
+            acc = self.add(acc, prod);
+            terms = without;
         }
     }
 
@@ -504,7 +513,14 @@ impl Dag {
     /// x and the pivots D (for singularity checks: a constant-zero pivot means
     /// the matrix is structurally singular).
     pub fn solve_symmetric(&mut self, m: &[Vec<Node>], f: &[Node]) -> (Vec<Node>, Vec<Node>) {
-        let k = f.len();
+        let fac = self.factor_symmetric(m);
+        let x = self.solve_factored(&fac, f);
+        (x, fac.d)
+    }
+
+    /// The LDLᵀ factorisation of a symmetric matrix, in the graph.
+    pub fn factor_symmetric(&mut self, m: &[Vec<Node>]) -> Ldlt {
+        let k = m.len();
         let mut l = vec![vec![ZERO_NODE; k]; k]; // unit lower triangular
         let mut ld = vec![vec![ZERO_NODE; k]; k]; // L·D below the diagonal
         let mut d = vec![ZERO_NODE; k];
@@ -527,12 +543,19 @@ impl Dag {
                 l[i][j] = self.mul(v, dinv[j]);
             }
         }
+        Ldlt { l, d, dinv }
+    }
+
+    /// Solves with a factorisation from [`Dag::factor_symmetric`] (one more
+    /// right side costs only the substitutions).
+    pub fn solve_factored(&mut self, fac: &Ldlt, f: &[Node]) -> Vec<Node> {
+        let k = f.len();
         // forward substitution L y = f
         let mut y = vec![ZERO_NODE; k];
         for i in 0..k {
             let mut v = f[i];
             for r in 0..i {
-                let t = self.mul(l[i][r], y[r]);
+                let t = self.mul(fac.l[i][r], y[r]);
                 v = self.sub(v, t);
             }
             y[i] = v;
@@ -540,14 +563,14 @@ impl Dag {
         // D z = y, Lᵀ x = z
         let mut x = vec![ZERO_NODE; k];
         for i in (0..k).rev() {
-            let mut v = self.mul(y[i], dinv[i]);
+            let mut v = self.mul(y[i], fac.dinv[i]);
             for r in (i + 1)..k {
-                let t = self.mul(l[r][i], x[r]);
+                let t = self.mul(fac.l[r][i], x[r]);
                 v = self.sub(v, t);
             }
             x[i] = v;
         }
-        (x, d)
+        x
     }
 
     /// Is this node the constant zero?
@@ -633,25 +656,38 @@ impl Dag {
                 pair_of.insert(c, (n, c));
             }
         }
-        let name = |n: Node| -> Ident {
-            match &self.ops[n as usize] {
+        // Small functions: one `let` per value. Large ones: one stack array,
+        // since thousands of nested `let` scopes overflow rustc's stack when
+        // it emits debug information (seen at ~3,000).
+        let array = live.len() > MAX_LETS;
+        let slot: HashMap<Node, usize> = live.iter().enumerate().map(|(i, &n)| (n, i)).collect();
+        let name = |n: Node| -> TokenStream {
+            if array {
+                let i = slot.get(&n).copied().unwrap_or(0);
+                return quote!(vals[#i]);
+            }
+            let id = match &self.ops[n as usize] {
                 Op::Leaf(i) if self.leaves[*i].1.is_some() => Ident::new(
                     self.leaves[*i].1.as_deref().unwrap_or("leaf"),
                     Span::call_site(),
                 ),
                 _ => Ident::new(&format!("v{n}"), Span::call_site()),
-            }
+            };
+            quote!(#id)
         };
+        // Labels become string statements (free at run time, visible under
+        // `cargo expand`).
         let doc = |n: Node| -> TokenStream {
             match self.labels.get(&n) {
-                Some(text) => {
-                    let text = format!(" {text}");
-                    quote!(#[doc = #text])
-                }
-                None => quote!(),
+                Some(text) if !array => quote!(let _ = #text;),
+                _ => quote!(),
             }
         };
         let mut stmts = TokenStream::new();
+        if array {
+            let len = live.len();
+            stmts.extend(quote!(let mut vals: [T; #len] = [T::zero(); #len];));
+        }
         let mut done: HashSet<Node> = HashSet::new();
         for &n in &live {
             if done.contains(&n) {
@@ -665,29 +701,34 @@ impl Dag {
                     _ => continue,
                 };
                 let (ds, dc) = (doc(s), doc(c));
-                stmts.extend(quote!(#ds #dc let (#sv, #cv): (T, T) = #a.sin_cos();));
+                if array {
+                    stmts.extend(quote!({ let (s, c): (T, T) = #a.sin_cos(); #sv = s; #cv = c; }));
+                } else {
+                    stmts.extend(quote!(#ds #dc let (#sv, #cv): (T, T) = #a.sin_cos();));
+                }
                 done.insert(s);
                 done.insert(c);
                 continue;
             }
+            let bin = |a: &Node, b: &Node| (name(*a), name(*b));
             let rhs = match &self.ops[n as usize] {
                 Op::Const(q) => const_tokens(*q),
                 Op::Pi => quote!(T::pi()),
                 Op::Leaf(i) => self.leaves[*i].0.clone(),
                 Op::Add(a, b) => {
-                    let (a, b) = (name(*a), name(*b));
+                    let (a, b) = bin(a, b);
                     quote!(#a + #b)
                 }
                 Op::Sub(a, b) => {
-                    let (a, b) = (name(*a), name(*b));
+                    let (a, b) = bin(a, b);
                     quote!(#a - #b)
                 }
                 Op::Mul(a, b) => {
-                    let (a, b) = (name(*a), name(*b));
+                    let (a, b) = bin(a, b);
                     quote!(#a * #b)
                 }
                 Op::Div(a, b) => {
-                    let (a, b) = (name(*a), name(*b));
+                    let (a, b) = bin(a, b);
                     quote!(#a / #b)
                 }
                 Op::Neg(a) => {
@@ -705,25 +746,27 @@ impl Dag {
                 }
                 Op::Powi(a, k) => powi_tokens(&name(*a), *k),
                 Op::Powf(a, b) => {
-                    let (a, b) = (name(*a), name(*b));
+                    let (a, b) = bin(a, b);
                     quote!(#a.powf(#b))
                 }
             };
-            let d = doc(n);
-            stmts.extend(quote!(#d let #v: T = #rhs;));
+            if array {
+                stmts.extend(quote!(#v = #rhs;));
+            } else {
+                let d = doc(n);
+                stmts.extend(quote!(#d let #v: T = #rhs;));
+            }
         }
-        let outs = outputs
-            .iter()
-            .map(|&n| {
-                let v = name(n);
-                quote!(#v)
-            })
-            .collect();
+        let outs = outputs.iter().map(|&n| name(n)).collect();
         (stmts, outs)
     }
 }
 
-fn powi_tokens(a: &Ident, k: u32) -> TokenStream {
+/// Most values a generated function holds in separate `let`s; beyond, they
+/// live in one array.
+pub const MAX_LETS: usize = 1500;
+
+fn powi_tokens(a: &TokenStream, k: u32) -> TokenStream {
     match k {
         2 => quote!(#a * #a),
         3 => quote!(#a * #a * #a),

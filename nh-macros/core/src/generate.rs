@@ -7,7 +7,7 @@ use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::lower::Model;
 use crate::mechanics::{CurvatureRoute, MultiplierRoute};
 use crate::parse::SystemDef;
-use crate::sym::{ExprId, ZERO};
+use crate::sym::{ExprId, SymId, ZERO};
 use proc_macro2::{Ident, TokenStream};
 use quote::quote;
 
@@ -502,6 +502,70 @@ impl Bodies for Derived<'_> {
                     body: quote! { let _ = q; #stmts #nn::from_row_slice(&[#(#o),*]) },
                 }
             }
+            "jacobian" => {
+                let args_x = Args::state(n, k);
+                let mut d = bound_dag(self.m, &args_x);
+                let mass = matrix(&mut d, self.m, &self.croute.mass);
+                let rhs = exprs(&mut d, self.m, &self.croute.rhs);
+                let fac = d.factor_symmetric(&mass);
+                let rdd = d.solve_factored(&fac, &rhs);
+                let dim = n + k;
+                // the state variables: q, then ṙ
+                let vars: Vec<SymId> = self
+                    .m
+                    .coord_syms
+                    .iter()
+                    .copied()
+                    .chain(self.m.independent.iter().map(|&i| self.m.vel_syms[i]))
+                    .collect();
+                let mut jac = vec![vec![ZERO_NODE; dim]; dim];
+                for i in 0..n {
+                    match self.m.independent.iter().position(|&r| r == i) {
+                        Some(j) => jac[i][n + j] = ONE_NODE,
+                        None => {
+                            let a = self.m.dependent.iter().position(|&s| s == i).unwrap_or(0);
+                            for (c, &z) in vars.iter().enumerate() {
+                                let e = self.m.engine.diff(self.m.dependent_velocity[a], z);
+                                jac[i][c] = d.expr(&self.m.engine, e);
+                            }
+                        }
+                    }
+                }
+                // ∂r̈/∂z = Mc⁻¹ (∂f/∂z − (∂Mc/∂z) r̈), with the factorisation reused
+                for (c, &z) in vars.iter().enumerate() {
+                    let mut col_rhs = Vec::with_capacity(k);
+                    for al in 0..k {
+                        let df = self.m.engine.diff(self.croute.rhs[al], z);
+                        let mut v = d.expr(&self.m.engine, df);
+                        for be in 0..k {
+                            let dm = self.m.engine.diff(self.croute.mass[al][be], z);
+                            if dm != ZERO {
+                                let dmn = d.expr(&self.m.engine, dm);
+                                let t = d.mul(dmn, rdd[be]);
+                                v = d.sub(v, t);
+                            }
+                        }
+                        col_rhs.push(v);
+                    }
+                    let col = d.solve_factored(&fac, &col_rhs);
+                    for al in 0..k {
+                        jac[n + al][c] = col[al];
+                    }
+                }
+                let flat: Vec<Node> = jac.iter().flatten().copied().collect();
+                let (stmts, o) = d.emit(&flat);
+                let dd = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #dim, #dim>);
+                let u = if self.m.inputs.is_empty() {
+                    quote!()
+                } else {
+                    quote!(let _ = u;)
+                };
+                self.stats.derived.push("jacobian");
+                Method {
+                    doc: "The Jacobian ∂f/∂x of the first-order system x = [q, ṙ] ↦ [q̇, r̈], derived symbolically through the reduced solve: ∂r̈/∂z = Mc⁻¹ (∂f/∂z − (∂Mc/∂z) r̈) with the curvature route's Mc and f (5.20), reusing one LDLᵀ factorisation for every column.".into(),
+                    body: quote! { let _ = (t, x); #u #stmts #dd::from_row_slice(&[#(#o),*]) },
+                }
+            }
             // "rhs": the first-order system for the runtime
             _ => {
                 let args_x = Args::state(n, k);
@@ -676,12 +740,6 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         if varying {
             cx.error_at(outputs_span, "output `mass_matrix` needs a Lagrangian quadratic in the velocities with time-independent coefficients (the method takes only `q`)");
         }
-    }
-    if m.outputs.jacobian {
-        cx.error_at(
-            outputs_span,
-            "output `jacobian` is not available yet: the runtime's Rosenbrock solver falls back to finite differences; remove `jacobian` from `outputs`",
-        );
     }
     if !cx.is_empty() {
         return (TokenStream::new(), stats);
