@@ -34,6 +34,9 @@
 #![cfg_attr(not(feature = "std"), no_std)]
 
 pub use nh_macros::nonholonomic_system;
+
+#[cfg(feature = "std")]
+pub mod report;
 pub use nh_runtime as runtime;
 
 /// Everything a scene needs: the macro, the runtime traits and integrators,
