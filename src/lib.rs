@@ -35,6 +35,11 @@
 
 pub use nh_macros::nonholonomic_system;
 
+// The generated code names `::nonholonomic`; this lets the crate use its own macro.
+extern crate self as nonholonomic;
+
+pub mod systems;
+
 #[cfg(feature = "std")]
 pub mod report;
 pub use nh_runtime as runtime;

@@ -1,0 +1,109 @@
+//! Ready-made systems: the scenes of the examples, tests and benchmarks,
+//! written with [`nonholonomic_system!`](crate::nonholonomic_system) exactly
+//! as a user would write them.
+
+use crate::nonholonomic_system;
+
+nonholonomic_system! {
+    /// The rolling disc of the thesis (Flygare 2012, section 6), as written
+    /// there: centre of mass (6.12)–(6.14) (with the sign of (6.13) as (6.16)
+    /// uses it) and the simplified rotational energy of (6.5)–(6.8), which
+    /// omits the cross terms of a real tilted disc (see [`RollingDisc`]).
+    /// θ spin, φ heading, ψ lean from vertical, (x, y) contact point.
+    pub struct ThesisDisc {
+        parameters { m, R, g }
+        coordinates { theta, phi, psi, x, y }
+        let X = x - R*sin(phi)*sin(psi);      // (6.12)
+        let Y = y + R*cos(phi)*sin(psi);      // (6.13), sign as (6.16) uses it
+        let Z = R*cos(psi);                   // (6.14)
+        lagrangian = m/2*(dot(X)^2 + dot(Y)^2 + dot(Z)^2)
+                   + m*R^2/2*(dot(theta)^2/2 + dot(phi)^2/4 + dot(psi)^2/4)
+                   - m*g*Z;
+        constraints {
+            dot(x) = R*cos(phi)*dot(theta);   // (6.27)
+            dot(y) = R*sin(phi)*dot(theta);   // (6.28)
+        }
+        outputs { energy, multipliers, curvature, constraint_matrix, jacobian }
+    }
+}
+
+nonholonomic_system! {
+    /// The physically correct thin rolling disc: radius R, mass m, moments
+    /// mR²/2 about the axle and mR²/4 about a diameter, rolling without
+    /// slipping; same coordinates and constraints as [`ThesisDisc`].
+    ///
+    /// Derivation. The frame (t, u, n) follows the disc without spinning with
+    /// it: t = (cos φ, sin φ, 0) the rolling direction, u = sin ψ l + cos ψ z
+    /// from the contact point to the centre (l = (−sin φ, cos φ, 0)), n = t × u
+    /// the axle. The frame turns with φ̇ z − ψ̇ t; the disc turns relative to
+    /// it about n with −θ̇, θ chosen so that the contact point moves with
+    /// R θ̇ t (the rolling constraints (6.27)–(6.28)). The body angular
+    /// velocity is therefore ω = −ψ̇ t + φ̇ cos ψ u + (φ̇ sin ψ − θ̇) n, and
+    /// T = m/2 |Ċ|² + mR²/8 (ω_t² + ω_u²) + mR²/4 ω_n² with C = (x, y, 0) + R u.
+    pub struct RollingDisc {
+        parameters { m, R, g }
+        coordinates { theta, phi, psi, x, y }
+        let X = x - R*sin(phi)*sin(psi);
+        let Y = y + R*cos(phi)*sin(psi);
+        let Z = R*cos(psi);
+        let w_t = -dot(psi);
+        let w_u = dot(phi)*cos(psi);
+        let w_n = dot(phi)*sin(psi) - dot(theta);
+        lagrangian = m/2*(dot(X)^2 + dot(Y)^2 + dot(Z)^2)
+                   + m*R^2/8*(w_t^2 + w_u^2) + m*R^2/4*w_n^2
+                   - m*g*Z;
+        constraints {
+            dot(x) = R*cos(phi)*dot(theta);
+            dot(y) = R*sin(phi)*dot(theta);
+        }
+        outputs { energy, multipliers, curvature, constraint_matrix, jacobian }
+    }
+}
+
+nonholonomic_system! {
+    /// [`ThesisDisc`] with a stiff spring-damper on the lean: the generalized
+    /// force Q_ψ = −k (ψ − ψ0) − c ψ̇ (the stiff scene of the reports).
+    pub struct StiffDisc {
+        parameters { m, R, g, k, c, psi0 }
+        coordinates { theta, phi, psi, x, y }
+        let X = x - R*sin(phi)*sin(psi);
+        let Y = y + R*cos(phi)*sin(psi);
+        let Z = R*cos(psi);
+        lagrangian = m/2*(dot(X)^2 + dot(Y)^2 + dot(Z)^2)
+                   + m*R^2/2*(dot(theta)^2/2 + dot(phi)^2/4 + dot(psi)^2/4)
+                   - m*g*Z;
+        forces { psi: -k*(psi - psi0) - c*dot(psi); }
+        constraints {
+            dot(x) = R*cos(phi)*dot(theta);
+            dot(y) = R*sin(phi)*dot(theta);
+        }
+        outputs { energy, jacobian }
+    }
+}
+
+nonholonomic_system! {
+    /// The Chaplygin sled: a knife edge at (x, y) with heading θ, centre of
+    /// mass a distance a ahead of it, moment of inertia J about the centre of
+    /// mass; no sideways slip.
+    pub struct ChaplyginSled {
+        parameters { m, J, a }
+        coordinates { x, theta, y }
+        lagrangian = J*dot(theta)^2/2
+                   + m*((dot(x) - a*sin(theta)*dot(theta))^2 + (dot(y) + a*cos(theta)*dot(theta))^2)/2;
+        constraints { dot(y) = tan(theta)*dot(x); }
+        outputs { energy, multipliers, jacobian }
+    }
+}
+
+nonholonomic_system! {
+    /// A knife edge on a plane inclined at `alpha`: x down the slope, y
+    /// across, φ the blade's heading; J the moment of inertia about the
+    /// plane's normal.
+    pub struct KnifeEdge {
+        parameters { m, J, g, alpha }
+        coordinates { x, phi, y }
+        lagrangian = J*dot(phi)^2/2 + g*m*x*sin(alpha) + m*(dot(x)^2 + dot(y)^2)/2;
+        constraints { dot(y) = tan(phi)*dot(x); }
+        outputs { energy, multipliers, jacobian }
+    }
+}

@@ -1,0 +1,142 @@
+//! The physically correct rolling disc (`systems::RollingDisc`), checked
+//! against an independent Newton–Euler computation of steady rolling on a
+//! circle at constant lean, and against the thesis's simplified model.
+use nonholonomic::prelude::*;
+use nonholonomic::systems::{RollingDisc, ThesisDisc};
+
+type V3 = [f64; 3];
+fn cross(a: V3, b: V3) -> V3 {
+    [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ]
+}
+fn add(a: V3, b: V3) -> V3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+fn scale(s: f64, a: V3) -> V3 {
+    [s * a[0], s * a[1], s * a[2]]
+}
+
+/// Newton–Euler residual of steady rolling (ψ̇ = 0, θ̇, φ̇ constant) at φ = 0:
+/// the rate of change of the angular momentum about the centre, which in the
+/// frame turning with φ̇ z is φ̇ z × H, minus the torque of the contact force
+/// F = m a_C + m g z about the centre. Zero for a steady motion.
+fn newton_euler_residual(m: f64, r: f64, g: f64, psi: f64, theta_dot: f64, phi_dot: f64) -> V3 {
+    let (s, c) = psi.sin_cos();
+    let t = [1.0, 0.0, 0.0];
+    let l = [0.0, 1.0, 0.0];
+    let z = [0.0, 0.0, 1.0];
+    let u = add(scale(s, l), scale(c, z)); // contact point → centre
+    let n = cross(t, u); // axle
+    // body angular velocity (see the RollingDisc docs for the derivation)
+    let (w_u, w_n) = (phi_dot * c, phi_dot * s - theta_dot);
+    let h = add(
+        scale(m * r * r / 4.0 * w_u, u),
+        scale(m * r * r / 2.0 * w_n, n),
+    );
+    let dh = cross(scale(phi_dot, z), h);
+    // the contact point runs on a circle of radius R θ̇ / φ̇ about P + ρ l; the
+    // centre, at P + R u, on one of radius ρ − R sin ψ about the same axis
+    let rho = r * theta_dot / phi_dot;
+    let a_c = scale(-phi_dot * phi_dot * (r * s - rho), l);
+    let f = add(scale(m, a_c), scale(m * g, z));
+    let torque = cross(scale(-r, u), f);
+    [dh[0] - torque[0], dh[1] - torque[1], dh[2] - torque[2]]
+}
+
+/// The precession rates φ̇ of steady motions for given lean and spin, found
+/// as sign changes of the Newton–Euler residual and refined by bisection.
+fn steady_precession_rates(m: f64, r: f64, g: f64, psi: f64, theta_dot: f64) -> Vec<f64> {
+    let f = |p: f64| newton_euler_residual(m, r, g, psi, theta_dot, p)[0];
+    let mut roots = Vec::new();
+    let grid: Vec<f64> = (1..=4000)
+        .map(|i| -100.0 + 200.0 * i as f64 / 4001.0)
+        .collect();
+    for w in grid.windows(2) {
+        let (mut a, mut b) = (w[0], w[1]);
+        if a * b <= 0.0 || f(a).signum() == f(b).signum() {
+            continue;
+        }
+        for _ in 0..200 {
+            let mid = 0.5 * (a + b);
+            if f(a).signum() == f(mid).signum() {
+                a = mid;
+            } else {
+                b = mid;
+            }
+        }
+        roots.push(0.5 * (a + b));
+    }
+    roots
+}
+
+#[test]
+fn steady_rolling_on_a_circle_agrees_with_newton_euler() {
+    let (m, r, g) = (1.7, 0.35, 9.81);
+    let disc: RollingDisc = RollingDisc::new(m, r, g);
+    let mut checked = 0;
+    for &(psi, theta_dot) in &[
+        (0.3, 8.0),
+        (0.1, 20.0),
+        (-0.4, 15.0),
+        (0.6, -12.0),
+        (0.2, 3.0),
+    ] {
+        let roots = steady_precession_rates(m, r, g, psi, theta_dot);
+        assert!(
+            !roots.is_empty(),
+            "no steady motion found for ψ = {psi}, θ̇ = {theta_dot}"
+        );
+        for phi_dot in roots {
+            let res = newton_euler_residual(m, r, g, psi, theta_dot, phi_dot);
+            // the other two components of the Newton–Euler balance hold too
+            assert!(res.iter().all(|x| x.abs() < 1e-9), "{res:?}");
+            let q = SVector::<f64, 5>::from([0.0, 0.0, psi, 0.0, 0.0]);
+            let rdot = SVector::<f64, 3>::from([theta_dot, phi_dot, 0.0]);
+            let a = disc.accelerations(0.0, &q, &rdot);
+            println!(
+                "ψ = {psi}, θ̇ = {theta_dot}: φ̇ = {phi_dot:.12}, |r̈| = {:.2e}",
+                a.amax()
+            );
+            assert!(a.amax() < 1e-9, "not steady: {a}");
+            checked += 1;
+        }
+    }
+    assert!(checked >= 8);
+}
+
+#[test]
+fn the_thesis_model_is_not_the_physical_disc() {
+    // the thesis's steady motion (6.67) is not steady for the physical disc
+    let (m, r, g) = (1.7, 0.35, 9.81);
+    let (psi, theta_dot) = (0.3f64, 8.0f64);
+    let phi_dot = theta_dot / (2.0 * psi.sin())
+        + (theta_dot.powi(2) / (4.0 * psi.sin().powi(2)) - g / (r * psi.cos())).sqrt();
+    let q = SVector::<f64, 5>::from([0.0, 0.0, psi, 0.0, 0.0]);
+    let rdot = SVector::<f64, 3>::from([theta_dot, phi_dot, 0.0]);
+    let thesis: ThesisDisc = ThesisDisc::new(m, r, g);
+    let physical: RollingDisc = RollingDisc::new(m, r, g);
+    assert!(thesis.accelerations(0.0, &q, &rdot).amax() < 1e-12);
+    assert!(physical.accelerations(0.0, &q, &rdot).amax() > 1.0);
+}
+
+#[test]
+fn energy_is_conserved_along_a_rolling_motion() {
+    let disc: RollingDisc = RollingDisc::new(1.7, 0.35, 9.81);
+    let x0 = SVector::<f64, 8>::from([0.0, 0.0, 0.2, 0.0, 0.0, 15.0, 1.0, 0.3]);
+    let e = |x: &SVector<f64, 8>| {
+        disc.energy(
+            &x.fixed_rows::<5>(0).into_owned(),
+            &x.fixed_rows::<3>(5).into_owned(),
+        )
+    };
+    let out = DormandPrince::new(1e-12, 1e-14)
+        .with_max_steps(1_000_000)
+        .integrate(&disc, 0.0, x0, 5.0)
+        .expect("the disc rolls for 5 s");
+    let drift = (e(&out.x) - e(&x0)).abs() / e(&x0).abs();
+    println!("relative energy drift over 5 s: {drift:.2e}");
+    assert!(drift < 1e-9);
+}
