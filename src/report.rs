@@ -62,7 +62,7 @@ pub fn markdown_table(runs: &[Run]) -> String {
             .unwrap_or_else(|| "—".into());
         let _ = writeln!(
             s,
-            "| {} | {} | {:.0e} | {} | {} | {:.3e} | {:.2e} | {} |",
+            "| {} | {} | {:e} | {} | {} | {:.3e} | {:.2e} | {} |",
             r.scene, r.integrator, r.tolerance, r.steps, r.rhs_evals, r.seconds, r.error, energy
         );
     }

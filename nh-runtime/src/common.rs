@@ -2,7 +2,7 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::SimError;
+use crate::{OdeSystem, SimError, Stats};
 
 /// Converts an `f64` constant to `T`.
 #[inline(always)]
@@ -96,6 +96,61 @@ pub(crate) fn check_positive<T: RealField + Copy, const D: usize>(
     } else {
         Err(SimError::InvalidInput { what })
     }
+}
+
+/// The smallest step magnitude an adaptive method may take at `t`:
+/// `10·eps·|t|` (the resolution of `t`, as in Hairer's codes), floored at
+/// `10·eps²·|t1|` so that it stays positive near `t = 0` without stopping
+/// short initial transients of long integrations.
+pub(crate) fn min_step<T: RealField + Copy>(eps: T, t: T, t1: T) -> T {
+    c::<T>(10.0) * eps * t.abs().max(eps * t1.abs())
+}
+
+/// Hairer's `hinit`: a first step magnitude for a method of order `order`
+/// from `f0 = f(t, x)` and one explicit Euler probe step (one evaluation of
+/// the right-hand side, counted in `stats`).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn initial_step<T, S, const D: usize>(
+    sys: &S,
+    stats: &mut Stats,
+    t: T,
+    x: &SVector<T, D>,
+    f0: &SVector<T, D>,
+    dir: T,
+    hmax: T,
+    rtol: T,
+    atol: T,
+    order: u32,
+) -> T
+where
+    T: RealField + Copy,
+    S: OdeSystem<T, D> + ?Sized,
+{
+    let sk = x.map(|xi| atol + rtol * xi.abs());
+    let dnf = f0.component_div(&sk).norm_squared();
+    let dny = x.component_div(&sk).norm_squared();
+    let tiny = c::<T>(1e-10);
+    let mut h = if dnf <= tiny || dny <= tiny || !(dnf / dny).is_finite() {
+        c::<T>(1e-6)
+    } else {
+        (dny / dnf).sqrt() * c::<T>(0.01)
+    };
+    h = h.min(hmax);
+    // One explicit Euler step to estimate the second derivative.
+    let x1 = x + f0 * (h * dir);
+    let f1 = sys.rhs(t + h * dir, &x1);
+    stats.rhs_evals += 1;
+    let der2 = (f1 - f0).component_div(&sk).norm() / h;
+    let der12 = der2.max(dnf.sqrt());
+    let h1 = if !(der2.is_finite() && der12.is_finite()) {
+        // The probe step produced garbage: stay cautious.
+        h * c::<T>(1e-3)
+    } else if der12 <= c::<T>(1e-15) {
+        c::<T>(1e-6).max(h * c::<T>(1e-3))
+    } else {
+        (c::<T>(0.01) / der12).powf(T::one() / c::<T>(f64::from(order)))
+    };
+    (h * c::<T>(100.0)).min(h1).min(hmax)
 }
 
 #[cfg(test)]

@@ -2,8 +2,12 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::common::{all_finite, c, check_arguments, check_positive, error_norm, machine_epsilon};
-use crate::{Integrator, OdeSystem, Outcome, SimError, Stats};
+use crate::common::{
+    all_finite, c, check_arguments, check_positive, error_norm, initial_step, machine_epsilon,
+    min_step,
+};
+use crate::step::Poly;
+use crate::{Integrator, OdeSystem, Outcome, SimError, Stats, Step};
 
 // Butcher tableau of RK5(4)7M (Dormand & Prince 1980), FSAL.
 const C2: f64 = 1.0 / 5.0;
@@ -37,6 +41,13 @@ const E4: f64 = 71.0 / 1920.0;
 const E5: f64 = -17253.0 / 339200.0;
 const E6: f64 = 22.0 / 525.0;
 const E7: f64 = -1.0 / 40.0;
+// Dense output of Shampine (1986), Hairer's `CONTD5`.
+const D1: f64 = -12715105075.0 / 11282082432.0;
+const D3: f64 = 87487479700.0 / 32700410799.0;
+const D4: f64 = -10690763975.0 / 1880347072.0;
+const D5: f64 = 701980252875.0 / 199316789632.0;
+const D6: f64 = -1453857185.0 / 822651844.0;
+const D7: f64 = 69997945.0 / 29380423.0;
 
 // Hairer's DOPRI5 defaults.
 const SAFE: f64 = 0.9;
@@ -77,7 +88,7 @@ const NONSTIFF_RESET: usize = 6;
 ///
 /// * A trial step whose new state, final derivative or error estimate is
 ///   not finite is rejected and retried with half the step. When the step
-///   falls below `10·eps·max(|t|, |t1|)`, [`SimError::NonFinite`] is returned
+///   falls below `10·eps·|t|` (at least `10·eps²·|t1|`), [`SimError::NonFinite`] is returned
 ///   if the last rejection was due to non-finite values, otherwise
 ///   [`SimError::StepSizeTooSmall`]; both carry the last accepted `(t, x)`.
 ///   A non-finite derivative at `(t0, x0)` itself returns `NonFinite` at once.
@@ -182,50 +193,6 @@ impl<T: RealField + Copy> DormandPrince<T> {
         Ok(())
     }
 
-    /// Hairer's `hinit`: a first step magnitude from `f0 = f(t, x)` and one
-    /// explicit Euler step.
-    #[allow(clippy::too_many_arguments)]
-    fn initial_step<S, const D: usize>(
-        &self,
-        sys: &S,
-        stats: &mut Stats,
-        t: T,
-        x: &SVector<T, D>,
-        f0: &SVector<T, D>,
-        dir: T,
-        hmax: T,
-    ) -> T
-    where
-        S: OdeSystem<T, D> + ?Sized,
-    {
-        let (rtol, atol) = (self.rtol, self.atol);
-        let sk = x.map(|xi| atol + rtol * xi.abs());
-        let dnf = f0.component_div(&sk).norm_squared();
-        let dny = x.component_div(&sk).norm_squared();
-        let tiny = c::<T>(1e-10);
-        let mut h = if dnf <= tiny || dny <= tiny || !(dnf / dny).is_finite() {
-            c::<T>(1e-6)
-        } else {
-            (dny / dnf).sqrt() * c::<T>(0.01)
-        };
-        h = h.min(hmax);
-        // One explicit Euler step to estimate the second derivative.
-        let x1 = x + f0 * (h * dir);
-        let f1 = sys.rhs(t + h * dir, &x1);
-        stats.rhs_evals += 1;
-        let der2 = (f1 - f0).component_div(&sk).norm() / h;
-        let der12 = der2.max(dnf.sqrt());
-        let h1 = if !(der2.is_finite() && der12.is_finite()) {
-            // The probe step produced garbage: stay cautious.
-            h * c::<T>(1e-3)
-        } else if der12 <= c::<T>(1e-15) {
-            c::<T>(1e-6).max(h * c::<T>(1e-3))
-        } else {
-            (c::<T>(0.01) / der12).powf(c::<T>(0.2))
-        };
-        (h * c::<T>(100.0)).min(h1).min(hmax)
-    }
-
     fn run<S, F, const D: usize>(
         &mut self,
         stats: &mut Stats,
@@ -233,15 +200,14 @@ impl<T: RealField + Copy> DormandPrince<T> {
         t0: T,
         x0: SVector<T, D>,
         t1: T,
-        mut observer: F,
+        mut on_step: F,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
     where
         S: OdeSystem<T, D> + ?Sized,
-        F: FnMut(T, &SVector<T, D>),
+        F: FnMut(&Step<'_, T, D>),
     {
         let dir = check_arguments(t0, &x0, t1)?;
         self.check_settings()?;
-        observer(t0, &x0);
         if dir == T::zero() {
             return Ok(Outcome {
                 t: t0,
@@ -262,7 +228,7 @@ impl<T: RealField + Copy> DormandPrince<T> {
         }
         let mut h = match self.initial_step {
             Some(h0) => h0.min(hmax),
-            None => self.initial_step(sys, stats, t, &x, &k1, dir, hmax),
+            None => initial_step(sys, stats, t, &x, &k1, dir, hmax, rtol, atol, 5),
         } * dir;
 
         let mut facold = c::<T>(1e-4);
@@ -281,8 +247,7 @@ impl<T: RealField + Copy> DormandPrince<T> {
                     steps: attempts,
                 });
             }
-            let hmin = c::<T>(10.0) * eps * t.abs().max(t1.abs());
-            if !h.is_finite() || h.abs() < hmin {
+            if !h.is_finite() || h.abs() < min_step(eps, t, t1) {
                 return Err(if nonfinite {
                     SimError::NonFinite { t, x }
                 } else {
@@ -379,10 +344,28 @@ impl<T: RealField + Copy> DormandPrince<T> {
                     }
                 }
 
+                // Hairer's CONTD5 in the nested form
+                // x + θ(Δ + (1−θ)(r3 + θ(r4 + (1−θ) r5))).
+                let ydiff = x_new - x;
+                let bspl = k1 * h - ydiff;
+                let dense = Poly::from_nested(&[
+                    x,
+                    ydiff,
+                    bspl,
+                    ydiff - k7 * h - bspl,
+                    (k1 * c::<T>(D1)
+                        + k3 * c::<T>(D3)
+                        + k4 * c::<T>(D4)
+                        + k5 * c::<T>(D5)
+                        + k6 * c::<T>(D6)
+                        + k7 * c::<T>(D7))
+                        * h,
+                ]);
+                on_step(&Step::new(t, &x, t_new, &x_new, &dense));
+
                 k1 = k7;
                 x = x_new;
                 t = t_new;
-                observer(t, &x);
 
                 if h_new.abs() > hmax {
                     h_new = hmax * dir;
@@ -411,21 +394,21 @@ impl<T: RealField + Copy> DormandPrince<T> {
 }
 
 impl<T: RealField + Copy> Integrator<T> for DormandPrince<T> {
-    fn integrate_with_observer<S, F, const D: usize>(
+    fn integrate_with_steps<S, F, const D: usize>(
         &mut self,
         sys: &S,
         t0: T,
         x0: SVector<T, D>,
         t1: T,
-        observer: F,
+        on_step: F,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
     where
         S: OdeSystem<T, D> + ?Sized,
-        F: FnMut(T, &SVector<T, D>),
+        F: FnMut(&Step<'_, T, D>),
     {
         let mut stats = Stats::default();
         self.last_step = None;
-        let result = self.run(&mut stats, sys, t0, x0, t1, observer);
+        let result = self.run(&mut stats, sys, t0, x0, t1, on_step);
         self.stats = stats;
         result
     }

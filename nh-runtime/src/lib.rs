@@ -7,8 +7,26 @@
 //! * Systems: [`OdeSystem`], [`OdeJacobian`], [`ControlledSystem`] and the
 //!   [`Driven`] adapter (a controlled system with a held input). Closures
 //!   `Fn(T, &SVector<T, D>) -> SVector<T, D>` are `OdeSystem`s too.
-//! * Integrators ([`Integrator`]): [`Rk4`] (classical, fixed step) and
-//!   [`DormandPrince`] (adaptive 5(4), after Hairer's `DOPRI5`).
+//! * Integrators ([`Integrator`]):
+//!   * [`Rk4`]: classical Runge–Kutta, fixed step (order 4);
+//!   * [`DormandPrince`]: adaptive 5(4), after Hairer's `DOPRI5`;
+//!   * [`Dop853`]: adaptive 8(5,3), after Hairer's `DOP853`;
+//!   * [`Rosenbrock`]: RODAS4, adaptive, L-stable, linearly implicit
+//!     (order 4), for stiff problems;
+//!   * [`GaussLegendre4`]: 2-stage Gauss–Legendre collocation, fixed step,
+//!     implicit, symplectic (order 4).
+//!
+//!   Which to use: [`DormandPrince`] for everyday non-stiff problems at
+//!   moderate tolerances, [`Dop853`] when tolerances are tight, [`Rosenbrock`]
+//!   when the problem is stiff (explicit methods crawl, or `DormandPrince`
+//!   reports [`Stats::stiffness_detected`]), and [`GaussLegendre4`] for long
+//!   runs of conservative (Hamiltonian) systems, where it keeps the energy
+//!   error bounded; [`Rk4`] when a fixed, cheap, explicit step is wanted
+//!   (e.g. real-time loops).
+//! * Every accepted step comes with a continuous extension ([`Step`]):
+//!   [`Integrator::integrate_with_steps`] hands it out, and
+//!   [`Integrator::integrate_with_outputs`] samples the solution at
+//!   requested times without changing the steps.
 //! * Results: [`Outcome`] with [`Stats`], or a [`SimError`] that carries the
 //!   last good state.
 //!
@@ -44,12 +62,22 @@
 #![deny(missing_docs)]
 
 mod common;
+mod dop853;
 mod dopri5;
+mod gauss;
+mod jacobian;
+mod linalg;
 mod outcome;
 mod rk4;
+mod rosenbrock;
+mod step;
 mod system;
 
+pub use dop853::Dop853;
 pub use dopri5::DormandPrince;
+pub use gauss::GaussLegendre4;
 pub use outcome::{Outcome, SimError, Stats};
 pub use rk4::Rk4;
+pub use rosenbrock::Rosenbrock;
+pub use step::Step;
 pub use system::{ControlledSystem, Driven, Integrator, OdeJacobian, OdeSystem};

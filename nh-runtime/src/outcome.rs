@@ -26,13 +26,23 @@ pub struct Stats {
     pub rejected: usize,
     /// Evaluations of [`OdeSystem::rhs`](crate::OdeSystem::rhs).
     pub rhs_evals: usize,
-    /// Evaluations of [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian)
-    /// (always 0 for the explicit methods of this crate).
+    /// Jacobian evaluations of the implicit methods: calls of
+    /// [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) when the
+    /// analytic Jacobian is used, finite-difference Jacobians otherwise (whose
+    /// `D` (+1) right-hand side evaluations are also counted in
+    /// [`Stats::rhs_evals`]). Always 0 for the explicit methods.
     pub jacobian_evals: usize,
     /// Whether the integrator's stiffness test fired (only
-    /// [`DormandPrince`](crate::DormandPrince) performs one). The integration
-    /// still continues; a stiff problem is merely slow for an explicit method.
+    /// [`DormandPrince`](crate::DormandPrince) and [`Dop853`](crate::Dop853)
+    /// perform one). The integration still continues; a stiff problem is
+    /// merely slow for an explicit method.
     pub stiffness_detected: bool,
+    /// Newton iterations (implicit Runge–Kutta methods such as
+    /// [`GaussLegendre4`](crate::GaussLegendre4); 0 for the others).
+    pub newton_iterations: usize,
+    /// LU decompositions of iteration matrices (implicit methods; 0 for the
+    /// explicit ones).
+    pub lu_decompositions: usize,
 }
 
 /// A successful integration: the final time and state, plus work counters.
@@ -92,7 +102,10 @@ pub enum SimError<T, const D: usize> {
         x: SVector<T, D>,
     },
     /// The adaptive step size fell below the resolution of `t` (about
-    /// `10 * eps * max(|t|, |t1|)`), or a fixed step no longer advances `t`.
+    /// `10 * eps * |t|`, at least `10 * eps² * |t1|`), a fixed step no longer
+    /// advances `t`, or the Newton iteration of
+    /// [`GaussLegendre4`](crate::GaussLegendre4) did not converge (its fixed
+    /// step is too large for the problem; `h` is that step).
     StepSizeTooSmall {
         /// Time of the last good state.
         t: T,
@@ -110,7 +123,8 @@ pub enum SimError<T, const D: usize> {
         /// Step attempts made (accepted plus rejected).
         steps: usize,
     },
-    /// A linear system could not be solved (reserved for implicit methods).
+    /// A linear system of an implicit method could not be solved: its
+    /// iteration matrix is singular to working precision.
     Singular {
         /// Time of the last good state.
         t: T,

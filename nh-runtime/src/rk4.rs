@@ -3,7 +3,8 @@
 use nalgebra::{RealField, SVector};
 
 use crate::common::{all_finite, c, check_arguments, check_positive, machine_epsilon};
-use crate::{Integrator, OdeSystem, Outcome, SimError, Stats};
+use crate::step::Poly;
+use crate::{Integrator, OdeSystem, Outcome, SimError, Stats, Step};
 
 /// Classical fourth-order Runge–Kutta with a fixed step `h`.
 ///
@@ -75,15 +76,14 @@ impl<T: RealField + Copy> Rk4<T> {
         t0: T,
         x0: SVector<T, D>,
         t1: T,
-        mut observer: F,
+        mut on_step: F,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
     where
         S: OdeSystem<T, D> + ?Sized,
-        F: FnMut(T, &SVector<T, D>),
+        F: FnMut(&Step<'_, T, D>),
     {
         let dir = check_arguments(t0, &x0, t1)?;
         check_positive(self.h, "Rk4 step size h must be positive and finite")?;
-        observer(t0, &x0);
         if dir == T::zero() {
             return Ok(Outcome {
                 t: t0,
@@ -116,15 +116,15 @@ impl<T: RealField + Copy> Rk4<T> {
             if hk * dir <= T::zero() {
                 return Err(SimError::StepSizeTooSmall { t, x, h });
             }
-            let x_new = rk4_step(sys, t, &x, hk);
+            let (x_new, dense) = rk4_step(sys, t, &x, hk);
             stats.steps += 1;
             stats.rhs_evals += 4;
             if !all_finite(&x_new) {
                 return Err(SimError::NonFinite { t, x });
             }
+            on_step(&Step::new(t, &x, t_next, &x_new, &dense));
             t = t_next;
             x = x_new;
-            observer(t, &x);
             if last {
                 return Ok(Outcome {
                     t,
@@ -136,9 +136,16 @@ impl<T: RealField + Copy> Rk4<T> {
     }
 }
 
-/// One classical RK4 step of size `h` from `(t, x)`.
+/// One classical RK4 step of size `h` from `(t, x)`, with its continuous
+/// extension: `x + h Σ b_i(θ) k_i` with `b1 = θ − 3θ²/2 + 2θ³/3`,
+/// `b2 = b3 = θ² − 2θ³/3`, `b4 = −θ²/2 + 2θ³/3`.
 #[inline]
-fn rk4_step<T, S, const D: usize>(sys: &S, t: T, x: &SVector<T, D>, h: T) -> SVector<T, D>
+fn rk4_step<T, S, const D: usize>(
+    sys: &S,
+    t: T,
+    x: &SVector<T, D>,
+    h: T,
+) -> (SVector<T, D>, Poly<T, D>)
 where
     T: RealField + Copy,
     S: OdeSystem<T, D> + ?Sized,
@@ -148,24 +155,31 @@ where
     let k2 = sys.rhs(t + half, &(x + k1 * half));
     let k3 = sys.rhs(t + half, &(x + k2 * half));
     let k4 = sys.rhs(t + h, &(x + k3 * h));
-    x + (k1 + (k2 + k3) * c::<T>(2.0) + k4) * (h / c::<T>(6.0))
+    let x_new = x + (k1 + (k2 + k3) * c::<T>(2.0) + k4) * (h / c::<T>(6.0));
+    let dense = Poly::from_monomial(&[
+        *x,
+        k1 * h,
+        (k2 + k3 - k1 * c::<T>(1.5) - k4 * c::<T>(0.5)) * h,
+        (k1 - k2 - k3 + k4) * (h * c::<T>(2.0 / 3.0)),
+    ]);
+    (x_new, dense)
 }
 
 impl<T: RealField + Copy> Integrator<T> for Rk4<T> {
-    fn integrate_with_observer<S, F, const D: usize>(
+    fn integrate_with_steps<S, F, const D: usize>(
         &mut self,
         sys: &S,
         t0: T,
         x0: SVector<T, D>,
         t1: T,
-        observer: F,
+        on_step: F,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
     where
         S: OdeSystem<T, D> + ?Sized,
-        F: FnMut(T, &SVector<T, D>),
+        F: FnMut(&Step<'_, T, D>),
     {
         let mut stats = Stats::default();
-        let result = self.run(&mut stats, sys, t0, x0, t1, observer);
+        let result = self.run(&mut stats, sys, t0, x0, t1, on_step);
         self.stats = stats;
         result
     }

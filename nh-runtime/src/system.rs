@@ -2,9 +2,10 @@
 
 use core::fmt;
 
-use nalgebra::{SMatrix, SVector};
+use nalgebra::{RealField, SMatrix, SVector};
 
-use crate::{Outcome, SimError};
+use crate::common::check_arguments;
+use crate::{Outcome, SimError, Step};
 
 /// An autonomous or time-dependent first-order ODE `x' = f(t, x)` with a
 /// state of fixed dimension `D`.
@@ -174,6 +175,10 @@ where
 
 /// A method that advances an [`OdeSystem`] from `(t0, x0)` to `t1`.
 ///
+/// Implementors provide [`Integrator::integrate_with_steps`], which reports
+/// every accepted step with its dense output ([`Step`]); plain integration,
+/// observers and output at requested times are built on it.
+///
 /// Conventions shared by every integrator of this crate:
 ///
 /// * `t0`, `t1` and every component of `x0` must be finite, otherwise
@@ -202,10 +207,48 @@ where
 /// assert!((run(&mut Rk4::new(0.01), &oscillator, x0) - exact).abs() < 1e-9);
 /// assert!((run(&mut DormandPrince::new(1e-10, 1e-12), &oscillator, x0) - exact).abs() < 1e-9);
 /// ```
-pub trait Integrator<T> {
+pub trait Integrator<T: RealField + Copy> {
+    /// Integrates `sys` from `(t0, x0)` to `t1` and calls `on_step` after
+    /// every accepted step with the step's end points and its continuous
+    /// extension ([`Step::interpolate`]).
+    ///
+    /// Nothing is reported for `t0` itself (the first step's
+    /// [`Step::t_prev`]/[`Step::x_prev`] are `t0` and `x0`); an empty
+    /// interval reports no step. Steps are reported in order, and the last
+    /// one of a successful integration ends exactly at `t1`. On error, the
+    /// steps accepted before the failure have been reported.
+    ///
+    /// # Example
+    ///
+    /// ```rust
+    /// use nalgebra::Vector1;
+    /// use nh_runtime::{Integrator, Rk4};
+    ///
+    /// let decay = |_t: f64, x: &Vector1<f64>| -x;
+    /// let mut ends = Vec::new();
+    /// Rk4::new(0.25)
+    ///     .integrate_with_steps(&decay, 0.0, Vector1::new(1.0), 1.0, |step| {
+    ///         assert_eq!(step.interpolate(step.t_prev()), *step.x_prev());
+    ///         ends.push(step.t());
+    ///     })
+    ///     .unwrap();
+    /// assert_eq!(ends, [0.25, 0.5, 0.75, 1.0]);
+    /// ```
+    fn integrate_with_steps<S, F, const D: usize>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        x0: SVector<T, D>,
+        t1: T,
+        on_step: F,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        S: OdeSystem<T, D> + ?Sized,
+        F: FnMut(&Step<'_, T, D>);
+
     /// Integrates `sys` from `(t0, x0)` to `t1`.
     ///
-    /// Equivalent to [`Integrator::integrate_with_observer`] with an observer
+    /// Equivalent to [`Integrator::integrate_with_steps`] with a callback
     /// that does nothing.
     fn integrate<S: OdeSystem<T, D> + ?Sized, const D: usize>(
         &mut self,
@@ -214,11 +257,14 @@ pub trait Integrator<T> {
         x0: SVector<T, D>,
         t1: T,
     ) -> Result<Outcome<T, D>, SimError<T, D>> {
-        self.integrate_with_observer(sys, t0, x0, t1, |_, _| {})
+        self.integrate_with_steps(sys, t0, x0, t1, |_| {})
     }
 
     /// Like [`Integrator::integrate`], but calls `observer(t, &x)` at `t0`
     /// and after every accepted step (including the final one, at `t1`).
+    ///
+    /// The call at `t0` is skipped only when the arguments or settings are
+    /// invalid ([`SimError::InvalidInput`]).
     ///
     /// # Example
     ///
@@ -244,9 +290,114 @@ pub trait Integrator<T> {
         t0: T,
         x0: SVector<T, D>,
         t1: T,
-        observer: F,
+        mut observer: F,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
     where
         S: OdeSystem<T, D> + ?Sized,
-        F: FnMut(T, &SVector<T, D>);
+        F: FnMut(T, &SVector<T, D>),
+    {
+        // `t0` is reported just before the first step (or after the call if
+        // there was none), so that invalid input reports nothing.
+        let mut started = false;
+        let result = self.integrate_with_steps(sys, t0, x0, t1, |step| {
+            if !started {
+                started = true;
+                observer(t0, &x0);
+            }
+            observer(step.t(), step.x());
+        });
+        if !started && !matches!(result, Err(SimError::InvalidInput { .. })) {
+            observer(t0, &x0);
+        }
+        result
+    }
+
+    /// Integrates from `(t0, x0)` to `t1` and calls `on_output(t_i, &x(t_i))`
+    /// for every requested time `t_i` in `times`, in order, using the
+    /// integrator's dense output ([`Step::interpolate`]).
+    ///
+    /// The output times do not influence the step sequence: the result and
+    /// the work counters are identical to those of
+    /// [`Integrator::integrate`].
+    ///
+    /// * `times` must be finite and sorted in the direction of integration
+    ///   (non-decreasing if `t1 ≥ t0`, non-increasing if `t1 < t0`;
+    ///   repetitions are reported repeatedly), otherwise
+    ///   [`SimError::InvalidInput`] is returned and nothing is integrated.
+    /// * Times outside `[t0, t1]` are ignored (never reported).
+    /// * Times equal to `t0` are reported with `x0`, times equal to `t1` with
+    ///   the final state, exactly.
+    /// * On error, the times up to the last accepted step have been
+    ///   reported.
+    ///
+    /// # Example
+    ///
+    /// ```rust
+    /// use nalgebra::Vector2;
+    /// use nh_runtime::{DormandPrince, Integrator};
+    ///
+    /// let oscillator = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -x[0]);
+    /// let times: Vec<f64> = (0..=1000).map(|i| 0.01 * i as f64).collect();
+    /// let mut samples = Vec::new();
+    /// let out = DormandPrince::new(1e-8, 1e-10)
+    ///     .integrate_with_outputs(&oscillator, 0.0, Vector2::new(1.0, 0.0), 10.0, &times, |t, x| {
+    ///         samples.push((t, x[0]));
+    ///     })
+    ///     .unwrap();
+    /// assert_eq!(samples.len(), 1001);
+    /// assert!(out.stats.steps < 200, "far fewer steps than outputs");
+    /// for (t, q) in samples {
+    ///     assert!((q - t.cos()).abs() < 1e-6);
+    /// }
+    /// ```
+    fn integrate_with_outputs<S, F, const D: usize>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        x0: SVector<T, D>,
+        t1: T,
+        times: &[T],
+        mut on_output: F,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        S: OdeSystem<T, D> + ?Sized,
+        F: FnMut(T, &SVector<T, D>),
+    {
+        let dir = check_arguments(t0, &x0, t1)?;
+        let sort_dir = if dir == T::zero() { T::one() } else { dir };
+        if !times.iter().all(|t| t.is_finite()) {
+            return Err(SimError::InvalidInput {
+                what: "output times must be finite",
+            });
+        }
+        if times
+            .windows(2)
+            .any(|w| (w[1] - w[0]) * sort_dir < T::zero())
+        {
+            return Err(SimError::InvalidInput {
+                what: "output times must be sorted in the direction of integration",
+            });
+        }
+        // Skip the times before t0.
+        let mut i = times
+            .iter()
+            .position(|&ti| (ti - t0) * sort_dir >= T::zero())
+            .unwrap_or(times.len());
+        let mut started = false;
+        let result = self.integrate_with_steps(sys, t0, x0, t1, |step| {
+            started = true;
+            while i < times.len() && (times[i] - step.t()) * dir <= T::zero() {
+                let ti = times[i];
+                on_output(ti, &step.interpolate(ti));
+                i += 1;
+            }
+        });
+        if !started && !matches!(result, Err(SimError::InvalidInput { .. })) {
+            while i < times.len() && times[i] == t0 {
+                on_output(t0, &x0);
+                i += 1;
+            }
+        }
+        result
+    }
 }

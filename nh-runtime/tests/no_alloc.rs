@@ -11,7 +11,8 @@ use std::cell::Cell;
 
 use common::Oscillators3;
 use nalgebra::SVector;
-use nh_runtime::{DormandPrince, Integrator, Rk4};
+use nh_runtime::OdeSystem as _;
+use nh_runtime::{Dop853, DormandPrince, GaussLegendre4, Integrator, Rk4, Rosenbrock};
 
 struct Counting;
 
@@ -89,4 +90,101 @@ fn integrate_does_not_allocate() {
     assert!(out.is_err());
     assert!(seen > 1);
     assert_eq!(n, 0, "DormandPrince error path allocated {n} times");
+}
+
+/// `integrate`, `integrate_with_outputs` (dense output) and the error path
+/// of one integrator allocate nothing.
+fn check_no_alloc<I: Integrator<f64>>(name: &str, mut make: impl FnMut() -> I, min_steps: usize) {
+    let x0 = SVector::<f64, 6>::from([1.0, 0.0, 0.5, 0.0, 0.0, 1.0]);
+    let times: [f64; 64] = core::array::from_fn(|i| i as f64 * 5.0 / 63.0);
+
+    let mut i = make();
+    let (n, out) = allocations_during(|| i.integrate(&Oscillators3, 0.0, x0, 5.0));
+    let out = out.unwrap();
+    assert!(out.stats.steps >= min_steps, "{name}: {:?}", out.stats);
+    assert_eq!(n, 0, "{name}: integrate allocated {n} times");
+
+    let mut i = make();
+    let mut seen = 0usize;
+    let mut sum = 0.0;
+    let (n, out) = allocations_during(|| {
+        i.integrate_with_outputs(&Oscillators3, 0.0, x0, 5.0, &times, |_, x| {
+            seen += 1;
+            sum += x[0];
+        })
+    });
+    out.unwrap();
+    assert_eq!(seen, 64);
+    assert!(sum.is_finite());
+    assert_eq!(n, 0, "{name}: integrate_with_outputs allocated {n} times");
+
+    let mut seen = 0usize;
+    let (n, out) = allocations_during(|| {
+        i.integrate_with_steps(&Oscillators3, 0.0, x0, 5.0, |s| {
+            seen += 1;
+            let _ = s.interpolate(0.5 * (s.t_prev() + s.t()));
+        })
+    });
+    out.unwrap();
+    assert!(seen >= min_steps);
+    assert_eq!(n, 0, "{name}: integrate_with_steps allocated {n} times");
+
+    // An error path: a right-hand side that turns NaN.
+    let nan_late = |t: f64, x: &SVector<f64, 6>| {
+        if t > 1.0 {
+            SVector::<f64, 6>::repeat(f64::NAN)
+        } else {
+            Oscillators3.rhs(t, x)
+        }
+    };
+    let mut i = make();
+    let (n, out) = allocations_during(|| i.integrate(&nan_late, 0.0, x0, 5.0));
+    assert!(out.is_err(), "{name}");
+    assert_eq!(n, 0, "{name}: error path allocated {n} times");
+}
+
+#[test]
+fn no_integrator_allocates() {
+    check_no_alloc("rk4", || Rk4::new(1e-2), 500);
+    check_no_alloc("dopri5", || DormandPrince::new(1e-9, 1e-11), 50);
+    check_no_alloc("dop853", || Dop853::new(1e-9, 1e-11), 20);
+    check_no_alloc("rosenbrock", || Rosenbrock::new(1e-6, 1e-8), 20);
+    check_no_alloc("gauss4", || GaussLegendre4::new(1e-2), 500);
+}
+
+#[test]
+fn analytic_jacobian_paths_do_not_allocate() {
+    use nalgebra::SMatrix;
+    use nh_runtime::{OdeJacobian, OdeSystem};
+    struct Osc3;
+    impl OdeSystem<f64, 6> for Osc3 {
+        fn rhs(&self, t: f64, x: &SVector<f64, 6>) -> SVector<f64, 6> {
+            Oscillators3.rhs(t, x)
+        }
+    }
+    impl OdeJacobian<f64, 6> for Osc3 {
+        fn jacobian(&self, _t: f64, _x: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
+            let mut j = SMatrix::<f64, 6, 6>::zeros();
+            for (k, w2) in [1.0, 4.0, 9.0].iter().enumerate() {
+                j[(2 * k, 2 * k + 1)] = 1.0;
+                j[(2 * k + 1, 2 * k)] = -w2;
+            }
+            j
+        }
+    }
+    let x0 = SVector::<f64, 6>::from([1.0, 0.0, 0.5, 0.0, 0.0, 1.0]);
+    let mut ros = Rosenbrock::new(1e-6, 1e-8);
+    let (n, out) = allocations_during(|| ros.integrate_with_jacobian(&Osc3, 0.0, x0, 5.0));
+    out.unwrap();
+    assert_eq!(
+        n, 0,
+        "Rosenbrock::integrate_with_jacobian allocated {n} times"
+    );
+    let mut g = GaussLegendre4::new(1e-2);
+    let (n, out) = allocations_during(|| g.integrate_with_jacobian(&Osc3, 0.0, x0, 5.0));
+    out.unwrap();
+    assert_eq!(
+        n, 0,
+        "GaussLegendre4::integrate_with_jacobian allocated {n} times"
+    );
 }

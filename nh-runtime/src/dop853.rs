@@ -1,0 +1,731 @@
+//! Dormand–Prince 8(5,3) with dense output of order 7, after Hairer's `DOP853`.
+
+use core::cell::Cell;
+
+use nalgebra::{RealField, SVector};
+
+use crate::common::{
+    all_finite, c, check_arguments, check_positive, initial_step, machine_epsilon, min_step,
+};
+use crate::step::{Dense, Poly};
+use crate::{Integrator, OdeSystem, Outcome, SimError, Stats, Step};
+
+// Coefficients of DOP853 (Hairer, Nørsett & Wanner, Solving ODEs I, and
+// Hairer's dop853.f): nodes, weights, error estimators of orders 5 and 3,
+// the stages 14–16 and the weights of the 7th-order dense output.
+const C2: f64 = 0.05260015195876773;
+const C3: f64 = 0.0789002279381516;
+const C4: f64 = 0.1183503419072274;
+const C5: f64 = 0.2816496580927726;
+const C6: f64 = 0.3333333333333333;
+const C7: f64 = 0.25;
+const C8: f64 = 0.3076923076923077;
+const C9: f64 = 0.6512820512820513;
+const C10: f64 = 0.6;
+const C11: f64 = 0.8571428571428571;
+const C14: f64 = 0.1;
+const C15: f64 = 0.2;
+const C16: f64 = 0.7777777777777778;
+const B1: f64 = 0.054293734116568765;
+const B6: f64 = 4.450312892752409;
+const B7: f64 = 1.8915178993145003;
+const B8: f64 = -5.801203960010585;
+const B9: f64 = 0.3111643669578199;
+const B10: f64 = -0.1521609496625161;
+const B11: f64 = 0.20136540080403034;
+const B12: f64 = 0.04471061572777259;
+const BHH1: f64 = 0.2440944881889764;
+const BHH2: f64 = 0.7338466882816118;
+const BHH3: f64 = 0.022058823529411766;
+const ER1: f64 = 0.01312004499419488;
+const ER6: f64 = -1.2251564463762044;
+const ER7: f64 = -0.4957589496572502;
+const ER8: f64 = 1.6643771824549864;
+const ER9: f64 = -0.35032884874997366;
+const ER10: f64 = 0.3341791187130175;
+const ER11: f64 = 0.08192320648511571;
+const ER12: f64 = -0.022355307863886294;
+const A21: f64 = 0.05260015195876773;
+const A31: f64 = 0.0197250569845379;
+const A32: f64 = 0.0591751709536137;
+const A41: f64 = 0.02958758547680685;
+const A43: f64 = 0.08876275643042054;
+const A51: f64 = 0.2413651341592667;
+const A53: f64 = -0.8845494793282861;
+const A54: f64 = 0.924834003261792;
+const A61: f64 = 0.037037037037037035;
+const A64: f64 = 0.17082860872947386;
+const A65: f64 = 0.12546768756682242;
+const A71: f64 = 0.037109375;
+const A74: f64 = 0.17025221101954405;
+const A75: f64 = 0.06021653898045596;
+const A76: f64 = -0.017578125;
+const A81: f64 = 0.03709200011850479;
+const A84: f64 = 0.17038392571223998;
+const A85: f64 = 0.10726203044637328;
+const A86: f64 = -0.015319437748624402;
+const A87: f64 = 0.008273789163814023;
+const A91: f64 = 0.6241109587160757;
+const A94: f64 = -3.3608926294469414;
+const A95: f64 = -0.868219346841726;
+const A96: f64 = 27.59209969944671;
+const A97: f64 = 20.154067550477894;
+const A98: f64 = -43.48988418106996;
+const A101: f64 = 0.47766253643826434;
+const A104: f64 = -2.4881146199716677;
+const A105: f64 = -0.590290826836843;
+const A106: f64 = 21.230051448181193;
+const A107: f64 = 15.279233632882423;
+const A108: f64 = -33.28821096898486;
+const A109: f64 = -0.020331201708508627;
+const A111: f64 = -0.9371424300859873;
+const A114: f64 = 5.186372428844064;
+const A115: f64 = 1.0914373489967295;
+const A116: f64 = -8.149787010746927;
+const A117: f64 = -18.52006565999696;
+const A118: f64 = 22.739487099350505;
+const A119: f64 = 2.4936055526796523;
+const A1110: f64 = -3.0467644718982196;
+const A121: f64 = 2.273310147516538;
+const A124: f64 = -10.53449546673725;
+const A125: f64 = -2.0008720582248625;
+const A126: f64 = -17.9589318631188;
+const A127: f64 = 27.94888452941996;
+const A128: f64 = -2.8589982771350235;
+const A129: f64 = -8.87285693353063;
+const A1210: f64 = 12.360567175794303;
+const A1211: f64 = 0.6433927460157636;
+const A141: f64 = 0.056167502283047954;
+const A147: f64 = 0.25350021021662483;
+const A148: f64 = -0.2462390374708025;
+const A149: f64 = -0.12419142326381637;
+const A1410: f64 = 0.15329179827876568;
+const A1411: f64 = 0.00820105229563469;
+const A1412: f64 = 0.007567897660545699;
+const A1413: f64 = -0.008298;
+const A151: f64 = 0.03183464816350214;
+const A156: f64 = 0.028300909672366776;
+const A157: f64 = 0.053541988307438566;
+const A158: f64 = -0.05492374857139099;
+const A1511: f64 = -0.00010834732869724932;
+const A1512: f64 = 0.0003825710908356584;
+const A1513: f64 = -0.00034046500868740456;
+const A1514: f64 = 0.1413124436746325;
+const A161: f64 = -0.42889630158379194;
+const A166: f64 = -4.697621415361164;
+const A167: f64 = 7.683421196062599;
+const A168: f64 = 4.06898981839711;
+const A169: f64 = 0.3567271874552811;
+const A1613: f64 = -0.0013990241651590145;
+const A1614: f64 = 2.9475147891527724;
+const A1615: f64 = -9.15095847217987;
+const D41: f64 = -8.428938276109013;
+const D46: f64 = 0.5667149535193777;
+const D47: f64 = -3.0689499459498917;
+const D48: f64 = 2.38466765651207;
+const D49: f64 = 2.117034582445028;
+const D410: f64 = -0.871391583777973;
+const D411: f64 = 2.2404374302607883;
+const D412: f64 = 0.6315787787694688;
+const D413: f64 = -0.08899033645133331;
+const D414: f64 = 18.148505520854727;
+const D415: f64 = -9.194632392478356;
+const D416: f64 = -4.436036387594894;
+const D51: f64 = 10.427508642579134;
+const D56: f64 = 242.28349177525817;
+const D57: f64 = 165.20045171727028;
+const D58: f64 = -374.5467547226902;
+const D59: f64 = -22.113666853125306;
+const D510: f64 = 7.733432668472264;
+const D511: f64 = -30.674084731089398;
+const D512: f64 = -9.332130526430229;
+const D513: f64 = 15.697238121770845;
+const D514: f64 = -31.139403219565178;
+const D515: f64 = -9.35292435884448;
+const D516: f64 = 35.81684148639408;
+const D61: f64 = 19.985053242002433;
+const D66: f64 = -387.0373087493518;
+const D67: f64 = -189.17813819516758;
+const D68: f64 = 527.8081592054236;
+const D69: f64 = -11.57390253995963;
+const D610: f64 = 6.8812326946963;
+const D611: f64 = -1.0006050966910838;
+const D612: f64 = 0.7777137798053443;
+const D613: f64 = -2.778205752353508;
+const D614: f64 = -60.19669523126412;
+const D615: f64 = 84.32040550667716;
+const D616: f64 = 11.99229113618279;
+const D71: f64 = -25.69393346270375;
+const D76: f64 = -154.18974869023643;
+const D77: f64 = -231.5293791760455;
+const D78: f64 = 357.6391179106141;
+const D79: f64 = 93.40532418362432;
+const D710: f64 = -37.45832313645163;
+const D711: f64 = 104.0996495089623;
+const D712: f64 = 29.8402934266605;
+const D713: f64 = -43.53345659001114;
+const D714: f64 = 96.32455395918828;
+const D715: f64 = -39.17726167561544;
+const D716: f64 = -149.72683625798564;
+// Hairer's DOP853 defaults.
+const SAFE: f64 = 0.9;
+const FAC1: f64 = 0.333;
+const FAC2: f64 = 6.0;
+const BETA: f64 = 0.0;
+const EXPO1: f64 = 1.0 / 8.0 - BETA * 0.2;
+/// Accepted steps between routine stiffness tests (Hairer's `NSTIFF`).
+const NSTIFF: usize = 1000;
+/// `h·λ` above this counts as "at the stability boundary" (DOP853's 6.1).
+const STIFF_HLAMB: f64 = 6.1;
+const STIFF_COUNT: usize = 15;
+const NONSTIFF_RESET: usize = 6;
+
+/// Dormand–Prince 8(5,3): an explicit Runge–Kutta method of order 8 with
+/// adaptive steps and a 7th-order dense output, a port of the algorithm of
+/// Hairer's `DOP853` (Hairer, Nørsett & Wanner, *Solving ODEs I*, II.5/II.10).
+///
+/// The method of choice for smooth non-stiff problems at tight tolerances
+/// (say `rtol ≤ 1e-7`), where it needs far fewer steps than
+/// [`DormandPrince`](crate::DormandPrince).
+///
+/// * 12 stages, the solution is advanced with the 8th-order weights; the
+///   error estimate combines the 5th- and 3rd-order estimators as in
+///   Hairer: `err = |h|·E5² / sqrt(D·(E5² + 0.01·E3²))` where `E5`, `E3` are
+///   the sums of squares of the scaled estimators (scale
+///   `atol + rtol·max(|x_i|, |x_new_i|)`); a step is accepted when `err ≤ 1`.
+/// * Hairer's step-size control: `h_new = h·min(6, max(0.333, 0.9·err^(−1/8)))`
+///   (no PI term: DOP853's default `β = 0`); after a rejection the step may
+///   not grow in the next accepted step. Automatic initial step (`hinit`)
+///   unless [`Dop853::with_initial_step`] is given.
+/// * FSAL: the derivative at the new point, needed for the next step, is
+///   computed only for accepted steps.
+/// * Stiffness detection as in DOP853 (`h·λ > 6.1` in 15 tests), reported
+///   in [`Stats::stiffness_detected`].
+/// * Dense output ([`Step::interpolate`]) of order 7 (`CONTD8`). It needs
+///   three extra stages, which are computed lazily — only for steps whose
+///   interpolant is actually evaluated — and then counted in
+///   [`Stats::rhs_evals`]. `integrate` and `integrate_with_observer` never
+///   pay for them.
+/// * [`Dop853::with_fixed_step`] switches the error control off (every step
+///   accepted): for convergence studies and real-time loops.
+///
+/// Failure modes are those of [`DormandPrince`](crate::DormandPrince):
+/// non-finite trial steps are retried with half the step, and
+/// [`SimError::NonFinite`] / [`SimError::StepSizeTooSmall`] /
+/// [`SimError::MaxSteps`] (default 100 000 attempts) carry the last accepted
+/// state; invalid settings give [`SimError::InvalidInput`]. In fixed-step
+/// mode a non-finite step returns [`SimError::NonFinite`] at once.
+///
+/// Work: `rhs_evals = 11·(steps + rejected) + steps + 2` (one evaluation at
+/// `t0`, one for `hinit`; `+ 1` instead of `+ 2` with an explicit initial
+/// step), plus 3 for each step whose dense output was used.
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::Vector2;
+/// use nh_runtime::{Dop853, Integrator};
+///
+/// let oscillator = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -x[0]);
+/// let out = Dop853::new(1e-12, 1e-14)
+///     .integrate(&oscillator, 0.0, Vector2::new(1.0, 0.0), 10.0)
+///     .unwrap();
+/// assert!((out.x[0] - 10.0f64.cos()).abs() < 1e-10);
+/// let s = out.stats;
+/// assert_eq!(s.rhs_evals, 11 * (s.steps + s.rejected) + s.steps + 2);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Dop853<T> {
+    rtol: T,
+    atol: T,
+    max_steps: usize,
+    initial_step: Option<T>,
+    max_step: Option<T>,
+    fixed_step: Option<T>,
+    stats: Stats,
+    last_step: Option<T>,
+}
+
+impl<T: RealField + Copy> Dop853<T> {
+    /// An adaptive integrator with relative tolerance `rtol` (> 0) and
+    /// absolute tolerance `atol` (≥ 0), applied to every component.
+    pub fn new(rtol: T, atol: T) -> Self {
+        Self {
+            rtol,
+            atol,
+            max_steps: 100_000,
+            initial_step: None,
+            max_step: None,
+            fixed_step: None,
+            stats: Stats::default(),
+            last_step: None,
+        }
+    }
+
+    /// Sets the maximum number of step attempts, accepted plus rejected
+    /// (default 100 000).
+    pub fn with_max_steps(mut self, n: usize) -> Self {
+        self.max_steps = n;
+        self
+    }
+
+    /// Uses `h` (a magnitude, > 0) as the first trial step instead of the
+    /// automatic estimate. It is still capped by the maximal step.
+    pub fn with_initial_step(mut self, h: T) -> Self {
+        self.initial_step = Some(h);
+        self
+    }
+
+    /// Caps the step size magnitude at `h` (> 0). Default: `|t1 − t0|`.
+    pub fn with_max_step(mut self, h: T) -> Self {
+        self.max_step = Some(h);
+        self
+    }
+
+    /// Fixed-step mode: every step has magnitude `h` (> 0; the last one is
+    /// shortened, or stretched by at most 1 %, to land on `t1`) and is
+    /// accepted whatever its error estimate. `rtol`/`atol` must still be
+    /// valid but are not used; no stiffness test is made.
+    pub fn with_fixed_step(mut self, h: T) -> Self {
+        self.fixed_step = Some(h);
+        self
+    }
+
+    /// Work counters of the most recent call to `integrate*`, whether it
+    /// succeeded or failed.
+    pub fn last_stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// Magnitude of the step size the controller proposed after the last
+    /// accepted step of the most recent call (`None` if no step was
+    /// accepted).
+    pub fn last_step(&self) -> Option<T> {
+        self.last_step
+    }
+
+    fn check_settings<const D: usize>(&self) -> Result<(), SimError<T, D>> {
+        check_positive(self.rtol, "rtol must be positive and finite")?;
+        if !(self.atol.is_finite() && self.atol >= T::zero()) {
+            return Err(SimError::InvalidInput {
+                what: "atol must be non-negative and finite",
+            });
+        }
+        if let Some(h) = self.initial_step {
+            check_positive(h, "initial step must be positive and finite")?;
+        }
+        if let Some(h) = self.max_step {
+            check_positive(h, "max step must be positive and finite")?;
+        }
+        if let Some(h) = self.fixed_step {
+            check_positive(h, "fixed step must be positive and finite")?;
+        }
+        Ok(())
+    }
+
+    fn run<S, F, const D: usize>(
+        &mut self,
+        stats: &mut Stats,
+        sys: &S,
+        t0: T,
+        x0: SVector<T, D>,
+        t1: T,
+        mut on_step: F,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        S: OdeSystem<T, D> + ?Sized,
+        F: FnMut(&Step<'_, T, D>),
+    {
+        let dir = check_arguments(t0, &x0, t1)?;
+        self.check_settings()?;
+        if dir == T::zero() {
+            return Ok(Outcome {
+                t: t0,
+                x: x0,
+                stats: *stats,
+            });
+        }
+
+        let (rtol, atol) = (self.rtol, self.atol);
+        let eps = machine_epsilon::<T>();
+        let hmax = self.max_step.unwrap_or((t1 - t0).abs());
+
+        let (mut t, mut x) = (t0, x0);
+        let mut k1 = sys.rhs(t, &x);
+        stats.rhs_evals += 1;
+        if !all_finite(&k1) {
+            return Err(SimError::NonFinite { t, x });
+        }
+        let mut h = match (self.fixed_step, self.initial_step) {
+            (Some(hf), _) => hf,
+            (None, Some(h0)) => h0.min(hmax),
+            (None, None) => initial_step(sys, stats, t, &x, &k1, dir, hmax, rtol, atol, 8),
+        } * dir;
+
+        let mut facold = c::<T>(1e-4);
+        let mut reject = false;
+        let mut last = false;
+        let mut nonfinite = false;
+        let mut hlamb = T::zero();
+        let (mut iasti, mut nonsti) = (0usize, 0usize);
+        let cc = |v: f64| c::<T>(v);
+
+        loop {
+            let attempts = stats.steps + stats.rejected;
+            if attempts >= self.max_steps {
+                return Err(SimError::MaxSteps {
+                    t,
+                    x,
+                    steps: attempts,
+                });
+            }
+            if !h.is_finite() || h.abs() < min_step(eps, t, t1) {
+                return Err(if nonfinite {
+                    SimError::NonFinite { t, x }
+                } else {
+                    SimError::StepSizeTooSmall { t, x, h }
+                });
+            }
+            if (t + h * c::<T>(1.01) - t1) * dir > T::zero() {
+                h = t1 - t;
+                last = true;
+            }
+            let t_new = if last { t1 } else { t + h };
+
+            let k2 = sys.rhs(t + h * cc(C2), &(x + k1 * (h * cc(A21))));
+            let k3 = sys.rhs(t + h * cc(C3), &(x + (k1 * cc(A31) + k2 * cc(A32)) * h));
+            let k4 = sys.rhs(t + h * cc(C4), &(x + (k1 * cc(A41) + k3 * cc(A43)) * h));
+            let k5 = sys.rhs(
+                t + h * cc(C5),
+                &(x + (k1 * cc(A51) + k3 * cc(A53) + k4 * cc(A54)) * h),
+            );
+            let k6 = sys.rhs(
+                t + h * cc(C6),
+                &(x + (k1 * cc(A61) + k4 * cc(A64) + k5 * cc(A65)) * h),
+            );
+            let k7 = sys.rhs(
+                t + h * cc(C7),
+                &(x + (k1 * cc(A71) + k4 * cc(A74) + k5 * cc(A75) + k6 * cc(A76)) * h),
+            );
+            let k8 = sys.rhs(
+                t + h * cc(C8),
+                &(x + (k1 * cc(A81) + k4 * cc(A84) + k5 * cc(A85) + k6 * cc(A86) + k7 * cc(A87))
+                    * h),
+            );
+            let k9 = sys.rhs(
+                t + h * cc(C9),
+                &(x + (k1 * cc(A91)
+                    + k4 * cc(A94)
+                    + k5 * cc(A95)
+                    + k6 * cc(A96)
+                    + k7 * cc(A97)
+                    + k8 * cc(A98))
+                    * h),
+            );
+            let k10 = sys.rhs(
+                t + h * cc(C10),
+                &(x + (k1 * cc(A101)
+                    + k4 * cc(A104)
+                    + k5 * cc(A105)
+                    + k6 * cc(A106)
+                    + k7 * cc(A107)
+                    + k8 * cc(A108)
+                    + k9 * cc(A109))
+                    * h),
+            );
+            let k11 = sys.rhs(
+                t + h * cc(C11),
+                &(x + (k1 * cc(A111)
+                    + k4 * cc(A114)
+                    + k5 * cc(A115)
+                    + k6 * cc(A116)
+                    + k7 * cc(A117)
+                    + k8 * cc(A118)
+                    + k9 * cc(A119)
+                    + k10 * cc(A1110))
+                    * h),
+            );
+            let x12 = x
+                + (k1 * cc(A121)
+                    + k4 * cc(A124)
+                    + k5 * cc(A125)
+                    + k6 * cc(A126)
+                    + k7 * cc(A127)
+                    + k8 * cc(A128)
+                    + k9 * cc(A129)
+                    + k10 * cc(A1210)
+                    + k11 * cc(A1211))
+                    * h;
+            let k12 = sys.rhs(t_new, &x12);
+            stats.rhs_evals += 11;
+
+            let kb = k1 * cc(B1)
+                + k6 * cc(B6)
+                + k7 * cc(B7)
+                + k8 * cc(B8)
+                + k9 * cc(B9)
+                + k10 * cc(B10)
+                + k11 * cc(B11)
+                + k12 * cc(B12);
+            let x_new = x + kb * h;
+
+            // Error estimate: the 5th-order estimator, damped by the 3rd.
+            let e3 = kb - k1 * cc(BHH1) - k9 * cc(BHH2) - k12 * cc(BHH3);
+            let e5 = k1 * cc(ER1)
+                + k6 * cc(ER6)
+                + k7 * cc(ER7)
+                + k8 * cc(ER8)
+                + k9 * cc(ER9)
+                + k10 * cc(ER10)
+                + k11 * cc(ER11)
+                + k12 * cc(ER12);
+            let (mut err5, mut err3) = (T::zero(), T::zero());
+            for i in 0..D {
+                let sk = atol + rtol * x[i].abs().max(x_new[i].abs());
+                err3 += (e3[i] / sk) * (e3[i] / sk);
+                err5 += (e5[i] / sk) * (e5[i] / sk);
+            }
+            let mut deno = err5 + c::<T>(0.01) * err3;
+            if deno <= T::zero() {
+                deno = T::one();
+            }
+            let err = if D == 0 {
+                T::zero()
+            } else {
+                h.abs() * err5 * (T::one() / (c::<T>(D as f64) * deno)).sqrt()
+            };
+
+            let finite = err.is_finite() && all_finite(&x_new);
+            if !finite {
+                if self.fixed_step.is_some() {
+                    return Err(SimError::NonFinite { t, x });
+                }
+                stats.rejected += 1;
+                nonfinite = true;
+                reject = true;
+                last = false;
+                h *= c::<T>(0.5);
+                continue;
+            }
+
+            let fac11 = err.powf(c::<T>(EXPO1));
+            let fac = (fac11 / facold.powf(c::<T>(BETA)) / c::<T>(SAFE))
+                .min(c::<T>(1.0 / FAC1))
+                .max(c::<T>(1.0 / FAC2));
+            let mut h_new = h / fac;
+
+            if err <= T::one() || self.fixed_step.is_some() {
+                // FSAL: the derivative at the new point.
+                let k_new = sys.rhs(t_new, &x_new);
+                stats.rhs_evals += 1;
+                if !all_finite(&k_new) {
+                    if self.fixed_step.is_some() {
+                        return Err(SimError::NonFinite { t, x });
+                    }
+                    stats.rejected += 1;
+                    nonfinite = true;
+                    reject = true;
+                    last = false;
+                    h *= c::<T>(0.5);
+                    continue;
+                }
+                nonfinite = false;
+                facold = err.max(c::<T>(1e-4));
+                stats.steps += 1;
+
+                if self.fixed_step.is_none() && (stats.steps.is_multiple_of(NSTIFF) || iasti > 0) {
+                    let stnum = (k_new - k12).norm_squared();
+                    let stden = (x_new - x12).norm_squared();
+                    if stden > T::zero() {
+                        hlamb = h.abs() * (stnum / stden).sqrt();
+                    }
+                    if hlamb > c::<T>(STIFF_HLAMB) {
+                        nonsti = 0;
+                        iasti += 1;
+                        if iasti >= STIFF_COUNT {
+                            stats.stiffness_detected = true;
+                        }
+                    } else {
+                        nonsti += 1;
+                        if nonsti == NONSTIFF_RESET {
+                            iasti = 0;
+                        }
+                    }
+                }
+
+                let dense = LazyDense {
+                    sys,
+                    t,
+                    h,
+                    x,
+                    x_new,
+                    k: [k1, k6, k7, k8, k9, k10, k11, k12, k_new],
+                    poly: Cell::new(None),
+                    evals: Cell::new(0),
+                };
+                on_step(&Step::new(t, &x, t_new, &x_new, &dense));
+                stats.rhs_evals += dense.evals.get();
+
+                k1 = k_new;
+                x = x_new;
+                t = t_new;
+
+                if let Some(hf) = self.fixed_step {
+                    h_new = hf * dir;
+                } else {
+                    if h_new.abs() > hmax {
+                        h_new = hmax * dir;
+                    }
+                    if reject {
+                        h_new = h_new.abs().min(h.abs()) * dir;
+                    }
+                }
+                self.last_step = Some(h_new.abs());
+                if last {
+                    return Ok(Outcome {
+                        t,
+                        x,
+                        stats: *stats,
+                    });
+                }
+                reject = false;
+            } else {
+                h_new = h / (fac11 / c::<T>(SAFE)).min(c::<T>(1.0 / FAC1));
+                reject = true;
+                last = false;
+                stats.rejected += 1;
+            }
+            h = h_new;
+        }
+    }
+}
+
+/// The 7th-order dense output of one step, built on first use (it needs
+/// the three extra stages 14–16).
+struct LazyDense<'a, T, S: ?Sized, const D: usize> {
+    sys: &'a S,
+    t: T,
+    h: T,
+    x: SVector<T, D>,
+    x_new: SVector<T, D>,
+    /// `k1, k6, …, k12` and the derivative at the new point.
+    k: [SVector<T, D>; 9],
+    poly: Cell<Option<Poly<T, D>>>,
+    evals: Cell<usize>,
+}
+
+impl<T, S, const D: usize> LazyDense<'_, T, S, D>
+where
+    T: RealField + Copy,
+    S: OdeSystem<T, D> + ?Sized,
+{
+    fn build(&self) -> Poly<T, D> {
+        let cc = |v: f64| c::<T>(v);
+        let (t, h, x) = (self.t, self.h, self.x);
+        let [k1, k6, k7, k8, k9, k10, k11, k12, k13] = self.k;
+        let k14 = self.sys.rhs(
+            t + h * cc(C14),
+            &(x + (k1 * cc(A141)
+                + k7 * cc(A147)
+                + k8 * cc(A148)
+                + k9 * cc(A149)
+                + k10 * cc(A1410)
+                + k11 * cc(A1411)
+                + k12 * cc(A1412)
+                + k13 * cc(A1413))
+                * h),
+        );
+        let k15 = self.sys.rhs(
+            t + h * cc(C15),
+            &(x + (k1 * cc(A151)
+                + k6 * cc(A156)
+                + k7 * cc(A157)
+                + k8 * cc(A158)
+                + k11 * cc(A1511)
+                + k12 * cc(A1512)
+                + k13 * cc(A1513)
+                + k14 * cc(A1514))
+                * h),
+        );
+        let k16 = self.sys.rhs(
+            t + h * cc(C16),
+            &(x + (k1 * cc(A161)
+                + k6 * cc(A166)
+                + k7 * cc(A167)
+                + k8 * cc(A168)
+                + k9 * cc(A169)
+                + k13 * cc(A1613)
+                + k14 * cc(A1614)
+                + k15 * cc(A1615))
+                * h),
+        );
+        self.evals.set(self.evals.get() + 3);
+        let ks = [k1, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16];
+        let comb = |d: [f64; 12]| {
+            let mut v = SVector::<T, D>::zeros();
+            for (kj, dj) in ks.iter().zip(d) {
+                v += kj * cc(dj);
+            }
+            v * h
+        };
+        let ydiff = self.x_new - x;
+        let bspl = k1 * h - ydiff;
+        Poly::from_nested(&[
+            x,
+            ydiff,
+            bspl,
+            ydiff - k13 * h - bspl,
+            comb([
+                D41, D46, D47, D48, D49, D410, D411, D412, D413, D414, D415, D416,
+            ]),
+            comb([
+                D51, D56, D57, D58, D59, D510, D511, D512, D513, D514, D515, D516,
+            ]),
+            comb([
+                D61, D66, D67, D68, D69, D610, D611, D612, D613, D614, D615, D616,
+            ]),
+            comb([
+                D71, D76, D77, D78, D79, D710, D711, D712, D713, D714, D715, D716,
+            ]),
+        ])
+    }
+}
+
+impl<T, S, const D: usize> Dense<T, D> for LazyDense<'_, T, S, D>
+where
+    T: RealField + Copy,
+    S: OdeSystem<T, D> + ?Sized,
+{
+    fn eval(&self, theta: T) -> SVector<T, D> {
+        let poly = match self.poly.get() {
+            Some(p) => p,
+            None => {
+                let p = self.build();
+                self.poly.set(Some(p));
+                p
+            }
+        };
+        poly.eval(theta)
+    }
+}
+
+impl<T: RealField + Copy> Integrator<T> for Dop853<T> {
+    fn integrate_with_steps<S, F, const D: usize>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        x0: SVector<T, D>,
+        t1: T,
+        on_step: F,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        S: OdeSystem<T, D> + ?Sized,
+        F: FnMut(&Step<'_, T, D>),
+    {
+        let mut stats = Stats::default();
+        self.last_step = None;
+        let result = self.run(&mut stats, sys, t0, x0, t1, on_step);
+        self.stats = stats;
+        result
+    }
+}

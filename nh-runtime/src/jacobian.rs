@@ -1,0 +1,131 @@
+//! Where the implicit methods get their Jacobians from: finite differences
+//! for any [`OdeSystem`], or the analytic [`OdeJacobian::jacobian`].
+
+use nalgebra::{RealField, SMatrix, SVector};
+
+use crate::common::{c, machine_epsilon};
+use crate::{OdeJacobian, OdeSystem, Stats};
+
+/// A right-hand side together with a way to obtain `∂f/∂x`, so that the
+/// stepping code of the implicit methods exists once for both sources.
+pub(crate) trait JacobianSource<T: RealField + Copy, const D: usize> {
+    /// `f(t, x)` (not counted: callers count).
+    fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D>;
+
+    /// `∂f/∂x` at `(t, x)`, where `f0 = f(t, x)`; counts its work in `stats`.
+    fn jacobian(
+        &self,
+        t: T,
+        x: &SVector<T, D>,
+        f0: &SVector<T, D>,
+        stats: &mut Stats,
+    ) -> SMatrix<T, D, D>;
+}
+
+/// Forward-difference Jacobian of any [`OdeSystem`]: column `j` is
+/// `(f(t, x + δ_j e_j) − f0)/δ_j` with Hairer's increment
+/// `δ_j = sqrt(eps·max(1e-5, |x_j|))` (rounded so that `x_j + δ_j − x_j`
+/// is exact). Costs `D` evaluations of the right-hand side.
+pub(crate) struct FiniteDifference<'a, S: ?Sized>(pub(crate) &'a S);
+
+impl<T, S, const D: usize> JacobianSource<T, D> for FiniteDifference<'_, S>
+where
+    T: RealField + Copy,
+    S: OdeSystem<T, D> + ?Sized,
+{
+    #[inline]
+    fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
+        self.0.rhs(t, x)
+    }
+
+    fn jacobian(
+        &self,
+        t: T,
+        x: &SVector<T, D>,
+        f0: &SVector<T, D>,
+        stats: &mut Stats,
+    ) -> SMatrix<T, D, D> {
+        let eps = machine_epsilon::<T>();
+        let mut jac = SMatrix::<T, D, D>::zeros();
+        let mut xp = *x;
+        for j in 0..D {
+            let xj = x[j];
+            let delta = (eps * xj.abs().max(c::<T>(1e-5))).sqrt();
+            xp[j] = xj + delta;
+            let delta = xp[j] - xj;
+            let fj = self.0.rhs(t, &xp);
+            jac.set_column(j, &((fj - f0) / delta));
+            xp[j] = xj;
+        }
+        stats.rhs_evals += D;
+        stats.jacobian_evals += 1;
+        jac
+    }
+}
+
+/// The analytic Jacobian of an [`OdeJacobian`] system.
+pub(crate) struct Analytic<'a, S: ?Sized>(pub(crate) &'a S);
+
+impl<T, S, const D: usize> JacobianSource<T, D> for Analytic<'_, S>
+where
+    T: RealField + Copy,
+    S: OdeJacobian<T, D> + ?Sized,
+{
+    #[inline]
+    fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
+        self.0.rhs(t, x)
+    }
+
+    fn jacobian(
+        &self,
+        t: T,
+        x: &SVector<T, D>,
+        _f0: &SVector<T, D>,
+        stats: &mut Stats,
+    ) -> SMatrix<T, D, D> {
+        stats.jacobian_evals += 1;
+        self.0.jacobian(t, x)
+    }
+}
+
+/// Forward-difference `∂f/∂t` at `(t, x)` with `f0 = f(t, x)` (one
+/// evaluation, counted); exactly zero for autonomous systems.
+pub(crate) fn time_derivative<T, J, const D: usize>(
+    src: &J,
+    t: T,
+    x: &SVector<T, D>,
+    f0: &SVector<T, D>,
+    stats: &mut Stats,
+) -> SVector<T, D>
+where
+    T: RealField + Copy,
+    J: JacobianSource<T, D> + ?Sized,
+{
+    let eps = machine_epsilon::<T>();
+    let delta = (eps * t.abs().max(c::<T>(1e-5))).sqrt();
+    let tp = t + delta;
+    let delta = tp - t;
+    stats.rhs_evals += 1;
+    (src.rhs(tp, x) - f0) / delta
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::{Matrix2, Vector2};
+
+    #[test]
+    fn finite_differences_match_analytic() {
+        let f = |t: f64, x: &Vector2<f64>| Vector2::new(x[0] * x[1] + t, x[0].sin() - 3.0 * t * t);
+        let x = Vector2::new(0.7, -1.3);
+        let mut stats = Stats::default();
+        let f0 = f(2.0, &x);
+        let jac = FiniteDifference(&f).jacobian(2.0, &x, &f0, &mut stats);
+        let exact = Matrix2::new(x[1], x[0], x[0].cos(), 0.0);
+        assert!((jac - exact).amax() < 1e-7, "{jac} vs {exact}");
+        let ft = time_derivative(&FiniteDifference(&f), 2.0, &x, &f0, &mut stats);
+        assert!((ft - Vector2::new(1.0, -12.0)).amax() < 1e-6, "{ft}");
+        assert_eq!(stats.rhs_evals, 3);
+        assert_eq!(stats.jacobian_evals, 1);
+    }
+}

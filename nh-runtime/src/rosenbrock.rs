@@ -1,0 +1,526 @@
+//! The L-stable Rosenbrock method RODAS4 for stiff problems, after Hairer's
+//! `RODAS`.
+
+use nalgebra::{RealField, SMatrix, SVector};
+
+use crate::common::{
+    all_finite, c, check_arguments, check_positive, error_norm, initial_step, machine_epsilon,
+    min_step,
+};
+use crate::jacobian::{Analytic, FiniteDifference, JacobianSource, time_derivative};
+use crate::linalg::Lu;
+use crate::step::Poly;
+use crate::{Integrator, OdeJacobian, OdeSystem, Outcome, SimError, Stats, Step};
+
+// RODAS4 (Hairer & Wanner, Solving ODEs II, section IV.7, table 7.2, and
+// Hairer's rodas.f, METH = 1) in the transformed formulation
+// (I/(hγ) − J) U_i = f(t + c_i h, x + Σ a_ij U_j) + Σ (c_ij/h) U_j + h d_i f_t.
+const GAMMA: f64 = 0.25;
+const C2: f64 = 0.386;
+const C3: f64 = 0.21;
+const C4: f64 = 0.63;
+const D1: f64 = 0.25;
+const D2: f64 = -0.1043;
+const D3: f64 = 0.1035;
+const D4: f64 = -0.036_200_000_000_000_23;
+const A21: f64 = 1.544;
+const A31: f64 = 0.946_678_528_081_582_6;
+const A32: f64 = 0.255_701_169_898_328_4;
+const A41: f64 = 3.314_825_187_068_521;
+const A42: f64 = 2.896_124_015_972_201;
+const A43: f64 = 0.998_641_913_997_781_7;
+const A51: f64 = 1.221_224_509_226_641;
+const A52: f64 = 6.019_134_481_288_629;
+const A53: f64 = 12.537_083_329_320_87;
+const A54: f64 = -0.687_886_036_105_895;
+const C21: f64 = -5.6688;
+const C31: f64 = -2.430_093_356_833_875;
+const C32: f64 = -0.206_359_915_709_191_5;
+const C41: f64 = -0.107_352_905_815_137_5;
+const C42: f64 = -9.594_562_251_023_355;
+const C43: f64 = -20.470_286_148_096_16;
+const C51: f64 = 7.496_443_313_967_647;
+const C52: f64 = -10.246_804_314_643_52;
+const C53: f64 = -33.999_903_528_199_05;
+const C54: f64 = 11.708_908_932_061_6;
+const C61: f64 = 8.083_246_795_921_522;
+const C62: f64 = -7.981_132_988_064_893;
+const C63: f64 = -31.521_594_328_743_71;
+const C64: f64 = 16.319_305_431_231_36;
+const C65: f64 = -6.058_818_238_834_054;
+// Dense output (rodas.f `D21`…`D35`).
+const H21: f64 = 10.126_235_083_445_86;
+const H22: f64 = -7.487_995_877_610_167;
+const H23: f64 = -34.800_918_615_557_47;
+const H24: f64 = -7.992_771_707_568_823;
+const H25: f64 = 1.025_137_723_295_662;
+const H31: f64 = -0.676_280_339_280_125_3;
+const H32: f64 = 6.087_714_651_680_015;
+const H33: f64 = 16.430_843_208_924_78;
+const H34: f64 = 24.767_225_114_183_86;
+const H35: f64 = -6.594_389_125_716_872;
+
+// Step-size control of rodas.f: 0.2 ≤ h_new/h ≤ 6, safety 0.9, with
+// Gustafsson's predictive controller.
+const SAFE: f64 = 0.9;
+const FAC1: f64 = 5.0;
+const FAC2: f64 = 1.0 / 6.0;
+/// Consecutive singular iteration matrices tolerated (step halved each time).
+const MAX_SINGULAR: usize = 5;
+
+/// RODAS4: a 6-stage, L-stable, stiffly accurate Rosenbrock–Wanner method of
+/// order 4 with an embedded 3rd-order error estimate and a 3rd-order dense
+/// output, a port of the algorithm of Hairer's `RODAS` (Hairer & Wanner,
+/// *Solving ODEs II*, IV.7).
+///
+/// For stiff problems (fast decaying modes, chemical kinetics, stiff
+/// springs, high-gain controllers), where explicit methods are limited by
+/// stability rather than accuracy. It is linearly implicit: each step
+/// solves six linear systems with the one matrix `I/(hγ) − J`, `γ = 1/4`,
+/// factorised by a stack-allocated LU with partial pivoting; there is no
+/// Newton iteration.
+///
+/// * Jacobian: the [`Integrator`] implementation works for any
+///   [`OdeSystem`] with a forward-difference Jacobian (`D` extra right-hand
+///   side evaluations, increment `sqrt(eps·max(1e-5, |x_j|))`);
+///   [`Rosenbrock::integrate_with_jacobian`] uses the analytic
+///   [`OdeJacobian::jacobian`] instead. `∂f/∂t` is always obtained by one
+///   forward difference (exactly zero for autonomous systems). The Jacobian
+///   is evaluated once per accepted step and reused after rejections;
+///   [`Stats::jacobian_evals`] counts Jacobians (analytic or finite
+///   difference), [`Stats::lu_decompositions`] the LU factorisations.
+/// * Error norm as [`DormandPrince`](crate::DormandPrince) (RMS of
+///   `err_i/(atol + rtol·max(|x_i|, |x_new_i|))`) applied to the embedded
+///   estimate `U_6`; step control of `RODAS`:
+///   `h_new = h·clamp(0.9·err^(−1/4), 1/5, 6)` with Gustafsson's predictive
+///   correction; automatic initial step (`hinit`, order 4) unless
+///   [`Rosenbrock::with_initial_step`] is given.
+/// * [`Rosenbrock::with_fixed_step`] switches the error control off (for
+///   convergence studies).
+///
+/// Failure modes:
+///
+/// * A singular (or non-finite) iteration matrix rejects the step and
+///   halves `h`; after 5 consecutive failures [`SimError::Singular`] is
+///   returned with the last accepted state. A non-finite Jacobian at an
+///   accepted state returns [`SimError::NonFinite`] at once.
+/// * Non-finite stages are rejected and retried with half the step; as in
+///   [`DormandPrince`](crate::DormandPrince), an underflowing step gives
+///   [`SimError::NonFinite`] or [`SimError::StepSizeTooSmall`], and the
+///   budget of step attempts (default 100 000) [`SimError::MaxSteps`].
+/// * Invalid tolerances or step settings give [`SimError::InvalidInput`].
+///
+/// Work per step attempt: 6 evaluations of the right-hand side and one LU
+/// decomposition; per accepted step (and at `t0`) additionally `f(t, x)`,
+/// the Jacobian and `∂f/∂t` (`D + 2` evaluations with finite differences,
+/// 2 and one Jacobian call with the analytic Jacobian).
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::Vector1;
+/// use nh_runtime::{DormandPrince, Integrator, Rosenbrock};
+///
+/// // x' = −1e6 (x − cos t) − sin t, exact solution x = cos t.
+/// let stiff = |t: f64, x: &Vector1<f64>| Vector1::new(-1e6 * (x[0] - t.cos()) - t.sin());
+/// let out = Rosenbrock::new(1e-6, 1e-9)
+///     .integrate(&stiff, 0.0, Vector1::new(1.0), 10.0)
+///     .unwrap();
+/// assert!((out.x[0] - 10.0f64.cos()).abs() < 1e-6);
+/// assert!(out.stats.steps < 100);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Rosenbrock<T> {
+    rtol: T,
+    atol: T,
+    max_steps: usize,
+    initial_step: Option<T>,
+    max_step: Option<T>,
+    fixed_step: Option<T>,
+    stats: Stats,
+    last_step: Option<T>,
+}
+
+impl<T: RealField + Copy> Rosenbrock<T> {
+    /// An adaptive integrator with relative tolerance `rtol` (> 0) and
+    /// absolute tolerance `atol` (≥ 0), applied to every component.
+    pub fn new(rtol: T, atol: T) -> Self {
+        Self {
+            rtol,
+            atol,
+            max_steps: 100_000,
+            initial_step: None,
+            max_step: None,
+            fixed_step: None,
+            stats: Stats::default(),
+            last_step: None,
+        }
+    }
+
+    /// Sets the maximum number of step attempts, accepted plus rejected
+    /// (default 100 000).
+    pub fn with_max_steps(mut self, n: usize) -> Self {
+        self.max_steps = n;
+        self
+    }
+
+    /// Uses `h` (a magnitude, > 0) as the first trial step instead of the
+    /// automatic estimate. It is still capped by the maximal step.
+    pub fn with_initial_step(mut self, h: T) -> Self {
+        self.initial_step = Some(h);
+        self
+    }
+
+    /// Caps the step size magnitude at `h` (> 0). Default: `|t1 − t0|`.
+    pub fn with_max_step(mut self, h: T) -> Self {
+        self.max_step = Some(h);
+        self
+    }
+
+    /// Fixed-step mode: every step has magnitude `h` (> 0; the last one is
+    /// shortened, or stretched by at most 1 %, to land on `t1`) and is
+    /// accepted whatever its error estimate (a singular matrix still
+    /// returns [`SimError::Singular`], a non-finite step
+    /// [`SimError::NonFinite`]).
+    pub fn with_fixed_step(mut self, h: T) -> Self {
+        self.fixed_step = Some(h);
+        self
+    }
+
+    /// Work counters of the most recent call to `integrate*`, whether it
+    /// succeeded or failed.
+    pub fn last_stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// Magnitude of the step size the controller proposed after the last
+    /// accepted step of the most recent call (`None` if no step was
+    /// accepted).
+    pub fn last_step(&self) -> Option<T> {
+        self.last_step
+    }
+
+    /// Like [`Integrator::integrate`], but with the analytic Jacobian
+    /// [`OdeJacobian::jacobian`] instead of finite differences.
+    ///
+    /// # Example
+    ///
+    /// ```rust
+    /// use nalgebra::{Matrix2, Vector2};
+    /// use nh_runtime::{OdeJacobian, OdeSystem, Rosenbrock};
+    ///
+    /// /// A stiff linear system with eigenvalues −1 and −1e4.
+    /// struct TwoScales;
+    /// impl OdeSystem<f64, 2> for TwoScales {
+    ///     fn rhs(&self, _t: f64, x: &Vector2<f64>) -> Vector2<f64> {
+    ///         Vector2::new(-x[0], -1e4 * (x[1] - x[0]))
+    ///     }
+    /// }
+    /// impl OdeJacobian<f64, 2> for TwoScales {
+    ///     fn jacobian(&self, _t: f64, _x: &Vector2<f64>) -> Matrix2<f64> {
+    ///         Matrix2::new(-1.0, 0.0, 1e4, -1e4)
+    ///     }
+    /// }
+    ///
+    /// let mut ros = Rosenbrock::new(1e-8, 1e-10);
+    /// let out = ros.integrate_with_jacobian(&TwoScales, 0.0, Vector2::new(1.0, 0.0), 5.0).unwrap();
+    /// assert!((out.x[0] - (-5.0f64).exp()).abs() < 1e-8);
+    /// // One Jacobian at t0 and one after every accepted step but the last.
+    /// assert_eq!(out.stats.jacobian_evals, out.stats.steps);
+    /// ```
+    pub fn integrate_with_jacobian<S, const D: usize>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        x0: SVector<T, D>,
+        t1: T,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        S: OdeJacobian<T, D> + ?Sized,
+    {
+        self.integrate_with_jacobian_and_steps(sys, t0, x0, t1, |_| {})
+    }
+
+    /// Like [`Integrator::integrate_with_steps`], but with the analytic
+    /// Jacobian [`OdeJacobian::jacobian`] instead of finite differences.
+    pub fn integrate_with_jacobian_and_steps<S, F, const D: usize>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        x0: SVector<T, D>,
+        t1: T,
+        on_step: F,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        S: OdeJacobian<T, D> + ?Sized,
+        F: FnMut(&Step<'_, T, D>),
+    {
+        let mut stats = Stats::default();
+        self.last_step = None;
+        let result = self.run(&mut stats, &Analytic(sys), t0, x0, t1, on_step);
+        self.stats = stats;
+        result
+    }
+
+    fn check_settings<const D: usize>(&self) -> Result<(), SimError<T, D>> {
+        check_positive(self.rtol, "rtol must be positive and finite")?;
+        if !(self.atol.is_finite() && self.atol >= T::zero()) {
+            return Err(SimError::InvalidInput {
+                what: "atol must be non-negative and finite",
+            });
+        }
+        if let Some(h) = self.initial_step {
+            check_positive(h, "initial step must be positive and finite")?;
+        }
+        if let Some(h) = self.max_step {
+            check_positive(h, "max step must be positive and finite")?;
+        }
+        if let Some(h) = self.fixed_step {
+            check_positive(h, "fixed step must be positive and finite")?;
+        }
+        Ok(())
+    }
+
+    fn run<J, F, const D: usize>(
+        &mut self,
+        stats: &mut Stats,
+        src: &J,
+        t0: T,
+        x0: SVector<T, D>,
+        t1: T,
+        mut on_step: F,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        J: JacobianSource<T, D>,
+        F: FnMut(&Step<'_, T, D>),
+    {
+        let dir = check_arguments(t0, &x0, t1)?;
+        self.check_settings()?;
+        if dir == T::zero() {
+            return Ok(Outcome {
+                t: t0,
+                x: x0,
+                stats: *stats,
+            });
+        }
+
+        let (rtol, atol) = (self.rtol, self.atol);
+        let eps = machine_epsilon::<T>();
+        let hmax = self.max_step.unwrap_or((t1 - t0).abs());
+        let fixed = self.fixed_step.is_some();
+        let cc = |v: f64| c::<T>(v);
+
+        let (mut t, mut x) = (t0, x0);
+        let mut f0 = src.rhs(t, &x);
+        stats.rhs_evals += 1;
+        if !all_finite(&f0) {
+            return Err(SimError::NonFinite { t, x });
+        }
+        let mut h = match (self.fixed_step, self.initial_step) {
+            (Some(hf), _) => hf,
+            (None, Some(h0)) => h0.min(hmax),
+            (None, None) => {
+                // `hinit` needs an `OdeSystem`; the source's rhs is one.
+                let rhs = |t: T, x: &SVector<T, D>| src.rhs(t, x);
+                initial_step(&rhs, stats, t, &x, &f0, dir, hmax, rtol, atol, 4)
+            }
+        } * dir;
+
+        // Jacobian and ∂f/∂t at the current accepted point.
+        let mut jac = src.jacobian(t, &x, &f0, stats);
+        let mut ft = time_derivative(src, t, &x, &f0, stats);
+        if !(jac.iter().all(|v| v.is_finite()) && all_finite(&ft)) {
+            return Err(SimError::NonFinite { t, x });
+        }
+
+        let mut reject = false;
+        let mut last = false;
+        let mut nonfinite = false;
+        let mut singular = 0usize;
+        let mut first = true;
+        let (mut hacc, mut erracc) = (T::zero(), T::one());
+
+        loop {
+            let attempts = stats.steps + stats.rejected;
+            if attempts >= self.max_steps {
+                return Err(SimError::MaxSteps {
+                    t,
+                    x,
+                    steps: attempts,
+                });
+            }
+            if !h.is_finite() || h.abs() < min_step(eps, t, t1) {
+                return Err(if nonfinite {
+                    SimError::NonFinite { t, x }
+                } else {
+                    SimError::StepSizeTooSmall { t, x, h }
+                });
+            }
+            if (t + h * c::<T>(1.01) - t1) * dir > T::zero() {
+                h = t1 - t;
+                last = true;
+            }
+            let t_new = if last { t1 } else { t + h };
+
+            // The iteration matrix I/(hγ) − J and its LU decomposition.
+            let fac = T::one() / (h * cc(GAMMA));
+            let e = SMatrix::<T, D, D>::identity() * fac - jac;
+            stats.lu_decompositions += 1;
+            let Some(lu) = Lu::new(e) else {
+                singular += 1;
+                if singular >= MAX_SINGULAR || fixed {
+                    return Err(SimError::Singular { t, x });
+                }
+                stats.rejected += 1;
+                reject = true;
+                last = false;
+                h *= c::<T>(0.5);
+                continue;
+            };
+            singular = 0;
+            let solve = |b: SVector<T, D>| lu.solve(&b);
+
+            let inv_h = T::one() / h;
+            let u1 = solve(f0 + ft * (h * cc(D1)));
+            let f2 = src.rhs(t + h * cc(C2), &(x + u1 * cc(A21)));
+            let u2 = solve(f2 + u1 * (cc(C21) * inv_h) + ft * (h * cc(D2)));
+            let f3 = src.rhs(t + h * cc(C3), &(x + u1 * cc(A31) + u2 * cc(A32)));
+            let u3 = solve(f3 + (u1 * cc(C31) + u2 * cc(C32)) * inv_h + ft * (h * cc(D3)));
+            let f4 = src.rhs(
+                t + h * cc(C4),
+                &(x + u1 * cc(A41) + u2 * cc(A42) + u3 * cc(A43)),
+            );
+            let u4 = solve(
+                f4 + (u1 * cc(C41) + u2 * cc(C42) + u3 * cc(C43)) * inv_h + ft * (h * cc(D4)),
+            );
+            let x5 = x + u1 * cc(A51) + u2 * cc(A52) + u3 * cc(A53) + u4 * cc(A54);
+            let f5 = src.rhs(t_new, &x5);
+            let u5 =
+                solve(f5 + (u1 * cc(C51) + u2 * cc(C52) + u3 * cc(C53) + u4 * cc(C54)) * inv_h);
+            // Embedded 3rd-order solution, then the last stage.
+            let x6 = x5 + u5;
+            let f6 = src.rhs(t_new, &x6);
+            let u6 = solve(
+                f6 + (u1 * cc(C61) + u2 * cc(C62) + u3 * cc(C63) + u4 * cc(C64) + u5 * cc(C65))
+                    * inv_h,
+            );
+            let x_new = x6 + u6;
+            stats.rhs_evals += 5;
+
+            let err = error_norm(&u6, &x, &x_new, rtol, atol);
+            if !(err.is_finite() && all_finite(&x_new)) {
+                if fixed {
+                    return Err(SimError::NonFinite { t, x });
+                }
+                stats.rejected += 1;
+                nonfinite = true;
+                reject = true;
+                last = false;
+                h *= c::<T>(0.5);
+                continue;
+            }
+
+            let fac = (err.powf(c::<T>(0.25)) / c::<T>(SAFE))
+                .min(c::<T>(FAC1))
+                .max(c::<T>(FAC2));
+            let mut h_new = h / fac;
+
+            if err <= T::one() || fixed {
+                // The derivative and Jacobian at the new point (for the next
+                // step); a non-finite one means the step went somewhere the
+                // system is undefined: reject it.
+                let f_new = src.rhs(t_new, &x_new);
+                stats.rhs_evals += 1;
+                if !all_finite(&f_new) {
+                    if fixed {
+                        return Err(SimError::NonFinite { t, x });
+                    }
+                    stats.rejected += 1;
+                    nonfinite = true;
+                    reject = true;
+                    last = false;
+                    h *= c::<T>(0.5);
+                    continue;
+                }
+                nonfinite = false;
+                stats.steps += 1;
+
+                if !fixed {
+                    // Gustafsson's predictive controller.
+                    if !first {
+                        let facgus = ((hacc / h) * (err * err / erracc).powf(c::<T>(0.25))
+                            / c::<T>(SAFE))
+                        .min(c::<T>(FAC1))
+                        .max(c::<T>(FAC2));
+                        h_new = h / fac.max(facgus);
+                    }
+                    hacc = h;
+                    erracc = err.max(c::<T>(1e-2));
+                }
+                first = false;
+
+                // RODAS's 3rd-order dense output
+                // x(θ) = (1−θ) x + θ (x_new + (1−θ)(r3 + θ r4)).
+                let r3 = u1 * cc(H21) + u2 * cc(H22) + u3 * cc(H23) + u4 * cc(H24) + u5 * cc(H25);
+                let r4 = u1 * cc(H31) + u2 * cc(H32) + u3 * cc(H33) + u4 * cc(H34) + u5 * cc(H35);
+                let dense = Poly::from_nested(&[x, x_new - x, r3, r4]);
+                on_step(&Step::new(t, &x, t_new, &x_new, &dense));
+
+                x = x_new;
+                t = t_new;
+                f0 = f_new;
+
+                if let Some(hf) = self.fixed_step {
+                    h_new = hf * dir;
+                } else {
+                    if h_new.abs() > hmax {
+                        h_new = hmax * dir;
+                    }
+                    if reject {
+                        h_new = h_new.abs().min(h.abs()) * dir;
+                    }
+                }
+                self.last_step = Some(h_new.abs());
+                if last {
+                    return Ok(Outcome {
+                        t,
+                        x,
+                        stats: *stats,
+                    });
+                }
+                reject = false;
+                jac = src.jacobian(t, &x, &f0, stats);
+                ft = time_derivative(src, t, &x, &f0, stats);
+                if !(jac.iter().all(|v| v.is_finite()) && all_finite(&ft)) {
+                    return Err(SimError::NonFinite { t, x });
+                }
+            } else {
+                reject = true;
+                last = false;
+                stats.rejected += 1;
+            }
+            h = h_new;
+        }
+    }
+}
+
+impl<T: RealField + Copy> Integrator<T> for Rosenbrock<T> {
+    fn integrate_with_steps<S, F, const D: usize>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        x0: SVector<T, D>,
+        t1: T,
+        on_step: F,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        S: OdeSystem<T, D> + ?Sized,
+        F: FnMut(&Step<'_, T, D>),
+    {
+        let mut stats = Stats::default();
+        self.last_step = None;
+        let result = self.run(&mut stats, &FiniteDifference(sys), t0, x0, t1, on_step);
+        self.stats = stats;
+        result
+    }
+}

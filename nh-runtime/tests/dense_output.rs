@@ -1,0 +1,236 @@
+//! Dense output ([`Step::interpolate`]), observers and output times.
+
+mod common;
+
+use common::{Oscillator, max_err, oscillator_exact};
+use nalgebra::{SVector, Vector2};
+use nh_runtime::{Dop853, DormandPrince, Integrator, Rk4, SimError, Stats, Step};
+
+/// Largest interpolation error over 7 interior points of every step, and the
+/// number of steps.
+fn worst_interpolation_error<I: Integrator<f64>>(i: &mut I, t1: f64) -> (f64, usize) {
+    let mut worst: f64 = 0.0;
+    let mut n = 0;
+    i.integrate_with_steps(&Oscillator, 0.0, Vector2::new(1.0, 0.0), t1, |s| {
+        n += 1;
+        // The step itself is exact at its ends.
+        assert_eq!(s.interpolate(s.t()), *s.x());
+        assert_eq!(s.interpolate(s.t_prev()), *s.x_prev());
+        for j in 1..8 {
+            let tj = s.t_prev() + s.h() * j as f64 / 8.0;
+            // Compare with the exact flow from the step's start, so that
+            // only the interpolation error (not the global error) counts.
+            let (c, sn) = ((tj - s.t_prev()).cos(), (tj - s.t_prev()).sin());
+            let x0 = s.x_prev();
+            let exact = Vector2::new(c * x0[0] + sn * x0[1], -sn * x0[0] + c * x0[1]);
+            worst = worst.max(max_err(&s.interpolate(tj), &exact));
+        }
+    })
+    .unwrap();
+    (worst, n)
+}
+
+#[test]
+fn interpolation_orders() {
+    // Local interpolation error of a dense output of order q is O(h^(q+1)):
+    // halving h divides it by 2^(q+1).
+    let rk4 = |h: f64| worst_interpolation_error(&mut Rk4::new(h), 2.0).0;
+    let (e1, e2) = (rk4(0.1), rk4(0.05));
+    let q = (e1 / e2).log2();
+    println!("rk4 dense: {e1:.3e} {e2:.3e}, local order {q:.3}");
+    assert!((q - 4.0).abs() < 0.3, "rk4 dense output local order {q}");
+
+    let dp = |h: f64| {
+        worst_interpolation_error(
+            &mut DormandPrince::new(1.0, 1.0)
+                .with_initial_step(h)
+                .with_max_step(h),
+            2.0,
+        )
+        .0
+    };
+    let (e1, e2) = (dp(0.2), dp(0.1));
+    let q = (e1 / e2).log2();
+    println!("dopri5 dense: {e1:.3e} {e2:.3e}, local order {q:.3}");
+    assert!((q - 5.0).abs() < 0.3, "dopri5 dense output local order {q}");
+
+    let d8 =
+        |h: f64| worst_interpolation_error(&mut Dop853::new(1.0, 1.0).with_fixed_step(h), 2.0).0;
+    let (e1, e2) = (d8(0.4), d8(0.2));
+    let q = (e1 / e2).log2();
+    println!("dop853 dense: {e1:.3e} {e2:.3e}, local order {q:.3}");
+    assert!((q - 8.0).abs() < 0.3, "dop853 dense output local order {q}");
+}
+
+#[test]
+fn dense_output_accuracy_matches_tolerance() {
+    for (name, worst) in [
+        (
+            "dopri5",
+            worst_interpolation_error(&mut DormandPrince::new(1e-9, 1e-12), 10.0).0,
+        ),
+        (
+            "dop853",
+            worst_interpolation_error(&mut Dop853::new(1e-9, 1e-12), 10.0).0,
+        ),
+    ] {
+        println!("{name}: worst interpolation error {worst:.3e} at rtol 1e-9");
+        assert!(worst < 1e-8, "{name}: {worst:e}");
+    }
+}
+
+/// Outputs at 0, 0.01, …, 10 and the run without outputs.
+fn outputs_vs_plain<I: Integrator<f64>>(name: &str, mut make: impl FnMut() -> I, tol: f64) {
+    let x0 = Vector2::new(1.0, 0.0);
+    let times: Vec<f64> = (0..=1000).map(|i| 0.01 * i as f64).collect();
+    let mut plain_ends = Vec::new();
+    let plain = make()
+        .integrate_with_observer(&Oscillator, 0.0, x0, 10.0, |t, _| plain_ends.push(t))
+        .unwrap();
+    let mut samples = Vec::new();
+    let mut i = make();
+    let with = i
+        .integrate_with_outputs(&Oscillator, 0.0, x0, 10.0, &times, |t, x| {
+            samples.push((t, *x))
+        })
+        .unwrap();
+    let mut step_ends = vec![0.0];
+    make()
+        .integrate_with_steps(&Oscillator, 0.0, x0, 10.0, |s| step_ends.push(s.t()))
+        .unwrap();
+    // Identical step sequence, result and work (Dop853's lazily computed
+    // dense stages aside, which are counted only when used).
+    assert_eq!(plain_ends, step_ends, "{name}");
+    assert_eq!(plain.x, with.x, "{name}");
+    let Stats { rhs_evals, .. } = with.stats;
+    assert_eq!(
+        Stats {
+            rhs_evals: plain.stats.rhs_evals,
+            ..with.stats
+        },
+        plain.stats,
+        "{name}"
+    );
+    assert!(rhs_evals >= plain.stats.rhs_evals);
+    // Every time reported once, in order, accurately.
+    assert_eq!(samples.len(), times.len(), "{name}");
+    assert_eq!(samples[0], (0.0, x0), "{name}: t0 is reported with x0");
+    assert_eq!(
+        samples.last().unwrap(),
+        &(10.0, with.x),
+        "{name}: t1 exactly"
+    );
+    let worst = samples
+        .iter()
+        .map(|(t, x)| max_err(x, &oscillator_exact(*t)))
+        .fold(0.0, f64::max);
+    println!(
+        "{name}: {} steps, {} outputs, worst output error {worst:.2e}",
+        plain.stats.steps,
+        samples.len()
+    );
+    assert!(worst < tol, "{name}: worst output error {worst:e}");
+    for (w, t) in samples.windows(2).zip(&times[1..]) {
+        assert!(w[1].0 > w[0].0);
+        assert_eq!(w[1].0, *t);
+    }
+}
+
+#[test]
+fn output_times_do_not_change_the_steps() {
+    use nh_runtime::{GaussLegendre4, Rosenbrock};
+    outputs_vs_plain("rk4", || Rk4::new(0.07), 1e-5);
+    outputs_vs_plain("dopri5", || DormandPrince::new(1e-9, 1e-12), 1e-8);
+    outputs_vs_plain("dop853", || Dop853::new(1e-9, 1e-12), 1e-8);
+    outputs_vs_plain("rosenbrock", || Rosenbrock::new(1e-7, 1e-10), 1e-5);
+    outputs_vs_plain("gauss4", || GaussLegendre4::new(0.05), 1e-5);
+}
+
+#[test]
+fn output_time_conventions() {
+    let x0 = Vector2::new(1.0, 0.0);
+    let collect = |t0: f64, t1: f64, times: &[f64]| {
+        let mut v = Vec::new();
+        let r = DormandPrince::new(1e-10, 1e-12).integrate_with_outputs(
+            &Oscillator,
+            t0,
+            x0,
+            t1,
+            times,
+            |t, x: &SVector<f64, 2>| v.push((t, *x)),
+        );
+        (r, v)
+    };
+    // Outside [t0, t1]: ignored; repeated times: reported repeatedly.
+    let (r, v) = collect(0.0, 1.0, &[-1.0, 0.0, 0.5, 0.5, 1.0, 2.0]);
+    r.unwrap();
+    let ts: Vec<f64> = v.iter().map(|p| p.0).collect();
+    assert_eq!(ts, [0.0, 0.5, 0.5, 1.0]);
+    assert_eq!(v[0].1, x0);
+    assert!(max_err(&v[1].1, &oscillator_exact(0.5)) < 1e-9);
+    // Unsorted or non-finite times: InvalidInput, nothing integrated.
+    for bad in [&[0.5, 0.2][..], &[0.1, f64::NAN]] {
+        let (r, v) = collect(0.0, 1.0, bad);
+        assert!(matches!(r, Err(SimError::InvalidInput { .. })), "{r:?}");
+        assert!(v.is_empty());
+    }
+    // Backwards: times must decrease.
+    let (r, v) = collect(1.0, 0.0, &[1.0, 0.75, 0.25, 0.0, -0.5]);
+    let out = r.unwrap();
+    let ts: Vec<f64> = v.iter().map(|p| p.0).collect();
+    assert_eq!(ts, [1.0, 0.75, 0.25, 0.0]);
+    assert_eq!(v[3].1, out.x);
+    assert!(matches!(
+        collect(1.0, 0.0, &[0.25, 0.75]).0,
+        Err(SimError::InvalidInput { .. })
+    ));
+    // Empty interval: only times equal to t0, with x0.
+    let (r, v) = collect(3.0, 3.0, &[2.0, 3.0, 3.0, 4.0]);
+    r.unwrap();
+    assert_eq!(v, [(3.0, x0), (3.0, x0)]);
+    // On error, the outputs before the failure have been delivered.
+    let mut v = Vec::new();
+    let e = DormandPrince::new(1e-8, 1e-10)
+        .with_max_steps(10)
+        .integrate_with_outputs(&Oscillator, 0.0, x0, 100.0, &[0.0, 1e-3, 50.0], |t, _| {
+            v.push(t)
+        })
+        .unwrap_err();
+    assert!(matches!(e, SimError::MaxSteps { .. }));
+    assert_eq!(v, [0.0, 1e-3]);
+}
+
+#[test]
+fn observer_is_silent_on_invalid_input() {
+    let mut calls = 0;
+    let r = DormandPrince::new(-1.0, 1e-8).integrate_with_observer(
+        &Oscillator,
+        0.0,
+        Vector2::new(1.0, 0.0),
+        1.0,
+        |_, _: &SVector<f64, 2>| calls += 1,
+    );
+    assert!(matches!(r, Err(SimError::InvalidInput { .. })));
+    assert_eq!(calls, 0);
+}
+
+#[test]
+fn dop853_dense_stages_are_lazy() {
+    let x0 = Vector2::new(1.0, 0.0);
+    let mut d = Dop853::new(1e-9, 1e-12);
+    let plain = d.integrate(&Oscillator, 0.0, x0, 10.0).unwrap().stats;
+    let mut used = 0;
+    let dense = d
+        .integrate_with_steps(&Oscillator, 0.0, x0, 10.0, |s: &Step<'_, f64, 2>| {
+            // Interpolate in every other step only (twice: built once).
+            if s.t() > 5.0 {
+                used += 1;
+                let _ = s.interpolate(s.t_prev() + 0.3 * s.h());
+                let _ = s.interpolate(s.t_prev() + 0.6 * s.h());
+            }
+        })
+        .unwrap()
+        .stats;
+    assert_eq!(dense.steps, plain.steps);
+    assert_eq!(dense.rhs_evals, plain.rhs_evals + 3 * used);
+}
