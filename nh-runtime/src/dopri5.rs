@@ -123,6 +123,7 @@ pub struct DormandPrince<T> {
     max_steps: usize,
     initial_step: Option<T>,
     max_step: Option<T>,
+    fixed_step: Option<T>,
     stats: Stats,
     last_step: Option<T>,
 }
@@ -137,6 +138,7 @@ impl<T: RealField + Copy> DormandPrince<T> {
             max_steps: 100_000,
             initial_step: None,
             max_step: None,
+            fixed_step: None,
             stats: Stats::default(),
             last_step: None,
         }
@@ -153,6 +155,15 @@ impl<T: RealField + Copy> DormandPrince<T> {
     /// automatic estimate. It is still capped by the maximal step.
     pub fn with_initial_step(mut self, h: T) -> Self {
         self.initial_step = Some(h);
+        self
+    }
+
+    /// Switches the error control off: every step has length `h` (the last
+    /// one shortened to land on `t1`), as for measuring the method's order of
+    /// convergence. A non-finite step then ends the run with
+    /// [`SimError::NonFinite`].
+    pub fn with_fixed_step(mut self, h: T) -> Self {
+        self.fixed_step = Some(h);
         self
     }
 
@@ -190,6 +201,9 @@ impl<T: RealField + Copy> DormandPrince<T> {
         if let Some(h) = self.max_step {
             check_positive(h, "max step must be positive and finite")?;
         }
+        if let Some(h) = self.fixed_step {
+            check_positive(h, "fixed step must be positive and finite")?;
+        }
         Ok(())
     }
 
@@ -226,9 +240,10 @@ impl<T: RealField + Copy> DormandPrince<T> {
         if !all_finite(&k1) {
             return Err(SimError::NonFinite { t, x });
         }
-        let mut h = match self.initial_step {
-            Some(h0) => h0.min(hmax),
-            None => initial_step(sys, stats, t, &x, &k1, dir, hmax, rtol, atol, 5),
+        let mut h = match (self.fixed_step, self.initial_step) {
+            (Some(hf), _) => hf,
+            (None, Some(h0)) => h0.min(hmax),
+            (None, None) => initial_step(sys, stats, t, &x, &k1, dir, hmax, rtol, atol, 5),
         } * dir;
 
         let mut facold = c::<T>(1e-4);
@@ -303,6 +318,9 @@ impl<T: RealField + Copy> DormandPrince<T> {
             let err = error_norm(&err_vec, &x, &x_new, rtol, atol);
 
             if !(err.is_finite() && all_finite(&x_new) && all_finite(&k7)) {
+                if self.fixed_step.is_some() {
+                    return Err(SimError::NonFinite { t, x });
+                }
                 // Overflow or NaN in the trial step: retry with half the step.
                 stats.rejected += 1;
                 nonfinite = true;
@@ -320,7 +338,7 @@ impl<T: RealField + Copy> DormandPrince<T> {
                 .max(c::<T>(1.0 / FAC_MAX));
             let mut h_new = h / fac;
 
-            if err <= T::one() {
+            if err <= T::one() || self.fixed_step.is_some() {
                 facold = err.max(c::<T>(1e-4));
                 stats.steps += 1;
 
@@ -367,11 +385,15 @@ impl<T: RealField + Copy> DormandPrince<T> {
                 x = x_new;
                 t = t_new;
 
-                if h_new.abs() > hmax {
-                    h_new = hmax * dir;
-                }
-                if reject {
-                    h_new = h_new.abs().min(h.abs()) * dir;
+                if let Some(hf) = self.fixed_step {
+                    h_new = hf * dir;
+                } else {
+                    if h_new.abs() > hmax {
+                        h_new = hmax * dir;
+                    }
+                    if reject {
+                        h_new = h_new.abs().min(h.abs()) * dir;
+                    }
                 }
                 self.last_step = Some(h_new.abs());
                 if last {

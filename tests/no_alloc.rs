@@ -1,0 +1,152 @@
+//! Zero heap allocations inside `integrate` for generated systems, with every
+//! integrator (the Rosenbrock and Gauss methods with the generated Jacobian
+//! and with finite differences), and inside the generated methods themselves.
+use nonholonomic::prelude::*;
+use nonholonomic::systems::{RollingDisc, StiffDisc, ThesisDisc};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::cell::Cell;
+
+struct Counting;
+
+thread_local! {
+    static ACTIVE: Cell<bool> = const { Cell::new(false) };
+    static COUNT: Cell<usize> = const { Cell::new(0) };
+}
+
+fn note_allocation() {
+    if ACTIVE.try_with(Cell::get).unwrap_or(false) {
+        let _ = COUNT.try_with(|c| c.set(c.get() + 1));
+    }
+}
+
+// SAFETY: forwards to the system allocator unchanged; only counts calls.
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        note_allocation();
+        unsafe { System.alloc(layout) }
+    }
+    unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
+        note_allocation();
+        unsafe { System.alloc_zeroed(layout) }
+    }
+    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
+        note_allocation();
+        unsafe { System.realloc(ptr, layout, new_size) }
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        unsafe { System.dealloc(ptr, layout) }
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Allocations made by `f` on this thread.
+fn allocations_during<R>(f: impl FnOnce() -> R) -> (usize, R) {
+    COUNT.with(|c| c.set(0));
+    ACTIVE.with(|a| a.set(true));
+    let r = f();
+    ACTIVE.with(|a| a.set(false));
+    (COUNT.with(Cell::get), r)
+}
+
+fn x0() -> SVector<f64, 8> {
+    SVector::from([0.0, 0.0, 0.3, 0.0, 0.0, 6.0, 20.0, 0.5])
+}
+
+#[test]
+fn integrators_allocate_nothing_on_a_generated_system() {
+    let disc: ThesisDisc = ThesisDisc::new(1.7, 0.35, 9.81);
+    let checks: Vec<(&str, usize, usize)> = vec![
+        {
+            let (n, r) = allocations_during(|| Rk4::new(1e-3).integrate(&disc, 0.0, x0(), 1.0));
+            ("Rk4", n, r.expect("Rk4").stats.steps)
+        },
+        {
+            let (n, r) = allocations_during(|| {
+                DormandPrince::new(1e-8, 1e-10).integrate(&disc, 0.0, x0(), 1.0)
+            });
+            ("DormandPrince", n, r.expect("DormandPrince").stats.steps)
+        },
+        {
+            let (n, r) =
+                allocations_during(|| Dop853::new(1e-8, 1e-10).integrate(&disc, 0.0, x0(), 1.0));
+            ("Dop853", n, r.expect("Dop853").stats.steps)
+        },
+        {
+            let (n, r) = allocations_during(|| {
+                Rosenbrock::new(1e-6, 1e-8).integrate_with_jacobian(&disc, 0.0, x0(), 1.0)
+            });
+            (
+                "Rosenbrock, generated Jacobian",
+                n,
+                r.expect("Rosenbrock").stats.steps,
+            )
+        },
+        {
+            let (n, r) =
+                allocations_during(|| Rosenbrock::new(1e-6, 1e-8).integrate(&disc, 0.0, x0(), 1.0));
+            (
+                "Rosenbrock, finite differences",
+                n,
+                r.expect("Rosenbrock FD").stats.steps,
+            )
+        },
+        {
+            let (n, r) = allocations_during(|| {
+                GaussLegendre4::new(1e-3).integrate_with_jacobian(&disc, 0.0, x0(), 1.0)
+            });
+            (
+                "GaussLegendre4, generated Jacobian",
+                n,
+                r.expect("Gauss").stats.steps,
+            )
+        },
+        {
+            let times = [0.1, 0.2, 0.5, 0.9];
+            let mut sum = 0.0;
+            let (n, r) = allocations_during(|| {
+                Dop853::new(1e-8, 1e-10).integrate_with_outputs(
+                    &disc,
+                    0.0,
+                    x0(),
+                    1.0,
+                    &times,
+                    |_, x| sum += x[2],
+                )
+            });
+            (
+                "Dop853 with output times",
+                n,
+                r.expect("Dop853 outputs").stats.steps,
+            )
+        },
+    ];
+    for (name, allocations, steps) in checks {
+        println!("{name}: {steps} steps, {allocations} allocations");
+        assert!(steps > 10, "{name} did too little work to prove anything");
+        assert_eq!(allocations, 0, "{name} allocated");
+    }
+}
+
+#[test]
+fn generated_methods_allocate_nothing() {
+    let disc: RollingDisc = RollingDisc::new(1.7, 0.35, 9.81);
+    let stiff: StiffDisc = StiffDisc::new(1.7, 0.35, 9.81, 1e6, 1e3, 0.2);
+    let q = SVector::<f64, 5>::from([0.1, 0.2, 0.3, 0.4, 0.5]);
+    let rdot = SVector::<f64, 3>::from([6.0, 2.0, 0.5]);
+    let (n, sum) = allocations_during(|| {
+        let mut s = 0.0;
+        for _ in 0..100 {
+            s += disc.accelerations(0.0, &q, &rdot)[0]
+                + disc.multipliers(0.0, &q, &rdot)[0]
+                + disc.energy(&q, &rdot)
+                + disc.curvature(&q)[0][(0, 1)]
+                + disc.jacobian(0.0, &x0())[(5, 2)]
+                + stiff.rhs(0.0, &x0())[7];
+        }
+        s
+    });
+    assert!(sum.is_finite());
+    assert_eq!(n, 0);
+}
