@@ -55,14 +55,14 @@ fn observed_order(errors: &[f64]) -> f64 {
     orders[orders.len() - 1]
 }
 
+/// A scene with a known solution: system, start, end time, state at the end.
+type Case<S, const D: usize> = (S, SVector<f64, D>, f64, SVector<f64, D>);
+
 fn check_order<S, const D: usize>(
     name: &str,
     theory: f64,
     steps: &[f64],
-    sys: &S,
-    x0: SVector<f64, D>,
-    t1: f64,
-    reference: &SVector<f64, D>,
+    case: &Case<S, D>,
     mut integrate: impl FnMut(
         f64,
         &S,
@@ -70,6 +70,7 @@ fn check_order<S, const D: usize>(
         f64,
     ) -> Result<Outcome<f64, D>, SimError<f64, D>>,
 ) {
+    let (sys, x0, t1, reference) = (&case.0, case.1, case.2, &case.3);
     let errors: Vec<f64> = steps
         .iter()
         .map(|&h| {
@@ -92,7 +93,7 @@ fn check_order<S, const D: usize>(
 
 macro_rules! orders_on {
     ($case:expr, $label:literal, $dop853:expr) => {{
-        let (sys, x0, t1, reference) = $case;
+        let case = $case;
         check_order(
             concat!($label, ": Rk4"),
             4.0,
