@@ -98,20 +98,14 @@ macro_rules! orders_on {
             concat!($label, ": Rk4"),
             4.0,
             &[0.1, 0.05, 0.025, 0.0125],
-            &sys,
-            x0,
-            t1,
-            &reference,
+            &case,
             |h, s, x, t| Rk4::new(h).integrate(s, 0.0, x, t),
         );
         check_order(
             concat!($label, ": DormandPrince"),
             5.0,
             &[0.1, 0.05, 0.025, 0.0125],
-            &sys,
-            x0,
-            t1,
-            &reference,
+            &case,
             |h, s, x, t| {
                 DormandPrince::new(1.0, 1.0)
                     .with_fixed_step(h)
@@ -122,10 +116,7 @@ macro_rules! orders_on {
             concat!($label, ": Dop853"),
             8.0,
             $dop853,
-            &sys,
-            x0,
-            t1,
-            &reference,
+            &case,
             |h, s, x, t| {
                 Dop853::new(1.0, 1.0)
                     .with_fixed_step(h)
@@ -136,10 +127,7 @@ macro_rules! orders_on {
             concat!($label, ": Rosenbrock"),
             4.0,
             &[0.4, 0.2, 0.1, 0.05, 0.025, 0.0125],
-            &sys,
-            x0,
-            t1,
-            &reference,
+            &case,
             |h, s, x, t| {
                 Rosenbrock::new(1.0, 1.0)
                     .with_fixed_step(h)
@@ -150,10 +138,7 @@ macro_rules! orders_on {
             concat!($label, ": GaussLegendre4"),
             4.0,
             &[0.1, 0.05, 0.025, 0.0125],
-            &sys,
-            x0,
-            t1,
-            &reference,
+            &case,
             |h, s, x, t| GaussLegendre4::new(h).integrate_with_jacobian(s, 0.0, x, t),
         );
     }};
