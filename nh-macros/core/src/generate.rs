@@ -272,6 +272,16 @@ fn curvature_nodes(d: &mut Dag, m: &Model, r: &CurvatureRoute) -> (Vec<Node>, Ve
             );
         }
     }
+    if let Some(sol) = &r.solution {
+        let x = exprs(d, m, sol);
+        for (a, &v) in x.iter().enumerate() {
+            d.label(
+                v,
+                format!("r̈{a}: (5.20) with the reduced mass matrix inverted symbolically (LDLᵀ)"),
+            );
+        }
+        return (x, Vec::new());
+    }
     let rhs = exprs(d, m, &r.rhs);
     for (a, &x) in rhs.iter().enumerate() {
         d.label(x, format!("right side {a} of (5.20): projected forces minus the velocity terms and the curvature term Σ B ṙ ∂L/∂ṡ (5.21)"));
@@ -697,7 +707,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     // ---- derivations: both routes (to choose), and the requested outputs
     let mult = m.multiplier_route();
     let curv = m.curvature();
-    let croute = m.curvature_route(&curv);
+    let mut croute = m.curvature_route(&curv);
     stats
         .derived
         .extend(["accelerations (both routes)", "curvature terms"]);
@@ -750,7 +760,20 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     let mut d1 = bound_dag(&m, &args_v);
     let mn = multiplier_nodes(&mut d1, &m, &mult);
     let mut d2 = bound_dag(&m, &args_v);
-    let (rdd2, piv2) = curvature_nodes(&mut d2, &m, &croute);
+    let (mut rdd2, piv2) = curvature_nodes(&mut d2, &m, &croute);
+    // the same route with the reduced system solved symbolically, if cheaper
+    let (cmass, crhs) = (croute.mass.clone(), croute.rhs.clone());
+    if piv2.iter().all(|&p| p != ZERO_NODE)
+        && let Some(sol) = m.solve_symbolic(&cmass, &crhs)
+    {
+        let mut d3 = bound_dag(&m, &args_v);
+        let x3 = exprs(&mut d3, &m, &sol);
+        if d3.cost_estimate(&x3) < d2.cost_estimate(&rdd2) {
+            croute.solution = Some(sol);
+            d2 = d3;
+            rdd2 = x3;
+        }
+    }
     if mn.pivots.iter().chain(&piv2).any(|&x| x == ZERO_NODE) {
         cx.error_at(
             name.span(),

@@ -24,6 +24,8 @@ pub struct CurvatureRoute {
     pub mass: Vec<Vec<ExprId>>,
     /// Right side f of Mc r̈ = f, from (5.20) with the forces projected.
     pub rhs: Vec<ExprId>,
+    /// r̈ solved symbolically, when that is cheaper than solving numerically.
+    pub solution: Option<Vec<ExprId>>,
 }
 
 impl Model {
@@ -219,7 +221,75 @@ impl Model {
             let lhs = e.sum(&lhs);
             rhs.push(e.sub(q, lhs));
         }
-        CurvatureRoute { mass, rhs }
+        CurvatureRoute {
+            mass,
+            rhs,
+            solution: None,
+        }
+    }
+
+    /// Solves the reduced system symbolically by LDLᵀ: exact cancellations
+    /// (common factors such as m R², a pivot that is cos² ψ/4) then cost
+    /// nothing at run time. Only for small systems with small entries, where
+    /// this cannot swell; `None` otherwise or if a pivot is zero.
+    pub fn solve_symbolic(&mut self, mass: &[Vec<ExprId>], rhs: &[ExprId]) -> Option<Vec<ExprId>> {
+        let k = rhs.len();
+        let e = &mut self.engine;
+        if k == 0 || k > 3 {
+            return None;
+        }
+        let small = mass.iter().flatten().all(|&x| e.num_terms(x) <= 24)
+            && rhs.iter().all(|&x| e.num_terms(x) <= 64);
+        if !small {
+            return None;
+        }
+        let mut l = vec![vec![ZERO; k]; k];
+        let mut d = vec![ZERO; k];
+        let mut dinv = vec![ZERO; k];
+        for j in 0..k {
+            let mut dj = mass[j][j];
+            for r in 0..j {
+                let t = e.mul(l[j][r], l[j][r]);
+                let t = e.mul(t, d[r]);
+                dj = e.sub(dj, t);
+            }
+            if dj == ZERO {
+                return None;
+            }
+            d[j] = dj;
+            dinv[j] = e.pow(dj, crate::sym::Rational::MINUS_ONE);
+            for i in (j + 1)..k {
+                let mut v = mass[i][j];
+                for r in 0..j {
+                    let t = e.mul(l[i][r], l[j][r]);
+                    let t = e.mul(t, d[r]);
+                    v = e.sub(v, t);
+                }
+                l[i][j] = e.mul(v, dinv[j]);
+            }
+        }
+        let mut y = vec![ZERO; k];
+        for i in 0..k {
+            let mut v = rhs[i];
+            for r in 0..i {
+                let t = e.mul(l[i][r], y[r]);
+                v = e.sub(v, t);
+            }
+            y[i] = v;
+        }
+        let mut x = vec![ZERO; k];
+        for i in (0..k).rev() {
+            let mut v = e.mul(y[i], dinv[i]);
+            for r in (i + 1)..k {
+                let t = e.mul(l[r][i], x[r]);
+                v = e.sub(v, t);
+            }
+            x[i] = v;
+        }
+        if e.overflowed() {
+            return None;
+        }
+        Some(x)
     }
 
     /// E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities.

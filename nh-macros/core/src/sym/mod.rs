@@ -685,8 +685,124 @@ impl Engine {
                 return self.mul(cpart, mono);
             }
         }
+        // an integer power of a sum: take its content (the rational gcd and the
+        // monomial common to all terms) out first, so that a factor such as
+        // m R² of a pivot cancels against the numerator
+        if q.is_integer()
+            && let Some((g, rest)) = self.content(a)
+        {
+            let gq = self.pow(g, q);
+            let rq = self.pow(rest, q);
+            return self.mul(gq, rq);
+        }
+        // c·(1 − sin²u) is c·cos²u: an integer power of it is a power of cos
+        // (the Pythagorean normal form keeps cos² as 1 − sin², so pivots of
+        // a reduced mass matrix come out in this shape)
+        if q.is_integer()
+            && let Some((c, u)) = self.scaled_one_minus_sin2(a)
+        {
+            let cq = self.pow(c, q);
+            let cu = self.func(Fun::Cos, u);
+            let k = q.checked_mul(Rational::int(2)).unwrap_or(q);
+            let cp = self.atom_power_normal_of(cu, k);
+            return self.mul(cq, cp);
+        }
         let b = self.intern_atom(Atom::Base(a));
         self.atom_power_normal(b, q)
+    }
+
+    /// The content of a sum — `g` (a monomial times a rational, positive
+    /// leading coefficient of the rest) and the primitive rest with `e = g·rest`
+    /// — or `None` if the content is 1.
+    fn content(&mut self, e: ExprId) -> Option<(ExprId, ExprId)> {
+        let terms = self.exprs[e as usize].clone();
+        if terms.len() < 2 {
+            return None;
+        }
+        // rational part
+        let mut c = terms[0].1.abs();
+        for t in &terms[1..] {
+            c = c.gcd(t.1)?;
+        }
+        if terms[0].1.is_negative() {
+            c = c.checked_neg()?;
+        }
+        // monomial part: atoms in every term, at their least exponent
+        let mut common: Factors = self.monos[terms[0].0 as usize].clone();
+        for (m, _) in &terms[1..] {
+            let f = &self.monos[*m as usize];
+            common.retain_mut(|(a, e)| match f.iter().find(|(b, _)| b == a) {
+                Some((_, e2)) => {
+                    if *e2 < *e {
+                        *e = *e2;
+                    }
+                    true
+                }
+                None => false,
+            });
+        }
+        // only whole powers of plain atoms are taken out (exact division)
+        common.retain(|(a, e)| e.is_integer() && !matches!(self.atoms[*a as usize], Atom::Base(_)));
+        if c.is_one() && common.is_empty() {
+            return None;
+        }
+        let cm = self.intern_mono(common.clone());
+        let g_mono = self.intern_expr(vec![(cm, Rational::ONE)]);
+        let g = self.scale(g_mono, c);
+        let inv: Factors = common
+            .iter()
+            .map(|&(a, e)| (a, e.checked_neg().unwrap_or(e)))
+            .collect();
+        let ginv_mono = match self.normal_mono(inv) {
+            Normal::Mono(m, k) => {
+                let x = self.intern_expr(vec![(m, Rational::ONE)]);
+                self.scale(x, k)
+            }
+            Normal::Expr(x) => x,
+        };
+        let cinv = c.checked_recip()?;
+        let ginv = self.scale(ginv_mono, cinv);
+        let rest = self.mul(e, ginv);
+        Some((g, rest))
+    }
+
+    /// `(c, u)` if `e` is `c − c·sin(u)²` for a rational `c ≠ 0`.
+    fn scaled_one_minus_sin2(&mut self, e: ExprId) -> Option<(ExprId, ExprId)> {
+        let terms = self.exprs[e as usize].clone();
+        let [(m0, c0), (m1, c1)] = terms.as_slice() else {
+            return None;
+        };
+        let (konst, other, c_other) = if *m0 == MONO_ONE {
+            (*c0, *m1, *c1)
+        } else if *m1 == MONO_ONE {
+            (*c1, *m0, *c0)
+        } else {
+            return None;
+        };
+        if c_other.checked_neg() != Some(konst) {
+            return None;
+        }
+        let [(at, ex)] = self.monos[other as usize].as_slice() else {
+            return None;
+        };
+        match self.atoms[*at as usize] {
+            Atom::Func(Fun::Sin, u) if *ex == Rational::int(2) => Some((self.constant(konst), u)),
+            _ => None,
+        }
+    }
+
+    /// `x^k` for an expression `x` that is a single atom to the first power.
+    fn atom_power_normal_of(&mut self, x: ExprId, k: Rational) -> ExprId {
+        match self.exprs[x as usize].as_slice() {
+            [(m, c)] if c.is_one() => match self.monos[*m as usize].as_slice() {
+                [(at, e)] if e.is_one() => {
+                    let at = *at;
+                    self.atom_power_normal(at, k)
+                }
+                _ => self.pow(x, k),
+            },
+            _ => self.pow(x, k),
+        }
     }
 
     fn atom_power_normal(&mut self, a: AtomId, q: Rational) -> ExprId {

@@ -99,3 +99,28 @@ fn exponentials_are_canonical() {
     let expect = e.scale(e3, q(1, 3));
     assert_eq!(d, expect);
 }
+
+#[test]
+fn one_minus_sin_squared_to_a_power_is_a_power_of_cos() {
+    let mut e = Engine::new();
+    let x = e.symbol("x");
+    let xs = e.sym(x);
+    let s = e.func(Fun::Sin, xs);
+    let c = e.func(Fun::Cos, xs);
+    let s2 = e.mul(s, s);
+    let quarter = e.constant(q(1, 4));
+    let one_minus = e.sub(ONE, s2);
+    let d = e.mul(quarter, one_minus); // (1 − sin²x)/4, as a pivot comes out
+    let inv = e.pow(d, Rational::MINUS_ONE);
+    let expect = {
+        let c2 = e.mul(c, c);
+        let c2 = e.scale(c2, q(1, 4));
+        e.pow(c2, Rational::MINUS_ONE)
+    };
+    assert_eq!(inv, expect);
+    // and cos·(1 − sin²)⁻¹ = 1/cos
+    let r = e.mul(c, inv);
+    let cinv = e.pow(c, Rational::MINUS_ONE);
+    let four_over_c = e.scale(cinv, Rational::int(4));
+    assert_eq!(r, four_over_c);
+}
