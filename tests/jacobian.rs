@@ -44,7 +44,7 @@ nonholonomic_system! {
         lagrangian = J*dot(theta)^2/2 + m/2*((dot(x) - a*sin(theta)*dot(theta))^2 + (dot(y) + a*cos(theta)*dot(theta))^2);
         constraints { dot(y) = tan(theta)*dot(x); }
         forces { x: push*cos(theta) - c*dot(x); y: push*sin(theta) - c*dot(y); theta: steer - c*dot(theta); }
-        outputs { jacobian }
+        outputs { jacobian, linearization }
     }
 }
 
@@ -132,4 +132,36 @@ fn jacobian_with_inputs_and_velocity_dependent_forces() {
     }
     println!("PushedSled: max relative deviation {worst:e}");
     assert!(worst < 1e-6, "{worst:e}");
+}
+
+#[test]
+fn linearization_matches_central_differences_in_state_and_input() {
+    let s: PushedSled = PushedSled::new(2.0, 0.3, 0.5, 0.4);
+    let mut rng = Rng(31);
+    let (mut worst_a, mut worst_b) = (0.0f64, 0.0f64);
+    for _ in 0..50 {
+        let x = SVector::<f64, 5>::from_fn(|i, _| {
+            if i == 1 {
+                rng.uniform(-1.2, 1.2)
+            } else {
+                rng.uniform(-2.0, 2.0)
+            }
+        });
+        let u = SVector::<f64, 2>::from_fn(|_, _| rng.uniform(-1.0, 1.0));
+        let (a, b) = s.linearization(0.0, &x, &u);
+        assert_eq!(a, s.jacobian(0.0, &x, &u));
+        worst_a = worst_a.max(check(|x| s.rhs_with_input(0.0, x, &u), &a, &x));
+        for c in 0..2 {
+            let h = 1e-6;
+            let (mut up, mut um) = (u, u);
+            up[c] += h;
+            um[c] -= h;
+            let col = (s.rhs_with_input(0.0, &x, &up) - s.rhs_with_input(0.0, &x, &um)) / (2.0 * h);
+            for r in 0..5 {
+                worst_b = worst_b.max((b[(r, c)] - col[r]).abs() / col[r].abs().max(1.0));
+            }
+        }
+    }
+    println!("PushedSled linearization: A {worst_a:e}, B {worst_b:e}");
+    assert!(worst_a < 1e-6 && worst_b < 1e-6, "{worst_a:e} {worst_b:e}");
 }

@@ -165,6 +165,13 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
             quote!(pub fn mass_matrix(&self, q: &#qty) -> #nn),
         ));
     }
+    if o.linearization {
+        let (dd, du) = (smatrix(dim, dim), smatrix(dim, n_in));
+        methods.extend(method(
+            "linearization",
+            quote!(pub fn linearization(&self, t: T, x: &#xty #u_arg) -> (#dd, #du)),
+        ));
+    }
     let mut jacobian_impl = quote!();
     if o.jacobian {
         let dd = smatrix(dim, dim);

@@ -342,6 +342,71 @@ impl Derived<'_> {
     }
 }
 
+impl Derived<'_> {
+    /// The state variables in order: q, then ṙ.
+    fn state_vars(&self) -> Vec<SymId> {
+        self.m
+            .coord_syms
+            .iter()
+            .copied()
+            .chain(self.m.independent.iter().map(|&i| self.m.vel_syms[i]))
+            .collect()
+    }
+
+    /// ∂f/∂z for each variable z of `vars`, as rows of f = [q̇, r̈] (n + k
+    /// rows, one column per variable): the dependent velocities differentiated
+    /// symbolically, r̈ through the reduced solve, ∂r̈/∂z = Mc⁻¹ (∂f/∂z −
+    /// (∂Mc/∂z) r̈), with one factorisation for every column.
+    fn derivative_columns(&mut self, d: &mut Dag, vars: &[SymId]) -> Vec<Vec<Node>> {
+        let (n, k) = (self.m.n(), self.m.k());
+        let mass = matrix(d, self.m, &self.croute.mass);
+        let rhs = exprs(d, self.m, &self.croute.rhs);
+        let fac = d.factor_symmetric(&mass);
+        let rdd = d.solve_factored(&fac, &rhs);
+        let mut out = vec![vec![ZERO_NODE; vars.len()]; n + k];
+        for i in 0..n {
+            match self.m.independent.iter().position(|&r| r == i) {
+                Some(j) => {
+                    if let Some(c) = vars
+                        .iter()
+                        .position(|&z| z == self.m.vel_syms[self.m.independent[j]])
+                    {
+                        out[i][c] = ONE_NODE;
+                    }
+                }
+                None => {
+                    let a = self.m.dependent.iter().position(|&s| s == i).unwrap_or(0);
+                    for (c, &z) in vars.iter().enumerate() {
+                        let e = self.m.engine.diff(self.m.dependent_velocity[a], z);
+                        out[i][c] = d.expr(&self.m.engine, e);
+                    }
+                }
+            }
+        }
+        for (c, &z) in vars.iter().enumerate() {
+            let mut col_rhs = Vec::with_capacity(k);
+            for al in 0..k {
+                let df = self.m.engine.diff(self.croute.rhs[al], z);
+                let mut v = d.expr(&self.m.engine, df);
+                for be in 0..k {
+                    let dm = self.m.engine.diff(self.croute.mass[al][be], z);
+                    if dm != ZERO {
+                        let dmn = d.expr(&self.m.engine, dm);
+                        let t = d.mul(dmn, rdd[be]);
+                        v = d.sub(v, t);
+                    }
+                }
+                col_rhs.push(v);
+            }
+            let col = d.solve_factored(&fac, &col_rhs);
+            for al in 0..k {
+                out[n + al][c] = col[al];
+            }
+        }
+        out
+    }
+}
+
 impl Bodies for Derived<'_> {
     fn method(&mut self, name: &str) -> Method {
         let (n, k, p) = (self.m.n(), self.m.k(), self.m.p());
@@ -513,55 +578,11 @@ impl Bodies for Derived<'_> {
                 }
             }
             "jacobian" => {
+                let dim = n + k;
                 let args_x = Args::state(n, k);
                 let mut d = bound_dag(self.m, &args_x);
-                let mass = matrix(&mut d, self.m, &self.croute.mass);
-                let rhs = exprs(&mut d, self.m, &self.croute.rhs);
-                let fac = d.factor_symmetric(&mass);
-                let rdd = d.solve_factored(&fac, &rhs);
-                let dim = n + k;
-                // the state variables: q, then ṙ
-                let vars: Vec<SymId> = self
-                    .m
-                    .coord_syms
-                    .iter()
-                    .copied()
-                    .chain(self.m.independent.iter().map(|&i| self.m.vel_syms[i]))
-                    .collect();
-                let mut jac = vec![vec![ZERO_NODE; dim]; dim];
-                for i in 0..n {
-                    match self.m.independent.iter().position(|&r| r == i) {
-                        Some(j) => jac[i][n + j] = ONE_NODE,
-                        None => {
-                            let a = self.m.dependent.iter().position(|&s| s == i).unwrap_or(0);
-                            for (c, &z) in vars.iter().enumerate() {
-                                let e = self.m.engine.diff(self.m.dependent_velocity[a], z);
-                                jac[i][c] = d.expr(&self.m.engine, e);
-                            }
-                        }
-                    }
-                }
-                // ∂r̈/∂z = Mc⁻¹ (∂f/∂z − (∂Mc/∂z) r̈), with the factorisation reused
-                for (c, &z) in vars.iter().enumerate() {
-                    let mut col_rhs = Vec::with_capacity(k);
-                    for al in 0..k {
-                        let df = self.m.engine.diff(self.croute.rhs[al], z);
-                        let mut v = d.expr(&self.m.engine, df);
-                        for be in 0..k {
-                            let dm = self.m.engine.diff(self.croute.mass[al][be], z);
-                            if dm != ZERO {
-                                let dmn = d.expr(&self.m.engine, dm);
-                                let t = d.mul(dmn, rdd[be]);
-                                v = d.sub(v, t);
-                            }
-                        }
-                        col_rhs.push(v);
-                    }
-                    let col = d.solve_factored(&fac, &col_rhs);
-                    for al in 0..k {
-                        jac[n + al][c] = col[al];
-                    }
-                }
+                let vars = self.state_vars();
+                let jac = self.derivative_columns(&mut d, &vars);
                 let flat: Vec<Node> = jac.iter().flatten().copied().collect();
                 let (stmts, o) = d.emit(&flat);
                 let dd = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #dim, #dim>);
@@ -574,6 +595,38 @@ impl Bodies for Derived<'_> {
                 Method {
                     doc: "The Jacobian ∂f/∂x of the first-order system x = [q, ṙ] ↦ [q̇, r̈], derived symbolically through the reduced solve: ∂r̈/∂z = Mc⁻¹ (∂f/∂z − (∂Mc/∂z) r̈) with the curvature route's Mc and f (5.20), reusing one LDLᵀ factorisation for every column.".into(),
                     body: quote! { let _ = (t, x); #u #stmts #dd::from_row_slice(&[#(#o),*]) },
+                }
+            }
+            "linearization" => {
+                let (dim, m_in) = (n + k, self.m.inputs.len());
+                let args_x = Args::state(n, k);
+                let mut d = bound_dag(self.m, &args_x);
+                let mut vars = self.state_vars();
+                vars.extend(self.m.input_syms.iter().copied());
+                let cols = self.derivative_columns(&mut d, &vars);
+                let a: Vec<Node> = cols
+                    .iter()
+                    .flat_map(|row| row[..dim].iter().copied())
+                    .collect();
+                let b: Vec<Node> = cols
+                    .iter()
+                    .flat_map(|row| row[dim..].iter().copied())
+                    .collect();
+                let mut all = a.clone();
+                all.extend(&b);
+                let (stmts, o) = d.emit(&all);
+                let (ao, bo) = o.split_at(a.len());
+                let dd = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #dim, #dim>);
+                let du = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #dim, #m_in>);
+                let u = if self.m.inputs.is_empty() {
+                    quote!()
+                } else {
+                    quote!(let _ = u;)
+                };
+                self.stats.derived.push("linearization");
+                Method {
+                    doc: "The linearisation of the first-order system ẋ = f(t, x, u) at (t, x, u): A = ∂f/∂x and B = ∂f/∂u, derived symbolically through the reduced solve (as for the Jacobian): ∂r̈/∂z = Mc⁻¹ (∂f/∂z − (∂Mc/∂z) r̈) (5.20). For controller design: δẋ ≈ A δx + B δu.".into(),
+                    body: quote! { let _ = (t, x); #u #stmts (#dd::from_row_slice(&[#(#ao),*]), #du::from_row_slice(&[#(#bo),*])) },
                 }
             }
             // "rhs": the first-order system for the runtime

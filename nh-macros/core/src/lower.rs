@@ -17,13 +17,14 @@ pub const FUNCTIONS: [&str; 6] = ["sin", "cos", "tan", "exp", "ln", "sqrt"];
 const RESERVED: [&str; 9] = ["t", "pi", "dot", "sin", "cos", "tan", "exp", "ln", "sqrt"];
 
 /// The opt-in outputs (DESIGN §3) plus `routes`.
-pub const OUTPUTS: [&str; 7] = [
+pub const OUTPUTS: [&str; 8] = [
     "multipliers",
     "curvature",
     "energy",
     "constraint_matrix",
     "mass_matrix",
     "jacobian",
+    "linearization",
     "routes",
 ];
 
@@ -42,6 +43,8 @@ pub struct Outputs {
     pub mass_matrix: bool,
     /// `jacobian`
     pub jacobian: bool,
+    /// `linearization`: A = ∂f/∂x and B = ∂f/∂u
+    pub linearization: bool,
     /// `routes`: both derivation routes as separate methods
     pub routes: bool,
 }
@@ -56,6 +59,7 @@ impl Outputs {
             "constraint_matrix" => &mut self.constraint_matrix,
             "mass_matrix" => &mut self.mass_matrix,
             "jacobian" => &mut self.jacobian,
+            "linearization" => &mut self.linearization,
             "routes" => &mut self.routes,
             _ => return None,
         };
