@@ -243,3 +243,26 @@ mod scope_hygiene {
         assert_eq!(a[0], 0.0);
     }
 }
+
+#[test]
+fn changing_a_parameter_field_never_reads_a_stale_cache() {
+    // values that depend on parameters alone are cached when the system is
+    // built; the fields are public, so a changed field must be honoured
+    let mut d: ThesisDisc = ThesisDisc::new(1.7, 0.35, 9.81);
+    let q = SVector::<f64, 5>::from([0.1, 0.2, 0.3, 0.4, 0.5]);
+    let rdot = SVector::<f64, 3>::from([4.0, 2.0, 1.0]);
+    d.g = 1.62; // to the moon
+    d.R = 0.5;
+    let fresh: ThesisDisc = ThesisDisc::new(1.7, 0.5, 1.62);
+    assert_eq!(
+        d.accelerations(0.0, &q, &rdot),
+        fresh.accelerations(0.0, &q, &rdot)
+    );
+    assert_eq!(
+        d.multipliers(0.0, &q, &rdot),
+        fresh.multipliers(0.0, &q, &rdot)
+    );
+    let c = closed_form(&fresh, &q, &rdot);
+    let a = d.accelerations(0.0, &q, &rdot);
+    assert!((0..3).all(|i| rel(a[i], c[i]) <= 1e-12));
+}

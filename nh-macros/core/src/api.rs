@@ -50,6 +50,10 @@ pub trait Bodies {
     fn method(&mut self, name: &str) -> Method;
     /// Extra associated constants (route figures), emitted with `routes`.
     fn route_consts(&mut self) -> TokenStream;
+    /// The parameter-only values hoisted out of the methods (asked for after
+    /// every method): their number and the statements computing them into
+    /// `c: [T; number]` from `self`'s parameters.
+    fn hoisting(&mut self) -> (usize, TokenStream);
 }
 
 /// Path of nalgebra's static vector type in generated code.
@@ -232,6 +236,50 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
         }
     };
 
+    // argument names that cannot collide with a constant of the user's scope
+    // (an identifier pattern that names a constant would match it instead)
+    let param_args: Vec<Ident> = params
+        .iter()
+        .map(|p| format_ident!("p_{}", syn::ext::IdentExt::unraw(p)))
+        .collect();
+    // values that depend on parameters alone: computed when the parameters
+    // are set, kept in a cache with the parameters it was computed for; a
+    // method whose parameters were changed since (the fields are public)
+    // computes them afresh, so a stale cache is never read
+    let (n_hoisted, hoist_code) = bodies.hoisting();
+    let n_par = params.len();
+    let (cache_fields, cache_init, cache_methods, new_const) = if n_hoisted > 0 {
+        (
+            quote! {
+                #[doc(hidden)]
+                __cache: [T; #n_hoisted],
+                #[doc(hidden)]
+                __cache_for: [T; #n_par],
+            },
+            quote!(__cache: [T::zero(); #n_hoisted], __cache_for: [#(#param_args),*],),
+            quote! {
+                /// The values that depend on the parameters alone, computed once.
+                fn __compute_cache(&self) -> [T; #n_hoisted] {
+                    let mut c = [T::zero(); #n_hoisted];
+                    #hoist_code
+                    c
+                }
+
+                /// The cache, or the values afresh if a parameter changed since.
+                #[inline(always)]
+                fn __cached(&self) -> [T; #n_hoisted] {
+                    if self.__cache_for == [#(self.#params),*] {
+                        self.__cache
+                    } else {
+                        self.__compute_cache()
+                    }
+                }
+            },
+            false,
+        )
+    } else {
+        (quote!(), quote!(), quote!(), true)
+    };
     let coord_names: Vec<Literal> = shape.coords.iter().map(|c| Literal::string(c)).collect();
     let input_names: Vec<Literal> = shape.inputs.iter().map(|c| Literal::string(c)).collect();
     let indep = &shape.independent;
@@ -256,12 +304,6 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
                 .join(", ")
         }
     );
-    // argument names that cannot collide with a constant of the user's scope
-    // (an identifier pattern that names a constant would match it instead)
-    let param_args: Vec<Ident> = params
-        .iter()
-        .map(|p| format_ident!("p_{}", syn::ext::IdentExt::unraw(p)))
-        .collect();
     let field_docs: Vec<String> = params.iter().map(|p| format!("Parameter `{p}`.")).collect();
     let (phantom_field, phantom_init, derive) = if params.is_empty() {
         (
@@ -276,6 +318,23 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
             quote!(#[derive(Clone, Copy, Debug, PartialEq)]),
         )
     };
+    let new_fn = if new_const {
+        quote! {
+            #[doc = #new_doc]
+            pub const fn new(#(#param_args: T),*) -> Self {
+                Self { #(#params: #param_args,)* #phantom_init }
+            }
+        }
+    } else {
+        quote! {
+            #[doc = #new_doc]
+            pub fn new(#(#param_args: T),*) -> Self {
+                let mut s = Self { #(#params: #param_args,)* #phantom_init #cache_init };
+                s.__cache = s.__compute_cache();
+                s
+            }
+        }
+    };
     quote! {
         #(#attrs)*
         #[allow(non_snake_case)]
@@ -283,6 +342,7 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
         #vis struct #name<T = f64> {
             #(#[doc = #field_docs] pub #params: T,)*
             #phantom_field
+            #cache_fields
         }
 
         #allow
@@ -307,10 +367,8 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
             pub const INTEGRABLE: bool = #integrable;
             #route_consts
 
-            #[doc = #new_doc]
-            pub const fn new(#(#param_args: T),*) -> Self {
-                Self { #(#params: #param_args,)* #phantom_init }
-            }
+            #new_fn
+            #cache_methods
 
             #methods
         }
@@ -326,6 +384,10 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
 pub struct StandIn;
 
 impl Bodies for StandIn {
+    fn hoisting(&mut self) -> (usize, TokenStream) {
+        (0, TokenStream::new())
+    }
+
     fn method(&mut self, _name: &str) -> Method {
         Method {
             doc: "Not generated: the system definition has errors (see the compile errors).".into(),

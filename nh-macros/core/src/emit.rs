@@ -54,6 +54,7 @@ pub struct Dag {
     leaves: Vec<(TokenStream, Option<String>)>,
     leaf_ix: HashMap<String, Node>,
     labels: HashMap<Node, String>,
+    param_leaves: HashSet<Node>,
     expr_memo: HashMap<ExprId, Node>,
     atom_memo: HashMap<AtomId, Node>,
     sym_nodes: HashMap<SymId, Node>,
@@ -104,6 +105,7 @@ impl Dag {
             leaves: Vec::new(),
             leaf_ix: HashMap::new(),
             labels: HashMap::new(),
+            param_leaves: HashSet::new(),
             expr_memo: HashMap::new(),
             atom_memo: HashMap::new(),
             sym_nodes: HashMap::new(),
@@ -133,6 +135,55 @@ impl Dag {
     /// identifier, distinct from `v<number>`).
     pub fn leaf_named(&mut self, tokens: TokenStream, name: &str) -> Node {
         self.leaf_with_name(tokens, Some(name.to_string()))
+    }
+
+    /// A leaf holding a parameter: values computed from parameters alone can
+    /// be hoisted out of the generated functions ([`Dag::hoistable`]).
+    pub fn leaf_param(&mut self, tokens: TokenStream, name: &str) -> Node {
+        let n = self.leaf_with_name(tokens, Some(name.to_string()));
+        self.param_leaves.insert(n);
+        n
+    }
+
+    fn children(&self, n: Node) -> [Option<Node>; 2] {
+        match &self.ops[n as usize] {
+            Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) | Op::Powf(a, b) => {
+                [Some(*a), Some(*b)]
+            }
+            Op::Neg(a) | Op::Call(_, a) | Op::Sqrt(a) | Op::Powi(a, _) => [Some(*a), None],
+            Op::Const(_) | Op::Pi | Op::Leaf(_) => [None, None],
+        }
+    }
+
+    /// The values among those `outputs` need that depend on parameters alone
+    /// and are worth keeping (an operation, not a leaf or constant), maximal:
+    /// each is used by a value that is not parameter-only, or is an output.
+    pub fn hoistable(&self, outputs: &[Node]) -> Vec<Node> {
+        let live = self.live_until(outputs, &HashMap::new());
+        let mut param_only: HashMap<Node, bool> = HashMap::new();
+        for &n in &live {
+            let p = match &self.ops[n as usize] {
+                Op::Leaf(_) => self.param_leaves.contains(&n),
+                Op::Const(_) | Op::Pi => true,
+                _ => self
+                    .children(n)
+                    .iter()
+                    .flatten()
+                    .all(|c| param_only.get(c).copied().unwrap_or(false)),
+            };
+            param_only.insert(n, p);
+        }
+        let mut used_outside: HashSet<Node> = outputs.iter().copied().collect();
+        for &n in &live {
+            if !param_only[&n] {
+                used_outside.extend(self.children(n).iter().flatten());
+            }
+        }
+        live.into_iter()
+            .filter(|n| {
+                param_only[n] && used_outside.contains(n) && cost(&self.ops[*n as usize]) > 0
+            })
+            .collect()
     }
 
     fn leaf_with_name(&mut self, tokens: TokenStream, name: Option<String>) -> Node {
@@ -620,10 +671,18 @@ impl Dag {
     }
 
     fn live(&self, outputs: &[Node]) -> Vec<Node> {
+        self.live_until(outputs, &HashMap::new())
+    }
+
+    /// The nodes `outputs` need, not looking behind the nodes in `stop`.
+    fn live_until(&self, outputs: &[Node], stop: &HashMap<Node, TokenStream>) -> Vec<Node> {
         let mut seen = HashSet::new();
         let mut stack: Vec<Node> = outputs.to_vec();
         while let Some(n) = stack.pop() {
             if !seen.insert(n) {
+                continue;
+            }
+            if stop.contains_key(&n) {
                 continue;
             }
             match &self.ops[n as usize] {
@@ -643,7 +702,17 @@ impl Dag {
     /// Emits the statements computing `outputs`, and the expression naming
     /// each output. The scalar type is `T`.
     pub fn emit(&self, outputs: &[Node]) -> (TokenStream, Vec<TokenStream>) {
-        let live = self.live(outputs);
+        self.emit_with(outputs, &HashMap::new())
+    }
+
+    /// Like [`Dag::emit`], with the nodes of `given` taken from the given
+    /// tokens instead of computed (hoisted values read from a cache).
+    pub fn emit_with(
+        &self,
+        outputs: &[Node],
+        given: &HashMap<Node, TokenStream>,
+    ) -> (TokenStream, Vec<TokenStream>) {
+        let live = self.live_until(outputs, given);
         let live_set: HashSet<Node> = live.iter().copied().collect();
         // sin and cos of one angle: one sin_cos call
         let mut pair_of: HashMap<Node, (Node, Node)> = HashMap::new();
@@ -651,6 +720,8 @@ impl Dag {
             if let Op::Call(Fun::Sin, a) = self.ops[n as usize]
                 && let Some(&c) = self.ix.get(&Op::Call(Fun::Cos, a))
                 && live_set.contains(&c)
+                && !given.contains_key(&n)
+                && !given.contains_key(&c)
             {
                 pair_of.insert(n, (n, c));
                 pair_of.insert(c, (n, c));
@@ -712,6 +783,7 @@ impl Dag {
             }
             let bin = |a: &Node, b: &Node| (name(*a), name(*b));
             let rhs = match &self.ops[n as usize] {
+                _ if given.contains_key(&n) => given[&n].clone(),
                 Op::Const(q) => const_tokens(*q),
                 Op::Pi => quote!(T::pi()),
                 Op::Leaf(i) => self.leaves[*i].0.clone(),

@@ -116,7 +116,7 @@ fn bound_dag(m: &Model, args: &Args) -> Dag {
         d.bind(m.vel_syms[i], l);
     }
     for (p, &s) in m.params.iter().zip(&m.param_syms) {
-        let l = d.leaf_named(
+        let l = d.leaf_param(
             quote!(self.#p),
             &format!("p_{}", syn::ext::IdentExt::unraw(p)),
         );
@@ -319,9 +319,64 @@ struct Derived<'a> {
     route: Route,
     stats: &'a mut Stats,
     energy: Option<ExprId>,
+    /// Parameter-only values hoisted out of the methods: the code computing
+    /// each method's share of the cache, and the cache length so far.
+    hoist_blocks: Vec<TokenStream>,
+    hoist_len: usize,
+    hoist_seen: std::collections::HashMap<String, usize>,
 }
 
 impl Derived<'_> {
+    /// Emits a method's values; those that depend on parameters alone are
+    /// computed once, when the parameters are set, into a cache the method
+    /// reads (see `api::expand`).
+    fn emit_hoisted(&mut self, d: &Dag, outs: &[Node]) -> (TokenStream, Vec<TokenStream>) {
+        // `NH_HOIST=0` while compiling turns hoisting off (to measure it)
+        let enabled = std::env::var_os("NH_HOIST").is_none_or(|v| v != "0");
+        let hoisted = if self.m.params.is_empty() || !enabled {
+            Vec::new()
+        } else {
+            d.hoistable(outs)
+        };
+        if hoisted.is_empty() {
+            return d.emit(outs);
+        }
+        let (hstmts, houts) = d.emit(&hoisted);
+        // methods that hoist the same values share their cache slots
+        let key = format!(
+            "{hstmts} => {}",
+            houts
+                .iter()
+                .map(|h| h.to_string())
+                .collect::<Vec<_>>()
+                .join(",")
+        );
+        let base = match self.hoist_seen.get(&key) {
+            Some(&base) => base,
+            None => {
+                let base = self.hoist_len;
+                let sets = houts.iter().enumerate().map(|(j, v)| {
+                    let i = base + j;
+                    quote!(c[#i] = #v;)
+                });
+                self.hoist_blocks.push(quote!({ #hstmts #(#sets)* }));
+                self.hoist_len += hoisted.len();
+                self.hoist_seen.insert(key, base);
+                base
+            }
+        };
+        let given: std::collections::HashMap<Node, TokenStream> = hoisted
+            .iter()
+            .enumerate()
+            .map(|(j, &h)| {
+                let i = base + j;
+                (h, quote!(__c[#i]))
+            })
+            .collect();
+        let (stmts, o) = d.emit_with(outs, &given);
+        (quote!(let __c = self.__cached(); #stmts), o)
+    }
+
     fn acc_nodes(&self, d: &mut Dag, route: Route) -> Vec<Node> {
         match route {
             Route::Multiplier => multiplier_nodes(d, self.m, &self.mult).rdd,
@@ -333,7 +388,7 @@ impl Derived<'_> {
         let (n, k) = (self.m.n(), self.m.k());
         let mut d = bound_dag(self.m, &Args::vectors(n, k));
         let rdd = self.acc_nodes(&mut d, route);
-        let (stmts, o) = d.emit(&rdd);
+        let (stmts, o) = self.emit_hoisted(&d, &rdd);
         let ret = vector_expr(k, &o);
         Method {
             doc,
@@ -420,7 +475,7 @@ impl Bodies for Derived<'_> {
             "dependent_velocities" => {
                 let mut d = bound_dag(self.m, &args);
                 let outs = exprs(&mut d, self.m, &self.m.dependent_velocity);
-                let (stmts, o) = d.emit(&outs);
+                let (stmts, o) = self.emit_hoisted(&d, &outs);
                 let ret = vector_expr(p, &o);
                 Method {
                     doc: "The dependent velocities ṡ = −A(q) ṙ of the constraints (5.3), in the order of [`Self::DEPENDENT`].".into(),
@@ -460,7 +515,7 @@ impl Bodies for Derived<'_> {
                 let rhs = exprs(&mut d, self.m, &self.croute.rhs);
                 let mut outs: Vec<Node> = mass.iter().flatten().copied().collect();
                 outs.extend(&rhs);
-                let (stmts, o) = d.emit(&outs);
+                let (stmts, o) = self.emit_hoisted(&d, &outs);
                 let (mo, fo) = o.split_at(k * k);
                 let kk = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #k, #k>);
                 let f = vector_expr(k, fo);
@@ -490,7 +545,7 @@ impl Bodies for Derived<'_> {
                     d.label(acc, format!("λ{a} = E_(s{a}) (5.10)"));
                     lam.push(acc);
                 }
-                let (stmts, o) = d.emit(&lam);
+                let (stmts, o) = self.emit_hoisted(&d, &lam);
                 let ret = vector_expr(p, &o);
                 self.stats.derived.push("multipliers");
                 Method {
@@ -514,7 +569,7 @@ impl Bodies for Derived<'_> {
                         }
                     }
                 }
-                let (stmts, o) = d.emit(&nodes);
+                let (stmts, o) = self.emit_hoisted(&d, &nodes);
                 let mut sets = TokenStream::new();
                 for ((b, al, be), v) in places.iter().zip(&o) {
                     sets.extend(quote! {
@@ -545,7 +600,7 @@ impl Bodies for Derived<'_> {
                 let en = self.energy.unwrap_or(ZERO);
                 let mut d = bound_dag(self.m, &args);
                 let node = d.expr(&self.m.engine, en);
-                let (stmts, o) = d.emit(&[node]);
+                let (stmts, o) = self.emit_hoisted(&d, &[node]);
                 let v = &o[0];
                 self.stats.derived.push("energy");
                 Method {
@@ -557,7 +612,7 @@ impl Bodies for Derived<'_> {
                 let mut d = bound_dag(self.m, &args);
                 let flat: Vec<ExprId> = self.m.a_matrix.iter().flatten().copied().collect();
                 let nodes = exprs(&mut d, self.m, &flat);
-                let (stmts, o) = d.emit(&nodes);
+                let (stmts, o) = self.emit_hoisted(&d, &nodes);
                 let pk = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #p, #k>);
                 self.stats.derived.push("constraint_matrix");
                 Method {
@@ -569,7 +624,7 @@ impl Bodies for Derived<'_> {
                 let mut d = bound_dag(self.m, &args);
                 let flat: Vec<ExprId> = self.mult.mass.iter().flatten().copied().collect();
                 let nodes = exprs(&mut d, self.m, &flat);
-                let (stmts, o) = d.emit(&nodes);
+                let (stmts, o) = self.emit_hoisted(&d, &nodes);
                 let nn = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #n, #n>);
                 self.stats.derived.push("mass_matrix");
                 Method {
@@ -584,7 +639,7 @@ impl Bodies for Derived<'_> {
                 let vars = self.state_vars();
                 let jac = self.derivative_columns(&mut d, &vars);
                 let flat: Vec<Node> = jac.iter().flatten().copied().collect();
-                let (stmts, o) = d.emit(&flat);
+                let (stmts, o) = self.emit_hoisted(&d, &flat);
                 let dd = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #dim, #dim>);
                 let u = if self.m.inputs.is_empty() {
                     quote!()
@@ -614,7 +669,7 @@ impl Bodies for Derived<'_> {
                     .collect();
                 let mut all = a.clone();
                 all.extend(&b);
-                let (stmts, o) = d.emit(&all);
+                let (stmts, o) = self.emit_hoisted(&d, &all);
                 let (ao, bo) = o.split_at(a.len());
                 let dd = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #dim, #dim>);
                 let du = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #dim, #m_in>);
@@ -649,7 +704,7 @@ impl Bodies for Derived<'_> {
                     outs.push(node);
                 }
                 outs.extend(rdd);
-                let (stmts, o) = d.emit(&outs);
+                let (stmts, o) = self.emit_hoisted(&d, &outs);
                 let ret = vector_expr(n + k, &o);
                 let u = if self.m.inputs.is_empty() {
                     quote!()
@@ -662,6 +717,11 @@ impl Bodies for Derived<'_> {
                 }
             }
         }
+    }
+
+    fn hoisting(&mut self) -> (usize, TokenStream) {
+        let blocks = &self.hoist_blocks;
+        (self.hoist_len, quote!(#(#blocks)*))
     }
 
     fn route_consts(&mut self) -> TokenStream {
@@ -856,6 +916,9 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         route,
         stats: &mut stats,
         energy,
+        hoist_blocks: Vec::new(),
+        hoist_len: 0,
+        hoist_seen: std::collections::HashMap::new(),
     };
     let mut tokens = crate::api::expand(&shape, &mut bodies);
     if integrable && m.p() > 0 {
