@@ -34,8 +34,18 @@ pub(crate) fn all_finite<T: RealField + Copy, const D: usize>(x: &SVector<T, D>)
     x.iter().all(|v| v.is_finite())
 }
 
+/// `e / sk` with `0 / 0 = 0`: a component whose error is exactly zero meets
+/// any tolerance, also a zero one (`atol = 0` on a component that is exactly
+/// zero, such as a coordinate of a system at rest), instead of turning the
+/// error norm into NaN and the step into a spurious non-finite rejection.
+#[inline]
+pub(crate) fn scaled<T: RealField + Copy>(e: T, sk: T) -> T {
+    if e == T::zero() { T::zero() } else { e / sk }
+}
+
 /// Hairer's error norm: the RMS over components of
-/// `err_i / (atol + rtol * max(|x_i|, |x_new_i|))`.
+/// `err_i / (atol + rtol * max(|x_i|, |x_new_i|))` (with `0 / 0 = 0`, see
+/// [`scaled`]).
 pub(crate) fn error_norm<T: RealField + Copy, const D: usize>(
     err: &SVector<T, D>,
     x: &SVector<T, D>,
@@ -49,7 +59,7 @@ pub(crate) fn error_norm<T: RealField + Copy, const D: usize>(
     let mut sum = T::zero();
     for i in 0..D {
         let sk = atol + rtol * x[i].abs().max(x_new[i].abs());
-        let r = err[i] / sk;
+        let r = scaled(err[i], sk);
         sum += r * r;
     }
     (sum / c::<T>(D as f64)).sqrt()
@@ -127,8 +137,8 @@ where
     S: OdeSystem<T, D> + ?Sized,
 {
     let sk = x.map(|xi| atol + rtol * xi.abs());
-    let dnf = f0.component_div(&sk).norm_squared();
-    let dny = x.component_div(&sk).norm_squared();
+    let ratio = |v: &SVector<T, D>| v.zip_map(&sk, scaled).norm_squared();
+    let (dnf, dny) = (ratio(f0), ratio(x));
     let tiny = c::<T>(1e-10);
     let mut h = if dnf <= tiny || dny <= tiny || !(dnf / dny).is_finite() {
         c::<T>(1e-6)
@@ -140,7 +150,7 @@ where
     let x1 = x + f0 * (h * dir);
     let f1 = sys.rhs(t + h * dir, &x1);
     stats.rhs_evals += 1;
-    let der2 = (f1 - f0).component_div(&sk).norm() / h;
+    let der2 = ratio(&(f1 - f0)).sqrt() / h;
     let der12 = der2.max(dnf.sqrt());
     let h1 = if !(der2.is_finite() && der12.is_finite()) {
         // The probe step produced garbage: stay cautious.
@@ -173,6 +183,25 @@ mod tests {
         let n = error_norm(&err, &x, &x_new, 1e-6, 1e-6);
         let expected = (((1.0f64 / 3.0).powi(2) + (2.0f64 / 4.0).powi(2)) / 2.0).sqrt();
         assert!((n - expected).abs() < 1e-12, "{n} vs {expected}");
+    }
+
+    #[test]
+    fn zero_error_meets_a_zero_tolerance() {
+        // atol = 0 on a component that is exactly zero before and after.
+        let err = Vector2::new(0.0, 1e-9);
+        let x = Vector2::new(0.0, 1.0);
+        let n = error_norm(&err, &x, &x, 1e-6, 0.0);
+        assert!((n - (0.5e-6f64).sqrt()).abs() < 1e-12, "{n}");
+        assert_eq!(
+            error_norm(
+                &Vector2::zeros(),
+                &Vector2::zeros(),
+                &Vector2::zeros(),
+                1e-6,
+                0.0
+            ),
+            0.0
+        );
     }
 
     #[test]

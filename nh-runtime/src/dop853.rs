@@ -5,7 +5,7 @@ use core::cell::Cell;
 use nalgebra::{RealField, SVector};
 
 use crate::common::{
-    all_finite, c, check_arguments, check_positive, initial_step, machine_epsilon, min_step,
+    all_finite, c, check_arguments, check_positive, initial_step, machine_epsilon, min_step, scaled,
 };
 use crate::step::{Dense, Poly};
 use crate::{Integrator, OdeSystem, Outcome, SimError, Stats, Step};
@@ -482,8 +482,9 @@ impl<T: RealField + Copy> Dop853<T> {
             let (mut err5, mut err3) = (T::zero(), T::zero());
             for i in 0..D {
                 let sk = atol + rtol * x[i].abs().max(x_new[i].abs());
-                err3 += (e3[i] / sk) * (e3[i] / sk);
-                err5 += (e5[i] / sk) * (e5[i] / sk);
+                let (r3, r5) = (scaled(e3[i], sk), scaled(e5[i], sk));
+                err3 += r3 * r3;
+                err5 += r5 * r5;
             }
             let mut deno = err5 + c::<T>(0.01) * err3;
             if deno <= T::zero() {
