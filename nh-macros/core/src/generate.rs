@@ -414,30 +414,23 @@ impl Derived<'_> {
     /// (∂Mc/∂z) r̈), with one factorisation for every column.
     fn derivative_columns(&mut self, d: &mut Dag, vars: &[SymId]) -> Vec<Vec<Node>> {
         let (n, k) = (self.m.n(), self.m.k());
+        if let Some(sol) = self.croute.solution.clone() {
+            // r̈ in closed form: differentiate it directly (factors that cancel
+            // in r̈, such as the mass, then cancel in its derivatives too)
+            let mut out = self.velocity_rows(d, vars);
+            for (c, &z) in vars.iter().enumerate() {
+                for al in 0..k {
+                    let e = self.m.engine.diff(sol[al], z);
+                    out[n + al][c] = d.expr(&self.m.engine, e);
+                }
+            }
+            return out;
+        }
         let mass = matrix(d, self.m, &self.croute.mass);
         let rhs = exprs(d, self.m, &self.croute.rhs);
         let fac = d.factor_symmetric(&mass);
         let rdd = d.solve_factored(&fac, &rhs);
-        let mut out = vec![vec![ZERO_NODE; vars.len()]; n + k];
-        for i in 0..n {
-            match self.m.independent.iter().position(|&r| r == i) {
-                Some(j) => {
-                    if let Some(c) = vars
-                        .iter()
-                        .position(|&z| z == self.m.vel_syms[self.m.independent[j]])
-                    {
-                        out[i][c] = ONE_NODE;
-                    }
-                }
-                None => {
-                    let a = self.m.dependent.iter().position(|&s| s == i).unwrap_or(0);
-                    for (c, &z) in vars.iter().enumerate() {
-                        let e = self.m.engine.diff(self.m.dependent_velocity[a], z);
-                        out[i][c] = d.expr(&self.m.engine, e);
-                    }
-                }
-            }
-        }
+        let mut out = self.velocity_rows(d, vars);
         for (c, &z) in vars.iter().enumerate() {
             let mut col_rhs = Vec::with_capacity(k);
             for al in 0..k {
@@ -456,6 +449,32 @@ impl Derived<'_> {
             let col = d.solve_factored(&fac, &col_rhs);
             for al in 0..k {
                 out[n + al][c] = col[al];
+            }
+        }
+        out
+    }
+
+    /// The rows of q̇ in ∂f/∂z (the first n rows; the other k are zero).
+    fn velocity_rows(&mut self, d: &mut Dag, vars: &[SymId]) -> Vec<Vec<Node>> {
+        let (n, k) = (self.m.n(), self.m.k());
+        let mut out = vec![vec![ZERO_NODE; vars.len()]; n + k];
+        for i in 0..n {
+            match self.m.independent.iter().position(|&r| r == i) {
+                Some(j) => {
+                    if let Some(c) = vars
+                        .iter()
+                        .position(|&z| z == self.m.vel_syms[self.m.independent[j]])
+                    {
+                        out[i][c] = ONE_NODE;
+                    }
+                }
+                None => {
+                    let a = self.m.dependent.iter().position(|&s| s == i).unwrap_or(0);
+                    for (c, &z) in vars.iter().enumerate() {
+                        let e = self.m.engine.diff(self.m.dependent_velocity[a], z);
+                        out[i][c] = d.expr(&self.m.engine, e);
+                    }
+                }
             }
         }
         out
