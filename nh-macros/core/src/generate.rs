@@ -955,12 +955,14 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
 
 /// Whether the constraints are integrable (all B^b_αβ ≡ 0), and whether that
 /// was proved symbolically. An entry whose canonical form is not zero is
-/// evaluated at 16 random points: any point where it is not negligible
-/// against its own terms proves it nonzero; an entry negligible at every
-/// point is taken as zero (an identity the canonical form does not know,
-/// such as an angle-addition formula). A nonholonomic system is therefore
-/// never called integrable unless its curvature vanishes at all 16 points.
+/// evaluated at 16 random points in double-double arithmetic (about 32
+/// digits): any point where it exceeds 1e-24 of the sum of its terms' sizes
+/// proves it nonzero; an entry below that at every point is taken as zero (an
+/// identity the canonical form does not know, such as an angle-addition
+/// formula). A genuinely nonholonomic system would have to cancel to 24
+/// digits at 16 random points to be called integrable.
 fn integrability(m: &Model, curv: &[Vec<Vec<ExprId>>]) -> (bool, bool) {
+    use crate::sym::dd::Dd;
     let entries: Vec<ExprId> = curv
         .iter()
         .flatten()
@@ -978,24 +980,24 @@ fn integrability(m: &Model, curv: &[Vec<Vec<ExprId>>]) -> (bool, bool) {
         state ^= state >> 27;
         ((state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64) / (1u64 << 53) as f64
     };
-    let mut vals = vec![0.0; m.engine.num_symbols()];
+    let mut vals = vec![Dd::ZERO; m.engine.num_symbols()];
     let mut points = 0;
     for _ in 0..64 {
         if points == 16 {
             break;
         }
         for v in vals.iter_mut() {
-            *v = 0.3 + 1.1 * next(); // positive: keeps sqrt and ln arguments valid
+            *v = Dd::from_f64(0.3 + 1.1 * next()); // positive: keeps sqrt and ln arguments valid
         }
-        vals[m.pi_sym as usize] = std::f64::consts::PI;
+        vals[m.pi_sym as usize] = Dd::PI;
         let mut usable = true;
         for &b in &entries {
-            let (v, scale) = m.engine.eval_with_scale(b, &vals);
+            let (v, scale) = m.engine.eval_with_scale_dd(b, &vals);
             if !v.is_finite() || !scale.is_finite() {
                 usable = false;
                 break;
             }
-            if v.abs() > 1e-10 * scale {
+            if v.abs().to_f64() > 1e-24 * scale.to_f64() {
                 return (false, false);
             }
         }
@@ -1012,7 +1014,7 @@ fn integrability_warning(def: &SystemDef, span: proc_macro2::Span, proved: bool)
     let how = if proved {
         "every curvature coefficient B^b_αβ of (5.21) vanishes identically"
     } else {
-        "every curvature coefficient B^b_αβ of (5.21) evaluates to zero (to 1e-10 of its terms) at 16 random points, though the simplifier could not prove it"
+        "every curvature coefficient B^b_αβ of (5.21) evaluates to zero (to 1e-24 of its terms, in 32-digit arithmetic) at 16 random points, though the simplifier could not prove it"
     };
     let note = format!(
         "the constraints of `{}` are integrable: {how}, so they are holonomic in disguise. Integrate them and eliminate the dependent coordinates (a smaller system with no constraints), or keep them: the equations of motion are still correct. `{}::INTEGRABLE` is `true`.",

@@ -21,6 +21,7 @@
 //! Arithmetic never panics: a coefficient overflow sets a flag
 //! ([`Engine::overflowed`]) that the caller turns into a compile error.
 
+pub mod dd;
 pub mod rational;
 
 use std::collections::HashMap;
@@ -1083,6 +1084,67 @@ impl Engine {
             scale += t.abs();
         }
         (value, scale)
+    }
+
+    /// Evaluates `e` in double-double arithmetic (about 32 digits) with the
+    /// sum of the absolute values of its terms, as
+    /// [`Engine::eval_with_scale`]; `vals[s]` is the value of symbol `s`.
+    pub fn eval_with_scale_dd(&self, e: ExprId, vals: &[dd::Dd]) -> (dd::Dd, dd::Dd) {
+        let mut memo = HashMap::new();
+        let mut value = dd::Dd::ZERO;
+        let mut scale = dd::Dd::ZERO;
+        for &(m, c) in &self.exprs[e as usize] {
+            let t = self.eval_term_dd(m, c, vals, &mut memo);
+            value = value + t;
+            scale = scale + t.abs();
+        }
+        (value, scale)
+    }
+
+    fn eval_dd(&self, e: ExprId, vals: &[dd::Dd], memo: &mut HashMap<ExprId, dd::Dd>) -> dd::Dd {
+        if let Some(&v) = memo.get(&e) {
+            return v;
+        }
+        let mut acc = dd::Dd::ZERO;
+        for &(m, c) in &self.exprs[e as usize] {
+            acc = acc + self.eval_term_dd(m, c, vals, memo);
+        }
+        memo.insert(e, acc);
+        acc
+    }
+
+    fn eval_term_dd(
+        &self,
+        m: MonoId,
+        c: Rational,
+        vals: &[dd::Dd],
+        memo: &mut HashMap<ExprId, dd::Dd>,
+    ) -> dd::Dd {
+        let mut t = dd::Dd::ratio(c.numer(), c.denom());
+        for &(a, ex) in &self.monos[m as usize] {
+            let b = match &self.atoms[a as usize] {
+                Atom::Sym(s) => vals[*s as usize],
+                Atom::Func(f, u) => {
+                    let x = self.eval_dd(*u, vals, memo);
+                    match f {
+                        Fun::Sin => x.sin_cos().0,
+                        Fun::Cos => x.sin_cos().1,
+                        Fun::Tan => {
+                            let (s, c) = x.sin_cos();
+                            s / c
+                        }
+                        Fun::Exp => x.exp(),
+                        Fun::Ln => x.ln(),
+                    }
+                }
+                Atom::Base(b) => self.eval_dd(*b, vals, memo),
+            };
+            t = t * match ex.to_integer() {
+                Some(k) if k.abs() < i32::MAX as i64 => b.powi(k),
+                _ => (b.ln() * dd::Dd::ratio(ex.numer(), ex.denom())).exp(),
+            };
+        }
+        t
     }
 
     // ------------------------------------------------------------ printing
