@@ -60,3 +60,8 @@ pub mod __private {
     pub use nalgebra;
     pub use nh_runtime;
 }
+
+/// The README's code examples, compiled and run as doctests.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;
