@@ -163,6 +163,114 @@ where
     (h * c::<T>(100.0)).min(h1).min(hmax)
 }
 
+/// The settings and bookkeeping every adaptive integrator has (tolerances,
+/// step limits, the counters of the last call); see the builder methods that
+/// [`adaptive_builders`] gives each of them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Adaptive<T> {
+    pub(crate) rtol: T,
+    pub(crate) atol: T,
+    pub(crate) max_steps: usize,
+    pub(crate) initial_step: Option<T>,
+    pub(crate) max_step: Option<T>,
+    pub(crate) fixed_step: Option<T>,
+    pub(crate) stats: crate::Stats,
+    pub(crate) last_step: Option<T>,
+}
+
+impl<T: RealField + Copy> Adaptive<T> {
+    /// Tolerances `rtol`, `atol`; at most 100 000 step attempts.
+    pub(crate) fn new(rtol: T, atol: T) -> Self {
+        Adaptive {
+            rtol,
+            atol,
+            max_steps: 100_000,
+            initial_step: None,
+            max_step: None,
+            fixed_step: None,
+            stats: crate::Stats::default(),
+            last_step: None,
+        }
+    }
+
+    /// `InvalidInput` unless `rtol > 0`, `atol ≥ 0` and every given step is
+    /// positive, all finite.
+    pub(crate) fn check<const D: usize>(&self) -> Result<(), SimError<T, D>> {
+        check_positive(self.rtol, "rtol must be positive and finite")?;
+        if !(self.atol.is_finite() && self.atol >= T::zero()) {
+            return Err(SimError::InvalidInput {
+                what: "atol must be non-negative and finite",
+            });
+        }
+        if let Some(h) = self.initial_step {
+            check_positive(h, "initial step must be positive and finite")?;
+        }
+        if let Some(h) = self.max_step {
+            check_positive(h, "max step must be positive and finite")?;
+        }
+        if let Some(h) = self.fixed_step {
+            check_positive(h, "fixed step must be positive and finite")?;
+        }
+        Ok(())
+    }
+}
+
+/// The builder and query methods shared by the adaptive integrators (their
+/// settings live in an [`Adaptive`] field named `a`), written once.
+macro_rules! adaptive_builders {
+    ($ty:ident) => {
+        impl<T: nalgebra::RealField + Copy> $ty<T> {
+            /// Sets the maximum number of step attempts, accepted plus
+            /// rejected (default 100 000); more ends the run with
+            /// [`SimError::MaxSteps`](crate::SimError::MaxSteps).
+            pub fn with_max_steps(mut self, n: usize) -> Self {
+                self.a.max_steps = n;
+                self
+            }
+
+            /// Uses `h` (a magnitude, > 0) as the first trial step instead
+            /// of the automatic estimate. It is still capped by the maximal
+            /// step.
+            pub fn with_initial_step(mut self, h: T) -> Self {
+                self.a.initial_step = Some(h);
+                self
+            }
+
+            /// Caps the step size magnitude at `h` (> 0). Default: `|t1 − t0|`.
+            pub fn with_max_step(mut self, h: T) -> Self {
+                self.a.max_step = Some(h);
+                self
+            }
+
+            /// Switches the error control off: every step has length `h` (the
+            /// last one shortened to land on `t1`), as for measuring the
+            /// method's order of convergence. A non-finite step then ends the
+            /// run with [`SimError::NonFinite`](crate::SimError::NonFinite).
+            pub fn with_fixed_step(mut self, h: T) -> Self {
+                self.a.fixed_step = Some(h);
+                self
+            }
+
+            /// Work counters of the most recent call to `integrate*`, whether
+            /// it succeeded or failed (useful to read
+            /// [`Stats::stiffness_detected`](crate::Stats::stiffness_detected)
+            /// after [`SimError::MaxSteps`](crate::SimError::MaxSteps)).
+            pub fn last_stats(&self) -> crate::Stats {
+                self.a.stats
+            }
+
+            /// Magnitude of the step size the controller proposed after the
+            /// last accepted step of the most recent call (`None` if no step
+            /// was accepted); handy as the initial step when continuing an
+            /// integration.
+            pub fn last_step(&self) -> Option<T> {
+                self.a.last_step
+            }
+        }
+    };
+}
+pub(crate) use adaptive_builders;
+
 #[cfg(test)]
 mod tests {
     use super::*;

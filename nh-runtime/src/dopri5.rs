@@ -3,8 +3,8 @@
 use nalgebra::{RealField, SVector};
 
 use crate::common::{
-    all_finite, c, check_arguments, check_positive, error_norm, initial_step, machine_epsilon,
-    min_step,
+    Adaptive, adaptive_builders, all_finite, c, check_arguments, error_norm, initial_step,
+    machine_epsilon, min_step,
 };
 use crate::step::Poly;
 use crate::{Integrator, OdeSystem, Outcome, SimError, Stats, Step};
@@ -118,14 +118,7 @@ const NONSTIFF_RESET: usize = 6;
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DormandPrince<T> {
-    rtol: T,
-    atol: T,
-    max_steps: usize,
-    initial_step: Option<T>,
-    max_step: Option<T>,
-    fixed_step: Option<T>,
-    stats: Stats,
-    last_step: Option<T>,
+    a: Adaptive<T>,
 }
 
 impl<T: RealField + Copy> DormandPrince<T> {
@@ -133,78 +126,8 @@ impl<T: RealField + Copy> DormandPrince<T> {
     /// absolute tolerance `atol` (≥ 0), applied to every component.
     pub fn new(rtol: T, atol: T) -> Self {
         Self {
-            rtol,
-            atol,
-            max_steps: 100_000,
-            initial_step: None,
-            max_step: None,
-            fixed_step: None,
-            stats: Stats::default(),
-            last_step: None,
+            a: Adaptive::new(rtol, atol),
         }
-    }
-
-    /// Sets the maximum number of step attempts, accepted plus rejected
-    /// (default 100 000).
-    pub fn with_max_steps(mut self, n: usize) -> Self {
-        self.max_steps = n;
-        self
-    }
-
-    /// Uses `h` (a magnitude, > 0) as the first trial step instead of the
-    /// automatic estimate. It is still capped by the maximal step.
-    pub fn with_initial_step(mut self, h: T) -> Self {
-        self.initial_step = Some(h);
-        self
-    }
-
-    /// Switches the error control off: every step has length `h` (the last
-    /// one shortened to land on `t1`), as for measuring the method's order of
-    /// convergence. A non-finite step then ends the run with
-    /// [`SimError::NonFinite`].
-    pub fn with_fixed_step(mut self, h: T) -> Self {
-        self.fixed_step = Some(h);
-        self
-    }
-
-    /// Caps the step size magnitude at `h` (> 0). Default: `|t1 − t0|`.
-    pub fn with_max_step(mut self, h: T) -> Self {
-        self.max_step = Some(h);
-        self
-    }
-
-    /// Work counters of the most recent call to `integrate*`, whether it
-    /// succeeded or failed (useful to read
-    /// [`Stats::stiffness_detected`] after [`SimError::MaxSteps`]).
-    pub fn last_stats(&self) -> Stats {
-        self.stats
-    }
-
-    /// Magnitude of the step size the controller proposed after the last
-    /// accepted step of the most recent call (`None` if no step was
-    /// accepted). Handy as [`DormandPrince::with_initial_step`] when
-    /// continuing an integration.
-    pub fn last_step(&self) -> Option<T> {
-        self.last_step
-    }
-
-    fn check_settings<const D: usize>(&self) -> Result<(), SimError<T, D>> {
-        check_positive(self.rtol, "rtol must be positive and finite")?;
-        if !(self.atol.is_finite() && self.atol >= T::zero()) {
-            return Err(SimError::InvalidInput {
-                what: "atol must be non-negative and finite",
-            });
-        }
-        if let Some(h) = self.initial_step {
-            check_positive(h, "initial step must be positive and finite")?;
-        }
-        if let Some(h) = self.max_step {
-            check_positive(h, "max step must be positive and finite")?;
-        }
-        if let Some(h) = self.fixed_step {
-            check_positive(h, "fixed step must be positive and finite")?;
-        }
-        Ok(())
     }
 
     fn run<S, F, const D: usize>(
@@ -221,7 +144,7 @@ impl<T: RealField + Copy> DormandPrince<T> {
         F: FnMut(&Step<'_, T, D>),
     {
         let dir = check_arguments(t0, &x0, t1)?;
-        self.check_settings()?;
+        self.a.check()?;
         if dir == T::zero() {
             return Ok(Outcome {
                 t: t0,
@@ -230,9 +153,9 @@ impl<T: RealField + Copy> DormandPrince<T> {
             });
         }
 
-        let (rtol, atol) = (self.rtol, self.atol);
+        let (rtol, atol) = (self.a.rtol, self.a.atol);
         let eps = machine_epsilon::<T>();
-        let hmax = self.max_step.unwrap_or((t1 - t0).abs());
+        let hmax = self.a.max_step.unwrap_or((t1 - t0).abs());
 
         let (mut t, mut x) = (t0, x0);
         let mut k1 = sys.rhs(t, &x);
@@ -240,7 +163,7 @@ impl<T: RealField + Copy> DormandPrince<T> {
         if !all_finite(&k1) {
             return Err(SimError::NonFinite { t, x });
         }
-        let mut h = match (self.fixed_step, self.initial_step) {
+        let mut h = match (self.a.fixed_step, self.a.initial_step) {
             (Some(hf), _) => hf,
             (None, Some(h0)) => h0.min(hmax),
             (None, None) => initial_step(sys, stats, t, &x, &k1, dir, hmax, rtol, atol, 5),
@@ -255,7 +178,7 @@ impl<T: RealField + Copy> DormandPrince<T> {
 
         loop {
             let attempts = stats.steps + stats.rejected;
-            if attempts >= self.max_steps {
+            if attempts >= self.a.max_steps {
                 return Err(SimError::MaxSteps {
                     t,
                     x,
@@ -318,7 +241,7 @@ impl<T: RealField + Copy> DormandPrince<T> {
             let err = error_norm(&err_vec, &x, &x_new, rtol, atol);
 
             if !(err.is_finite() && all_finite(&x_new) && all_finite(&k7)) {
-                if self.fixed_step.is_some() {
+                if self.a.fixed_step.is_some() {
                     return Err(SimError::NonFinite { t, x });
                 }
                 // Overflow or NaN in the trial step: retry with half the step.
@@ -338,7 +261,7 @@ impl<T: RealField + Copy> DormandPrince<T> {
                 .max(c::<T>(1.0 / FAC_MAX));
             let mut h_new = h / fac;
 
-            if err <= T::one() || self.fixed_step.is_some() {
+            if err <= T::one() || self.a.fixed_step.is_some() {
                 facold = err.max(c::<T>(1e-4));
                 stats.steps += 1;
 
@@ -385,7 +308,7 @@ impl<T: RealField + Copy> DormandPrince<T> {
                 x = x_new;
                 t = t_new;
 
-                if let Some(hf) = self.fixed_step {
+                if let Some(hf) = self.a.fixed_step {
                     h_new = hf * dir;
                 } else {
                     if h_new.abs() > hmax {
@@ -395,7 +318,7 @@ impl<T: RealField + Copy> DormandPrince<T> {
                         h_new = h_new.abs().min(h.abs()) * dir;
                     }
                 }
-                self.last_step = Some(h_new.abs());
+                self.a.last_step = Some(h_new.abs());
                 if last {
                     return Ok(Outcome {
                         t,
@@ -415,6 +338,8 @@ impl<T: RealField + Copy> DormandPrince<T> {
     }
 }
 
+adaptive_builders!(DormandPrince);
+
 impl<T: RealField + Copy> Integrator<T> for DormandPrince<T> {
     fn integrate_with_steps<S, F, const D: usize>(
         &mut self,
@@ -429,9 +354,9 @@ impl<T: RealField + Copy> Integrator<T> for DormandPrince<T> {
         F: FnMut(&Step<'_, T, D>),
     {
         let mut stats = Stats::default();
-        self.last_step = None;
+        self.a.last_step = None;
         let result = self.run(&mut stats, sys, t0, x0, t1, on_step);
-        self.stats = stats;
+        self.a.stats = stats;
         result
     }
 }

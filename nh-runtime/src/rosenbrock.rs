@@ -4,8 +4,8 @@
 use nalgebra::{RealField, SMatrix, SVector};
 
 use crate::common::{
-    all_finite, c, check_arguments, check_positive, error_norm, initial_step, machine_epsilon,
-    min_step,
+    Adaptive, adaptive_builders, all_finite, c, check_arguments, error_norm, initial_step,
+    machine_epsilon, min_step,
 };
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource, time_derivative};
 use crate::linalg::Lu;
@@ -131,14 +131,7 @@ const MAX_SINGULAR: usize = 5;
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rosenbrock<T> {
-    rtol: T,
-    atol: T,
-    max_steps: usize,
-    initial_step: Option<T>,
-    max_step: Option<T>,
-    fixed_step: Option<T>,
-    stats: Stats,
-    last_step: Option<T>,
+    a: Adaptive<T>,
 }
 
 impl<T: RealField + Copy> Rosenbrock<T> {
@@ -146,58 +139,8 @@ impl<T: RealField + Copy> Rosenbrock<T> {
     /// absolute tolerance `atol` (≥ 0), applied to every component.
     pub fn new(rtol: T, atol: T) -> Self {
         Self {
-            rtol,
-            atol,
-            max_steps: 100_000,
-            initial_step: None,
-            max_step: None,
-            fixed_step: None,
-            stats: Stats::default(),
-            last_step: None,
+            a: Adaptive::new(rtol, atol),
         }
-    }
-
-    /// Sets the maximum number of step attempts, accepted plus rejected
-    /// (default 100 000).
-    pub fn with_max_steps(mut self, n: usize) -> Self {
-        self.max_steps = n;
-        self
-    }
-
-    /// Uses `h` (a magnitude, > 0) as the first trial step instead of the
-    /// automatic estimate. It is still capped by the maximal step.
-    pub fn with_initial_step(mut self, h: T) -> Self {
-        self.initial_step = Some(h);
-        self
-    }
-
-    /// Caps the step size magnitude at `h` (> 0). Default: `|t1 − t0|`.
-    pub fn with_max_step(mut self, h: T) -> Self {
-        self.max_step = Some(h);
-        self
-    }
-
-    /// Fixed-step mode: every step has magnitude `h` (> 0; the last one is
-    /// shortened, or stretched by at most 1 %, to land on `t1`) and is
-    /// accepted whatever its error estimate (a singular matrix still
-    /// returns [`SimError::Singular`], a non-finite step
-    /// [`SimError::NonFinite`]).
-    pub fn with_fixed_step(mut self, h: T) -> Self {
-        self.fixed_step = Some(h);
-        self
-    }
-
-    /// Work counters of the most recent call to `integrate*`, whether it
-    /// succeeded or failed.
-    pub fn last_stats(&self) -> Stats {
-        self.stats
-    }
-
-    /// Magnitude of the step size the controller proposed after the last
-    /// accepted step of the most recent call (`None` if no step was
-    /// accepted).
-    pub fn last_step(&self) -> Option<T> {
-        self.last_step
     }
 
     /// Like [`Integrator::integrate`], but with the analytic Jacobian
@@ -256,29 +199,10 @@ impl<T: RealField + Copy> Rosenbrock<T> {
         F: FnMut(&Step<'_, T, D>),
     {
         let mut stats = Stats::default();
-        self.last_step = None;
+        self.a.last_step = None;
         let result = self.run(&mut stats, &Analytic(sys), t0, x0, t1, on_step);
-        self.stats = stats;
+        self.a.stats = stats;
         result
-    }
-
-    fn check_settings<const D: usize>(&self) -> Result<(), SimError<T, D>> {
-        check_positive(self.rtol, "rtol must be positive and finite")?;
-        if !(self.atol.is_finite() && self.atol >= T::zero()) {
-            return Err(SimError::InvalidInput {
-                what: "atol must be non-negative and finite",
-            });
-        }
-        if let Some(h) = self.initial_step {
-            check_positive(h, "initial step must be positive and finite")?;
-        }
-        if let Some(h) = self.max_step {
-            check_positive(h, "max step must be positive and finite")?;
-        }
-        if let Some(h) = self.fixed_step {
-            check_positive(h, "fixed step must be positive and finite")?;
-        }
-        Ok(())
     }
 
     fn run<J, F, const D: usize>(
@@ -295,7 +219,7 @@ impl<T: RealField + Copy> Rosenbrock<T> {
         F: FnMut(&Step<'_, T, D>),
     {
         let dir = check_arguments(t0, &x0, t1)?;
-        self.check_settings()?;
+        self.a.check()?;
         if dir == T::zero() {
             return Ok(Outcome {
                 t: t0,
@@ -304,10 +228,10 @@ impl<T: RealField + Copy> Rosenbrock<T> {
             });
         }
 
-        let (rtol, atol) = (self.rtol, self.atol);
+        let (rtol, atol) = (self.a.rtol, self.a.atol);
         let eps = machine_epsilon::<T>();
-        let hmax = self.max_step.unwrap_or((t1 - t0).abs());
-        let fixed = self.fixed_step.is_some();
+        let hmax = self.a.max_step.unwrap_or((t1 - t0).abs());
+        let fixed = self.a.fixed_step.is_some();
         let cc = |v: f64| c::<T>(v);
 
         let (mut t, mut x) = (t0, x0);
@@ -316,7 +240,7 @@ impl<T: RealField + Copy> Rosenbrock<T> {
         if !all_finite(&f0) {
             return Err(SimError::NonFinite { t, x });
         }
-        let mut h = match (self.fixed_step, self.initial_step) {
+        let mut h = match (self.a.fixed_step, self.a.initial_step) {
             (Some(hf), _) => hf,
             (None, Some(h0)) => h0.min(hmax),
             (None, None) => {
@@ -342,7 +266,7 @@ impl<T: RealField + Copy> Rosenbrock<T> {
 
         loop {
             let attempts = stats.steps + stats.rejected;
-            if attempts >= self.max_steps {
+            if attempts >= self.a.max_steps {
                 return Err(SimError::MaxSteps {
                     t,
                     x,
@@ -470,7 +394,7 @@ impl<T: RealField + Copy> Rosenbrock<T> {
                 t = t_new;
                 f0 = f_new;
 
-                if let Some(hf) = self.fixed_step {
+                if let Some(hf) = self.a.fixed_step {
                     h_new = hf * dir;
                 } else {
                     if h_new.abs() > hmax {
@@ -480,7 +404,7 @@ impl<T: RealField + Copy> Rosenbrock<T> {
                         h_new = h_new.abs().min(h.abs()) * dir;
                     }
                 }
-                self.last_step = Some(h_new.abs());
+                self.a.last_step = Some(h_new.abs());
                 if last {
                     return Ok(Outcome {
                         t,
@@ -504,6 +428,8 @@ impl<T: RealField + Copy> Rosenbrock<T> {
     }
 }
 
+adaptive_builders!(Rosenbrock);
+
 impl<T: RealField + Copy> Integrator<T> for Rosenbrock<T> {
     fn integrate_with_steps<S, F, const D: usize>(
         &mut self,
@@ -518,9 +444,9 @@ impl<T: RealField + Copy> Integrator<T> for Rosenbrock<T> {
         F: FnMut(&Step<'_, T, D>),
     {
         let mut stats = Stats::default();
-        self.last_step = None;
+        self.a.last_step = None;
         let result = self.run(&mut stats, &FiniteDifference(sys), t0, x0, t1, on_step);
-        self.stats = stats;
+        self.a.stats = stats;
         result
     }
 }
