@@ -30,6 +30,10 @@ use std::collections::HashMap;
 use nonholonomic::prelude::*;
 use serde_json::Value;
 
+#[path = "common/refdata_json.rs"]
+mod refdata_json;
+use refdata_json::{arr, load, num, vector};
+
 nonholonomic_system! {
     /// Rolling-disc model of the thesis (Lagrangian (6.22) verbatim).
     pub struct ThesisDisc {
@@ -127,35 +131,6 @@ nonholonomic_system! {
 // ---------------------------------------------------------------------------
 // Reference data access
 // ---------------------------------------------------------------------------
-
-fn load(name: &str) -> Value {
-    let path = format!(
-        "{}/tests/data/refdata/{name}.json",
-        env!("CARGO_MANIFEST_DIR")
-    );
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{path}: {e}"));
-    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{path}: {e}"))
-}
-
-/// A JSON number string as `f64`.
-fn num(v: &Value) -> f64 {
-    let s = v
-        .as_str()
-        .unwrap_or_else(|| panic!("expected a number string, got {v}"));
-    s.parse::<f64>()
-        .unwrap_or_else(|e| panic!("cannot parse {s:?}: {e}"))
-}
-
-fn arr(v: &Value) -> &Vec<Value> {
-    v.as_array()
-        .unwrap_or_else(|| panic!("expected an array, got {v}"))
-}
-
-fn vector<const M: usize>(v: &Value) -> SVector<f64, M> {
-    let a = arr(v);
-    assert_eq!(a.len(), M, "length of {v}");
-    SVector::<f64, M>::from_fn(|i, _| num(&a[i]))
-}
 
 fn strings(v: &Value) -> Vec<String> {
     arr(v)
