@@ -211,11 +211,6 @@ impl Dag {
         self.sym_nodes.insert(s, n);
     }
 
-    /// The node a symbol is bound to, if any.
-    pub fn bound(&self, s: SymId) -> Option<Node> {
-        self.sym_nodes.get(&s).copied()
-    }
-
     /// The node of π.
     pub fn pi(&mut self) -> Node {
         self.intern(Op::Pi)
@@ -622,11 +617,6 @@ impl Dag {
             x[i] = v;
         }
         x
-    }
-
-    /// Is this node the constant zero?
-    pub fn is_zero(&self, n: Node) -> bool {
-        n == ZERO_NODE
     }
 
     // ------------------------------------------------------------ emission

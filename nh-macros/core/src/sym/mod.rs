@@ -254,11 +254,6 @@ impl Engine {
         self.expr_syms[e as usize].binary_search(&s).is_ok()
     }
 
-    /// Is `e` identically zero (in canonical form)?
-    pub fn is_zero(&self, e: ExprId) -> bool {
-        e == ZERO
-    }
-
     /// The constant value if `e` is a rational constant.
     pub fn as_constant(&self, e: ExprId) -> Option<Rational> {
         match self.terms(e) {
@@ -434,15 +429,6 @@ impl Engine {
         }
         let r = self.collect(acc);
         self.memo_mul.insert(key, r);
-        r
-    }
-
-    /// Product of many expressions.
-    pub fn product(&mut self, items: &[ExprId]) -> ExprId {
-        let mut r = ONE;
-        for &i in items {
-            r = self.mul(r, i);
-        }
         r
     }
 
