@@ -35,7 +35,18 @@ fn find_invocations(ts: TokenStream, out: &mut Vec<TokenStream>) {
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();
     let show_code = args.iter().any(|a| a == "--code");
-    let file = args.iter().find(|a| !a.starts_with("--"));
+    let runs: usize = args
+        .iter()
+        .position(|a| a == "--runs")
+        .and_then(|i| args.get(i + 1))
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(21)
+        .max(1);
+    let file = args
+        .iter()
+        .enumerate()
+        .find(|(i, a)| !a.starts_with("--") && (*i == 0 || args[i - 1] != "--runs"))
+        .map(|(_, a)| a);
     let src = match file {
         Some(path) => std::fs::read_to_string(path).unwrap_or_else(|e| {
             eprintln!("cannot read {path}: {e}");
@@ -64,7 +75,7 @@ fn main() {
     for body in bodies {
         let mut times = Vec::new();
         let mut result = None;
-        for _ in 0..21 {
+        for _ in 0..runs {
             let start = Instant::now();
             let r = nh_core::expand_with_stats(body.clone());
             times.push(start.elapsed().as_secs_f64() * 1e3);
@@ -76,11 +87,11 @@ fn main() {
                 println!("{code}");
             }
             println!(
-                "{}: expansion {:.2} ms (median of 21; min {:.2}, max {:.2}); {}",
+                "{}: expansion {:.2} ms (median of {runs}; min {:.2}, max {:.2}); {}",
                 stats.name,
-                times[10],
+                times[runs / 2],
                 times[0],
-                times[20],
+                times[runs - 1],
                 stats.summary()
             );
         }

@@ -133,6 +133,18 @@ pub const MAX_TERMS: usize = 200_000;
 /// the engine stops and reports expression swell (a few seconds of work).
 pub const MAX_WORK: usize = 50_000_000;
 
+/// Largest number of term products a product of two sums (or an integer
+/// power of a sum) is expanded into; beyond it the factors stay unexpanded
+/// atoms (see `Engine::kept_product`). Small products are expanded so that
+/// the canonical form can cancel them (the closed forms of small systems);
+/// large ones are kept, so expression swell cannot set in.
+pub const EXPAND_LIMIT: usize = 64;
+
+/// Sums longer than this are kept as one atom when they are a factor of a
+/// product that is not expanded (see [`EXPAND_LIMIT`]); shorter ones are
+/// distributed over the other factor.
+pub const ATOM_MIN: usize = 8;
+
 impl Engine {
     /// A fresh engine with `0` and `1` interned.
     pub fn new() -> Engine {
@@ -394,6 +406,12 @@ impl Engine {
         if self.overflow {
             return ZERO;
         }
+        let (la, lb) = (self.exprs[a as usize].len(), self.exprs[b as usize].len());
+        if la >= 2 && lb >= 2 && la.saturating_mul(lb) > EXPAND_LIMIT {
+            let r = self.kept_product(a, b);
+            self.memo_mul.insert(key, r);
+            return r;
+        }
         self.counters.products += 1;
         let ta = self.exprs[a as usize].clone();
         let tb = self.exprs[b as usize].clone();
@@ -430,6 +448,52 @@ impl Engine {
         let r = self.collect(acc);
         self.memo_mul.insert(key, r);
         r
+    }
+
+    /// `a · b` for two sums whose expansion would not pay (more than
+    /// [`EXPAND_LIMIT`] products of terms): each sum is split into its
+    /// content (a rational times a monomial) and its primitive rest, and the
+    /// rests stay unexpanded, as atoms of one monomial. The rest of a sum is
+    /// one atom wherever it occurs, so shared factors stay shared (in the
+    /// graph and in the emitted code), and a `let` chain or a product of
+    /// long sums grows additively instead of multiplicatively.
+    fn kept_product(&mut self, a: ExprId, b: ExprId) -> ExprId {
+        let (ga, ra) = self.content(a).unwrap_or((ONE, a));
+        let (gb, rb) = self.content(b).unwrap_or((ONE, b));
+        let xa = self.kept_factor(ra);
+        let xb = self.kept_factor(rb);
+        let g = self.mul(ga, gb);
+        let x = self.mul(xa, xb);
+        self.mul(g, x)
+    }
+
+    /// A primitive sum as a factor of a kept product: one atom if it is
+    /// longer than [`ATOM_MIN`] terms, else the sum itself (distributed over
+    /// the other factor, which is then an atom).
+    fn kept_factor(&mut self, s: ExprId) -> ExprId {
+        if self.exprs[s as usize].len() <= ATOM_MIN {
+            return s;
+        }
+        let x = self.intern_atom(Atom::Base(s));
+        self.atom_power(x, Rational::ONE)
+    }
+
+    /// Is `s^k` (a sum to a positive integer power) kept unexpanded? A sum
+    /// of more than [`ATOM_MIN`] terms always is; a shorter one when the
+    /// expansion would exceed [`EXPAND_LIMIT`] products of terms.
+    fn power_is_kept(&self, s: ExprId, k: i64) -> bool {
+        let len = self.exprs[s as usize].len();
+        if len > ATOM_MIN {
+            return true;
+        }
+        let mut size: usize = 1;
+        for _ in 0..k.clamp(0, 64) {
+            size = size.saturating_mul(len);
+            if size > EXPAND_LIMIT {
+                return true;
+            }
+        }
+        k > 64 && len >= 2
     }
 
     /// Normalises a merged factor list: folds constant bases into the
@@ -509,7 +573,7 @@ impl Engine {
                         if !frac.is_zero() {
                             kept.push((a, frac));
                         }
-                    } else if e >= Rational::ONE {
+                    } else if e >= Rational::ONE && !self.power_is_kept(b, floor(e)) {
                         let k = floor(e);
                         let frac = e
                             .checked_sub(Rational::int(k as i128))
@@ -571,11 +635,12 @@ impl Engine {
             Atom::Func(Fun::Cos, _) => e.is_integer() && e >= Rational::int(2),
             Atom::Base(b) => {
                 // normal exponents: in (0, 1) for constant and monomial bases,
-                // below 1 for sums
+                // below 1 for sums, except a sum whose power is kept
+                // unexpanded (see `kept_product`)
                 if self.exprs[*b as usize].len() <= 1 {
                     !(e > Rational::ZERO && e < Rational::ONE)
                 } else {
-                    e >= Rational::ONE
+                    e >= Rational::ONE && !self.power_is_kept(*b, floor(e))
                 }
             }
             Atom::Sym(_) | Atom::Func(..) => false,
@@ -931,11 +996,26 @@ impl Engine {
                 }
                 Normal::Expr(x) => x,
             };
-            let t = self.mul(rest, da);
+            let t = self.chain_rule_product(rest, da);
             let t = self.scale(t, e);
             parts.push(t);
         }
         self.sum(&parts)
+    }
+
+    /// `outer · inner` in a chain rule: an inner derivative longer than
+    /// [`ATOM_MIN`] terms is kept as one atom instead of being distributed,
+    /// so that nested derivatives (`let` chains, functions of functions)
+    /// grow additively: d/dx of a_(n+1) = a_n + sin(a_n)/2 is then
+    /// a_n' + cos(a_n)/2 · [a_n'] with [a_n'] one atom, not 2ⁿ terms.
+    fn chain_rule_product(&mut self, outer: ExprId, inner: ExprId) -> ExprId {
+        if self.exprs[inner as usize].len() <= ATOM_MIN || self.as_constant(outer).is_some() {
+            return self.mul(outer, inner);
+        }
+        let (g, rest) = self.content(inner).unwrap_or((ONE, inner));
+        let x = self.kept_factor(rest);
+        let go = self.mul(outer, g);
+        self.mul(go, x)
     }
 
     /// Derivative of an atom with respect to `s` (for `Base(b)`, the derivative of `b`).
@@ -968,7 +1048,7 @@ impl Engine {
                     Fun::Exp => self.func(Fun::Exp, u),
                     Fun::Ln => self.pow(u, Rational::MINUS_ONE),
                 };
-                self.mul(outer, du)
+                self.chain_rule_product(outer, du)
             }
         }
     }
