@@ -13,7 +13,7 @@
 use crate::sym::{Atom, AtomId, Engine, ExprId, Fun, Rational, SymId};
 use proc_macro2::{Ident, Span, TokenStream};
 use quote::{format_ident, quote};
-use std::collections::{HashMap, HashSet};
+use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
 /// A node of the dataflow graph.
 pub type Node = u32;
@@ -101,14 +101,14 @@ impl Dag {
     pub fn new() -> Dag {
         let mut d = Dag {
             ops: Vec::new(),
-            ix: HashMap::new(),
+            ix: HashMap::default(),
             leaves: Vec::new(),
-            leaf_ix: HashMap::new(),
-            labels: HashMap::new(),
-            param_leaves: HashSet::new(),
-            expr_memo: HashMap::new(),
-            atom_memo: HashMap::new(),
-            sym_nodes: HashMap::new(),
+            leaf_ix: HashMap::default(),
+            labels: HashMap::default(),
+            param_leaves: HashSet::default(),
+            expr_memo: HashMap::default(),
+            atom_memo: HashMap::default(),
+            sym_nodes: HashMap::default(),
         };
         d.intern(Op::Const(Rational::ZERO));
         d.intern(Op::Const(Rational::ONE));
@@ -159,8 +159,8 @@ impl Dag {
     /// and are worth keeping (an operation, not a leaf or constant), maximal:
     /// each is used by a value that is not parameter-only, or is an output.
     pub fn hoistable(&self, outputs: &[Node]) -> Vec<Node> {
-        let live = self.live_until(outputs, &HashMap::new());
-        let mut param_only: HashMap<Node, bool> = HashMap::new();
+        let live = self.live_until(outputs, &HashMap::default());
+        let mut param_only: HashMap<Node, bool> = HashMap::default();
         for &n in &live {
             let p = match &self.ops[n as usize] {
                 Op::Leaf(_) => self.param_leaves.contains(&n),
@@ -459,7 +459,7 @@ impl Dag {
                 _ => {}
             }
             // the most frequent atom with a positive exponent
-            let mut count: HashMap<AtomId, (usize, Rational)> = HashMap::new();
+            let mut count: HashMap<AtomId, (usize, Rational)> = HashMap::default();
             for (f, _) in &terms {
                 for &(a, e) in f {
                     if e > Rational::ZERO {
@@ -661,12 +661,12 @@ impl Dag {
     }
 
     fn live(&self, outputs: &[Node]) -> Vec<Node> {
-        self.live_until(outputs, &HashMap::new())
+        self.live_until(outputs, &HashMap::default())
     }
 
     /// The nodes `outputs` need, not looking behind the nodes in `stop`.
     fn live_until(&self, outputs: &[Node], stop: &HashMap<Node, TokenStream>) -> Vec<Node> {
-        let mut seen = HashSet::new();
+        let mut seen = HashSet::default();
         let mut stack: Vec<Node> = outputs.to_vec();
         while let Some(n) = stack.pop() {
             if !seen.insert(n) {
@@ -692,7 +692,7 @@ impl Dag {
     /// Emits the statements computing `outputs`, and the expression naming
     /// each output. The scalar type is `T`.
     pub fn emit(&self, outputs: &[Node]) -> (TokenStream, Vec<TokenStream>) {
-        self.emit_with(outputs, &HashMap::new())
+        self.emit_with(outputs, &HashMap::default())
     }
 
     /// Like [`Dag::emit`], with the nodes of `given` taken from the given
@@ -705,7 +705,7 @@ impl Dag {
         let live = self.live_until(outputs, given);
         let live_set: HashSet<Node> = live.iter().copied().collect();
         // sin and cos of one angle: one sin_cos call
-        let mut pair_of: HashMap<Node, (Node, Node)> = HashMap::new();
+        let mut pair_of: HashMap<Node, (Node, Node)> = HashMap::default();
         for &n in &live {
             if let Op::Call(Fun::Sin, a) = self.ops[n as usize]
                 && let Some(&c) = self.ix.get(&Op::Call(Fun::Cos, a))
@@ -749,7 +749,7 @@ impl Dag {
             let len = live.len();
             stmts.extend(quote!(let mut vals: [T; #len] = [T::zero(); #len];));
         }
-        let mut done: HashSet<Node> = HashSet::new();
+        let mut done: HashSet<Node> = HashSet::default();
         for &n in &live {
             if done.contains(&n) {
                 continue;

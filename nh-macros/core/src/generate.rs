@@ -11,6 +11,16 @@ use crate::sym::{ExprId, SymId, ZERO};
 use proc_macro2::{Ident, TokenStream};
 use quote::quote;
 
+/// Operations of r̈ beyond which other methods call `accelerations` (and
+/// `reduced_system`) instead of repeating their code.
+const LARGE_OPS: usize = 400;
+
+/// Largest number of independent coordinates k for which the curvature
+/// route is derived to compete with the multiplier route (always, with
+/// `outputs { routes }`). Beyond it the curvature route's right side,
+/// symbolic in all k velocities, costs more to derive than it can save.
+const CURVATURE_ROUTE_MAX_K: usize = 6;
+
 /// Which derivation `accelerations` uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Route {
@@ -52,12 +62,15 @@ pub struct Stats {
 impl Stats {
     /// One line: operation counts, route, graph size.
     pub fn summary(&self) -> String {
+        let curvature = if self.ops_curvature == 0 {
+            "not derived (k > 6)".to_string()
+        } else {
+            format!("{} ops (cost {})", self.ops_curvature, self.cost_curvature)
+        };
         format!(
-            "accelerations: multiplier route {} ops (cost {}), curvature route {} ops (cost {}) after CSE, using the {} route; {} generated lines; graph {} expressions, {} derivatives; integrable: {}",
+            "accelerations: multiplier route {} ops (cost {}), curvature route {curvature} after CSE, using the {} route; {} generated lines; graph {} expressions, {} derivatives; integrable: {}",
             self.ops_multiplier,
             self.cost_multiplier,
-            self.ops_curvature,
-            self.cost_curvature,
             match self.route {
                 Some(Route::Multiplier) => "multiplier",
                 Some(Route::Curvature) => "curvature",
@@ -165,6 +178,8 @@ struct MultiplierNodes {
     c: Vec<Vec<Node>>,
     acc_bias: Vec<Node>,
     pivots: Vec<Node>,
+    /// The LDLᵀ factorisation of Cᵀ M C, reused for derivatives.
+    fac: crate::emit::Ldlt,
 }
 
 fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNodes {
@@ -248,7 +263,8 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
             );
         }
     }
-    let (rdd, pivots) = d.solve_symmetric(&mr, &f);
+    let fac = d.factor_symmetric(&mr);
+    let rdd = d.solve_factored(&fac, &f);
     for (a, &v) in rdd.iter().enumerate() {
         d.label(v, format!("r̈{a}: (5.9) solved by LDLᵀ"));
     }
@@ -258,7 +274,8 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
         bias,
         c,
         acc_bias,
-        pivots,
+        pivots: fac.d.clone(),
+        fac,
     }
 }
 
@@ -323,7 +340,7 @@ struct Derived<'a> {
     /// each method's share of the cache, and the cache length so far.
     hoist_blocks: Vec<TokenStream>,
     hoist_len: usize,
-    hoist_seen: std::collections::HashMap<String, usize>,
+    hoist_seen: rustc_hash::FxHashMap<String, usize>,
 }
 
 impl Derived<'_> {
@@ -365,7 +382,7 @@ impl Derived<'_> {
                 base
             }
         };
-        let given: std::collections::HashMap<Node, TokenStream> = hoisted
+        let given: rustc_hash::FxHashMap<Node, TokenStream> = hoisted
             .iter()
             .enumerate()
             .map(|(j, &h)| {
@@ -398,6 +415,57 @@ impl Derived<'_> {
 }
 
 impl Derived<'_> {
+    /// Is the chosen route's r̈ large enough that methods needing it call
+    /// [`accelerations`] instead of repeating its code? (Small systems keep
+    /// one fused body per method: their shared work is a few operations.)
+    fn is_large(&self) -> bool {
+        let ops = match self.route {
+            Route::Multiplier => self.stats.ops_multiplier,
+            Route::Curvature => self.stats.ops_curvature,
+        };
+        ops > LARGE_OPS
+    }
+
+    /// `, u` when the system has inputs (to forward them to another method).
+    fn u_forward(&self) -> TokenStream {
+        if self.m.inputs.is_empty() {
+            quote!()
+        } else {
+            quote!(, u)
+        }
+    }
+
+    /// r̈ by the curvature route of a large system: `reduced_system`'s Mc and
+    /// f (when it is emitted, else the same code inline) solved by an
+    /// unrolled LDLᵀ.
+    fn curvature_route_from_reduced(&mut self) -> Method {
+        let k = self.m.k();
+        let (n, u) = (self.m.n(), self.u_forward());
+        let doc = format!(
+            "r̈ by {} ({} operations). Agrees with [`Self::accelerations`] to rounding.",
+            route_doc(Route::Curvature),
+            self.stats.ops_curvature
+        );
+        if !self.m.outputs.routes {
+            return self.accelerations(Route::Curvature, doc);
+        }
+        let mut d = bound_dag(self.m, &Args::vectors(n, k));
+        let mass: Vec<Vec<Node>> = (0..k)
+            .map(|a| (0..k).map(|b| d.leaf(quote!(__nh_mc[(#a, #b)]))).collect())
+            .collect();
+        let rhs: Vec<Node> = (0..k).map(|a| d.leaf(quote!(__nh_f[#a]))).collect();
+        let (x, _) = d.solve_symmetric(&mass, &rhs);
+        let (stmts, o) = d.emit(&x);
+        let ret = vector_expr(k, &o);
+        Method {
+            doc,
+            body: quote! {
+                let (__nh_mc, __nh_f) = self.reduced_system(t, q, rdot #u);
+                #stmts #ret
+            },
+        }
+    }
+
     /// The state variables in order: q, then ṙ.
     fn state_vars(&self) -> Vec<SymId> {
         self.m
@@ -426,6 +494,9 @@ impl Derived<'_> {
             }
             return out;
         }
+        if self.route == Route::Multiplier {
+            return self.multiplier_columns(d, vars);
+        }
         let mass = matrix(d, self.m, &self.croute.mass);
         let rhs = exprs(d, self.m, &self.croute.rhs);
         let fac = d.factor_symmetric(&mass);
@@ -452,6 +523,110 @@ impl Derived<'_> {
             }
         }
         out
+    }
+
+    /// ∂f/∂z through the multiplier route (5.9): r̈ solves R(z, r̈) = Cᵀ E = 0
+    /// with E = M q̈ + h and q̈ = C r̈ + b (b = −Ȧ ṙ), so ∂r̈/∂z =
+    /// −(Cᵀ M C)⁻¹ ∂R/∂z at fixed r̈, with the factorisation of r̈'s own solve.
+    /// Each ∂/∂z is a total derivative: the dependent velocities ṡ(q, ṙ) in
+    /// M, h and b are differentiated through the constraints (5.3).
+    fn multiplier_columns(&mut self, d: &mut Dag, vars: &[SymId]) -> Vec<Vec<Node>> {
+        let (n, k) = (self.m.n(), self.m.k());
+        let mn = multiplier_nodes(d, self.m, &self.mult);
+        let mut qdd = mn.acc_bias.clone();
+        for i in 0..n {
+            for b in 0..k {
+                let t = d.mul(mn.c[i][b], mn.rdd[b]);
+                qdd[i] = d.add(qdd[i], t);
+            }
+        }
+        let mut e_nodes = Vec::with_capacity(n);
+        for i in 0..n {
+            let mut acc = mn.bias[i];
+            for j in 0..n {
+                let t = d.mul(mn.mass[i][j], qdd[j]);
+                acc = d.add(acc, t);
+            }
+            e_nodes.push(acc);
+        }
+        let mut out = self.velocity_rows(d, vars);
+        for (col, &z) in vars.iter().enumerate() {
+            let dsdot: Vec<Node> = (0..self.m.p())
+                .map(|a| {
+                    let e = self.m.engine.diff(self.m.dependent_velocity[a], z);
+                    d.expr(&self.m.engine, e)
+                })
+                .collect();
+            // ∂C/∂z: only the rows of the dependent coordinates, −∂A/∂z
+            let mut dc = vec![vec![ZERO_NODE; k]; n];
+            let dependent = self.m.dependent.clone();
+            for (a, &s) in dependent.iter().enumerate() {
+                for b in 0..k {
+                    let e = self.total_diff(d, self.m.a_matrix[a][b], z, &dsdot);
+                    dc[s][b] = d.neg(e);
+                }
+            }
+            // ∂q̈/∂z at fixed r̈
+            let mut dqdd = vec![ZERO_NODE; n];
+            for (a, &s) in dependent.iter().enumerate() {
+                let mut acc = self.total_diff(d, self.mult.dependent_bias[a], z, &dsdot);
+                for b in 0..k {
+                    let t = d.mul(dc[s][b], mn.rdd[b]);
+                    acc = d.add(acc, t);
+                }
+                dqdd[s] = acc;
+            }
+            // ∂E/∂z = ∂M/∂z q̈ + M ∂q̈/∂z + ∂h/∂z
+            let mut de = Vec::with_capacity(n);
+            for i in 0..n {
+                let mut acc = self.total_diff(d, self.mult.bias[i], z, &dsdot);
+                for j in 0..n {
+                    let dm = self.total_diff(d, self.mult.mass[i][j], z, &dsdot);
+                    let t = d.mul(dm, qdd[j]);
+                    acc = d.add(acc, t);
+                    let t = d.mul(mn.mass[i][j], dqdd[j]);
+                    acc = d.add(acc, t);
+                }
+                de.push(acc);
+            }
+            // −∂R/∂z = −Σ_i (∂C_iα/∂z E_i + C_iα ∂E_i/∂z)
+            let mut rhs = Vec::with_capacity(k);
+            for al in 0..k {
+                let mut acc = ZERO_NODE;
+                for i in 0..n {
+                    let t = d.mul(dc[i][al], e_nodes[i]);
+                    acc = d.add(acc, t);
+                    let t = d.mul(mn.c[i][al], de[i]);
+                    acc = d.add(acc, t);
+                }
+                rhs.push(d.neg(acc));
+            }
+            let x = d.solve_factored(&mn.fac, &rhs);
+            for al in 0..k {
+                out[n + al][col] = x[al];
+            }
+        }
+        out
+    }
+
+    /// The total derivative of `e` with respect to `z` as a node: ∂e/∂z plus
+    /// Σ_a ∂e/∂ṡ_a ∂ṡ_a/∂z, the dependent velocities ṡ being functions of
+    /// q and ṙ through the constraints.
+    fn total_diff(&mut self, d: &mut Dag, e: ExprId, z: SymId, dsdot: &[Node]) -> Node {
+        let direct = self.m.engine.diff(e, z);
+        let mut acc = d.expr(&self.m.engine, direct);
+        for (a, &s) in self.m.dependent.iter().enumerate() {
+            if dsdot[a] == ZERO_NODE {
+                continue;
+            }
+            let de = self.m.engine.diff(e, self.m.vel_syms[s]);
+            if de != ZERO {
+                let x = d.expr(&self.m.engine, de);
+                let t = d.mul(x, dsdot[a]);
+                acc = d.add(acc, t);
+            }
+        }
+        acc
     }
 
     /// The rows of q̇ in ∂f/∂z (the first n rows; the other k are zero).
@@ -506,11 +681,37 @@ impl Bodies for Derived<'_> {
                     Route::Curvature => (self.stats.ops_curvature, self.stats.ops_multiplier),
                     Route::Multiplier => (self.stats.ops_multiplier, self.stats.ops_curvature),
                 };
+                let other = if other == 0 {
+                    "the curvature route is derived for k ≤ 6 or with `outputs { routes }`"
+                        .to_string()
+                } else {
+                    format!("the other route needs {other}")
+                };
                 let doc = format!(
-                    "The reduced equations of motion: r̈, the accelerations of the independent coordinates (in the order of [`Self::INDEPENDENT`]) at time `t`, coordinates `q` and independent velocities `rdot`.{u_doc}\n\nDerived by {}; {used} operations after common-subexpression elimination (the other route needs {other}). The k × k reduced mass matrix is factorised as LDLᵀ, unrolled, with its structural zeros pruned.",
+                    "The reduced equations of motion: r̈, the accelerations of the independent coordinates (in the order of [`Self::INDEPENDENT`]) at time `t`, coordinates `q` and independent velocities `rdot`.{u_doc}\n\nDerived by {}; {used} operations after common-subexpression elimination ({other}). The k × k reduced mass matrix is factorised as LDLᵀ, unrolled, with its structural zeros pruned.",
                     route_doc(self.route),
                 );
                 self.accelerations(self.route, doc)
+            }
+            "accelerations_multiplier_route" | "accelerations_curvature_route"
+                if (name == "accelerations_multiplier_route")
+                    == (self.route == Route::Multiplier) =>
+            {
+                let u = self.u_forward();
+                Method {
+                    doc: format!(
+                        "r̈ by {}, the route [`Self::accelerations`] uses ({} operations).",
+                        route_doc(self.route),
+                        match self.route {
+                            Route::Multiplier => self.stats.ops_multiplier,
+                            Route::Curvature => self.stats.ops_curvature,
+                        }
+                    ),
+                    body: quote! { self.accelerations(t, q, rdot #u) },
+                }
+            }
+            "accelerations_curvature_route" if self.is_large() => {
+                self.curvature_route_from_reduced()
             }
             "accelerations_multiplier_route" => {
                 let doc = format!(
@@ -545,7 +746,16 @@ impl Bodies for Derived<'_> {
             }
             "multipliers" => {
                 let mut d = bound_dag(self.m, &args);
-                let mn = multiplier_nodes(&mut d, self.m, &self.mult);
+                let mut mn = multiplier_nodes(&mut d, self.m, &self.mult);
+                let large = self.is_large();
+                let u = self.u_forward();
+                let prologue = if large {
+                    // r̈ from `accelerations`, not a second copy of its solve
+                    mn.rdd = (0..k).map(|b| d.leaf(quote!(__nh_rdd[#b]))).collect();
+                    quote!(let __nh_rdd = self.accelerations(t, q, rdot #u);)
+                } else {
+                    quote!()
+                };
                 // q̈ = C r̈ + acc_bias; λ_a = E_{s_a} = (M q̈ + h)_{s_a}   (5.10)
                 let mut qdd = mn.acc_bias.clone();
                 for (i, row) in mn.c.iter().enumerate() {
@@ -569,7 +779,7 @@ impl Bodies for Derived<'_> {
                 self.stats.derived.push("multipliers");
                 Method {
                     doc: "The Lagrange multipliers λ_a = d/dt ∂L/∂ṡ_a − ∂L/∂s_a − Q_{s_a} along the motion (5.10), one per dependent coordinate: the generalized constraint forces, with the sign convention E(L) = Cᵀλ, C = [A | I].".into(),
-                    body: quote! { let _ = (t, q, rdot); #stmts #ret },
+                    body: quote! { let _ = (t, q, rdot); #prologue #stmts #ret },
                 }
             }
             "curvature" => {
@@ -651,6 +861,19 @@ impl Bodies for Derived<'_> {
                     body: quote! { let _ = q; #stmts #nn::from_row_slice(&[#(#o),*]) },
                 }
             }
+            "jacobian" if self.m.outputs.linearization => {
+                // the linearisation's A is this Jacobian: one copy of the code
+                let u = if self.m.inputs.is_empty() {
+                    quote!()
+                } else {
+                    quote!(, u)
+                };
+                self.stats.derived.push("jacobian");
+                Method {
+                    doc: "The Jacobian ∂f/∂x of the first-order system x = [q, ṙ] ↦ [q̇, r̈]: the matrix A of [`Self::linearization`], derived symbolically through the reduced solve.".into(),
+                    body: quote! { self.linearization(t, x #u).0 },
+                }
+            }
             "jacobian" => {
                 let dim = n + k;
                 let args_x = Args::state(n, k);
@@ -701,6 +924,35 @@ impl Bodies for Derived<'_> {
                 Method {
                     doc: "The linearisation of the first-order system ẋ = f(t, x, u) at (t, x, u): A = ∂f/∂x and B = ∂f/∂u, derived symbolically through the reduced solve (as for the Jacobian): ∂r̈/∂z = Mc⁻¹ (∂f/∂z − (∂Mc/∂z) r̈) (5.20). For controller design: δẋ ≈ A δx + B δu.".into(),
                     body: quote! { let _ = (t, x); #u #stmts (#dd::from_row_slice(&[#(#ao),*]), #du::from_row_slice(&[#(#bo),*])) },
+                }
+            }
+            // "rhs" of a large system: q̇ and r̈ from their methods
+            _ if self.is_large() => {
+                let u = self.u_forward();
+                let ret = vector_expr(n + k, &{
+                    let mut v: Vec<TokenStream> = Vec::with_capacity(n + k);
+                    let (mut j, mut a) = (0usize, 0usize);
+                    for i in 0..n {
+                        if self.m.independent.contains(&i) {
+                            v.push(quote!(__nh_rdot[#j]));
+                            j += 1;
+                        } else {
+                            v.push(quote!(__nh_sdot[#a]));
+                            a += 1;
+                        }
+                    }
+                    v.extend((0..k).map(|b| quote!(__nh_rdd[#b])));
+                    v
+                });
+                Method {
+                    doc: "ẋ for the state x = [q, ṙ]: ẋ = [q̇(q, ṙ), r̈], with the dependent velocities from the constraints.".into(),
+                    body: quote! {
+                        let __nh_q = x.fixed_rows::<#n>(0).into_owned();
+                        let __nh_rdot = x.fixed_rows::<#k>(#n).into_owned();
+                        let __nh_sdot = self.dependent_velocities(&__nh_q, &__nh_rdot);
+                        let __nh_rdd = self.accelerations(t, &__nh_q, &__nh_rdot #u);
+                        #ret
+                    },
                 }
             }
             // "rhs": the first-order system for the runtime
@@ -839,10 +1091,23 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     // ---- derivations: both routes (to choose), and the requested outputs
     let mult = m.multiplier_route();
     let curv = m.curvature();
-    let mut croute = m.curvature_route(&curv);
-    stats
-        .derived
-        .extend(["accelerations (both routes)", "curvature terms"]);
+    // the curvature route pays for small systems (its closed forms); beyond
+    // CURVATURE_ROUTE_MAX_K independent coordinates it is derived only when
+    // `routes` asks for it, and `accelerations` takes the multiplier route
+    let both_routes = m.outputs.routes || m.k() <= CURVATURE_ROUTE_MAX_K;
+    let mut croute = if both_routes {
+        m.curvature_route(&curv)
+    } else {
+        m.reduced_mass_only(&curv)
+    };
+    stats.derived.extend([
+        if both_routes {
+            "accelerations (both routes)"
+        } else {
+            "accelerations (multiplier route)"
+        },
+        "curvature terms",
+    ]);
     let (integrable, proved) = integrability(&m, &curv);
     stats.integrable = integrable;
     stats.integrable_proved = proved;
@@ -892,10 +1157,15 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     let mut d1 = bound_dag(&m, &args_v);
     let mn = multiplier_nodes(&mut d1, &m, &mult);
     let mut d2 = bound_dag(&m, &args_v);
-    let (mut rdd2, piv2) = curvature_nodes(&mut d2, &m, &croute);
+    let (mut rdd2, piv2) = if both_routes {
+        curvature_nodes(&mut d2, &m, &croute)
+    } else {
+        (Vec::new(), Vec::new())
+    };
     // the same route with the reduced system solved symbolically, if cheaper
     let (cmass, crhs) = (croute.mass.clone(), croute.rhs.clone());
-    if piv2.iter().all(|&p| p != ZERO_NODE)
+    if both_routes
+        && piv2.iter().all(|&p| p != ZERO_NODE)
         && let Some(sol) = m.solve_symbolic(&cmass, &crhs)
     {
         let mut d3 = bound_dag(&m, &args_v);
@@ -917,7 +1187,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     stats.ops_curvature = d2.op_count(&rdd2);
     stats.cost_multiplier = d1.cost_estimate(&mn.rdd);
     stats.cost_curvature = d2.cost_estimate(&rdd2);
-    let route = if stats.cost_curvature <= stats.cost_multiplier {
+    let route = if both_routes && stats.cost_curvature <= stats.cost_multiplier {
         Route::Curvature
     } else {
         Route::Multiplier
@@ -937,7 +1207,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         energy,
         hoist_blocks: Vec::new(),
         hoist_len: 0,
-        hoist_seen: std::collections::HashMap::new(),
+        hoist_seen: rustc_hash::FxHashMap::default(),
     };
     let mut tokens = crate::api::expand(&shape, &mut bodies);
     if integrable && m.p() > 0 {
@@ -1037,14 +1307,11 @@ fn count_lines(tokens: &TokenStream) -> usize {
     let mut lines = 0;
     for tt in tokens.clone() {
         match tt {
-            proc_macro2::TokenTree::Punct(p) if p.as_char() == ';' => lines += 1,
+            proc_macro2::TokenTree::Punct(p) if p.as_char() == ';' || p.as_char() == '#' => {
+                lines += 1
+            }
             proc_macro2::TokenTree::Group(g) if g.delimiter() == proc_macro2::Delimiter::Brace => {
                 lines += 2 + count_lines(&g.stream())
-            }
-            proc_macro2::TokenTree::Group(g)
-                if g.delimiter() == proc_macro2::Delimiter::Bracket =>
-            {
-                lines += 1
             }
             _ => {}
         }

@@ -8,7 +8,7 @@ use crate::names;
 use crate::parse::{BinOp, Expr, SystemDef};
 use crate::sym::{Engine, ExprId, Fun, ONE, Rational, SymId, ZERO};
 use proc_macro2::{Ident, Span};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// The functions of the input language.
 pub const FUNCTIONS: [&str; 6] = ["sin", "cos", "tan", "exp", "ln", "sqrt"];
@@ -180,8 +180,8 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     }
 
     // declarations: duplicates, shadowing and reserved words
-    let mut scope: HashMap<String, Binding> = HashMap::new();
-    let mut declared: HashMap<String, (&'static str, Span)> = HashMap::new();
+    let mut scope: HashMap<String, Binding> = HashMap::default();
+    let mut declared: HashMap<String, (&'static str, Span)> = HashMap::default();
     let mut poisoned: Vec<String> = def.poisoned.iter().map(|p| p.to_string()).collect();
     let mut declare = |cx: &mut Ctxt, id: &Ident, kind: &'static str| -> bool {
         let s = id.to_string();

@@ -5,7 +5,7 @@
 
 use crate::lower::Model;
 use crate::sym::{ExprId, SymId, ZERO};
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 /// The pieces of the multiplier route, with the full velocity vector q̇
 /// symbolic (dependent velocities are evaluated numerically first).
@@ -26,6 +26,8 @@ pub struct CurvatureRoute {
     pub rhs: Vec<ExprId>,
     /// r̈ solved symbolically, when that is cheaper than solving numerically.
     pub solution: Option<Vec<ExprId>>,
+    /// Whether `rhs` was derived (see [`Model::reduced_mass_only`]).
+    pub rhs_derived: bool,
 }
 
 impl Model {
@@ -150,12 +152,27 @@ impl Model {
     /// The curvature route (5.12)–(5.20): Lc, its reduced mass matrix and the
     /// right side with the curvature term and projected forces.
     pub fn curvature_route(&mut self, curvature: &[Vec<Vec<ExprId>>]) -> CurvatureRoute {
+        self.curvature_route_parts(curvature, true)
+    }
+
+    /// The curvature route's reduced mass matrix alone (the right side left
+    /// zero, `rhs_derived` false): what the singularity check needs when the
+    /// route itself is not derived.
+    pub fn reduced_mass_only(&mut self, curvature: &[Vec<Vec<ExprId>>]) -> CurvatureRoute {
+        self.curvature_route_parts(curvature, false)
+    }
+
+    fn curvature_route_parts(
+        &mut self,
+        curvature: &[Vec<Vec<ExprId>>],
+        with_rhs: bool,
+    ) -> CurvatureRoute {
         let (n, k) = (self.n(), self.k());
         let map = self.constrained_velocities();
         let qdot_c = self.constrained_qdot();
         let l = self.lagrangian;
         let e = &mut self.engine;
-        let mut memo = HashMap::new();
+        let mut memo = HashMap::default();
         let lc = e.subst(l, &map, &mut memo); // (5.12)
         let r_vel: Vec<SymId> = self.independent.iter().map(|&i| self.vel_syms[i]).collect();
         let pc: Vec<ExprId> = r_vel.iter().map(|&v| e.diff(lc, v)).collect();
@@ -177,6 +194,14 @@ impl Model {
             })
             .collect();
         let mut rhs = Vec::with_capacity(k);
+        if !with_rhs {
+            return CurvatureRoute {
+                mass,
+                rhs: vec![ZERO; k],
+                solution: None,
+                rhs_derived: false,
+            };
+        }
         for al in 0..k {
             let mut lhs = Vec::new();
             // velocity part of d/dt ∂Lc/∂ṙ_α
@@ -225,6 +250,7 @@ impl Model {
             mass,
             rhs,
             solution: None,
+            rhs_derived: true,
         }
     }
 
@@ -305,7 +331,7 @@ impl Model {
         }
         parts.push(e.neg(l));
         let en = e.sum(&parts);
-        let mut memo = HashMap::new();
+        let mut memo = HashMap::default();
         e.subst(en, &map, &mut memo)
     }
 }

@@ -24,7 +24,7 @@
 pub mod dd;
 pub mod rational;
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 pub use rational::Rational;
 
@@ -105,6 +105,11 @@ pub struct Engine {
     memo_diff: HashMap<(ExprId, SymId), ExprId>,
     overflow: bool,
     work: usize,
+    /// Products of sums up to this many term products are expanded
+    /// ([`EXPAND_LIMIT`] by default; see [`Engine::set_expansion_limits`]).
+    expand_limit: usize,
+    /// Sums longer than this become atoms in kept products ([`ATOM_MIN`]).
+    atom_min: usize,
     /// Counts of work done, for statistics and tests of what is derived.
     pub counters: Counters,
 }
@@ -148,7 +153,11 @@ pub const ATOM_MIN: usize = 8;
 impl Engine {
     /// A fresh engine with `0` and `1` interned.
     pub fn new() -> Engine {
-        let mut e = Engine::default();
+        let mut e = Engine {
+            expand_limit: EXPAND_LIMIT,
+            atom_min: ATOM_MIN,
+            ..Engine::default()
+        };
         let one = e.intern_mono(Vec::new());
         debug_assert_eq!(one, MONO_ONE);
         let z = e.intern_expr(Vec::new());
@@ -161,6 +170,16 @@ impl Engine {
     /// [`MAX_TERMS`]; results are then meaningless.
     pub fn overflowed(&self) -> bool {
         self.overflow
+    }
+
+    /// Sets how far products of sums are expanded: products of up to
+    /// `expand` term pairs are expanded (so that the canonical form can cancel
+    /// them), longer ones kept as products of atoms, with sums of more than
+    /// `atom_min` terms as single atoms. Large systems use low limits: their
+    /// expanded products swell, and their closed forms do not pay.
+    pub fn set_expansion_limits(&mut self, expand: usize, atom_min: usize) {
+        self.expand_limit = expand.max(1);
+        self.atom_min = atom_min.max(1);
     }
 
     /// Declares a new symbol.
@@ -407,7 +426,14 @@ impl Engine {
             return ZERO;
         }
         let (la, lb) = (self.exprs[a as usize].len(), self.exprs[b as usize].len());
-        if la >= 2 && lb >= 2 && la.saturating_mul(lb) > EXPAND_LIMIT {
+        // kept: at least one factor becomes an atom (longer than `atom_min`), so
+        // the product of the parts is a monomial times a sum and cannot come
+        // back here
+        if la >= 2
+            && lb >= 2
+            && la.max(lb) > self.atom_min
+            && la.saturating_mul(lb) > self.expand_limit
+        {
             let r = self.kept_product(a, b);
             self.memo_mul.insert(key, r);
             return r;
@@ -471,7 +497,7 @@ impl Engine {
     /// longer than [`ATOM_MIN`] terms, else the sum itself (distributed over
     /// the other factor, which is then an atom).
     fn kept_factor(&mut self, s: ExprId) -> ExprId {
-        if self.exprs[s as usize].len() <= ATOM_MIN {
+        if self.exprs[s as usize].len() <= self.atom_min {
             return s;
         }
         let x = self.intern_atom(Atom::Base(s));
@@ -483,13 +509,13 @@ impl Engine {
     /// expansion would exceed [`EXPAND_LIMIT`] products of terms.
     fn power_is_kept(&self, s: ExprId, k: i64) -> bool {
         let len = self.exprs[s as usize].len();
-        if len > ATOM_MIN {
+        if len > self.atom_min {
             return true;
         }
         let mut size: usize = 1;
         for _ in 0..k.clamp(0, 64) {
             size = size.saturating_mul(len);
-            if size > EXPAND_LIMIT {
+            if size > self.expand_limit {
                 return true;
             }
         }
@@ -1009,7 +1035,7 @@ impl Engine {
     /// grow additively: d/dx of a_(n+1) = a_n + sin(a_n)/2 is then
     /// a_n' + cos(a_n)/2 · [a_n'] with [a_n'] one atom, not 2ⁿ terms.
     fn chain_rule_product(&mut self, outer: ExprId, inner: ExprId) -> ExprId {
-        if self.exprs[inner as usize].len() <= ATOM_MIN || self.as_constant(outer).is_some() {
+        if self.exprs[inner as usize].len() <= self.atom_min || self.as_constant(outer).is_some() {
             return self.mul(outer, inner);
         }
         let (g, rest) = self.content(inner).unwrap_or((ONE, inner));
@@ -1099,7 +1125,7 @@ impl Engine {
 
     /// Evaluates `e` in `f64` with `vals[s]` the value of symbol `s`.
     pub fn eval(&self, e: ExprId, vals: &[f64]) -> f64 {
-        let mut memo = HashMap::new();
+        let mut memo = HashMap::default();
         self.eval_memo(e, vals, &mut memo)
     }
 
@@ -1141,7 +1167,7 @@ impl Engine {
     /// Evaluates `e` and the sum of the absolute values of its terms (the
     /// scale against which cancellation to zero is judged).
     pub fn eval_with_scale(&self, e: ExprId, vals: &[f64]) -> (f64, f64) {
-        let mut memo = HashMap::new();
+        let mut memo = HashMap::default();
         let mut value = 0.0;
         let mut scale = 0.0;
         for &(m, c) in &self.exprs[e as usize] {
@@ -1156,7 +1182,7 @@ impl Engine {
     /// sum of the absolute values of its terms, as
     /// [`Engine::eval_with_scale`]; `vals[s]` is the value of symbol `s`.
     pub fn eval_with_scale_dd(&self, e: ExprId, vals: &[dd::Dd]) -> (dd::Dd, dd::Dd) {
-        let mut memo = HashMap::new();
+        let mut memo = HashMap::default();
         let mut value = dd::Dd::ZERO;
         let mut scale = dd::Dd::ZERO;
         for &(m, c) in &self.exprs[e as usize] {
