@@ -14,15 +14,26 @@ use proc_macro::TokenStream;
 /// the route chosen) to standard error.
 #[proc_macro]
 pub fn nonholonomic_system(input: TokenStream) -> TokenStream {
+    nh_core::emit::with_text_parser(compiler_lexer, || expand(input))
+}
+
+/// Generated text lexed by the compiler directly (see
+/// `nh_core::emit::with_text_parser`).
+fn compiler_lexer(text: &str) -> Option<proc_macro2::TokenStream> {
+    text.parse::<TokenStream>().ok().map(Into::into)
+}
+
+fn expand(input: TokenStream) -> TokenStream {
+    if std::env::var_os("NH_STATS").is_none_or(|v| v != "1") {
+        return nh_core::expand(input.into()).into();
+    }
     let start = std::time::Instant::now();
     let (out, stats) = nh_core::expand_with_stats(input.into());
-    if std::env::var_os("NH_STATS").is_some_and(|v| v == "1") {
-        eprintln!(
-            "nonholonomic_system! {}: expanded in {:.2} ms; {}",
-            stats.name,
-            start.elapsed().as_secs_f64() * 1e3,
-            stats.summary()
-        );
-    }
+    eprintln!(
+        "nonholonomic_system! {}: expanded in {:.2} ms; {}",
+        stats.name,
+        start.elapsed().as_secs_f64() * 1e3,
+        stats.summary()
+    );
     out.into()
 }

@@ -370,6 +370,13 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
             #new_fn
             #cache_methods
 
+            /// A constant of the generated code as `T`.
+            #[doc(hidden)]
+            #[inline(always)]
+            fn __nh_c(x: f64) -> T {
+                ::nonholonomic::__private::nalgebra::convert::<f64, T>(x)
+            }
+
             #methods
         }
 

@@ -11,7 +11,7 @@
 //! and `cos` of one angle become one `sin_cos` call.
 
 use crate::sym::{Atom, AtomId, Engine, ExprId, Fun, Rational, SymId};
-use proc_macro2::{Ident, Span, TokenStream};
+use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
@@ -697,16 +697,103 @@ impl Dag {
 
     /// Like [`Dag::emit`], with the nodes of `given` taken from the given
     /// tokens instead of computed (hoisted values read from a cache).
+    ///
+    /// The statements are written as text and parsed once: building them
+    /// token by token costs most of an expansion in an unoptimised proc
+    /// macro (users' crates build proc macros without optimisation), while
+    /// the compiler's own lexer reads the text at full speed. Every name is
+    /// generated (`v12`, leaf names, `__nh_` helpers), so nothing the text
+    /// holds needs a span of its own.
     pub fn emit_with(
         &self,
         outputs: &[Node],
         given: &HashMap<Node, TokenStream>,
     ) -> (TokenStream, Vec<TokenStream>) {
+        let (text, outs) = self.emit_text(outputs, given);
+        let stmts = parse_text(&text);
+        let outs = outs.iter().map(|t| parse_text(t)).collect();
+        (stmts, outs)
+    }
+
+    /// The statements of [`Dag::emit_with`] as text, with the names of the
+    /// outputs.
+    pub fn emit_text(
+        &self,
+        outputs: &[Node],
+        given: &HashMap<Node, TokenStream>,
+    ) -> (String, Vec<String>) {
         let live = self.live_until(outputs, given);
-        let live_set: HashSet<Node> = live.iter().copied().collect();
-        // sin and cos of one angle: one sin_cos call
-        let mut pair_of: HashMap<Node, (Node, Node)> = HashMap::default();
+        let pair_of = self.sin_cos_pairs(&live, given);
+        // Small functions: one `let` per value. Large ones: one stack array,
+        // since thousands of nested `let` scopes overflow rustc's stack when
+        // it emits debug information (seen at ~3,000).
+        let array = live.len() > MAX_LETS;
+        let slot: HashMap<Node, usize> = live.iter().enumerate().map(|(i, &n)| (n, i)).collect();
+        let name = |n: Node| -> String {
+            if array {
+                return format!("vals[{}]", slot.get(&n).copied().unwrap_or(0));
+            }
+            match &self.ops[n as usize] {
+                Op::Leaf(i) if self.leaves[*i].1.is_some() => {
+                    self.leaves[*i].1.clone().unwrap_or_default()
+                }
+                _ => format!("v{n}"),
+            }
+        };
+        let mut text = String::with_capacity(live.len() * 32);
+        if array {
+            let len = live.len();
+            text.push_str(&format!("let mut vals: [T; {len}] = [T::zero(); {len}];\n"));
+        }
+        let mut done: HashSet<Node> = HashSet::default();
         for &n in &live {
+            if done.contains(&n) {
+                continue;
+            }
+            if let Some(&(s, c)) = pair_of.get(&n) {
+                let (sv, cv) = (name(s), name(c));
+                let Op::Call(_, a) = self.ops[s as usize] else {
+                    continue;
+                };
+                let a = name(a);
+                if array {
+                    text.push_str(&format!(
+                        "{{ let (s, c): (T, T) = {a}.sin_cos(); {sv} = s; {cv} = c; }}\n"
+                    ));
+                } else {
+                    self.label_text(s, &mut text);
+                    self.label_text(c, &mut text);
+                    text.push_str(&format!("let ({sv}, {cv}): (T, T) = {a}.sin_cos();\n"));
+                }
+                done.insert(s);
+                done.insert(c);
+                continue;
+            }
+            let rhs = match given.get(&n) {
+                Some(tokens) => tokens.to_string(),
+                None => self.op_text(n, &name),
+            };
+            let v = name(n);
+            if array {
+                text.push_str(&format!("{v} = {rhs};\n"));
+            } else {
+                self.label_text(n, &mut text);
+                text.push_str(&format!("let {v}: T = {rhs};\n"));
+            }
+        }
+        let outs = outputs.iter().map(|&n| name(n)).collect();
+        (text, outs)
+    }
+
+    /// sin and cos of one angle, both live: computed by one `sin_cos` call.
+    fn sin_cos_pairs(
+        &self,
+        live: &[Node],
+        given: &HashMap<Node, TokenStream>,
+    ) -> HashMap<Node, (Node, Node)> {
+        let live_set: HashSet<Node> = live.iter().copied().collect();
+        let mut pair_of: HashMap<Node, (Node, Node)> = HashMap::default();
+        for &n in live {
             if let Op::Call(Fun::Sin, a) = self.ops[n as usize]
                 && let Some(&c) = self.ix.get(&Op::Call(Fun::Cos, a))
                 && live_set.contains(&c)
@@ -717,127 +804,92 @@ impl Dag {
                 pair_of.insert(c, (n, c));
             }
         }
-        // Small functions: one `let` per value. Large ones: one stack array,
-        // since thousands of nested `let` scopes overflow rustc's stack when
-        // it emits debug information (seen at ~3,000).
-        let array = live.len() > MAX_LETS;
-        let slot: HashMap<Node, usize> = live.iter().enumerate().map(|(i, &n)| (n, i)).collect();
-        let name = |n: Node| -> TokenStream {
-            if array {
-                let i = slot.get(&n).copied().unwrap_or(0);
-                return quote!(vals[#i]);
-            }
-            let id = match &self.ops[n as usize] {
-                Op::Leaf(i) if self.leaves[*i].1.is_some() => Ident::new(
-                    self.leaves[*i].1.as_deref().unwrap_or("leaf"),
-                    Span::call_site(),
-                ),
-                _ => Ident::new(&format!("v{n}"), Span::call_site()),
-            };
-            quote!(#id)
-        };
-        // Labels become string statements (free at run time, visible under
-        // `cargo expand`).
-        let doc = |n: Node| -> TokenStream {
-            match self.labels.get(&n) {
-                Some(text) if !array => quote!(let _ = #text;),
-                _ => quote!(),
-            }
-        };
-        let mut stmts = TokenStream::new();
-        if array {
-            let len = live.len();
-            stmts.extend(quote!(let mut vals: [T; #len] = [T::zero(); #len];));
-        }
-        let mut done: HashSet<Node> = HashSet::default();
-        for &n in &live {
-            if done.contains(&n) {
-                continue;
-            }
-            let v = name(n);
-            if let Some(&(s, c)) = pair_of.get(&n) {
-                let (sv, cv) = (name(s), name(c));
-                let a = match self.ops[s as usize] {
-                    Op::Call(_, a) => name(a),
-                    _ => continue,
-                };
-                let (ds, dc) = (doc(s), doc(c));
-                if array {
-                    stmts.extend(quote!({ let (s, c): (T, T) = #a.sin_cos(); #sv = s; #cv = c; }));
-                } else {
-                    stmts.extend(quote!(#ds #dc let (#sv, #cv): (T, T) = #a.sin_cos();));
-                }
-                done.insert(s);
-                done.insert(c);
-                continue;
-            }
-            let bin = |a: &Node, b: &Node| (name(*a), name(*b));
-            let rhs = match &self.ops[n as usize] {
-                _ if given.contains_key(&n) => given[&n].clone(),
-                Op::Const(q) => const_tokens(*q),
-                Op::Pi => quote!(T::pi()),
-                Op::Leaf(i) => self.leaves[*i].0.clone(),
-                Op::Add(a, b) => {
-                    let (a, b) = bin(a, b);
-                    quote!(#a + #b)
-                }
-                Op::Sub(a, b) => {
-                    let (a, b) = bin(a, b);
-                    quote!(#a - #b)
-                }
-                Op::Mul(a, b) => {
-                    let (a, b) = bin(a, b);
-                    quote!(#a * #b)
-                }
-                Op::Div(a, b) => {
-                    let (a, b) = bin(a, b);
-                    quote!(#a / #b)
-                }
-                Op::Neg(a) => {
-                    let a = name(*a);
-                    quote!(-#a)
-                }
-                Op::Call(f, a) => {
-                    let a = name(*a);
-                    let m = format_ident!("{}", f.name());
-                    quote!(#a.#m())
-                }
-                Op::Sqrt(a) => {
-                    let a = name(*a);
-                    quote!(#a.sqrt())
-                }
-                Op::Powi(a, k) => powi_tokens(&name(*a), *k),
-                Op::Powf(a, b) => {
-                    let (a, b) = bin(a, b);
-                    quote!(#a.powf(#b))
-                }
-            };
-            if array {
-                stmts.extend(quote!(#v = #rhs;));
-            } else {
-                let d = doc(n);
-                stmts.extend(quote!(#d let #v: T = #rhs;));
-            }
-        }
-        let outs = outputs.iter().map(|&n| name(n)).collect();
-        (stmts, outs)
+        pair_of
     }
+
+    /// A label as a string statement (free at run time, visible under
+    /// `cargo expand`).
+    fn label_text(&self, n: Node, text: &mut String) {
+        if let Some(label) = self.labels.get(&n) {
+            let escaped = label.replace('\\', "\\\\").replace('"', "\\\"");
+            text.push_str(&format!("let _ = \"{escaped}\";\n"));
+        }
+    }
+
+    /// The right side computing node `n`, as text.
+    fn op_text(&self, n: Node, name: &dyn Fn(Node) -> String) -> String {
+        match &self.ops[n as usize] {
+            Op::Const(q) => const_text(*q),
+            Op::Pi => "T::pi()".into(),
+            Op::Leaf(i) => self.leaves[*i].0.to_string(),
+            Op::Add(a, b) => format!("{} + {}", name(*a), name(*b)),
+            Op::Sub(a, b) => format!("{} - {}", name(*a), name(*b)),
+            Op::Mul(a, b) => format!("{} * {}", name(*a), name(*b)),
+            Op::Div(a, b) => format!("{} / {}", name(*a), name(*b)),
+            Op::Neg(a) => format!("-{}", name(*a)),
+            Op::Call(f, a) => format!("{}.{}()", name(*a), f.name()),
+            Op::Sqrt(a) => format!("{}.sqrt()", name(*a)),
+            Op::Powi(a, k) => powi_text(&name(*a), *k),
+            Op::Powf(a, b) => format!("{}.powf({})", name(*a), name(*b)),
+        }
+    }
+}
+
+/// A parser of generated text into tokens, supplied by the proc-macro crate
+/// for the duration of one expansion (see [`with_text_parser`]).
+pub type TextParser = fn(&str) -> Option<TokenStream>;
+
+thread_local! {
+    static TEXT_PARSER: std::cell::Cell<Option<TextParser>> = const { std::cell::Cell::new(None) };
+}
+
+/// Runs `f` with generated text parsed by `parser`. Inside the compiler the
+/// proc-macro crate passes the compiler's own lexer: `proc_macro2` would
+/// first lex the text again with its own lexer to validate it, which in an
+/// unoptimised proc macro costs more than the rest of an expansion. The text
+/// is generated (names, numbers, operators), so it is valid by construction.
+pub fn with_text_parser<R>(parser: TextParser, f: impl FnOnce() -> R) -> R {
+    let previous = TEXT_PARSER.with(|p| p.replace(Some(parser)));
+    let r = f();
+    TEXT_PARSER.with(|p| p.set(previous));
+    r
+}
+
+/// Parses generated text (with the compiler's lexer when one was supplied).
+pub fn parse_text(text: &str) -> TokenStream {
+    let parsed = match TEXT_PARSER.with(|p| p.get()) {
+        Some(parser) => parser(text),
+        None => text.parse().ok(),
+    };
+    parsed.unwrap_or_else(|| {
+        let msg = "nonholonomic_system!: internal error: generated code does not lex";
+        quote!(::core::compile_error!(#msg);)
+    })
 }
 
 /// Most values a generated function holds in separate `let`s; beyond, they
 /// live in one array.
 pub const MAX_LETS: usize = 1500;
 
-fn powi_tokens(a: &TokenStream, k: u32) -> TokenStream {
+fn powi_text(a: &str, k: u32) -> String {
     match k {
-        2 => quote!(#a * #a),
-        3 => quote!(#a * #a * #a),
-        4 => quote!({ let sq = #a * #a; sq * sq }),
-        _ => {
-            let k = k as i32;
-            quote!(#a.powi(#k))
-        }
+        2 => format!("{a} * {a}"),
+        3 => format!("{a} * {a} * {a}"),
+        4 => format!("{{ let sq = {a} * {a}; sq * sq }}"),
+        _ => format!("{a}.powi({})", k as i32),
     }
+}
+
+/// Text converting a rational constant to `T` (through the generated
+/// `__nh_c`, which names the facade's nalgebra).
+fn const_text(q: Rational) -> String {
+    if q.is_zero() {
+        return "T::zero()".into();
+    }
+    if q.is_one() {
+        return "T::one()".into();
+    }
+    format!("Self::__nh_c({:?}f64)", q.to_f64())
 }
 
 /// Tokens converting a rational constant to `T`.

@@ -341,6 +341,9 @@ struct Derived<'a> {
     hoist_blocks: Vec<TokenStream>,
     hoist_len: usize,
     hoist_seen: rustc_hash::FxHashMap<String, usize>,
+    /// The graph of r̈ by the chosen route (from the comparison of routes),
+    /// until `accelerations` emits it.
+    chosen: Option<(Dag, Vec<Node>)>,
 }
 
 impl Derived<'_> {
@@ -358,25 +361,19 @@ impl Derived<'_> {
         if hoisted.is_empty() {
             return d.emit(outs);
         }
-        let (hstmts, houts) = d.emit(&hoisted);
+        let (htext, houts) = d.emit_text(&hoisted, &rustc_hash::FxHashMap::default());
         // methods that hoist the same values share their cache slots
-        let key = format!(
-            "{hstmts} => {}",
-            houts
-                .iter()
-                .map(|h| h.to_string())
-                .collect::<Vec<_>>()
-                .join(",")
-        );
+        let key = format!("{htext} => {}", houts.join(","));
         let base = match self.hoist_seen.get(&key) {
             Some(&base) => base,
             None => {
                 let base = self.hoist_len;
-                let sets = houts.iter().enumerate().map(|(j, v)| {
-                    let i = base + j;
-                    quote!(c[#i] = #v;)
-                });
-                self.hoist_blocks.push(quote!({ #hstmts #(#sets)* }));
+                let mut block = htext;
+                for (j, v) in houts.iter().enumerate() {
+                    block.push_str(&format!("c[{}] = {v};\n", base + j));
+                }
+                let hstmts = crate::emit::parse_text(&block);
+                self.hoist_blocks.push(quote!({ #hstmts }));
                 self.hoist_len += hoisted.len();
                 self.hoist_seen.insert(key, base);
                 base
@@ -403,8 +400,16 @@ impl Derived<'_> {
 
     fn accelerations(&mut self, route: Route, doc: String) -> Method {
         let (n, k) = (self.m.n(), self.m.k());
-        let mut d = bound_dag(self.m, &Args::vectors(n, k));
-        let rdd = self.acc_nodes(&mut d, route);
+        // the chosen route's graph, built once when the routes were compared
+        let (d, rdd) = match self.chosen.take() {
+            Some(g) if route == self.route => g,
+            other => {
+                self.chosen = other;
+                let mut d = bound_dag(self.m, &Args::vectors(n, k));
+                let rdd = self.acc_nodes(&mut d, route);
+                (d, rdd)
+            }
+        };
         let (stmts, o) = self.emit_hoisted(&d, &rdd);
         let ret = vector_expr(k, &o);
         Method {
@@ -926,8 +931,9 @@ impl Bodies for Derived<'_> {
                     body: quote! { let _ = (t, x); #u #stmts (#dd::from_row_slice(&[#(#ao),*]), #du::from_row_slice(&[#(#bo),*])) },
                 }
             }
-            // "rhs" of a large system: q̇ and r̈ from their methods
-            _ if self.is_large() => {
+            // "rhs": q̇ and r̈ from their methods, inlined (one copy of the
+            // code; measured as fast as a fused body)
+            _ => {
                 let u = self.u_forward();
                 let ret = vector_expr(n + k, &{
                     let mut v: Vec<TokenStream> = Vec::with_capacity(n + k);
@@ -953,38 +959,6 @@ impl Bodies for Derived<'_> {
                         let __nh_rdd = self.accelerations(t, &__nh_q, &__nh_rdot #u);
                         #ret
                     },
-                }
-            }
-            // "rhs": the first-order system for the runtime
-            _ => {
-                let args_x = Args::state(n, k);
-                let mut d = bound_dag(self.m, &args_x);
-                let rdd = self.acc_nodes(&mut d, self.route);
-                let mut outs = Vec::with_capacity(n + k);
-                for i in 0..n {
-                    let node = match self.m.independent.iter().position(|&r| r == i) {
-                        Some(j) => d.leaf_named(
-                            args_x.rvel[j].clone(),
-                            &format!("dot_{}", syn::ext::IdentExt::unraw(&self.m.coords[i])),
-                        ),
-                        None => {
-                            let a = self.m.dependent.iter().position(|&s| s == i).unwrap_or(0);
-                            d.expr(&self.m.engine, self.m.dependent_velocity[a])
-                        }
-                    };
-                    outs.push(node);
-                }
-                outs.extend(rdd);
-                let (stmts, o) = self.emit_hoisted(&d, &outs);
-                let ret = vector_expr(n + k, &o);
-                let u = if self.m.inputs.is_empty() {
-                    quote!()
-                } else {
-                    quote!(let _ = u;)
-                };
-                Method {
-                    doc: "ẋ for the state x = [q, ṙ]: ẋ = [q̇(q, ṙ), r̈], with the dependent velocities from the constraints.".into(),
-                    body: quote! { let _ = (t, x); #u #stmts #ret },
                 }
             }
         }
@@ -1193,6 +1167,10 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         Route::Multiplier
     };
     stats.route = Some(route);
+    let chosen = match route {
+        Route::Multiplier => (d1, mn.rdd),
+        Route::Curvature => (d2, rdd2),
+    };
 
     let mut shape = shape_of(def);
     shape.integrable = integrable;
@@ -1208,6 +1186,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         hoist_blocks: Vec::new(),
         hoist_len: 0,
         hoist_seen: rustc_hash::FxHashMap::default(),
+        chosen: Some(chosen),
     };
     let mut tokens = crate::api::expand(&shape, &mut bodies);
     if integrable && m.p() > 0 {
@@ -1219,7 +1198,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     }
     stats.graph_size = m.engine.num_exprs();
     stats.derivatives = m.engine.counters.derivatives;
-    stats.lines = count_lines(&tokens);
+
     (tokens, stats)
 }
 
@@ -1303,7 +1282,7 @@ fn integrability_warning(def: &SystemDef, span: proc_macro2::Span, proved: bool)
 
 /// Lines of code the way a pretty-printer lays them out: one per statement,
 /// item, attribute and brace.
-fn count_lines(tokens: &TokenStream) -> usize {
+pub fn count_lines(tokens: &TokenStream) -> usize {
     let mut lines = 0;
     for tt in tokens.clone() {
         match tt {

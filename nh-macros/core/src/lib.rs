@@ -22,12 +22,18 @@ use quote::quote;
 
 /// Expands a `nonholonomic_system!` invocation.
 pub fn expand(input: TokenStream) -> TokenStream {
-    expand_with_stats(input).0
+    expand_derivation(input).0
 }
 
 /// Expands and reports figures about the expansion (operation counts, the
-/// route chosen, what was derived).
+/// route chosen, what was derived, the lines generated).
 pub fn expand_with_stats(input: TokenStream) -> (TokenStream, generate::Stats) {
+    let (out, mut stats) = expand_derivation(input);
+    stats.lines = generate::count_lines(&out);
+    (out, stats)
+}
+
+fn expand_derivation(input: TokenStream) -> (TokenStream, generate::Stats) {
     let mut cx = ctxt::Ctxt::new();
     let def = parse::parse_system(input, &mut cx);
     let mut out = TokenStream::new();
