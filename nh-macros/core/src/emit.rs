@@ -725,14 +725,16 @@ impl Dag {
         let name = |n: Node| -> TokenStream {
             if array {
                 let i = slot.get(&n).copied().unwrap_or(0);
-                return quote!(vals[#i]);
+                return quote!(__nh_vals[#i]);
             }
             let id = match &self.ops[n as usize] {
+                // `__nh_`: out of the way of the user's constants (a `let`
+                // pattern naming a constant would match it instead of binding)
                 Op::Leaf(i) if self.leaves[*i].1.is_some() => Ident::new(
-                    self.leaves[*i].1.as_deref().unwrap_or("leaf"),
+                    &format!("__nh_{}", self.leaves[*i].1.as_deref().unwrap_or("leaf")),
                     Span::call_site(),
                 ),
-                _ => Ident::new(&format!("v{n}"), Span::call_site()),
+                _ => Ident::new(&format!("__nh_v{n}"), Span::call_site()),
             };
             quote!(#id)
         };
@@ -747,7 +749,7 @@ impl Dag {
         let mut stmts = TokenStream::new();
         if array {
             let len = live.len();
-            stmts.extend(quote!(let mut vals: [T; #len] = [T::zero(); #len];));
+            stmts.extend(quote!(let mut __nh_vals: [T; #len] = [T::zero(); #len];));
         }
         let mut done: HashSet<Node> = HashSet::new();
         for &n in &live {
@@ -763,7 +765,7 @@ impl Dag {
                 };
                 let (ds, dc) = (doc(s), doc(c));
                 if array {
-                    stmts.extend(quote!({ let (s, c): (T, T) = #a.sin_cos(); #sv = s; #cv = c; }));
+                    stmts.extend(quote!({ let (__nh_sin, __nh_cos): (T, T) = #a.sin_cos(); #sv = __nh_sin; #cv = __nh_cos; }));
                 } else {
                     stmts.extend(quote!(#ds #dc let (#sv, #cv): (T, T) = #a.sin_cos();));
                 }
@@ -832,7 +834,7 @@ fn powi_tokens(a: &TokenStream, k: u32) -> TokenStream {
     match k {
         2 => quote!(#a * #a),
         3 => quote!(#a * #a * #a),
-        4 => quote!({ let sq = #a * #a; sq * sq }),
+        4 => quote!({ let __nh_sq = #a * #a; __nh_sq * __nh_sq }),
         _ => {
             let k = k as i32;
             quote!(#a.powi(#k))
@@ -850,7 +852,7 @@ pub fn const_tokens(q: Rational) -> TokenStream {
     }
     let v = q.to_f64();
     let lit = proc_macro2::Literal::f64_suffixed(v);
-    quote!(::nonholonomic::__private::nalgebra::convert::<f64, T>(#lit))
+    quote!(__nh_private::nalgebra::convert::<::core::primitive::f64, T>(#lit))
 }
 
 #[cfg(test)]
