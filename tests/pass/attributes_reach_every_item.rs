@@ -2,7 +2,8 @@
 //! for it reach every generated item: under `#[cfg(any())]` the system
 //! vanishes entirely (the unit struct of the same name below would otherwise
 //! receive its impls and fail), under `#[cfg(all())]` it is there, and a lint
-//! level set on the struct holds for the impls too. Other derives pass through.
+//! level set on the struct holds for the impls too (also under `cfg_attr`).
+//! Other derives pass through, also under `cfg_attr`.
 #![deny(dead_code)]
 use nonholonomic::prelude::*;
 
@@ -21,7 +22,7 @@ pub struct Gone;
 
 nonholonomic_system! {
     #[cfg(all())]
-    #[derive(PartialOrd)]
+    #[cfg_attr(all(), derive(PartialOrd))]
     pub struct Here {
         parameters { m, k }
         coordinates { x }
@@ -37,6 +38,16 @@ nonholonomic_system! {
         coordinates { x, y, z }
         lagrangian = m/2*(dot(x)^2 + dot(y)^2 + dot(z)^2) - m*z;
         constraints { dot(y) = z*dot(x); }
+    }
+}
+
+nonholonomic_system! {
+    /// Never used either: a lint level under `cfg_attr` reaches the methods too.
+    #[cfg_attr(all(), allow(dead_code))]
+    struct AlsoUnused {
+        parameters { k }
+        coordinates { x }
+        lagrangian = dot(x)^2/2 - k*x^2/2;
     }
 }
 

@@ -41,16 +41,48 @@ fn split(attr: &TokenStream) -> Option<(String, TokenStream)> {
 pub fn inherited(attrs: &[TokenStream]) -> Vec<TokenStream> {
     attrs
         .iter()
-        .filter(|a| {
-            split(a).is_some_and(|(name, _)| {
-                matches!(
-                    name.as_str(),
-                    "cfg" | "cfg_attr" | "allow" | "warn" | "deny" | "forbid"
-                )
-            })
-        })
+        .filter(|a| applies_to_every_item(a))
         .cloned()
         .collect()
+}
+
+/// `#[cfg]` and the lint attributes; `#[cfg_attr(pred, ..)]` when every
+/// attribute it adds is one of those (a `cfg_attr` that adds a derive or a
+/// serde attribute stays on the struct: a `const` item would reject it).
+fn applies_to_every_item(attr: &TokenStream) -> bool {
+    let Some((name, rest)) = split(attr) else {
+        return false;
+    };
+    match name.as_str() {
+        "cfg" | "allow" | "warn" | "deny" | "forbid" => true,
+        "cfg_attr" => {
+            let Some(TokenTree::Group(args)) = rest.into_iter().next() else {
+                return false;
+            };
+            // the predicate, then the attributes, separated by top-level commas
+            let mut parts: Vec<TokenStream> = vec![TokenStream::new()];
+            for tt in args.stream() {
+                match &tt {
+                    TokenTree::Punct(p) if p.as_char() == ',' => parts.push(TokenStream::new()),
+                    _ => {
+                        if let Some(last) = parts.last_mut() {
+                            last.extend([tt.clone()]);
+                        }
+                    }
+                }
+            }
+            parts.len() >= 2
+                && parts[1..].iter().filter(|p| !p.is_empty()).all(|inner| {
+                    let group = proc_macro2::Group::new(Delimiter::Bracket, inner.clone());
+                    let pound = proc_macro2::Punct::new('#', proc_macro2::Spacing::Alone);
+                    applies_to_every_item(&TokenStream::from_iter([
+                        TokenTree::Punct(pound),
+                        TokenTree::Group(group),
+                    ]))
+                })
+        }
+        _ => false,
+    }
 }
 
 /// Reports every trait in the user's `#[derive(..)]`s that the macro derives
@@ -134,9 +166,12 @@ mod tests {
             quote!(#[cfg_attr(test, allow(unused))]),
             quote!(#[allow(dead_code)]),
             quote!(#[derive(Eq)]),
+            quote!(#[cfg_attr(test, derive(Eq), allow(unused))]),
+            quote!(#[cfg_attr(test, cfg_attr(all(), deny(unused)),)]),
         ];
         let got: Vec<String> = inherited(&attrs).iter().map(|a| a.to_string()).collect();
-        assert_eq!(got.len(), 3, "{got:?}");
+        assert_eq!(got.len(), 4, "{got:?}");
+        assert!(!got.iter().any(|a| a.contains("Eq")), "{got:?}");
     }
 
     #[test]
