@@ -1,10 +1,11 @@
 //! Attributes on the system's struct that must hold for everything generated
 //! for it reach every generated item: under `#[cfg(any())]` the system
-//! vanishes entirely (the unit struct of the same name below would otherwise
-//! receive its impls and fail), under `#[cfg(all())]` it is there, and a lint
-//! level set on the struct holds for the impls too (also under `cfg_attr`).
-//! Other derives pass through, also under `cfg_attr`.
-#![deny(dead_code)]
+//! vanishes entirely, its integrability warning included (the unit struct of
+//! the same name below would otherwise receive its impls and fail, and
+//! `deny(deprecated)` would fail on the warning); under `#[cfg(all())]` it is
+//! there; a lint level set on the struct holds for the impls too (also under
+//! `cfg_attr`). Other derives pass through, also under `cfg_attr`.
+#![deny(dead_code, deprecated)]
 use nonholonomic::prelude::*;
 
 nonholonomic_system! {
