@@ -33,10 +33,33 @@
 #![forbid(unsafe_code)]
 #![cfg_attr(not(feature = "std"), no_std)]
 
-pub use nh_macros::nonholonomic_system;
-
-// The generated code names `::nonholonomic`; this lets the crate use its own macro.
-extern crate self as nonholonomic;
+/// Derives the equations of motion of a mechanical system with linear
+/// velocity constraints at compile time: `pub struct Name { parameters { .. }
+/// coordinates { .. } lagrangian = ..; constraints { .. } }` becomes a struct
+/// `Name<T = f64>` with one public field per parameter, and its methods
+/// (`new`, `accelerations`, `dependent_velocities`, the requested outputs)
+/// and runtime trait implementation. The input language and the generated
+/// API are described in the README.
+///
+/// The struct derives `Clone`, `Copy`, `Debug` and `PartialEq` (and
+/// `Default` when it has no parameters); deriving one of them again is a
+/// compile error that says so. Other derives and attributes pass through to
+/// the struct; `#[cfg]`, `#[cfg_attr]` and lint attributes (`allow`, `warn`,
+/// `deny`, `forbid`) apply to everything generated for it.
+///
+/// This wrapper passes the path of this crate to the procedural macro, so
+/// the generated code works under a renamed dependency
+/// (`nh = { package = "nonholonomic", .. }`).
+///
+/// With the environment variable `NH_STATS=1` set while compiling, the macro
+/// prints the expansion's figures (time, operation counts of both routes,
+/// the route chosen) to standard error.
+#[macro_export]
+macro_rules! nonholonomic_system {
+    ($($system:tt)*) => {
+        $crate::__private::nonholonomic_system_impl! { @crate($crate) $($system)* }
+    };
+}
 
 pub mod systems;
 
@@ -58,6 +81,7 @@ pub mod prelude {
 #[doc(hidden)]
 pub mod __private {
     pub use nalgebra;
+    pub use nh_macros::nonholonomic_system as nonholonomic_system_impl;
     pub use nh_runtime;
 }
 

@@ -2,8 +2,6 @@
 //! written with [`nonholonomic_system!`](crate::nonholonomic_system) exactly
 //! as a user would write them.
 
-use crate::nonholonomic_system;
-
 nonholonomic_system! {
     /// The rolling disc of the thesis (Flygare 2012, section 6), as written
     /// there: centre of mass (6.12)–(6.14) (with the sign of (6.13) as (6.16)

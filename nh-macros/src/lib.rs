@@ -1,13 +1,19 @@
 //! The `nonholonomic_system!` procedural macro. This crate is a thin entry
 //! point: parsing, symbolic derivation and code emission live in `nh-core`.
 //! Use it through the `nonholonomic` facade crate, whose documentation
-//! describes the input language.
+//! describes the input language: the facade's `nonholonomic_system!` is a
+//! `macro_rules!` wrapper that calls this macro with its own path in front,
+//! `@crate($crate) ..`, so the generated code finds the facade under any
+//! name it is imported as.
 #![forbid(unsafe_code)]
 
 use proc_macro::TokenStream;
 
 /// Derives the equations of motion of a mechanical system with linear
-/// velocity constraints at compile time. See the `nonholonomic` crate.
+/// velocity constraints at compile time. See the `nonholonomic` crate, whose
+/// `nonholonomic_system!` wrapper calls this macro as
+/// `nonholonomic_system! { @crate($crate) pub struct .. }`; without the
+/// `@crate(..)` prefix the generated code names `::nonholonomic`.
 ///
 /// With the environment variable `NH_STATS=1` set while compiling, the macro
 /// prints the expansion's figures (time, operation counts of both routes,

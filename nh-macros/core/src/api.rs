@@ -3,6 +3,16 @@
 //! supplied by the caller: the derivation's straight-line code, or, for a
 //! system with errors, a stand-in that keeps the user's other code
 //! type-checking so that no follow-up errors bury the real ones.
+//!
+//! Hygiene: everything but the struct is emitted inside one anonymous
+//! `const _: () = { .. };` block, which brings the facade's private paths in
+//! as `__nh_private` (from the `$crate` the facade's wrapper passes, so a
+//! renamed dependency works) and declares a function for each argument name
+//! (`t`, `q`, `rdot`, `x`, `u` and the parameters of `new`): a user's
+//! constant, static or unit struct of that name in scope would otherwise be
+//! matched by the argument pattern instead of binding it. Every other
+//! identifier the generated code introduces (locals, temporaries, the cache)
+//! starts with `__nh_`.
 
 use crate::lower::Outputs;
 use proc_macro2::{Ident, Literal, TokenStream};
@@ -11,8 +21,10 @@ use syn::Visibility;
 
 /// Everything the signatures depend on.
 pub struct Shape<'a> {
-    /// Attributes (doc comments) for the struct.
+    /// Attributes (doc comments, cfg, lints, further derives) for the struct.
     pub attrs: &'a [TokenStream],
+    /// The path of the `nonholonomic` facade (`$crate` from its wrapper).
+    pub krate: &'a TokenStream,
     /// Visibility.
     pub vis: &'a Visibility,
     /// Struct name.
@@ -56,14 +68,20 @@ pub trait Bodies {
     fn hoisting(&mut self) -> (usize, TokenStream);
 }
 
+/// The facade's private module in generated code: a `use` in the block
+/// around the generated items brings it in under this name.
+pub fn private() -> TokenStream {
+    quote!(__nh_private)
+}
+
 /// Path of nalgebra's static vector type in generated code.
 pub fn svector(len: usize) -> TokenStream {
-    quote!(::nonholonomic::__private::nalgebra::SVector<T, #len>)
+    quote!(__nh_private::nalgebra::SVector<T, #len>)
 }
 
 /// Path of nalgebra's static matrix type in generated code.
 pub fn smatrix(r: usize, c: usize) -> TokenStream {
-    quote!(::nonholonomic::__private::nalgebra::SMatrix<T, #r, #c>)
+    quote!(__nh_private::nalgebra::SMatrix<T, #r, #c>)
 }
 
 /// Lints that do not apply to generated straight-line code.
@@ -83,7 +101,21 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     let Shape {
         attrs, vis, name, ..
     } = shape;
-    let params = &shape.params;
+    // a parameter that cannot be a field (a keyword such as `self`, or a
+    // repeated name: both already reported) gets a stand-in name, so the
+    // struct emitted next to the errors compiles and `new` keeps its arity
+    let params: &Vec<Ident> = &shape
+        .params
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            if crate::names::is_rust_identifier(p) && !shape.params[..i].contains(p) {
+                p.clone()
+            } else {
+                format_ident!("__nh_parameter_{}", i)
+            }
+        })
+        .collect();
     let (qty, rty, pty, uty, xty) = (
         svector(n),
         svector(k),
@@ -186,8 +218,8 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
         if !has_inputs {
             jacobian_impl = quote! {
                 #allow
-                impl<T: ::nonholonomic::__private::nalgebra::RealField + Copy>
-                    ::nonholonomic::__private::nh_runtime::OdeJacobian<T, #dim> for #name<T>
+                impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy>
+                    __nh_private::nh_runtime::OdeJacobian<T, #dim> for #name<T>
                 {
                     /// ∂f/∂x of the first-order system, derived symbolically (see the inherent `jacobian`).
                     #[inline]
@@ -211,8 +243,8 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     let runtime_impl = if has_inputs {
         quote! {
             #allow
-            impl<T: ::nonholonomic::__private::nalgebra::RealField + Copy>
-                ::nonholonomic::__private::nh_runtime::ControlledSystem<T, #dim, #n_in> for #name<T>
+            impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy>
+                __nh_private::nh_runtime::ControlledSystem<T, #dim, #n_in> for #name<T>
             {
                 #[doc = #rhs_doc]
                 #[inline]
@@ -224,8 +256,8 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     } else {
         quote! {
             #allow
-            impl<T: ::nonholonomic::__private::nalgebra::RealField + Copy>
-                ::nonholonomic::__private::nh_runtime::OdeSystem<T, #dim> for #name<T>
+            impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy>
+                __nh_private::nh_runtime::OdeSystem<T, #dim> for #name<T>
             {
                 #[doc = #rhs_doc]
                 #[inline]
@@ -236,12 +268,9 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
         }
     };
 
-    // argument names that cannot collide with a constant of the user's scope
-    // (an identifier pattern that names a constant would match it instead)
-    let param_args: Vec<Ident> = params
-        .iter()
-        .map(|p| format_ident!("p_{}", syn::ext::IdentExt::unraw(p)))
-        .collect();
+    // `new` takes the parameters under their own names (the block around
+    // the impls shadows any constant of those names, see below)
+    let param_args = params;
     // values that depend on parameters alone: computed when the parameters
     // are set, kept in a cache with the parameters it was computed for; a
     // method whose parameters were changed since (the fields are public)
@@ -252,26 +281,26 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
         (
             quote! {
                 #[doc(hidden)]
-                __cache: [T; #n_hoisted],
+                __nh_cache: [T; #n_hoisted],
                 #[doc(hidden)]
-                __cache_for: [T; #n_par],
+                __nh_cache_for: [T; #n_par],
             },
-            quote!(__cache: [T::zero(); #n_hoisted], __cache_for: [#(#param_args),*],),
+            quote!(__nh_cache: [T::zero(); #n_hoisted], __nh_cache_for: [#(#param_args),*],),
             quote! {
                 /// The values that depend on the parameters alone, computed once.
-                fn __compute_cache(&self) -> [T; #n_hoisted] {
-                    let mut c = [T::zero(); #n_hoisted];
+                fn __nh_compute_cache(&self) -> [T; #n_hoisted] {
+                    let mut __nh_hoisted = [T::zero(); #n_hoisted];
                     #hoist_code
-                    c
+                    __nh_hoisted
                 }
 
                 /// The cache, or the values afresh if a parameter changed since.
                 #[inline(always)]
-                fn __cached(&self) -> [T; #n_hoisted] {
-                    if self.__cache_for == [#(self.#params),*] {
-                        self.__cache
+                fn __nh_cached(&self) -> [T; #n_hoisted] {
+                    if self.__nh_cache_for == [#(self.#params),*] {
+                        self.__nh_cache
                     } else {
-                        self.__compute_cache()
+                        self.__nh_compute_cache()
                     }
                 }
             },
@@ -305,17 +334,19 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
         }
     );
     let field_docs: Vec<String> = params.iter().map(|p| format!("Parameter `{p}`.")).collect();
+    // the derives of `crate::attrs::DERIVED` (a user's derive of one of
+    // them is an error at its path, see `attrs::check_derives`)
     let (phantom_field, phantom_init, derive) = if params.is_empty() {
         (
-            quote!(#[doc(hidden)] pub __scalar: ::core::marker::PhantomData<T>,),
-            quote!(__scalar: ::core::marker::PhantomData,),
-            quote!(#[derive(Clone, Copy, Debug, PartialEq, Default)]),
+            quote!(#[doc(hidden)] pub __nh_scalar: ::core::marker::PhantomData<T>,),
+            quote!(__nh_scalar: ::core::marker::PhantomData,),
+            quote!(#[derive(::core::clone::Clone, ::core::marker::Copy, ::core::fmt::Debug, ::core::cmp::PartialEq, ::core::default::Default)]),
         )
     } else {
         (
             quote!(),
             quote!(),
-            quote!(#[derive(Clone, Copy, Debug, PartialEq)]),
+            quote!(#[derive(::core::clone::Clone, ::core::marker::Copy, ::core::fmt::Debug, ::core::cmp::PartialEq)]),
         )
     };
     let new_fn = if new_const {
@@ -329,59 +360,83 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
         quote! {
             #[doc = #new_doc]
             pub fn new(#(#param_args: T),*) -> Self {
-                let mut s = Self { #(#params: #param_args,)* #phantom_init #cache_init };
-                s.__cache = s.__compute_cache();
-                s
+                let mut __nh_new = Self { #(#params: #param_args,)* #phantom_init #cache_init };
+                __nh_new.__nh_cache = __nh_new.__nh_compute_cache();
+                __nh_new
             }
         }
     };
+    let inherited = crate::attrs::inherited(attrs);
+    let krate = shape.krate;
+    let private = private();
+    // a function for every argument name: it shadows a user's constant,
+    // static or unit struct of that name, which the argument pattern would
+    // match instead of binding (functions do not take part in patterns)
+    let mut arg_names: Vec<Ident> = ["t", "q", "rdot", "x", "u"]
+        .iter()
+        .map(|a| format_ident!("{a}"))
+        .collect();
+    for p in params {
+        if !arg_names.contains(p) {
+            arg_names.push(p.clone());
+        }
+    }
     quote! {
         #(#attrs)*
         #[allow(non_snake_case)]
         #derive
-        #vis struct #name<T = f64> {
+        #vis struct #name<T = ::core::primitive::f64> {
             #(#[doc = #field_docs] pub #params: T,)*
             #phantom_field
             #cache_fields
         }
 
-        #allow
-        impl<T: ::nonholonomic::__private::nalgebra::RealField + Copy> #name<T> {
-            /// The generalized coordinates in declared order: the coordinate order of `q` everywhere.
-            pub const COORDINATES: [&'static str; #n] = [#(#coord_names),*];
-            /// Indices in `q` of the independent coordinates r, ascending.
-            pub const INDEPENDENT: [usize; #k] = [#(#indep),*];
-            /// Indices in `q` of the dependent coordinates s (one per constraint), ascending.
-            pub const DEPENDENT: [usize; #p] = [#(#dep),*];
-            /// The inputs in declared order.
-            pub const INPUTS: [&'static str; #n_in] = [#(#input_names),*];
-            /// Number of coordinates n.
-            pub const N: usize = #n;
-            /// Number of independent coordinates k = n − p.
-            pub const K: usize = #k;
-            /// Number of constraints p.
-            pub const P: usize = #p;
-            /// Length of the runtime state x = [q, ṙ]: n + k.
-            pub const STATE_DIM: usize = #dim;
-            #[doc = #integrable_doc]
-            pub const INTEGRABLE: bool = #integrable;
-            #route_consts
+        #(#inherited)*
+        const _: () = {
+            use #krate::__private as #private;
+            #(
+                #[allow(dead_code, non_snake_case, clippy::all)]
+                fn #arg_names() {}
+            )*
 
-            #new_fn
-            #cache_methods
+            #allow
+            impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy> #name<T> {
+                /// The generalized coordinates in declared order: the coordinate order of `q` everywhere.
+                pub const COORDINATES: [&'static ::core::primitive::str; #n] = [#(#coord_names),*];
+                /// Indices in `q` of the independent coordinates r, ascending.
+                pub const INDEPENDENT: [::core::primitive::usize; #k] = [#(#indep),*];
+                /// Indices in `q` of the dependent coordinates s (one per constraint), ascending.
+                pub const DEPENDENT: [::core::primitive::usize; #p] = [#(#dep),*];
+                /// The inputs in declared order.
+                pub const INPUTS: [&'static ::core::primitive::str; #n_in] = [#(#input_names),*];
+                /// Number of coordinates n.
+                pub const N: ::core::primitive::usize = #n;
+                /// Number of independent coordinates k = n − p.
+                pub const K: ::core::primitive::usize = #k;
+                /// Number of constraints p.
+                pub const P: ::core::primitive::usize = #p;
+                /// Length of the runtime state x = [q, ṙ]: n + k.
+                pub const STATE_DIM: ::core::primitive::usize = #dim;
+                #[doc = #integrable_doc]
+                pub const INTEGRABLE: ::core::primitive::bool = #integrable;
+                #route_consts
 
-            /// A constant of the generated code as `T`.
-            #[doc(hidden)]
-            #[inline(always)]
-            fn __nh_c(x: f64) -> T {
-                ::nonholonomic::__private::nalgebra::convert::<f64, T>(x)
+                #new_fn
+                #cache_methods
+
+                /// A constant of the generated code as `T`.
+                #[doc(hidden)]
+                #[inline(always)]
+                fn __nh_c(x: ::core::primitive::f64) -> T {
+                    __nh_private::nalgebra::convert::<::core::primitive::f64, T>(x)
+                }
+
+                #methods
             }
 
-            #methods
-        }
-
-        #runtime_impl
-        #jacobian_impl
+            #runtime_impl
+            #jacobian_impl
+        };
     }
 }
 

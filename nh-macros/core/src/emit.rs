@@ -731,19 +731,23 @@ impl Dag {
         let slot: HashMap<Node, usize> = live.iter().enumerate().map(|(i, &n)| (n, i)).collect();
         let name = |n: Node| -> String {
             if array {
-                return format!("vals[{}]", slot.get(&n).copied().unwrap_or(0));
+                return format!("__nh_vals[{}]", slot.get(&n).copied().unwrap_or(0));
             }
             match &self.ops[n as usize] {
+                // `__nh_`: out of the way of the user's constants (a `let`
+                // pattern naming a constant would match it instead of binding)
                 Op::Leaf(i) if self.leaves[*i].1.is_some() => {
-                    self.leaves[*i].1.clone().unwrap_or_default()
+                    format!("__nh_{}", self.leaves[*i].1.as_deref().unwrap_or("leaf"))
                 }
-                _ => format!("v{n}"),
+                _ => format!("__nh_v{n}"),
             }
         };
         let mut text = String::with_capacity(live.len() * 32);
         if array {
             let len = live.len();
-            text.push_str(&format!("let mut vals: [T; {len}] = [T::zero(); {len}];\n"));
+            text.push_str(&format!(
+                "let mut __nh_vals: [T; {len}] = [T::zero(); {len}];\n"
+            ));
         }
         let mut done: HashSet<Node> = HashSet::default();
         for &n in &live {
@@ -758,7 +762,7 @@ impl Dag {
                 let a = name(a);
                 if array {
                     text.push_str(&format!(
-                        "{{ let (s, c): (T, T) = {a}.sin_cos(); {sv} = s; {cv} = c; }}\n"
+                        "{{ let (__nh_sin, __nh_cos): (T, T) = {a}.sin_cos(); {sv} = __nh_sin; {cv} = __nh_cos; }}\n"
                     ));
                 } else {
                     self.label_text(s, &mut text);
@@ -875,7 +879,7 @@ fn powi_text(a: &str, k: u32) -> String {
     match k {
         2 => format!("{a} * {a}"),
         3 => format!("{a} * {a} * {a}"),
-        4 => format!("{{ let sq = {a} * {a}; sq * sq }}"),
+        4 => format!("{{ let __nh_sq = {a} * {a}; __nh_sq * __nh_sq }}"),
         _ => format!("{a}.powi({})", k as i32),
     }
 }
@@ -902,7 +906,7 @@ pub fn const_tokens(q: Rational) -> TokenStream {
     }
     let v = q.to_f64();
     let lit = proc_macro2::Literal::f64_suffixed(v);
-    quote!(::nonholonomic::__private::nalgebra::convert::<f64, T>(#lit))
+    quote!(__nh_private::nalgebra::convert::<::core::primitive::f64, T>(#lit))
 }
 
 #[cfg(test)]

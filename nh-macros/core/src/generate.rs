@@ -311,7 +311,7 @@ fn curvature_nodes(d: &mut Dag, m: &Model, r: &CurvatureRoute) -> (Vec<Node>, Ve
 }
 
 fn vector_expr(k: usize, items: &[TokenStream]) -> TokenStream {
-    quote!(::nonholonomic::__private::nalgebra::SVector::<T, #k>::from([#(#items),*]))
+    quote!(__nh_private::nalgebra::SVector::<T, #k>::from([#(#items),*]))
 }
 
 /// The route descriptions used in the generated docs.
@@ -370,7 +370,7 @@ impl Derived<'_> {
                 let base = self.hoist_len;
                 let mut block = htext;
                 for (j, v) in houts.iter().enumerate() {
-                    block.push_str(&format!("c[{}] = {v};\n", base + j));
+                    block.push_str(&format!("__nh_hoisted[{}] = {v};\n", base + j));
                 }
                 let hstmts = crate::emit::parse_text(&block);
                 self.hoist_blocks.push(quote!({ #hstmts }));
@@ -384,11 +384,11 @@ impl Derived<'_> {
             .enumerate()
             .map(|(j, &h)| {
                 let i = base + j;
-                (h, quote!(__c[#i]))
+                (h, quote!(__nh_cache[#i]))
             })
             .collect();
         let (stmts, o) = d.emit_with(outs, &given);
-        (quote!(let __c = self.__cached(); #stmts), o)
+        (quote!(let __nh_cache = self.__nh_cached(); #stmts), o)
     }
 
     fn acc_nodes(&self, d: &mut Dag, route: Route) -> Vec<Node> {
@@ -742,7 +742,7 @@ impl Bodies for Derived<'_> {
                 outs.extend(&rhs);
                 let (stmts, o) = self.emit_hoisted(&d, &outs);
                 let (mo, fo) = o.split_at(k * k);
-                let kk = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #k, #k>);
+                let kk = quote!(__nh_private::nalgebra::SMatrix::<T, #k, #k>);
                 let f = vector_expr(k, fo);
                 Method {
                     doc: "The reduced equations Mc r̈ = f of the curvature route as a matrix and a vector: Mc = ∂²Lc/∂ṙ∂ṙ (5.12) and f the right side of (5.20). [`Self::accelerations`] solves them by an unrolled LDLᵀ factorisation.".into(),
@@ -807,12 +807,12 @@ impl Bodies for Derived<'_> {
                 let mut sets = TokenStream::new();
                 for ((b, al, be), v) in places.iter().zip(&o) {
                     sets.extend(quote! {
-                        b[#b][(#al, #be)] = #v;
-                        b[#b][(#be, #al)] = -#v;
+                        __nh_b[#b][(#al, #be)] = #v;
+                        __nh_b[#b][(#be, #al)] = -#v;
                     });
                 }
-                let kk = quote!(::nonholonomic::__private::nalgebra::SMatrix<T, #k, #k>);
-                let kk_expr = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #k, #k>);
+                let kk = quote!(__nh_private::nalgebra::SMatrix<T, #k, #k>);
+                let kk_expr = quote!(__nh_private::nalgebra::SMatrix::<T, #k, #k>);
                 let mutable = if places.is_empty() {
                     quote!()
                 } else {
@@ -824,9 +824,9 @@ impl Bodies for Derived<'_> {
                     body: quote! {
                         let _ = q;
                         #stmts
-                        let #mutable b: [#kk; #p] = [#kk_expr::zeros(); #p];
+                        let #mutable __nh_b: [#kk; #p] = [#kk_expr::zeros(); #p];
                         #sets
-                        b
+                        __nh_b
                     },
                 }
             }
@@ -847,7 +847,7 @@ impl Bodies for Derived<'_> {
                 let flat: Vec<ExprId> = self.m.a_matrix.iter().flatten().copied().collect();
                 let nodes = exprs(&mut d, self.m, &flat);
                 let (stmts, o) = self.emit_hoisted(&d, &nodes);
-                let pk = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #p, #k>);
+                let pk = quote!(__nh_private::nalgebra::SMatrix::<T, #p, #k>);
                 self.stats.derived.push("constraint_matrix");
                 Method {
                     doc: "The constraint matrix A^a_α of ṡ_a = −Σ_α A^a_α ṙ_α (5.3): rows follow [`Self::DEPENDENT`], columns [`Self::INDEPENDENT`].".into(),
@@ -859,7 +859,7 @@ impl Bodies for Derived<'_> {
                 let flat: Vec<ExprId> = self.mult.mass.iter().flatten().copied().collect();
                 let nodes = exprs(&mut d, self.m, &flat);
                 let (stmts, o) = self.emit_hoisted(&d, &nodes);
-                let nn = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #n, #n>);
+                let nn = quote!(__nh_private::nalgebra::SMatrix::<T, #n, #n>);
                 self.stats.derived.push("mass_matrix");
                 Method {
                     doc: "The mass matrix ∂²L/∂q̇_i∂q̇_j in coordinate order.".into(),
@@ -887,7 +887,7 @@ impl Bodies for Derived<'_> {
                 let jac = self.derivative_columns(&mut d, &vars);
                 let flat: Vec<Node> = jac.iter().flatten().copied().collect();
                 let (stmts, o) = self.emit_hoisted(&d, &flat);
-                let dd = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #dim, #dim>);
+                let dd = quote!(__nh_private::nalgebra::SMatrix::<T, #dim, #dim>);
                 let u = if self.m.inputs.is_empty() {
                     quote!()
                 } else {
@@ -918,8 +918,8 @@ impl Bodies for Derived<'_> {
                 all.extend(&b);
                 let (stmts, o) = self.emit_hoisted(&d, &all);
                 let (ao, bo) = o.split_at(a.len());
-                let dd = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #dim, #dim>);
-                let du = quote!(::nonholonomic::__private::nalgebra::SMatrix::<T, #dim, #m_in>);
+                let dd = quote!(__nh_private::nalgebra::SMatrix::<T, #dim, #dim>);
+                let du = quote!(__nh_private::nalgebra::SMatrix::<T, #dim, #m_in>);
                 let u = if self.m.inputs.is_empty() {
                     quote!()
                 } else {
@@ -1021,6 +1021,7 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
     // an unknown or malformed parameter list leaves no fields: fine for a stand-in
     Shape {
         attrs: &def.attrs,
+        krate: &def.krate,
         vis: &def.vis,
         name: &def.name,
         params: def
@@ -1270,7 +1271,9 @@ fn integrability_warning(def: &SystemDef, span: proc_macro2::Span, proved: bool)
         def.name, def.name
     );
     let item = proc_macro2::Ident::new("integrable_constraints", span);
+    let inherited = crate::attrs::inherited(&def.attrs);
     quote::quote_spanned! {span=>
+        #(#inherited)*
         const _: () = {
             #[deprecated(note = #note)]
             #[allow(non_upper_case_globals)]

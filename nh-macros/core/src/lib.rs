@@ -8,6 +8,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod api;
+pub mod attrs;
 pub mod ctxt;
 pub mod emit;
 pub mod generate;

@@ -198,10 +198,20 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
             );
             return false;
         }
-        if let Some((prev_kind, _)) = declared.get(&s) {
+        if let Some((prev_kind, prev_span)) = declared.get(&s) {
+            // names are canonical (`r#x` is `x`); say so if one was written raw
+            let raw = !s.starts_with("r#")
+                && [id.span(), *prev_span]
+                    .iter()
+                    .any(|sp| sp.source_text().is_some_and(|t| t.starts_with("r#")));
+            let same = if raw {
+                format!(" (`r#{s}` and `{s}` are one name, as in Rust)")
+            } else {
+                String::new()
+            };
             cx.error_at(
                 id.span(),
-                format!("`{s}` is already declared as {prev_kind}; every parameter, coordinate, input and `let` needs its own name"),
+                format!("`{s}` is already declared as {prev_kind}{same}; every parameter, coordinate, input and `let` needs its own name"),
             );
             // uses of an ambiguous name are not reported again
             poisoned.push(s);

@@ -6,8 +6,10 @@
 //! syntax error in one item does not hide the errors in the others.
 
 use crate::ctxt::{Ctxt, SpanRange};
+use crate::names;
 use crate::sym::Rational;
 use proc_macro2::{Delimiter, Ident, Span, TokenStream, TokenTree};
+use syn::ext::IdentExt;
 use syn::parse::{ParseStream, Parser};
 use syn::{Token, Visibility};
 
@@ -200,12 +202,37 @@ pub struct SystemDef {
     pub poisoned: Vec<Ident>,
     /// Whether a `lagrangian` item was written, even if it failed to parse.
     pub lagrangian_written: bool,
+    /// The path of the `nonholonomic` facade in the generated code: the
+    /// facade's `macro_rules!` wrapper passes its `$crate` as `@crate($crate)`
+    /// before the system, so a renamed dependency works; `::nonholonomic`
+    /// when the engine is called without it (its own tests).
+    pub krate: TokenStream,
+}
+
+/// Splits off the `@crate(path)` prefix the facade's wrapper puts before the
+/// system: the path, and the rest of the input.
+fn crate_prefix(input: TokenStream) -> (TokenStream, TokenStream) {
+    let tokens: Vec<TokenTree> = input.into_iter().collect();
+    if let [
+        TokenTree::Punct(at),
+        TokenTree::Ident(kw),
+        TokenTree::Group(path),
+        ..,
+    ] = tokens.as_slice()
+        && at.as_char() == '@'
+        && kw == "crate"
+        && path.delimiter() == Delimiter::Parenthesis
+    {
+        return (path.stream(), tokens[3..].iter().cloned().collect());
+    }
+    (quote::quote!(::nonholonomic), tokens.into_iter().collect())
 }
 
 /// Parses the macro input. Returns the definition as far as it could be
 /// parsed; errors are recorded in `cx`. `None` if not even the struct header
 /// could be read.
 pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
+    let (krate, input) = crate_prefix(input);
     let header = |stream: ParseStream| -> syn::Result<(Vec<TokenStream>, Visibility, Ident, proc_macro2::Group)> {
         // outer attributes are kept as tokens: their contents are rustc's business
         let mut attrs = Vec::new();
@@ -281,10 +308,13 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         outputs: None,
         poisoned: Vec::new(),
         lagrangian_written: false,
+        krate,
     };
     for item in split_items(body.stream(), cx) {
         parse_item(item, &mut def, cx);
     }
+    let has_parameters = def.parameters.as_ref().is_some_and(|p| !p.1.is_empty());
+    def.attrs = crate::attrs::check_derives(std::mem::take(&mut def.attrs), has_parameters, cx);
     Some(def)
 }
 
@@ -380,19 +410,32 @@ fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
             let which = kw.to_string();
             match which.as_str() {
                 "parameters" | "coordinates" | "inputs" | "outputs" => {
-                    let names = match parse_name_list.parse2(group.stream()) {
+                    let list = match parse_name_list.parse2(group.stream()) {
                         Ok(n) => n,
                         Err(e) => {
                             cx.syn_error(e);
                             // the names it meant to declare must not cause follow-up errors
                             for tt in group.stream() {
                                 if let TokenTree::Ident(id) = tt {
-                                    def.poisoned.push(id);
+                                    def.poisoned.push(names::canonical(id));
                                 }
                             }
                             return;
                         }
                     };
+                    // a keyword is reported here, once, at the name; it stays
+                    // declared, so its uses raise no follow-up errors
+                    let kind = match which.as_str() {
+                        "parameters" => Some("a parameter"),
+                        "coordinates" => Some("a coordinate"),
+                        "inputs" => Some("an input"),
+                        _ => None,
+                    };
+                    for id in &list {
+                        if let Some(msg) = kind.and_then(|k| names::keyword_problem(id, k)) {
+                            cx.error_at(id.span(), msg);
+                        }
+                    }
                     let slot = match which.as_str() {
                         "parameters" => &mut def.parameters,
                         "coordinates" => &mut def.coordinates,
@@ -405,7 +448,7 @@ fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
                             format!("duplicate `{which}` block: list all names in the first `{prev}` block"),
                         );
                     } else {
-                        *slot = Some((kw, names));
+                        *slot = Some((kw, list));
                     }
                 }
                 "constraints" => {
@@ -470,13 +513,16 @@ fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
             match (&toks[0], toks.get(1)) {
                 (TokenTree::Ident(kw), _) if kw == "lagrangian" => def.lagrangian_written = true,
                 (TokenTree::Ident(kw), Some(TokenTree::Ident(name))) if kw == "let" => {
-                    def.poisoned.push(name.clone())
+                    def.poisoned.push(names::canonical(name.clone()))
                 }
                 _ => {}
             }
             let stream: TokenStream = toks.into_iter().collect();
             match parse_statement.parse2(stream) {
                 Ok(Statement::Let(l)) => {
+                    if let Some(msg) = names::keyword_problem(&l.name, "a `let`") {
+                        cx.error_at(l.name.span(), msg);
+                    }
                     def.poisoned.retain(|p| p != &l.name);
                     def.lets.push(l)
                 }
@@ -525,8 +571,9 @@ fn parse_statement(input: ParseStream) -> syn::Result<Statement> {
     if input.peek(Token![let]) {
         let _: Token![let] = input.parse()?;
         let name: Ident = input
-            .parse()
+            .call(IdentExt::parse_any)
             .map_err(|e| syn::Error::new(e.span(), "expected a name after `let`"))?;
+        let name = names::canonical(name);
         let _: Token![=] = input
             .parse()
             .map_err(|e| syn::Error::new(e.span(), format!("expected `=` after `let {name}`")))?;
@@ -558,13 +605,14 @@ fn parse_statement(input: ParseStream) -> syn::Result<Statement> {
 fn parse_name_list(input: ParseStream) -> syn::Result<Vec<Ident>> {
     let mut names = Vec::new();
     while !input.is_empty() {
-        let id: Ident = input.parse().map_err(|e| {
+        // keywords are read as names, and reported at the name (`declared_names`)
+        let id: Ident = input.call(IdentExt::parse_any).map_err(|e| {
             syn::Error::new(
                 e.span(),
                 "expected a name: this block is a comma-separated list of names",
             )
         })?;
-        names.push(id);
+        names.push(names::canonical(id));
         if input.is_empty() {
             break;
         }
@@ -589,12 +637,13 @@ fn parse_constraint(input: ParseStream) -> syn::Result<Constraint> {
 }
 
 fn parse_force(input: ParseStream) -> syn::Result<Force> {
-    let coordinate: Ident = input.parse().map_err(|e| {
+    let coordinate: Ident = input.call(IdentExt::parse_any).map_err(|e| {
         syn::Error::new(
             e.span(),
             "expected a coordinate name: a force is written `q: expr;`",
         )
     })?;
+    let coordinate = names::canonical(coordinate);
     let _: Token![:] = input.parse().map_err(|e| {
         syn::Error::new(
             e.span(),
@@ -802,7 +851,7 @@ fn parse_primary(input: ParseStream, depth: usize) -> syn::Result<Expr> {
             }
         }
         TokenTree::Ident(_) => {
-            let id: Ident = input.call(syn::ext::IdentExt::parse_any)?;
+            let id: Ident = names::canonical(input.call(IdentExt::parse_any)?);
             if input.peek(syn::token::Paren) {
                 let content;
                 let paren = syn::parenthesized!(content in input);
