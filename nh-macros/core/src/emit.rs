@@ -160,34 +160,44 @@ impl Dag {
     /// each is used by a value that is not parameter-only, or is an output.
     pub fn hoistable(&self, outputs: &[Node]) -> Vec<Node> {
         let live = self.live_until(outputs, &HashMap::default());
-        let mut param_only: HashMap<Node, bool> = HashMap::default();
+        let mut param_only = vec![false; self.ops.len()];
         for &n in &live {
-            let p = match &self.ops[n as usize] {
+            param_only[n as usize] = match &self.ops[n as usize] {
                 Op::Leaf(_) => self.param_leaves.contains(&n),
                 Op::Const(_) | Op::Pi => true,
                 _ => self
                     .children(n)
                     .iter()
                     .flatten()
-                    .all(|c| param_only.get(c).copied().unwrap_or(false)),
+                    .all(|c| param_only[*c as usize]),
             };
-            param_only.insert(n, p);
         }
-        let mut used_outside: HashSet<Node> = outputs.iter().copied().collect();
+        let mut used_outside = vec![false; self.ops.len()];
+        for &o in outputs {
+            used_outside[o as usize] = true;
+        }
         for &n in &live {
-            if !param_only[&n] {
-                used_outside.extend(self.children(n).iter().flatten());
+            if !param_only[n as usize] {
+                for c in self.children(n).into_iter().flatten() {
+                    used_outside[c as usize] = true;
+                }
             }
         }
         live.into_iter()
-            .filter(|n| {
-                param_only[n] && used_outside.contains(n) && cost(&self.ops[*n as usize]) > 0
+            .filter(|&n| {
+                param_only[n as usize]
+                    && used_outside[n as usize]
+                    && cost(&self.ops[n as usize]) > 0
             })
             .collect()
     }
 
     fn leaf_with_name(&mut self, tokens: TokenStream, name: Option<String>) -> Node {
-        let key = tokens.to_string();
+        // a named leaf is known by its name (names are unique in a graph)
+        let key = match &name {
+            Some(n) => format!("#{n}"),
+            None => tokens.to_string(),
+        };
         if let Some(&n) = self.leaf_ix.get(&key) {
             return n;
         }
@@ -666,27 +676,18 @@ impl Dag {
 
     /// The nodes `outputs` need, not looking behind the nodes in `stop`.
     fn live_until(&self, outputs: &[Node], stop: &HashMap<Node, TokenStream>) -> Vec<Node> {
-        let mut seen = HashSet::default();
+        // a dense mark per node: the graph's ids are consecutive
+        let mut seen = vec![false; self.ops.len()];
         let mut stack: Vec<Node> = outputs.to_vec();
         while let Some(n) = stack.pop() {
-            if !seen.insert(n) {
+            if std::mem::replace(&mut seen[n as usize], true) || stop.contains_key(&n) {
                 continue;
             }
-            if stop.contains_key(&n) {
-                continue;
-            }
-            match &self.ops[n as usize] {
-                Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) | Op::Powf(a, b) => {
-                    stack.push(*a);
-                    stack.push(*b)
-                }
-                Op::Neg(a) | Op::Call(_, a) | Op::Sqrt(a) | Op::Powi(a, _) => stack.push(*a),
-                Op::Const(_) | Op::Pi | Op::Leaf(_) => {}
-            }
+            stack.extend(self.children(n).into_iter().flatten());
         }
-        let mut v: Vec<Node> = seen.into_iter().collect();
-        v.sort_unstable();
-        v
+        (0..self.ops.len() as Node)
+            .filter(|&n| seen[n as usize])
+            .collect()
     }
 
     /// Emits the statements computing `outputs`, and the expression naming
@@ -724,12 +725,22 @@ impl Dag {
     ) -> (String, Vec<String>) {
         let live = self.live_until(outputs, given);
         let pair_of = self.sin_cos_pairs(&live, given);
+        let inline = self.inlined(&live, outputs, given, &pair_of);
         // Small functions: one `let` per value. Large ones: one stack array,
         // since thousands of nested `let` scopes overflow rustc's stack when
         // it emits debug information (seen at ~3,000).
-        let array = live.len() > MAX_LETS;
-        let slot: HashMap<Node, usize> = live.iter().enumerate().map(|(i, &n)| (n, i)).collect();
-        let name = |n: Node| -> String {
+        let bound: Vec<Node> = live
+            .iter()
+            .copied()
+            .filter(|n| !inline.contains(n))
+            .collect();
+        let array = bound.len() > MAX_LETS;
+        let slot: HashMap<Node, usize> = bound.iter().enumerate().map(|(i, &n)| (n, i)).collect();
+        let mut inline_text: HashMap<Node, String> = HashMap::default();
+        let name = |n: Node, inline_text: &HashMap<Node, String>| -> String {
+            if let Some(t) = inline_text.get(&n) {
+                return t.clone();
+            }
             if array {
                 return format!("__nh_vals[{}]", slot.get(&n).copied().unwrap_or(0));
             }
@@ -742,9 +753,9 @@ impl Dag {
                 _ => format!("__nh_v{n}"),
             }
         };
-        let mut text = String::with_capacity(live.len() * 32);
+        let mut text = String::with_capacity(bound.len() * 40);
         if array {
-            let len = live.len();
+            let len = bound.len();
             text.push_str(&format!(
                 "let mut __nh_vals: [T; {len}] = [T::zero(); {len}];\n"
             ));
@@ -755,11 +766,11 @@ impl Dag {
                 continue;
             }
             if let Some(&(s, c)) = pair_of.get(&n) {
-                let (sv, cv) = (name(s), name(c));
+                let (sv, cv) = (name(s, &inline_text), name(c, &inline_text));
                 let Op::Call(_, a) = self.ops[s as usize] else {
                     continue;
                 };
-                let a = name(a);
+                let a = name(a, &inline_text);
                 if array {
                     text.push_str(&format!(
                         "{{ let (__nh_sin, __nh_cos): (T, T) = {a}.sin_cos(); {sv} = __nh_sin; {cv} = __nh_cos; }}\n"
@@ -775,9 +786,17 @@ impl Dag {
             }
             let rhs = match given.get(&n) {
                 Some(tokens) => tokens.to_string(),
-                None => self.op_text(n, &name),
+                None => self.op_text(n, &|c| name(c, &inline_text)),
             };
-            let v = name(n);
+            if inline.contains(&n) {
+                let atomic = matches!(
+                    self.ops[n as usize],
+                    Op::Const(_) | Op::Pi | Op::Call(..) | Op::Sqrt(_) | Op::Powf(..)
+                ) && !rhs.starts_with('-');
+                inline_text.insert(n, if atomic { rhs } else { format!("({rhs})") });
+                continue;
+            }
+            let v = name(n, &inline_text);
             if array {
                 text.push_str(&format!("{v} = {rhs};\n"));
             } else {
@@ -785,8 +804,59 @@ impl Dag {
                 text.push_str(&format!("let {v}: T = {rhs};\n"));
             }
         }
-        let outs = outputs.iter().map(|&n| name(n)).collect();
+        let outs = outputs.iter().map(|&n| name(n, &inline_text)).collect();
         (text, outs)
+    }
+
+    /// The values written into the expression that uses them instead of a
+    /// `let` of their own: used once, not an output, not named (a leaf, a
+    /// labelled value, half of a `sin_cos` pair), and small enough that the
+    /// statement stays readable (at most [`MAX_INLINE_OPS`] operations).
+    fn inlined(
+        &self,
+        live: &[Node],
+        outputs: &[Node],
+        given: &HashMap<Node, TokenStream>,
+        pair_of: &HashMap<Node, (Node, Node)>,
+    ) -> HashSet<Node> {
+        let mut uses = vec![0usize; self.ops.len()];
+        for &n in live {
+            if given.contains_key(&n) {
+                continue;
+            }
+            // a power is written as repeated products of its base
+            let times = if matches!(self.ops[n as usize], Op::Powi(..)) {
+                2
+            } else {
+                1
+            };
+            for c in self.children(n).into_iter().flatten() {
+                uses[c as usize] += times;
+            }
+        }
+        for &o in outputs {
+            uses[o as usize] += 2;
+        }
+        let mut size = vec![0usize; self.ops.len()];
+        let mut inline = HashSet::default();
+        for &n in live {
+            let op = &self.ops[n as usize];
+            if given.contains_key(&n) || pair_of.contains_key(&n) || matches!(op, Op::Leaf(_)) {
+                continue;
+            }
+            let own = cost(op).max(1)
+                + self
+                    .children(n)
+                    .into_iter()
+                    .flatten()
+                    .map(|c| size[c as usize])
+                    .sum::<usize>();
+            if uses[n as usize] == 1 && !self.labels.contains_key(&n) && own <= MAX_INLINE_OPS {
+                inline.insert(n);
+                size[n as usize] = own;
+            }
+        }
+        inline
     }
 
     /// sin and cos of one angle, both live: computed by one `sin_cos` call.
@@ -870,6 +940,9 @@ pub fn parse_text(text: &str) -> TokenStream {
         quote!(::core::compile_error!(#msg);)
     })
 }
+
+/// Most operations written in one statement by inlining values used once.
+pub const MAX_INLINE_OPS: usize = 6;
 
 /// Most values a generated function holds in separate `let`s; beyond, they
 /// live in one array.
