@@ -61,20 +61,27 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+#[cfg(feature = "alloc")]
+extern crate alloc;
+
 mod common;
 mod dop853;
 mod dopri5;
+mod driver;
+#[cfg(feature = "alloc")]
 mod gauss;
 mod jacobian;
 mod linalg;
 mod outcome;
 mod rk4;
 mod rosenbrock;
+mod sink;
 mod step;
 mod system;
 
 pub use dop853::Dop853;
 pub use dopri5::DormandPrince;
+#[cfg(feature = "alloc")]
 pub use gauss::GaussLegendre4;
 pub use outcome::{Outcome, SimError, Stats};
 pub use rk4::Rk4;

@@ -18,63 +18,96 @@ impl<T: RealField + Copy, const D: usize> Lu<T, D> {
     /// (the matrix is singular to working precision, or garbage).
     pub(crate) fn new(mut a: SMatrix<T, D, D>) -> Option<Self> {
         let mut perm = [0usize; D];
-        for (i, p) in perm.iter_mut().enumerate() {
-            *p = i;
-        }
-        for k in 0..D {
-            // Partial pivoting: the largest entry of column k at or below k.
-            let mut p = k;
-            let mut max = a[(k, k)].abs();
-            for i in k + 1..D {
-                let v = a[(i, k)].abs();
-                if v > max {
-                    max = v;
-                    p = i;
-                }
-            }
-            if !(max.is_finite() && max > T::zero()) {
-                return None;
-            }
-            if p != k {
-                a.swap_rows(p, k);
-                perm.swap(p, k);
-            }
-            let pivot = a[(k, k)];
-            for i in k + 1..D {
-                let l = a[(i, k)] / pivot;
-                a[(i, k)] = l;
-                for j in k + 1..D {
-                    let akj = a[(k, j)];
-                    a[(i, j)] -= l * akj;
-                }
-            }
-        }
-        if !a.iter().all(|v| v.is_finite()) {
-            return None;
-        }
-        Some(Self { lu: a, perm })
+        factor(a.as_mut_slice(), &mut perm).then_some(Self { lu: a, perm })
     }
 
     /// Solves `A x = b`.
     pub(crate) fn solve(&self, b: &SVector<T, D>) -> SVector<T, D> {
-        let mut x = SVector::<T, D>::from_fn(|i, _| b[self.perm[i]]);
-        for i in 0..D {
-            for j in 0..i {
-                let lij = self.lu[(i, j)];
-                let xj = x[j];
-                x[i] -= lij * xj;
-            }
-        }
-        for i in (0..D).rev() {
-            for j in i + 1..D {
-                let uij = self.lu[(i, j)];
-                let xj = x[j];
-                x[i] -= uij * xj;
-            }
-            x[i] /= self.lu[(i, i)];
-        }
-        x
+        solve(self.lu.as_slice(), &self.perm, b)
     }
+}
+
+/// Factorises the `n×n` column-major matrix `a` (`n = perm.len()`) in
+/// place into `P A = L U` with partial pivoting (whole rows are exchanged);
+/// `false` if a pivot is zero or anything is non-finite.
+pub(crate) fn factor<T: RealField + Copy>(a: &mut [T], perm: &mut [usize]) -> bool {
+    let n = perm.len();
+    let at = |i: usize, j: usize| i + j * n;
+    for (i, p) in perm.iter_mut().enumerate() {
+        *p = i;
+    }
+    for k in 0..n {
+        // Partial pivoting: the largest entry of column k at or below k.
+        let mut p = k;
+        let mut max = a[at(k, k)].abs();
+        for i in k + 1..n {
+            let v = a[at(i, k)].abs();
+            if v > max {
+                max = v;
+                p = i;
+            }
+        }
+        if !(max.is_finite() && max > T::zero()) {
+            return false;
+        }
+        if p != k {
+            for j in 0..n {
+                a.swap(at(p, j), at(k, j));
+            }
+            perm.swap(p, k);
+        }
+        let pivot = a[at(k, k)];
+        for i in k + 1..n {
+            a[at(i, k)] /= pivot;
+        }
+        for j in k + 1..n {
+            let akj = a[at(k, j)];
+            for i in k + 1..n {
+                let l = a[at(i, k)];
+                a[at(i, j)] -= l * akj;
+            }
+        }
+    }
+    a.iter().all(|v| v.is_finite())
+}
+
+/// Solves `A x = b` with the factors of [`factor`].
+pub(crate) fn solve<T: RealField + Copy, const D: usize>(
+    lu: &[T],
+    perm: &[usize],
+    b: &SVector<T, D>,
+) -> SVector<T, D> {
+    let at = |i: usize, j: usize| i + j * D;
+    let mut x = SVector::<T, D>::from_fn(|i, _| b[perm[i]]);
+    for i in 0..D {
+        for j in 0..i {
+            let xj = x[j];
+            x[i] -= lu[at(i, j)] * xj;
+        }
+    }
+    for i in (0..D).rev() {
+        for j in i + 1..D {
+            let xj = x[j];
+            x[i] -= lu[at(i, j)] * xj;
+        }
+        x[i] /= lu[at(i, i)];
+    }
+    x
+}
+
+/// `A v` for the `D×D` column-major matrix `a`.
+#[cfg(feature = "alloc")]
+pub(crate) fn matvec<T: RealField + Copy, const D: usize>(
+    a: &[T],
+    v: &SVector<T, D>,
+) -> SVector<T, D> {
+    let mut y = SVector::<T, D>::zeros();
+    for (column, &vj) in a.chunks_exact(D.max(1)).zip(v.iter()) {
+        for (yi, &aij) in y.iter_mut().zip(column) {
+            *yi += aij * vj;
+        }
+    }
+    y
 }
 
 #[cfg(test)]
