@@ -2,7 +2,7 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::driver::{Control, Method, Pi, Record, Settings, Tolerance, drive};
+use crate::driver::{Control, Method, Record, Settings, Tolerance, drive};
 use crate::sink::Sink;
 use crate::{OdeSystem, Outcome, SimError, Stats};
 
@@ -201,15 +201,14 @@ impl<T: RealField + Copy> Adaptive<T> {
         }
     }
 
-    /// Runs `method` under these settings with the step-size controller
-    /// `pi` (or the fixed step of `with_fixed_step`). A positive `rtol`
+    /// Runs `method` under these settings with its step-size controller
+    /// (or the fixed step of `with_fixed_step`). A positive `rtol`
     /// below `10·eps` is raised to `10·eps`, the smallest relative error the
     /// scalar can resolve in a step.
     pub(crate) fn run<M, K, const D: usize>(
         &mut self,
         method: &mut M,
-        pi: Pi,
-        (t0, x0, t1): (T, SVector<T, D>, T),
+        span: (T, SVector<T, D>, T),
         sink: &mut K,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
     where
@@ -225,7 +224,7 @@ impl<T: RealField + Copy> Adaptive<T> {
         let settings = Settings {
             control: match self.fixed_step {
                 Some(h) => Control::Fixed(h),
-                None => Control::Adaptive(pi),
+                None => Control::Adaptive(M::PI),
             },
             tol: Tolerance {
                 rtol,
@@ -235,7 +234,7 @@ impl<T: RealField + Copy> Adaptive<T> {
             max_step: self.max_step,
             max_steps: self.max_steps,
         };
-        drive(method, &settings, (t0, x0, t1), sink, &mut self.record)
+        drive(method, &settings, span, sink, &mut self.record)
     }
 }
 
@@ -375,10 +374,29 @@ macro_rules! fixed_builders {
 pub(crate) use fixed_builders;
 
 /// The [`Integrator`](crate::Integrator) implementation of an integrator
-/// with an inherent `run(sys, t0, x0, t1, sink)`: every entry point goes
-/// through the step driver with the matching [`Sink`].
+/// whose settings live in `$field` ([`Adaptive`] or [`Fixed`]) and whose
+/// method for a system `$sys` is `$method`: every entry point goes through
+/// the step driver with the matching [`Sink`].
 macro_rules! integrator_impl {
-    ($ty:ident) => {
+    ($ty:ident, $field:ident, |$sys:ident| $method:expr) => {
+        impl<T: nalgebra::RealField + Copy> $ty<T> {
+            /// Integrates `sys` and reports the accepted steps to `sink`.
+            fn run<S, K, const D: usize>(
+                &mut self,
+                $sys: &S,
+                t0: T,
+                x0: nalgebra::SVector<T, D>,
+                t1: T,
+                sink: &mut K,
+            ) -> Result<crate::Outcome<T, D>, crate::SimError<T, D>>
+            where
+                S: crate::OdeSystem<T, D> + ?Sized,
+                K: crate::sink::Sink<T, D> + ?Sized,
+            {
+                self.$field.run(&mut $method, (t0, x0, t1), sink)
+            }
+        }
+
         impl<T: nalgebra::RealField + Copy> crate::Integrator<T> for $ty<T> {
             fn integrate_with_steps<S, F, const D: usize>(
                 &mut self,
@@ -440,6 +458,52 @@ macro_rules! integrator_impl {
     };
 }
 pub(crate) use integrator_impl;
+
+/// `integrate_with_jacobian` and `integrate_with_jacobian_and_steps` of an
+/// implicit integrator whose method for an [`OdeJacobian`](crate::OdeJacobian)
+/// system `$sys` is `$method` (documented by the given attributes).
+macro_rules! jacobian_entry_points {
+    (
+        $ty:ident, $field:ident, |$sys:ident| $method:expr,
+        $(#[$plain:meta])* integrate_with_jacobian;
+        $(#[$steps:meta])* integrate_with_jacobian_and_steps;
+    ) => {
+        impl<T: nalgebra::RealField + Copy> $ty<T> {
+            $(#[$plain])*
+            pub fn integrate_with_jacobian<S, const D: usize>(
+                &mut self,
+                $sys: &S,
+                t0: T,
+                x0: nalgebra::SVector<T, D>,
+                t1: T,
+            ) -> Result<crate::Outcome<T, D>, crate::SimError<T, D>>
+            where
+                S: crate::OdeJacobian<T, D> + ?Sized,
+            {
+                self.$field
+                    .run(&mut $method, (t0, x0, t1), &mut crate::sink::Discard)
+            }
+
+            $(#[$steps])*
+            pub fn integrate_with_jacobian_and_steps<S, F, const D: usize>(
+                &mut self,
+                $sys: &S,
+                t0: T,
+                x0: nalgebra::SVector<T, D>,
+                t1: T,
+                on_step: F,
+            ) -> Result<crate::Outcome<T, D>, crate::SimError<T, D>>
+            where
+                S: crate::OdeJacobian<T, D> + ?Sized,
+                F: FnMut(&crate::Step<'_, T, D>),
+            {
+                let mut sink = crate::sink::Steps(on_step);
+                self.$field.run(&mut $method, (t0, x0, t1), &mut sink)
+            }
+        }
+    };
+}
+pub(crate) use jacobian_entry_points;
 
 #[cfg(test)]
 mod tests {

@@ -3,10 +3,9 @@
 use nalgebra::{RealField, SVector};
 
 use crate::common::{Adaptive, adaptive_builders, all_finite, c, integrator_impl, scaled};
-use crate::driver::{Failure, Method, Pi, Tolerance};
-use crate::sink::Sink;
-use crate::step::Poly;
-use crate::{OdeSystem, Outcome, SimError, Stats};
+use crate::driver::{Failure, Method, Pi, Tolerance, counted, stiffness_estimate};
+use crate::step::{Poly, hermite_terms};
+use crate::{OdeSystem, Stats};
 
 // Coefficients of DOP853 (Hairer, Nørsett & Wanner, Solving ODEs I, and
 // Hairer's dop853.f): nodes, weights, error estimators of orders 5 and 3,
@@ -196,14 +195,14 @@ const PI: Pi = Pi {
 /// * FSAL: the derivative at the new point, needed for the next step, is
 ///   computed only for accepted steps.
 /// * Stiffness detection as in DOP853 (`h·λ > 6.1` in 15 tests), reported
-///   in [`Stats::stiffness_detected`].
+///   in [`Stats::stiffness_detected`](crate::Stats::stiffness_detected).
 /// * Dense output ([`Step::interpolate`](crate::Step::interpolate)) of
 ///   order 7 (`CONTD8`). It needs three extra stages, computed only for
 ///   steps that are interpolated (every step handed to
 ///   [`Integrator::integrate_with_steps`](crate::Integrator::integrate_with_steps),
 ///   the steps with an output time inside for
 ///   [`Integrator::integrate_with_outputs`](crate::Integrator::integrate_with_outputs))
-///   and counted in [`Stats::rhs_evals`]; they are checked before the step
+///   and counted in [`Stats::rhs_evals`](crate::Stats::rhs_evals); they are checked before the step
 ///   is accepted. `integrate` and `integrate_with_observer` never pay for
 ///   them.
 /// * [`Dop853::with_fixed_step`] switches the error control off (every step
@@ -211,10 +210,10 @@ const PI: Pi = Pi {
 ///
 /// Failure modes are those of [`DormandPrince`](crate::DormandPrince):
 /// non-finite trial steps are retried with half the step, and
-/// [`SimError::NonFinite`] / [`SimError::StepSizeTooSmall`] /
-/// [`SimError::MaxSteps`] (default 100 000 attempts) carry the last accepted
-/// state; invalid settings give [`SimError::InvalidInput`]. In fixed-step
-/// mode a non-finite step returns [`SimError::NonFinite`] at once.
+/// [`SimError::NonFinite`](crate::SimError::NonFinite) / [`SimError::StepSizeTooSmall`](crate::SimError::StepSizeTooSmall) /
+/// [`SimError::MaxSteps`](crate::SimError::MaxSteps) (default 100 000 attempts) carry the last accepted
+/// state; invalid settings give [`SimError::InvalidInput`](crate::SimError::InvalidInput). In fixed-step
+/// mode a non-finite step returns [`SimError::NonFinite`](crate::SimError::NonFinite) at once.
 ///
 /// Work: `rhs_evals = 11·(steps + rejected) + steps + 2` (one evaluation at
 /// `t0`, one for `hinit`; `+ 1` instead of `+ 2` with an explicit initial
@@ -247,32 +246,10 @@ impl<T: RealField + Copy> Dop853<T> {
             a: Adaptive::new(rtol, atol),
         }
     }
-
-    fn run<S, K, const D: usize>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        sink: &mut K,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeSystem<T, D> + ?Sized,
-        K: Sink<T, D> + ?Sized,
-    {
-        let mut method = Dop853Stages {
-            sys,
-            k: [SVector::zeros(); 13],
-            x12: SVector::zeros(),
-            x_new: SVector::zeros(),
-            dense: Poly::from_monomial(&[]),
-        };
-        self.a.run(&mut method, PI, (t0, x0, t1), sink)
-    }
 }
 
 adaptive_builders!(Dop853);
-integrator_impl!(Dop853);
+integrator_impl!(Dop853, a, |sys| Dop853Stages::new(sys));
 
 /// The stages of one DOP853 step: `k[0..12]` are `k1 … k12`, `k[12]` the
 /// derivative at the new point (the next step's `k1`).
@@ -282,6 +259,18 @@ struct Dop853Stages<'a, S: ?Sized, T, const D: usize> {
     x12: SVector<T, D>,
     x_new: SVector<T, D>,
     dense: Poly<T, D>,
+}
+
+impl<'a, S: ?Sized, T: RealField + Copy, const D: usize> Dop853Stages<'a, S, T, D> {
+    fn new(sys: &'a S) -> Self {
+        Dop853Stages {
+            sys,
+            k: [SVector::zeros(); 13],
+            x12: SVector::zeros(),
+            x_new: SVector::zeros(),
+            dense: Poly::from_monomial(&[]),
+        }
+    }
 }
 
 impl<T, S, const D: usize> Dop853Stages<'_, S, T, D>
@@ -329,19 +318,15 @@ where
 {
     const ORDER: u32 = 8;
     const STIFF_LIMIT: Option<f64> = Some(6.1);
+    const PI: Pi = PI;
 
     fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
         self.sys.rhs(t, x)
     }
 
     fn start(&mut self, t: T, x: &SVector<T, D>, stats: &mut Stats) -> Result<(), Failure> {
-        self.k[0] = self.sys.rhs(t, x);
-        stats.rhs_evals += 1;
-        if all_finite(&self.k[0]) {
-            Ok(())
-        } else {
-            Err(Failure::NonFinite)
-        }
+        self.k[0] = counted(self.sys.rhs(t, x), stats)?;
+        Ok(())
     }
 
     fn slope(&self) -> Option<&SVector<T, D>> {
@@ -443,13 +428,8 @@ where
 
     /// FSAL: the derivative at the new point, only for accepted steps.
     fn complete(&mut self, t_new: T, stats: &mut Stats) -> Result<(), Failure> {
-        self.k[12] = self.sys.rhs(t_new, &self.x_new);
-        stats.rhs_evals += 1;
-        if all_finite(&self.k[12]) {
-            Ok(())
-        } else {
-            Err(Failure::NonFinite)
-        }
+        self.k[12] = counted(self.sys.rhs(t_new, &self.x_new), stats)?;
+        Ok(())
     }
 
     fn x_new(&self) -> &SVector<T, D> {
@@ -506,13 +486,12 @@ where
             }
             v * h
         };
-        let ydiff = self.x_new - x;
-        let bspl = k1 * h - ydiff;
+        let [r0, r1, r2, r3] = hermite_terms(&x, &k1, &self.x_new, &k13, h);
         self.dense = Poly::from_nested(&[
-            x,
-            ydiff,
-            bspl,
-            ydiff - k13 * h - bspl,
+            r0,
+            r1,
+            r2,
+            r3,
             comb([
                 D41, D46, D47, D48, D49, D410, D411, D412, D413, D414, D415, D416,
             ]),
@@ -534,9 +513,7 @@ where
     }
 
     fn stiffness_ratio(&self) -> Option<T> {
-        let stnum = (self.k[12] - self.k[11]).norm_squared();
-        let stden = (self.x_new - self.x12).norm_squared();
-        (stden > T::zero()).then(|| (stnum / stden).sqrt())
+        stiffness_estimate((&self.k[12], &self.k[11]), (&self.x_new, &self.x12))
     }
 
     fn advance(

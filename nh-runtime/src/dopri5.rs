@@ -3,10 +3,9 @@
 use nalgebra::{RealField, SVector};
 
 use crate::common::{Adaptive, adaptive_builders, all_finite, c, error_norm, integrator_impl};
-use crate::driver::{Failure, Method, Pi, Tolerance};
-use crate::sink::Sink;
-use crate::step::Poly;
-use crate::{OdeSystem, Outcome, SimError, Stats};
+use crate::driver::{Failure, Method, Pi, Tolerance, counted, stiffness_estimate};
+use crate::step::{Poly, hermite_terms};
+use crate::{OdeSystem, Stats};
 
 // Butcher tableau of RK5(4)7M (Dormand & Prince 1980), FSAL.
 const C2: f64 = 1.0 / 5.0;
@@ -77,21 +76,21 @@ const PI: Pi = Pi {
 /// * stiffness detection (Hairer's test): every 1000 accepted steps, and at
 ///   every step once it fired, `h·λ ≈ |h|·‖k7 − k6‖ / ‖y7 − y6‖` is estimated;
 ///   after 15 estimates above 3.25 (without 6 consecutive ones below)
-///   [`Stats::stiffness_detected`] is set. Integration continues regardless.
+///   [`Stats::stiffness_detected`](crate::Stats::stiffness_detected) is set. Integration continues regardless.
 ///
 /// Failure modes:
 ///
 /// * A trial step whose new state, final derivative or error estimate is
 ///   not finite is rejected and retried with half the step. When the step
-///   falls below `10·eps·|t|` (at least `10·eps²·|t1|`), [`SimError::NonFinite`] is returned
+///   falls below `10·eps·|t|` (at least `10·eps²·|t1|`), [`SimError::NonFinite`](crate::SimError::NonFinite) is returned
 ///   if the last rejection was due to non-finite values, otherwise
-///   [`SimError::StepSizeTooSmall`]; both carry the last accepted `(t, x)`.
+///   [`SimError::StepSizeTooSmall`](crate::SimError::StepSizeTooSmall); both carry the last accepted `(t, x)`.
 ///   A non-finite derivative at `(t0, x0)` itself returns `NonFinite` at once.
 /// * More than `max_steps` step attempts (accepted plus rejected, default
-///   100 000) returns [`SimError::MaxSteps`].
+///   100 000) returns [`SimError::MaxSteps`](crate::SimError::MaxSteps).
 /// * `rtol` must be finite and > 0, `atol` finite and ≥ 0, the initial and
 ///   maximal step (when given) finite and > 0; otherwise
-///   [`SimError::InvalidInput`] is returned before anything is evaluated.
+///   [`SimError::InvalidInput`](crate::SimError::InvalidInput) is returned before anything is evaluated.
 ///
 /// Work per attempt: 6 evaluations of the right-hand side (FSAL), plus 1 for
 /// the derivative at `t0` and 1 for the initial-step heuristic, i.e.
@@ -124,32 +123,10 @@ impl<T: RealField + Copy> DormandPrince<T> {
             a: Adaptive::new(rtol, atol),
         }
     }
-
-    fn run<S, K, const D: usize>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        sink: &mut K,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeSystem<T, D> + ?Sized,
-        K: Sink<T, D> + ?Sized,
-    {
-        let mut method = Dopri5 {
-            sys,
-            k: [SVector::zeros(); 7],
-            x6: SVector::zeros(),
-            x_new: SVector::zeros(),
-            dense: Poly::from_monomial(&[]),
-        };
-        self.a.run(&mut method, PI, (t0, x0, t1), sink)
-    }
 }
 
 adaptive_builders!(DormandPrince);
-integrator_impl!(DormandPrince);
+integrator_impl!(DormandPrince, a, |sys| Dopri5::new(sys));
 
 /// The stages of one Dormand–Prince step (`k[6]` is the next step's `k[0]`).
 struct Dopri5<'a, S: ?Sized, T, const D: usize> {
@@ -160,6 +137,18 @@ struct Dopri5<'a, S: ?Sized, T, const D: usize> {
     dense: Poly<T, D>,
 }
 
+impl<'a, S: ?Sized, T: RealField + Copy, const D: usize> Dopri5<'a, S, T, D> {
+    fn new(sys: &'a S) -> Self {
+        Dopri5 {
+            sys,
+            k: [SVector::zeros(); 7],
+            x6: SVector::zeros(),
+            x_new: SVector::zeros(),
+            dense: Poly::from_monomial(&[]),
+        }
+    }
+}
+
 impl<T, S, const D: usize> Method<T, D> for Dopri5<'_, S, T, D>
 where
     T: RealField + Copy,
@@ -167,19 +156,15 @@ where
 {
     const ORDER: u32 = 5;
     const STIFF_LIMIT: Option<f64> = Some(3.25);
+    const PI: Pi = PI;
 
     fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
         self.sys.rhs(t, x)
     }
 
     fn start(&mut self, t: T, x: &SVector<T, D>, stats: &mut Stats) -> Result<(), Failure> {
-        self.k[0] = self.sys.rhs(t, x);
-        stats.rhs_evals += 1;
-        if all_finite(&self.k[0]) {
-            Ok(())
-        } else {
-            Err(Failure::NonFinite)
-        }
+        self.k[0] = counted(self.sys.rhs(t, x), stats)?;
+        Ok(())
     }
 
     fn slope(&self) -> Option<&SVector<T, D>> {
@@ -249,13 +234,12 @@ where
         // Hairer's CONTD5 in the nested form
         // x + θ(Δ + (1−θ)(r3 + θ(r4 + (1−θ) r5))).
         let [k1, _, k3, k4, k5, k6, k7] = self.k;
-        let ydiff = self.x_new - x;
-        let bspl = k1 * h - ydiff;
+        let [r0, r1, r2, r3] = hermite_terms(x, &k1, &self.x_new, &k7, h);
         self.dense = Poly::from_nested(&[
-            *x,
-            ydiff,
-            bspl,
-            ydiff - k7 * h - bspl,
+            r0,
+            r1,
+            r2,
+            r3,
             (k1 * c::<T>(D1)
                 + k3 * c::<T>(D3)
                 + k4 * c::<T>(D4)
@@ -272,9 +256,7 @@ where
     }
 
     fn stiffness_ratio(&self) -> Option<T> {
-        let stnum = (self.k[6] - self.k[5]).norm_squared();
-        let stden = (self.x_new - self.x6).norm_squared();
-        (stden > T::zero()).then(|| (stnum / stden).sqrt())
+        stiffness_estimate((&self.k[6], &self.k[5]), (&self.x_new, &self.x6))
     }
 
     fn advance(

@@ -52,6 +52,16 @@ pub(crate) trait Method<T: RealField + Copy, const D: usize> {
     /// `h·λ` above which Hairer's stiffness test counts a step as being at
     /// the stability boundary; `None` for methods without the test.
     const STIFF_LIMIT: Option<f64> = None;
+    /// The step-size controller of the method's reference code (unused by
+    /// the fixed-step methods, which keep this default).
+    const PI: Pi = Pi {
+        safe: 0.9,
+        expo: 0.2,
+        beta: 0.0,
+        fac_lo: 0.1,
+        fac_hi: 5.0,
+        gustafsson: false,
+    };
 
     /// The right-hand side `f(t, x)` (not counted: callers count).
     fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D>;
@@ -112,6 +122,30 @@ pub(crate) trait Method<T: RealField + Copy, const D: usize> {
         last: bool,
         stats: &mut Stats,
     ) -> Result<(), Failure>;
+}
+
+/// `f`, one evaluation of the right-hand side (counted), if it is finite.
+pub(crate) fn counted<T: RealField + Copy, const D: usize>(
+    f: SVector<T, D>,
+    stats: &mut Stats,
+) -> Result<SVector<T, D>, Failure> {
+    stats.rhs_evals += 1;
+    if all_finite(&f) {
+        Ok(f)
+    } else {
+        Err(Failure::NonFinite)
+    }
+}
+
+/// Hairer's stiffness estimate `‖f_new − f_prev‖ / ‖x_new − x_prev‖` from
+/// the last two stages of a step (both evaluated at its end), if defined.
+pub(crate) fn stiffness_estimate<T: RealField + Copy, const D: usize>(
+    (f_new, f_prev): (&SVector<T, D>, &SVector<T, D>),
+    (x_new, x_prev): (&SVector<T, D>, &SVector<T, D>),
+) -> Option<T> {
+    let stnum = (f_new - f_prev).norm_squared();
+    let stden = (x_new - x_prev).norm_squared();
+    (stden > T::zero()).then(|| (stnum / stden).sqrt())
 }
 
 /// Parameters of Hairer's step-size controller

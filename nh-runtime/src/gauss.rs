@@ -5,13 +5,14 @@ use alloc::vec::Vec;
 
 use nalgebra::{RealField, SVector};
 
-use crate::common::{Fixed, all_finite, c, fixed_builders, integrator_impl, machine_epsilon};
-use crate::driver::{Failure, Method, Tolerance};
+use crate::Stats;
+use crate::common::{
+    Fixed, all_finite, c, fixed_builders, integrator_impl, jacobian_entry_points, machine_epsilon,
+};
+use crate::driver::{Failure, Method, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource};
 use crate::linalg::{factor, matvec, solve};
-use crate::sink::{Discard, Sink, Steps};
-use crate::step::Poly;
-use crate::{OdeJacobian, OdeSystem, Outcome, SimError, Stats, Step};
+use crate::step::{Poly, hermite_terms};
 
 /// `√3`, to full precision.
 const SQRT3: f64 = 1.732_050_807_568_877_2;
@@ -47,7 +48,7 @@ const SLOW_NEWTON: usize = 10;
 /// is `x + √3 (Z_2 − Z_1)` (i.e. `x + Σ d_i Z_i` with `dᵀ = bᵀA⁻¹`, no
 /// extra evaluations).
 ///
-/// The Jacobian (finite differences for any [`OdeSystem`], or the
+/// The Jacobian (finite differences for any [`OdeSystem`](crate::OdeSystem), or the
 /// analytic one via [`GaussLegendre4::integrate_with_jacobian`]) and the LU
 /// of `Δ` are reused from step to step as long as the Newton iteration
 /// converges quickly (≤ 10 iterations); a step whose iteration fails with a
@@ -61,22 +62,22 @@ const SLOW_NEWTON: usize = 10;
 /// Failure modes (the step is fixed, so nothing is retried with a smaller
 /// step; use a smaller `h`):
 ///
-/// * a singular `Δ` (even with a fresh Jacobian) → [`SimError::Singular`];
-/// * non-finite stages, Jacobian or new state → [`SimError::NonFinite`];
+/// * a singular `Δ` (even with a fresh Jacobian) → [`SimError::Singular`](crate::SimError::Singular);
+/// * non-finite stages, Jacobian or new state → [`SimError::NonFinite`](crate::SimError::NonFinite);
 /// * a Newton iteration that does not converge in 50 iterations, or
-///   diverges, with a fresh Jacobian → [`SimError::NoConvergence`]
+///   diverges, with a fresh Jacobian → [`SimError::NoConvergence`](crate::SimError::NoConvergence)
 ///   carrying `h`: the step is too large for the stage equations to be
 ///   solvable by the simplified Newton iteration; reduce `h`;
-/// * `h` too small to advance `t` → [`SimError::StepSizeTooSmall`]; the
+/// * `h` too small to advance `t` → [`SimError::StepSizeTooSmall`](crate::SimError::StepSizeTooSmall); the
 ///   step budget ([`GaussLegendre4::with_max_steps`], 1 000 000 steps by
-///   default) → [`SimError::MaxSteps`]; `h` not finite and positive →
-///   [`SimError::InvalidInput`].
+///   default) → [`SimError::MaxSteps`](crate::SimError::MaxSteps); `h` not finite and positive →
+///   [`SimError::InvalidInput`](crate::SimError::InvalidInput).
 ///
 /// **Memory.** The `D×D` Jacobian and the LU of `Δ` live in a heap
 /// workspace allocated once per call (three allocations, whatever the
 /// number of steps), so large systems do not need a large stack; this is
 /// why `GaussLegendre4` needs the `alloc` feature (part of the default
-/// `std`). The analytic Jacobian of [`OdeJacobian::jacobian`] is returned
+/// `std`). The analytic Jacobian of [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) is returned
 /// by value, so it passes through the stack once per evaluation.
 ///
 /// All carry the last accepted `(t, x)`.
@@ -105,11 +106,12 @@ pub struct GaussLegendre4<T> {
 }
 
 fixed_builders!(GaussLegendre4);
-integrator_impl!(GaussLegendre4);
+integrator_impl!(GaussLegendre4, f, |sys| Gauss::new(FiniteDifference(sys)));
 
-impl<T: RealField + Copy> GaussLegendre4<T> {
-    /// Like [`Integrator::integrate`], but with the analytic Jacobian
-    /// [`OdeJacobian::jacobian`] in the Newton iteration.
+jacobian_entry_points! {
+    GaussLegendre4, f, |sys| Gauss::new(Analytic(sys)),
+    /// Like [`Integrator::integrate`](crate::Integrator::integrate), but with the analytic Jacobian
+    /// [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) in the Newton iteration.
     ///
     /// # Example
     ///
@@ -136,88 +138,19 @@ impl<T: RealField + Copy> GaussLegendre4<T> {
     /// // A linear problem: one Jacobian and one LU for the whole run.
     /// assert_eq!(out.stats.jacobian_evals, 1);
     /// ```
-    pub fn integrate_with_jacobian<S, const D: usize>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeJacobian<T, D> + ?Sized,
-    {
-        self.run_source(&Analytic(sys), t0, x0, t1, &mut Discard)
-    }
-
-    /// Like [`Integrator::integrate_with_steps`], but with the analytic
-    /// Jacobian [`OdeJacobian::jacobian`] in the Newton iteration.
-    pub fn integrate_with_jacobian_and_steps<S, F, const D: usize>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        on_step: F,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeJacobian<T, D> + ?Sized,
-        F: FnMut(&Step<'_, T, D>),
-    {
-        self.run_source(&Analytic(sys), t0, x0, t1, &mut Steps(on_step))
-    }
-
-    fn run<S, K, const D: usize>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        sink: &mut K,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeSystem<T, D> + ?Sized,
-        K: Sink<T, D> + ?Sized,
-    {
-        self.run_source(&FiniteDifference(sys), t0, x0, t1, sink)
-    }
-
-    fn run_source<J, K, const D: usize>(
-        &mut self,
-        src: &J,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        sink: &mut K,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        J: JacobianSource<T, D>,
-        K: Sink<T, D> + ?Sized,
-    {
-        let mut method = Gauss {
-            src,
-            eps: machine_epsilon(),
-            jac: vec![T::zero(); D * D],
-            lu: vec![T::zero(); D * D],
-            perm: vec![0; D],
-            jac_valid: false,
-            lu_h: None,
-            refresh: true,
-            f0: SVector::zeros(),
-            x_new: SVector::zeros(),
-            f_new: SVector::zeros(),
-            h: T::zero(),
-            dense: Poly::from_monomial(&[]),
-            prev: None,
-        };
-        self.f.run(&mut method, (t0, x0, t1), sink)
-    }
+    integrate_with_jacobian;
+    /// Like [`Integrator::integrate_with_steps`](crate::Integrator::integrate_with_steps), but with the analytic
+    /// Jacobian [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) in the Newton iteration.
+    integrate_with_jacobian_and_steps;
 }
+
+impl<T: RealField + Copy> GaussLegendre4<T> {}
 
 /// The state of the Gauss method: the Newton workspace (Jacobian and LU of
 /// `Δ`, on the heap), the derivative at the accepted point and the last
 /// trial with its interpolant.
-struct Gauss<'a, J, T, const D: usize> {
-    src: &'a J,
+struct Gauss<J, T, const D: usize> {
+    src: J,
     eps: T,
     /// `∂f/∂x`, column-major.
     jac: Vec<T>,
@@ -239,11 +172,31 @@ struct Gauss<'a, J, T, const D: usize> {
     prev: Option<(T, Poly<T, D>)>,
 }
 
-impl<J, T, const D: usize> Gauss<'_, J, T, D>
+impl<J, T, const D: usize> Gauss<J, T, D>
 where
     T: RealField + Copy,
     J: JacobianSource<T, D>,
 {
+    /// The method with its workspace (allocated here, once per call).
+    fn new(src: J) -> Self {
+        Gauss {
+            src,
+            eps: machine_epsilon(),
+            jac: vec![T::zero(); D * D],
+            lu: vec![T::zero(); D * D],
+            perm: vec![0; D],
+            jac_valid: false,
+            lu_h: None,
+            refresh: true,
+            f0: SVector::zeros(),
+            x_new: SVector::zeros(),
+            f_new: SVector::zeros(),
+            h: T::zero(),
+            dense: Poly::from_monomial(&[]),
+            prev: None,
+        }
+    }
+
     /// A fresh Jacobian at `(t, x)`.
     fn new_jacobian(&mut self, t: T, x: &SVector<T, D>, stats: &mut Stats) -> Result<(), Failure> {
         self.src.jacobian(t, x, &self.f0, &mut self.jac, stats);
@@ -288,7 +241,7 @@ where
         guess: Option<&Poly<T, D>>,
         stats: &mut Stats,
     ) -> Result<(SVector<T, D>, usize), Failure> {
-        let (src, f0, eps) = (self.src, &self.f0, self.eps);
+        let (src, f0, eps) = (&self.src, &self.f0, self.eps);
         let jv = |r: &SVector<T, D>| matvec(&self.jac, r) * h;
         let solve = |b: &SVector<T, D>| solve(&self.lu, &self.perm, b);
         let s36 = c::<T>(SQRT3 / 6.0);
@@ -346,7 +299,7 @@ where
     }
 }
 
-impl<J, T, const D: usize> Method<T, D> for Gauss<'_, J, T, D>
+impl<J, T, const D: usize> Method<T, D> for Gauss<J, T, D>
 where
     T: RealField + Copy,
     J: JacobianSource<T, D>,
@@ -358,13 +311,8 @@ where
     }
 
     fn start(&mut self, t: T, x: &SVector<T, D>, stats: &mut Stats) -> Result<(), Failure> {
-        self.f0 = self.src.rhs(t, x);
-        stats.rhs_evals += 1;
-        if all_finite(&self.f0) {
-            Ok(())
-        } else {
-            Err(Failure::NonFinite)
-        }
+        self.f0 = counted(self.src.rhs(t, x), stats)?;
+        Ok(())
     }
 
     fn attempt(
@@ -410,9 +358,7 @@ where
             return Err(Failure::NonFinite);
         }
         // Cubic Hermite in Hairer's nested form.
-        let ydiff = x_new - x;
-        let bspl = self.f0 * h - ydiff;
-        self.dense = Poly::from_nested(&[*x, ydiff, bspl, ydiff - self.f_new * h - bspl]);
+        self.dense = Poly::from_nested(&hermite_terms(x, &self.f0, &x_new, &self.f_new, h));
         Ok(T::zero())
     }
 

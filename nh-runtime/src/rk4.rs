@@ -4,9 +4,8 @@ use nalgebra::{RealField, SVector};
 
 use crate::common::{Fixed, all_finite, c, fixed_builders, integrator_impl};
 use crate::driver::{Failure, Method, Tolerance};
-use crate::sink::Sink;
 use crate::step::Poly;
-use crate::{OdeSystem, Outcome, SimError, Stats};
+use crate::{OdeSystem, Stats};
 
 /// Classical fourth-order Runge–Kutta with a fixed step `h`.
 ///
@@ -17,14 +16,14 @@ use crate::{OdeSystem, Outcome, SimError, Stats};
 ///
 /// * `h` is a magnitude: its sign follows the direction from `t0` to `t1`.
 ///   A non-positive or non-finite `h` makes `integrate` return
-///   [`SimError::InvalidInput`].
+///   [`SimError::InvalidInput`](crate::SimError::InvalidInput).
 /// * After each step the new state is checked; if any component is NaN or
-///   infinite, [`SimError::NonFinite`] is returned at once with the last good
+///   infinite, [`SimError::NonFinite`](crate::SimError::NonFinite) is returned at once with the last good
 ///   `(t, x)`.
 /// * If `h` is too small to advance `t` in floating point,
-///   [`SimError::StepSizeTooSmall`] is returned.
+///   [`SimError::StepSizeTooSmall`](crate::SimError::StepSizeTooSmall) is returned.
 /// * At most 1 000 000 steps by default ([`Rk4::with_max_steps`] raises
-///   or lowers the budget); more return [`SimError::MaxSteps`].
+///   or lowers the budget); more return [`SimError::MaxSteps`](crate::SimError::MaxSteps).
 ///
 /// # Example
 ///
@@ -43,30 +42,7 @@ pub struct Rk4<T> {
 }
 
 fixed_builders!(Rk4);
-integrator_impl!(Rk4);
-
-impl<T: RealField + Copy> Rk4<T> {
-    fn run<S, K, const D: usize>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        sink: &mut K,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeSystem<T, D> + ?Sized,
-        K: Sink<T, D> + ?Sized,
-    {
-        let mut method = Rk4Stages {
-            sys,
-            k: [SVector::zeros(); 4],
-            x_new: SVector::zeros(),
-            dense: Poly::from_monomial(&[]),
-        };
-        self.f.run(&mut method, (t0, x0, t1), sink)
-    }
-}
+integrator_impl!(Rk4, f, |sys| Rk4Stages::new(sys));
 
 /// The four stages of one classical RK4 step.
 struct Rk4Stages<'a, S: ?Sized, T, const D: usize> {
@@ -74,6 +50,17 @@ struct Rk4Stages<'a, S: ?Sized, T, const D: usize> {
     k: [SVector<T, D>; 4],
     x_new: SVector<T, D>,
     dense: Poly<T, D>,
+}
+
+impl<'a, S: ?Sized, T: RealField + Copy, const D: usize> Rk4Stages<'a, S, T, D> {
+    fn new(sys: &'a S) -> Self {
+        Rk4Stages {
+            sys,
+            k: [SVector::zeros(); 4],
+            x_new: SVector::zeros(),
+            dense: Poly::from_monomial(&[]),
+        }
+    }
 }
 
 impl<T, S, const D: usize> Method<T, D> for Rk4Stages<'_, S, T, D>

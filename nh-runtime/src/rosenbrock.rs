@@ -3,13 +3,14 @@
 
 use nalgebra::{RealField, SMatrix, SVector};
 
-use crate::common::{Adaptive, adaptive_builders, all_finite, c, error_norm, integrator_impl};
-use crate::driver::{Failure, Method, Pi, Tolerance};
+use crate::Stats;
+use crate::common::{
+    Adaptive, adaptive_builders, all_finite, c, error_norm, integrator_impl, jacobian_entry_points,
+};
+use crate::driver::{Failure, Method, Pi, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource, time_derivative};
 use crate::linalg::Lu;
-use crate::sink::{Discard, Sink, Steps};
 use crate::step::Poly;
-use crate::{OdeJacobian, OdeSystem, Outcome, SimError, Stats, Step};
 
 // RODAS4 (Hairer & Wanner, Solving ODEs II, section IV.7, table 7.2, and
 // Hairer's rodas.f, METH = 1) in the transformed formulation
@@ -82,17 +83,17 @@ const PI: Pi = Pi {
 /// factorised by a stack-allocated LU with partial pivoting; there is no
 /// Newton iteration.
 ///
-/// * Jacobian: the [`Integrator`] implementation works for any
-///   [`OdeSystem`] with a forward-difference Jacobian (`D` extra right-hand
+/// * Jacobian: the [`Integrator`](crate::Integrator) implementation works for any
+///   [`OdeSystem`](crate::OdeSystem) with a forward-difference Jacobian (`D` extra right-hand
 ///   side evaluations, increment `sqrt(eps·max(1e-5, |x_j|))` as in
 ///   Hairer's codes, but at least `sqrt(eps)·|x_j|`, so that it resolves
 ///   any finite state);
 ///   [`Rosenbrock::integrate_with_jacobian`] uses the analytic
-///   [`OdeJacobian::jacobian`] instead. `∂f/∂t` is always obtained by one
+///   [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) instead. `∂f/∂t` is always obtained by one
 ///   forward difference (exactly zero for autonomous systems). The Jacobian
 ///   is evaluated once per accepted step and reused after rejections;
-///   [`Stats::jacobian_evals`] counts Jacobians (analytic or finite
-///   difference), [`Stats::lu_decompositions`] the LU factorisations.
+///   [`Stats::jacobian_evals`](crate::Stats::jacobian_evals) counts Jacobians (analytic or finite
+///   difference), [`Stats::lu_decompositions`](crate::Stats::lu_decompositions) the LU factorisations.
 /// * Error norm as [`DormandPrince`](crate::DormandPrince) (RMS of
 ///   `err_i/(atol + rtol·max(|x_i|, |x_new_i|))`) applied to the embedded
 ///   estimate `U_6`; step control of `RODAS`:
@@ -105,14 +106,14 @@ const PI: Pi = Pi {
 /// Failure modes:
 ///
 /// * A singular (or non-finite) iteration matrix rejects the step and
-///   halves `h`; after 5 consecutive failures [`SimError::Singular`] is
+///   halves `h`; after 5 consecutive failures [`SimError::Singular`](crate::SimError::Singular) is
 ///   returned with the last accepted state. A non-finite Jacobian at an
-///   accepted state returns [`SimError::NonFinite`] at once.
+///   accepted state returns [`SimError::NonFinite`](crate::SimError::NonFinite) at once.
 /// * Non-finite stages are rejected and retried with half the step; as in
 ///   [`DormandPrince`](crate::DormandPrince), an underflowing step gives
-///   [`SimError::NonFinite`] or [`SimError::StepSizeTooSmall`], and the
-///   budget of step attempts (default 100 000) [`SimError::MaxSteps`].
-/// * Invalid tolerances or step settings give [`SimError::InvalidInput`].
+///   [`SimError::NonFinite`](crate::SimError::NonFinite) or [`SimError::StepSizeTooSmall`](crate::SimError::StepSizeTooSmall), and the
+///   budget of step attempts (default 100 000) [`SimError::MaxSteps`](crate::SimError::MaxSteps).
+/// * Invalid tolerances or step settings give [`SimError::InvalidInput`](crate::SimError::InvalidInput).
 ///
 /// Work per step attempt: 6 evaluations of the right-hand side and one LU
 /// decomposition; per accepted step (and at `t0`) additionally `f(t, x)`,
@@ -146,9 +147,15 @@ impl<T: RealField + Copy> Rosenbrock<T> {
             a: Adaptive::new(rtol, atol),
         }
     }
+}
 
-    /// Like [`Integrator::integrate`], but with the analytic Jacobian
-    /// [`OdeJacobian::jacobian`] instead of finite differences.
+adaptive_builders!(Rosenbrock);
+integrator_impl!(Rosenbrock, a, |sys| Rodas::new(FiniteDifference(sys)));
+
+jacobian_entry_points! {
+    Rosenbrock, a, |sys| Rodas::new(Analytic(sys)),
+    /// Like [`Integrator::integrate`](crate::Integrator::integrate), but with the analytic Jacobian
+    /// [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) instead of finite differences.
     ///
     /// # Example
     ///
@@ -175,84 +182,16 @@ impl<T: RealField + Copy> Rosenbrock<T> {
     /// // One Jacobian at t0 and one after every accepted step but the last.
     /// assert_eq!(out.stats.jacobian_evals, out.stats.steps);
     /// ```
-    pub fn integrate_with_jacobian<S, const D: usize>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeJacobian<T, D> + ?Sized,
-    {
-        self.run_source(&Analytic(sys), t0, x0, t1, &mut Discard)
-    }
-
-    /// Like [`Integrator::integrate_with_steps`], but with the analytic
-    /// Jacobian [`OdeJacobian::jacobian`] instead of finite differences.
-    pub fn integrate_with_jacobian_and_steps<S, F, const D: usize>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        on_step: F,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeJacobian<T, D> + ?Sized,
-        F: FnMut(&Step<'_, T, D>),
-    {
-        self.run_source(&Analytic(sys), t0, x0, t1, &mut Steps(on_step))
-    }
-
-    fn run<S, K, const D: usize>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        sink: &mut K,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeSystem<T, D> + ?Sized,
-        K: Sink<T, D> + ?Sized,
-    {
-        self.run_source(&FiniteDifference(sys), t0, x0, t1, sink)
-    }
-
-    fn run_source<J, K, const D: usize>(
-        &mut self,
-        src: &J,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        sink: &mut K,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        J: JacobianSource<T, D>,
-        K: Sink<T, D> + ?Sized,
-    {
-        let mut method = Rodas {
-            src,
-            f0: SVector::zeros(),
-            jac: SMatrix::zeros(),
-            ft: SVector::zeros(),
-            u: [SVector::zeros(); 5],
-            x_new: SVector::zeros(),
-            f_new: SVector::zeros(),
-            dense: Poly::from_monomial(&[]),
-        };
-        self.a.run(&mut method, PI, (t0, x0, t1), sink)
-    }
+    integrate_with_jacobian;
+    /// Like [`Integrator::integrate_with_steps`](crate::Integrator::integrate_with_steps), but with the analytic
+    /// Jacobian [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) instead of finite differences.
+    integrate_with_jacobian_and_steps;
 }
-
-adaptive_builders!(Rosenbrock);
-integrator_impl!(Rosenbrock);
 
 /// The state of RODAS4 at an accepted point (derivative, Jacobian, `∂f/∂t`)
 /// and the stages `U_1 … U_5` of the last trial.
-struct Rodas<'a, J, T, const D: usize> {
-    src: &'a J,
+struct Rodas<J, T, const D: usize> {
+    src: J,
     f0: SVector<T, D>,
     jac: SMatrix<T, D, D>,
     ft: SVector<T, D>,
@@ -262,16 +201,29 @@ struct Rodas<'a, J, T, const D: usize> {
     dense: Poly<T, D>,
 }
 
-impl<J, T, const D: usize> Rodas<'_, J, T, D>
+impl<J, T, const D: usize> Rodas<J, T, D>
 where
     T: RealField + Copy,
     J: JacobianSource<T, D>,
 {
+    fn new(src: J) -> Self {
+        Rodas {
+            src,
+            f0: SVector::zeros(),
+            jac: SMatrix::zeros(),
+            ft: SVector::zeros(),
+            u: [SVector::zeros(); 5],
+            x_new: SVector::zeros(),
+            f_new: SVector::zeros(),
+            dense: Poly::from_monomial(&[]),
+        }
+    }
+
     /// The Jacobian and `∂f/∂t` at the accepted point `(t, x)`.
     fn linearise(&mut self, t: T, x: &SVector<T, D>, stats: &mut Stats) -> Result<(), Failure> {
         self.src
             .jacobian(t, x, &self.f0, self.jac.as_mut_slice(), stats);
-        self.ft = time_derivative(self.src, t, x, &self.f0, stats);
+        self.ft = time_derivative(&self.src, t, x, &self.f0, stats);
         if self.jac.iter().all(|v| v.is_finite()) && all_finite(&self.ft) {
             Ok(())
         } else {
@@ -280,23 +232,20 @@ where
     }
 }
 
-impl<J, T, const D: usize> Method<T, D> for Rodas<'_, J, T, D>
+impl<J, T, const D: usize> Method<T, D> for Rodas<J, T, D>
 where
     T: RealField + Copy,
     J: JacobianSource<T, D>,
 {
     const ORDER: u32 = 4;
+    const PI: Pi = PI;
 
     fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
         self.src.rhs(t, x)
     }
 
     fn start(&mut self, t: T, x: &SVector<T, D>, stats: &mut Stats) -> Result<(), Failure> {
-        self.f0 = self.src.rhs(t, x);
-        stats.rhs_evals += 1;
-        if !all_finite(&self.f0) {
-            return Err(Failure::NonFinite);
-        }
+        self.f0 = counted(self.src.rhs(t, x), stats)?;
         self.linearise(t, x, stats)
     }
 
@@ -314,7 +263,7 @@ where
         stats: &mut Stats,
     ) -> Result<T, Failure> {
         let cc = |v: f64| c::<T>(v);
-        let (src, f0, ft) = (self.src, self.f0, self.ft);
+        let (src, f0, ft) = (&self.src, self.f0, self.ft);
         // The iteration matrix I/(hγ) − J and its LU decomposition.
         let fac = T::one() / (h * cc(GAMMA));
         stats.lu_decompositions += 1;
@@ -354,13 +303,8 @@ where
     /// The derivative at the new point (for the next step); a non-finite
     /// one means the step went where the system is undefined.
     fn complete(&mut self, t_new: T, stats: &mut Stats) -> Result<(), Failure> {
-        self.f_new = self.src.rhs(t_new, &self.x_new);
-        stats.rhs_evals += 1;
-        if all_finite(&self.f_new) {
-            Ok(())
-        } else {
-            Err(Failure::NonFinite)
-        }
+        self.f_new = counted(self.src.rhs(t_new, &self.x_new), stats)?;
+        Ok(())
     }
 
     fn x_new(&self) -> &SVector<T, D> {

@@ -21,6 +21,22 @@ const NESTED: [[f64; MAX_COEFFS]; MAX_COEFFS] = [
     [0.0, 0.0, 0.0, 0.0, 1.0, -3.0, 3.0, -1.0],
 ];
 
+/// The first four terms of Hairer's nested dense output for a step
+/// `(x, f) → (x_new, f_new)` of size `h`: `x`, `Δ = x_new − x`,
+/// `r3 = h f − Δ`, `r4 = Δ − h f_new − r3` (alone, the cubic Hermite
+/// interpolant; `CONTD5` and `CONTD8` add higher terms).
+pub(crate) fn hermite_terms<T: RealField + Copy, const D: usize>(
+    x: &SVector<T, D>,
+    f: &SVector<T, D>,
+    x_new: &SVector<T, D>,
+    f_new: &SVector<T, D>,
+    h: T,
+) -> [SVector<T, D>; 4] {
+    let ydiff = x_new - x;
+    let bspl = f * h - ydiff;
+    [*x, ydiff, bspl, ydiff - f_new * h - bspl]
+}
+
 /// A vector polynomial `x(θ) = Σ_j c_j θ^j` in the normalised step time
 /// `θ = (t − t_prev)/h`, of degree `< MAX_COEFFS`.
 #[derive(Debug, Clone, Copy, PartialEq)]
