@@ -335,3 +335,48 @@ fn gauss_at_dimension_150_fits_a_small_thread_stack() {
     assert_eq!(stats.steps, 10);
     assert!((q - 0.5f64.cos()).abs() < 1e-6, "{q}");
 }
+
+#[test]
+fn no_step_is_accepted_without_progress() {
+    // A huge derivative on spans near the bottom of the exponent range:
+    // the step size used to underflow to 0 at t = 0, and 99,931 accepted
+    // steps of length 0 passed before MaxSteps. Now every accepted step
+    // advances t, and a span below the smallest step is one Euler step.
+    let big = |_t: f64, x: &Vector2<f64>| Vector2::new(1e300 * x[1], -x[0]);
+    let x0 = Vector2::new(1.0, 1.0);
+    for t1 in [5e-324, 1e-300, 1e-295, 1e-290] {
+        let check = |name: &str, r: Run<2>, steps: usize| {
+            println!("{name} [0, {t1:e}]: {steps} steps, {r:?}");
+            match r {
+                Ok(out) => assert_eq!(out.t, t1),
+                Err(e) => assert!(
+                    matches!(
+                        e,
+                        SimError::StepSizeTooSmall { .. } | SimError::NonFinite { .. }
+                    ),
+                    "{name}: {e:?}"
+                ),
+            }
+            assert!(steps < 1000, "{name}: {steps} steps");
+        };
+        let forward = |s: &nh_runtime::Step<'_, f64, 2>| assert!(s.t() > s.t_prev(), "{s:?}");
+        let mut n = 0;
+        let r = DormandPrince::new(1e-8, 1e-10).integrate_with_steps(&big, 0.0, x0, t1, |s| {
+            forward(s);
+            n += 1
+        });
+        check("dopri5", r, n);
+        let mut n = 0;
+        let r = Dop853::new(1e-8, 1e-10).integrate_with_steps(&big, 0.0, x0, t1, |s| {
+            forward(s);
+            n += 1
+        });
+        check("dop853", r, n);
+        let mut n = 0;
+        let r = Rosenbrock::new(1e-8, 1e-10).integrate_with_steps(&big, 0.0, x0, t1, |s| {
+            forward(s);
+            n += 1
+        });
+        check("rosenbrock", r, n);
+    }
+}
