@@ -76,21 +76,33 @@ const PI: Pi = Pi {
 /// * stiffness detection (Hairer's test): every 1000 accepted steps, and at
 ///   every step once it fired, `h·λ ≈ |h|·‖k7 − k6‖ / ‖y7 − y6‖` is estimated;
 ///   after 15 estimates above 3.25 (without 6 consecutive ones below)
-///   [`Stats::stiffness_detected`](crate::Stats::stiffness_detected) is set. Integration continues regardless.
+///   [`Stats::stiffness_detected`](crate::Stats::stiffness_detected) is
+///   set. Integration continues regardless. (Not with
+///   [`DormandPrince::with_fixed_step`]: the test is about a controlled
+///   step being held at the stability boundary.)
 ///
-/// Failure modes:
+/// Failure modes (those of every adaptive integrator of this crate, which
+/// share one step driver):
 ///
-/// * A trial step whose new state, final derivative or error estimate is
-///   not finite is rejected and retried with half the step. When the step
-///   falls below `10·eps·|t|` (at least `10·eps²·|t1|`), [`SimError::NonFinite`](crate::SimError::NonFinite) is returned
-///   if the last rejection was due to non-finite values, otherwise
-///   [`SimError::StepSizeTooSmall`](crate::SimError::StepSizeTooSmall); both carry the last accepted `(t, x)`.
-///   A non-finite derivative at `(t0, x0)` itself returns `NonFinite` at once.
+/// * A trial step with a non-finite stage, new state or (when it is used)
+///   dense output is rejected and retried with half the step; a finite
+///   trial whose error norm overflows is an ordinary rejection. When the
+///   step falls below `10·eps·|t|` (at least `10·eps²·|t1|` and
+///   `1/(eps·T::MAX)`), [`SimError::NonFinite`](crate::SimError::NonFinite)
+///   is returned if the last rejection was due to non-finite values,
+///   otherwise [`SimError::StepSizeTooSmall`](crate::SimError::StepSizeTooSmall);
+///   both carry the last accepted `(t, x)`. A non-finite derivative at
+///   `(t0, x0)` itself returns `NonFinite` at once.
+/// * A span shorter than that smallest step is covered by one explicit
+///   Euler step and ends `Ok` at `t1`; a step that reaches `t1` by rounding
+///   ends the run there.
 /// * More than `max_steps` step attempts (accepted plus rejected, default
 ///   100 000) returns [`SimError::MaxSteps`](crate::SimError::MaxSteps).
 /// * `rtol` must be finite and > 0, `atol` finite and ≥ 0, the initial and
 ///   maximal step (when given) finite and > 0; otherwise
-///   [`SimError::InvalidInput`](crate::SimError::InvalidInput) is returned before anything is evaluated.
+///   [`SimError::InvalidInput`](crate::SimError::InvalidInput) is returned
+///   before anything is evaluated. An `rtol` below `10·eps` (what the
+///   scalar can resolve in one step) is raised to `10·eps`.
 ///
 /// Work per attempt: 6 evaluations of the right-hand side (FSAL), plus 1 for
 /// the derivative at `t0` and 1 for the initial-step heuristic, i.e.

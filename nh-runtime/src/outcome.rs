@@ -34,8 +34,9 @@ pub struct Stats {
     pub jacobian_evals: usize,
     /// Whether the integrator's stiffness test fired (only
     /// [`DormandPrince`](crate::DormandPrince) and [`Dop853`](crate::Dop853)
-    /// perform one). The integration still continues; a stiff problem is
-    /// merely slow for an explicit method.
+    /// perform one, and only under error control, not with
+    /// `with_fixed_step`). The integration still continues; a stiff problem
+    /// is merely slow for an explicit method.
     pub stiffness_detected: bool,
     /// Newton iterations (implicit Runge–Kutta methods such as
     /// [`GaussLegendre4`](crate::GaussLegendre4); 0 for the others).
