@@ -36,6 +36,19 @@ pub(crate) fn all_finite<T: RealField + Copy, const D: usize>(x: &SVector<T, D>)
     x.iter().all(|v| v.is_finite())
 }
 
+/// Whether every component of every vector in `vs` is finite, without a
+/// branch per component: `0·v` is `0` for a finite `v` and NaN otherwise,
+/// so the sum of `0·v_i` over the vectors is zero exactly when all of them
+/// are finite (the stage checks of every step go through here).
+#[inline]
+pub(crate) fn all_finite_in<T: RealField + Copy, const D: usize>(vs: &[SVector<T, D>]) -> bool {
+    let mut zero = SVector::<T, D>::zeros();
+    for v in vs {
+        zero += v * T::zero();
+    }
+    all_finite(&zero)
+}
+
 /// `e / sk` with `0 / 0 = 0`: a component whose error is exactly zero meets
 /// any tolerance, also a zero one (`atol = 0` on a component that is exactly
 /// zero, such as a coordinate of a system at rest), instead of turning the
@@ -224,7 +237,7 @@ impl<T: RealField + Copy> Adaptive<T> {
         let settings = Settings {
             control: match self.fixed_step {
                 Some(h) => Control::Fixed(h),
-                None => Control::Adaptive(M::PI),
+                None => Control::Adaptive,
             },
             tol: Tolerance {
                 rtol,

@@ -333,6 +333,7 @@ where
         Some(&self.k[0])
     }
 
+    #[inline(always)]
     fn attempt(
         &mut self,
         t: T,

@@ -2,7 +2,7 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::common::{Adaptive, adaptive_builders, all_finite, c, error_norm, integrator_impl};
+use crate::common::{Adaptive, adaptive_builders, all_finite_in, c, error_norm, integrator_impl};
 use crate::driver::{Failure, Method, Pi, Tolerance, counted, stiffness_estimate};
 use crate::step::{Poly, hermite_terms};
 use crate::{OdeSystem, Stats};
@@ -225,7 +225,7 @@ where
         stats.rhs_evals += 6;
         self.k = [k1, k2, k3, k4, k5, k6, k7];
         (self.x6, self.x_new) = (x6, x_new);
-        if !(self.k.iter().all(all_finite) && all_finite(&x6) && all_finite(&x_new)) {
+        if !(all_finite_in(&self.k) && all_finite_in(&[x6, x_new])) {
             return Err(Failure::NonFinite);
         }
         let err_vec = (k1 * c::<T>(E1)

@@ -5,7 +5,8 @@ use nalgebra::{RealField, SMatrix, SVector};
 
 use crate::Stats;
 use crate::common::{
-    Adaptive, adaptive_builders, all_finite, c, error_norm, integrator_impl, jacobian_entry_points,
+    Adaptive, adaptive_builders, all_finite, all_finite_in, c, error_norm, integrator_impl,
+    jacobian_entry_points,
 };
 use crate::driver::{Failure, Method, Pi, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource, time_derivative};
@@ -294,7 +295,7 @@ where
         stats.rhs_evals += 5;
         self.u = [u1, u2, u3, u4, u5];
         self.x_new = x6 + u6;
-        if !(self.u.iter().all(all_finite) && all_finite(&u6) && all_finite(&self.x_new)) {
+        if !(all_finite_in(&self.u) && all_finite_in(&[u6, self.x_new])) {
             return Err(Failure::NonFinite);
         }
         Ok(error_norm(&u6, x, &self.x_new, tol.rtol, tol.atol))
