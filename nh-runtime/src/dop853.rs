@@ -2,7 +2,7 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::common::{Adaptive, adaptive_builders, all_finite, c, integrator_impl, scaled};
+use crate::common::{Adaptive, adaptive_builders, all_finite_in, c, integrator_impl, scaled};
 use crate::driver::{Failure, Method, Pi, Tolerance, counted, stiffness_estimate};
 use crate::step::{Poly, hermite_terms};
 use crate::{OdeSystem, Stats};
@@ -421,7 +421,10 @@ where
         self.x_new = x + kb * h;
         self.x12 = x12;
         self.k[..12].copy_from_slice(&[k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12]);
-        if !(self.k[..12].iter().all(all_finite) && all_finite(&x12) && all_finite(&self.x_new)) {
+        // `x12` combines k1, k4 … k11 and `x_new` k1, k6 … k12, all with
+        // non-zero weights, so (in IEEE arithmetic) these four vectors are
+        // finite only if every stage is.
+        if !all_finite_in(&[k2, k3, x12, self.x_new]) {
             return Err(Failure::NonFinite);
         }
         Ok(self.error(x, &kb, h, tol))
@@ -506,7 +509,7 @@ where
                 D71, D76, D77, D78, D79, D710, D711, D712, D713, D714, D715, D716,
             ]),
         ]);
-        [k14, k15, k16].iter().all(all_finite) && self.dense.is_finite()
+        all_finite_in(&[k14, k15, k16]) && self.dense.is_finite()
     }
 
     fn dense(&self) -> &Poly<T, D> {

@@ -225,7 +225,10 @@ where
         stats.rhs_evals += 6;
         self.k = [k1, k2, k3, k4, k5, k6, k7];
         (self.x6, self.x_new) = (x6, x_new);
-        if !(all_finite_in(&self.k) && all_finite_in(&[x6, x_new])) {
+        // `x6` combines k1 … k5 and `x_new` k1, k3 … k6, all with non-zero
+        // weights, so (in IEEE arithmetic) these three vectors are finite
+        // only if every stage is.
+        if !all_finite_in(&[x6, x_new, k7]) {
             return Err(Failure::NonFinite);
         }
         let err_vec = (k1 * c::<T>(E1)

@@ -224,7 +224,7 @@ where
         }
         stats.lu_decompositions += 1;
         self.lu_h = None;
-        if !factor(&mut self.lu, &mut self.perm) {
+        if !factor::<T, D>(&mut self.lu, &mut self.perm) {
             return Err(Failure::Singular);
         }
         self.lu_h = Some(h);

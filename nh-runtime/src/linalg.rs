@@ -18,7 +18,7 @@ impl<T: RealField + Copy, const D: usize> Lu<T, D> {
     /// (the matrix is singular to working precision, or garbage).
     pub(crate) fn new(mut a: SMatrix<T, D, D>) -> Option<Self> {
         let mut perm = [0usize; D];
-        factor(a.as_mut_slice(), &mut perm).then_some(Self { lu: a, perm })
+        factor::<T, D>(a.as_mut_slice(), &mut perm).then_some(Self { lu: a, perm })
     }
 
     /// Solves `A x = b`.
@@ -27,23 +27,33 @@ impl<T: RealField + Copy, const D: usize> Lu<T, D> {
     }
 }
 
-/// Factorises the `n×n` column-major matrix `a` (`n = perm.len()`) in
-/// place into `P A = L U` with partial pivoting (whole rows are exchanged);
-/// `false` if a pivot is zero or anything is non-finite.
-pub(crate) fn factor<T: RealField + Copy>(a: &mut [T], perm: &mut [usize]) -> bool {
-    let n = perm.len();
-    let at = |i: usize, j: usize| i + j * n;
+/// The first `D` columns of the column-major slice `a` (`D·D` entries) as
+/// arrays, so that indexing them needs no bounds checks.
+fn columns<T, const D: usize>(a: &[T]) -> &[[T; D]] {
+    &a.as_chunks::<D>().0[..D]
+}
+
+/// [`columns`], mutably.
+fn columns_mut<T, const D: usize>(a: &mut [T]) -> &mut [[T; D]] {
+    &mut a.as_chunks_mut::<D>().0[..D]
+}
+
+/// Factorises the `D×D` column-major matrix `a` in place into `P A = L U`
+/// with partial pivoting (whole rows are exchanged); `false` if a pivot is
+/// zero or anything is non-finite.
+pub(crate) fn factor<T: RealField + Copy, const D: usize>(a: &mut [T], perm: &mut [usize]) -> bool {
+    let a = columns_mut::<T, D>(a);
+    let perm = &mut perm[..D];
     for (i, p) in perm.iter_mut().enumerate() {
         *p = i;
     }
-    for k in 0..n {
+    for k in 0..D {
         // Partial pivoting: the largest entry of column k at or below k.
         let mut p = k;
-        let mut max = a[at(k, k)].abs();
-        for i in k + 1..n {
-            let v = a[at(i, k)].abs();
-            if v > max {
-                max = v;
+        let mut max = a[k][k].abs();
+        for (i, v) in a[k].iter().enumerate().skip(k + 1) {
+            if v.abs() > max {
+                max = v.abs();
                 p = i;
             }
         }
@@ -51,24 +61,25 @@ pub(crate) fn factor<T: RealField + Copy>(a: &mut [T], perm: &mut [usize]) -> bo
             return false;
         }
         if p != k {
-            for j in 0..n {
-                a.swap(at(p, j), at(k, j));
+            for column in a.iter_mut() {
+                column.swap(p, k);
             }
             perm.swap(p, k);
         }
-        let pivot = a[at(k, k)];
-        for i in k + 1..n {
-            a[at(i, k)] /= pivot;
+        let (left, right) = a.split_at_mut(k + 1);
+        let column_k = &mut left[k];
+        let pivot = column_k[k];
+        for l in &mut column_k[k + 1..] {
+            *l /= pivot;
         }
-        for j in k + 1..n {
-            let akj = a[at(k, j)];
-            for i in k + 1..n {
-                let l = a[at(i, k)];
-                a[at(i, j)] -= l * akj;
+        for column_j in right {
+            let akj = column_j[k];
+            for (aij, &l) in column_j[k + 1..].iter_mut().zip(&column_k[k + 1..]) {
+                *aij -= l * akj;
             }
         }
     }
-    a.iter().all(|v| v.is_finite())
+    a.iter().flatten().all(|v| v.is_finite())
 }
 
 /// Solves `A x = b` with the factors of [`factor`].
@@ -77,20 +88,21 @@ pub(crate) fn solve<T: RealField + Copy, const D: usize>(
     perm: &[usize],
     b: &SVector<T, D>,
 ) -> SVector<T, D> {
-    let at = |i: usize, j: usize| i + j * D;
+    let lu = columns::<T, D>(lu);
+    let perm = &perm[..D];
     let mut x = SVector::<T, D>::from_fn(|i, _| b[perm[i]]);
     for i in 0..D {
         for j in 0..i {
             let xj = x[j];
-            x[i] -= lu[at(i, j)] * xj;
+            x[i] -= lu[j][i] * xj;
         }
     }
     for i in (0..D).rev() {
         for j in i + 1..D {
             let xj = x[j];
-            x[i] -= lu[at(i, j)] * xj;
+            x[i] -= lu[j][i] * xj;
         }
-        x[i] /= lu[at(i, i)];
+        x[i] /= lu[i][i];
     }
     x
 }
