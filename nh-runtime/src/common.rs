@@ -299,6 +299,15 @@ impl<T: RealField + Copy> Fixed<T> {
 macro_rules! adaptive_builders {
     ($ty:ident) => {
         impl<T: nalgebra::RealField + Copy> $ty<T> {
+            /// An adaptive integrator with relative tolerance `rtol` (> 0)
+            /// and absolute tolerance `atol` (≥ 0), applied to every
+            /// component.
+            pub fn new(rtol: T, atol: T) -> Self {
+                Self {
+                    a: crate::common::Adaptive::new(rtol, atol),
+                }
+            }
+
             /// Sets the maximum number of step attempts, accepted plus
             /// rejected (default 100 000); more ends the run with
             /// [`SimError::MaxSteps`](crate::SimError::MaxSteps).

@@ -238,16 +238,6 @@ pub struct Dop853<T> {
     a: Adaptive<T>,
 }
 
-impl<T: RealField + Copy> Dop853<T> {
-    /// An adaptive integrator with relative tolerance `rtol` (> 0) and
-    /// absolute tolerance `atol` (≥ 0), applied to every component.
-    pub fn new(rtol: T, atol: T) -> Self {
-        Self {
-            a: Adaptive::new(rtol, atol),
-        }
-    }
-}
-
 adaptive_builders!(Dop853);
 integrator_impl!(Dop853, a, |sys| Dop853Stages::new(sys));
 

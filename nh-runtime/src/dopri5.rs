@@ -127,16 +127,6 @@ pub struct DormandPrince<T> {
     a: Adaptive<T>,
 }
 
-impl<T: RealField + Copy> DormandPrince<T> {
-    /// An adaptive integrator with relative tolerance `rtol` (> 0) and
-    /// absolute tolerance `atol` (≥ 0), applied to every component.
-    pub fn new(rtol: T, atol: T) -> Self {
-        Self {
-            a: Adaptive::new(rtol, atol),
-        }
-    }
-}
-
 adaptive_builders!(DormandPrince);
 integrator_impl!(DormandPrince, a, |sys| Dopri5::new(sys));
 

@@ -140,16 +140,6 @@ pub struct Rosenbrock<T> {
     a: Adaptive<T>,
 }
 
-impl<T: RealField + Copy> Rosenbrock<T> {
-    /// An adaptive integrator with relative tolerance `rtol` (> 0) and
-    /// absolute tolerance `atol` (≥ 0), applied to every component.
-    pub fn new(rtol: T, atol: T) -> Self {
-        Self {
-            a: Adaptive::new(rtol, atol),
-        }
-    }
-}
-
 adaptive_builders!(Rosenbrock);
 integrator_impl!(Rosenbrock, a, |sys| Rodas::new(FiniteDifference(sys)));
 
