@@ -240,6 +240,9 @@ pub enum Kind {
     NonFinite,
     /// [`SimError::StepSizeTooSmall`].
     StepSizeTooSmall,
+    /// [`SimError::NoConvergence`] (the Newton iteration of an implicit
+    /// method: its fixed step is too large).
+    NoConvergence,
     /// [`SimError::MaxSteps`].
     MaxSteps,
     /// [`SimError::Singular`].
@@ -255,6 +258,7 @@ impl Kind {
             Ok(_) => Kind::Ok,
             Err(SimError::NonFinite { .. }) => Kind::NonFinite,
             Err(SimError::StepSizeTooSmall { .. }) => Kind::StepSizeTooSmall,
+            Err(SimError::NoConvergence { .. }) => Kind::NoConvergence,
             Err(SimError::MaxSteps { .. }) => Kind::MaxSteps,
             Err(SimError::Singular { .. }) => Kind::Singular,
             Err(SimError::InvalidInput { .. }) => Kind::InvalidInput,
@@ -267,6 +271,7 @@ impl Kind {
             Kind::Ok => "Ok",
             Kind::NonFinite => "NonFinite",
             Kind::StepSizeTooSmall => "StepSizeTooSmall",
+            Kind::NoConvergence => "NoConvergence",
             Kind::MaxSteps => "MaxSteps",
             Kind::Singular => "Singular",
             Kind::InvalidInput => "InvalidInput",
@@ -275,13 +280,15 @@ impl Kind {
 }
 
 /// Errors that end a run which could not be completed honestly.
-const GAVE_UP: &[Kind] = &[Kind::StepSizeTooSmall, Kind::MaxSteps];
-/// Errors of a run stopped by non-finite values or a collapsing step.
-const STOPPED: &[Kind] = &[Kind::NonFinite, Kind::StepSizeTooSmall];
+const GAVE_UP: &[Kind] = &[Kind::StepSizeTooSmall, Kind::NoConvergence, Kind::MaxSteps];
+/// Errors of a run stopped by non-finite values, a collapsing step or a
+/// step too large for the Newton iteration.
+const STOPPED: &[Kind] = &[Kind::NonFinite, Kind::StepSizeTooSmall, Kind::NoConvergence];
 /// Any typed error.
 const ANY_ERROR: &[Kind] = &[
     Kind::NonFinite,
     Kind::StepSizeTooSmall,
+    Kind::NoConvergence,
     Kind::MaxSteps,
     Kind::Singular,
 ];

@@ -2,7 +2,9 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::{OdeSystem, SimError, Stats};
+use crate::driver::{Control, Method, Record, Settings, Tolerance, drive};
+use crate::sink::Sink;
+use crate::{OdeSystem, Outcome, SimError, Stats};
 
 /// Converts an `f64` constant to `T`.
 #[inline(always)]
@@ -32,6 +34,19 @@ pub(crate) fn machine_epsilon<T: RealField + Copy>() -> T {
 #[inline]
 pub(crate) fn all_finite<T: RealField + Copy, const D: usize>(x: &SVector<T, D>) -> bool {
     x.iter().all(|v| v.is_finite())
+}
+
+/// Whether every component of every vector in `vs` is finite, without a
+/// branch per component: `0·v` is `0` for a finite `v` and NaN otherwise,
+/// so the sum of `0·v_i` over the vectors is zero exactly when all of them
+/// are finite (the stage checks of every step go through here).
+#[inline]
+pub(crate) fn all_finite_in<T: RealField + Copy, const D: usize>(vs: &[SVector<T, D>]) -> bool {
+    let mut zero = SVector::<T, D>::zeros();
+    for v in vs {
+        zero += v * T::zero();
+    }
+    all_finite(&zero)
 }
 
 /// `e / sk` with `0 / 0 = 0`: a component whose error is exactly zero meets
@@ -111,9 +126,12 @@ pub(crate) fn check_positive<T: RealField + Copy, const D: usize>(
 /// The smallest step magnitude an adaptive method may take at `t`:
 /// `10·eps·|t|` (the resolution of `t`, as in Hairer's codes), floored at
 /// `10·eps²·|t1|` so that it stays positive near `t = 0` without stopping
-/// short initial transients of long integrations.
+/// short initial transients of long integrations, and at
+/// `1 / (eps·T::MAX)` (about 2.5e-293 in `f64`) so that it never underflows
+/// and `1/h` stays finite. A span below it is covered in one Euler step.
 pub(crate) fn min_step<T: RealField + Copy>(eps: T, t: T, t1: T) -> T {
-    c::<T>(10.0) * eps * t.abs().max(eps * t1.abs())
+    let floor = T::max_value().map_or(T::zero(), |max| T::one() / (max * eps));
+    (c::<T>(10.0) * eps * t.abs().max(eps * t1.abs())).max(floor)
 }
 
 /// Hairer's `hinit`: a first step magnitude for a method of order `order`
@@ -163,6 +181,11 @@ where
     (h * c::<T>(100.0)).min(h1).min(hmax)
 }
 
+/// The default step budget of the adaptive integrators (attempts).
+pub(crate) const ADAPTIVE_MAX_STEPS: usize = 100_000;
+/// The default step budget of the fixed-step integrators (steps).
+pub(crate) const FIXED_MAX_STEPS: usize = 1_000_000;
+
 /// The settings and bookkeeping every adaptive integrator has (tolerances,
 /// step limits, the counters of the last call); see the builder methods that
 /// [`adaptive_builders`] gives each of them.
@@ -174,8 +197,7 @@ pub(crate) struct Adaptive<T> {
     pub(crate) initial_step: Option<T>,
     pub(crate) max_step: Option<T>,
     pub(crate) fixed_step: Option<T>,
-    pub(crate) stats: crate::Stats,
-    pub(crate) last_step: Option<T>,
+    pub(crate) record: Record<T>,
 }
 
 impl<T: RealField + Copy> Adaptive<T> {
@@ -184,34 +206,91 @@ impl<T: RealField + Copy> Adaptive<T> {
         Adaptive {
             rtol,
             atol,
-            max_steps: 100_000,
+            max_steps: ADAPTIVE_MAX_STEPS,
             initial_step: None,
             max_step: None,
             fixed_step: None,
-            stats: crate::Stats::default(),
-            last_step: None,
+            record: Record::default(),
         }
     }
 
-    /// `InvalidInput` unless `rtol > 0`, `atol ≥ 0` and every given step is
-    /// positive, all finite.
-    pub(crate) fn check<const D: usize>(&self) -> Result<(), SimError<T, D>> {
-        check_positive(self.rtol, "rtol must be positive and finite")?;
-        if !(self.atol.is_finite() && self.atol >= T::zero()) {
-            return Err(SimError::InvalidInput {
-                what: "atol must be non-negative and finite",
-            });
+    /// Runs `method` under these settings with its step-size controller
+    /// (or the fixed step of `with_fixed_step`). A positive `rtol`
+    /// below `10·eps` is raised to `10·eps`, the smallest relative error the
+    /// scalar can resolve in a step.
+    pub(crate) fn run<M, K, const D: usize>(
+        &mut self,
+        method: &mut M,
+        span: (T, SVector<T, D>, T),
+        sink: &mut K,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        M: Method<T, D>,
+        K: Sink<T, D> + ?Sized,
+    {
+        let floor = c::<T>(10.0) * machine_epsilon::<T>();
+        let rtol = if self.rtol > T::zero() {
+            self.rtol.max(floor)
+        } else {
+            self.rtol
+        };
+        let settings = Settings {
+            control: match self.fixed_step {
+                Some(h) => Control::Fixed(h),
+                None => Control::Adaptive,
+            },
+            tol: Tolerance {
+                rtol,
+                atol: self.atol,
+            },
+            initial_step: self.initial_step,
+            max_step: self.max_step,
+            max_steps: self.max_steps,
+        };
+        drive(method, &settings, span, sink, &mut self.record)
+    }
+}
+
+/// The settings and bookkeeping of a fixed-step integrator.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Fixed<T> {
+    pub(crate) h: T,
+    pub(crate) max_steps: usize,
+    pub(crate) record: Record<T>,
+}
+
+impl<T: RealField + Copy> Fixed<T> {
+    /// Step `h`, at most [`FIXED_MAX_STEPS`] steps.
+    pub(crate) fn new(h: T) -> Self {
+        Fixed {
+            h,
+            max_steps: FIXED_MAX_STEPS,
+            record: Record::default(),
         }
-        if let Some(h) = self.initial_step {
-            check_positive(h, "initial step must be positive and finite")?;
-        }
-        if let Some(h) = self.max_step {
-            check_positive(h, "max step must be positive and finite")?;
-        }
-        if let Some(h) = self.fixed_step {
-            check_positive(h, "fixed step must be positive and finite")?;
-        }
-        Ok(())
+    }
+
+    /// Runs `method` with the fixed step.
+    pub(crate) fn run<M, K, const D: usize>(
+        &mut self,
+        method: &mut M,
+        span: (T, SVector<T, D>, T),
+        sink: &mut K,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        M: Method<T, D>,
+        K: Sink<T, D> + ?Sized,
+    {
+        let settings = Settings {
+            control: Control::Fixed(self.h),
+            tol: Tolerance {
+                rtol: T::one(),
+                atol: T::one(),
+            },
+            initial_step: None,
+            max_step: None,
+            max_steps: self.max_steps,
+        };
+        drive(method, &settings, span, sink, &mut self.record)
     }
 }
 
@@ -220,6 +299,15 @@ impl<T: RealField + Copy> Adaptive<T> {
 macro_rules! adaptive_builders {
     ($ty:ident) => {
         impl<T: nalgebra::RealField + Copy> $ty<T> {
+            /// An adaptive integrator with relative tolerance `rtol` (> 0)
+            /// and absolute tolerance `atol` (≥ 0), applied to every
+            /// component.
+            pub fn new(rtol: T, atol: T) -> Self {
+                Self {
+                    a: crate::common::Adaptive::new(rtol, atol),
+                }
+            }
+
             /// Sets the maximum number of step attempts, accepted plus
             /// rejected (default 100 000); more ends the run with
             /// [`SimError::MaxSteps`](crate::SimError::MaxSteps).
@@ -242,10 +330,12 @@ macro_rules! adaptive_builders {
                 self
             }
 
-            /// Switches the error control off: every step has length `h` (the
-            /// last one shortened to land on `t1`), as for measuring the
-            /// method's order of convergence. A non-finite step then ends the
-            /// run with [`SimError::NonFinite`](crate::SimError::NonFinite).
+            /// Switches the error control off: the steps are laid out as for
+            /// [`Rk4`](crate::Rk4) (step `k` ends at `t0 + k·h`, the last
+            /// one lands on `t1`), as for measuring the method's order of
+            /// convergence. A non-finite step then ends the run with
+            /// [`SimError::NonFinite`](crate::SimError::NonFinite); the step
+            /// budget stays that of [`Self::with_max_steps`].
             pub fn with_fixed_step(mut self, h: T) -> Self {
                 self.a.fixed_step = Some(h);
                 self
@@ -256,7 +346,7 @@ macro_rules! adaptive_builders {
             /// [`Stats::stiffness_detected`](crate::Stats::stiffness_detected)
             /// after [`SimError::MaxSteps`](crate::SimError::MaxSteps)).
             pub fn last_stats(&self) -> crate::Stats {
-                self.a.stats
+                self.a.record.stats
             }
 
             /// Magnitude of the step size the controller proposed after the
@@ -264,12 +354,178 @@ macro_rules! adaptive_builders {
             /// was accepted); handy as the initial step when continuing an
             /// integration.
             pub fn last_step(&self) -> Option<T> {
-                self.a.last_step
+                self.a.record.last_step
             }
         }
     };
 }
 pub(crate) use adaptive_builders;
+
+/// The builder and query methods shared by the fixed-step integrators
+/// (their settings live in a [`Fixed`] field named `f`), written once.
+macro_rules! fixed_builders {
+    ($ty:ident) => {
+        impl<T: nalgebra::RealField + Copy> $ty<T> {
+            /// A fixed-step integrator with step size `h` (> 0).
+            pub fn new(h: T) -> Self {
+                Self {
+                    f: crate::common::Fixed::new(h),
+                }
+            }
+
+            /// Sets the maximum number of steps (default 1 000 000);
+            /// exceeding it returns [`SimError::MaxSteps`](crate::SimError::MaxSteps).
+            pub fn with_max_steps(mut self, n: usize) -> Self {
+                self.f.max_steps = n;
+                self
+            }
+
+            /// The step size.
+            pub fn step_size(&self) -> T {
+                self.f.h
+            }
+
+            /// Work counters of the most recent call to `integrate*`, whether
+            /// it succeeded or failed.
+            pub fn last_stats(&self) -> crate::Stats {
+                self.f.record.stats
+            }
+        }
+    };
+}
+pub(crate) use fixed_builders;
+
+/// The [`Integrator`](crate::Integrator) implementation of an integrator
+/// whose settings live in `$field` ([`Adaptive`] or [`Fixed`]) and whose
+/// method for a system `$sys` is `$method`: every entry point goes through
+/// the step driver with the matching [`Sink`].
+macro_rules! integrator_impl {
+    ($ty:ident, $field:ident, |$sys:ident| $method:expr) => {
+        impl<T: nalgebra::RealField + Copy> $ty<T> {
+            /// Integrates `sys` and reports the accepted steps to `sink`.
+            fn run<S, K, const D: usize>(
+                &mut self,
+                $sys: &S,
+                t0: T,
+                x0: nalgebra::SVector<T, D>,
+                t1: T,
+                sink: &mut K,
+            ) -> Result<crate::Outcome<T, D>, crate::SimError<T, D>>
+            where
+                S: crate::OdeSystem<T, D> + ?Sized,
+                K: crate::sink::Sink<T, D> + ?Sized,
+            {
+                self.$field.run(&mut $method, (t0, x0, t1), sink)
+            }
+        }
+
+        impl<T: nalgebra::RealField + Copy> crate::Integrator<T> for $ty<T> {
+            fn integrate_with_steps<S, F, const D: usize>(
+                &mut self,
+                sys: &S,
+                t0: T,
+                x0: nalgebra::SVector<T, D>,
+                t1: T,
+                on_step: F,
+            ) -> Result<crate::Outcome<T, D>, crate::SimError<T, D>>
+            where
+                S: crate::OdeSystem<T, D> + ?Sized,
+                F: FnMut(&crate::Step<'_, T, D>),
+            {
+                self.run(sys, t0, x0, t1, &mut crate::sink::Steps(on_step))
+            }
+
+            fn integrate<S: crate::OdeSystem<T, D> + ?Sized, const D: usize>(
+                &mut self,
+                sys: &S,
+                t0: T,
+                x0: nalgebra::SVector<T, D>,
+                t1: T,
+            ) -> Result<crate::Outcome<T, D>, crate::SimError<T, D>> {
+                self.run(sys, t0, x0, t1, &mut crate::sink::Discard)
+            }
+
+            fn integrate_with_observer<S, F, const D: usize>(
+                &mut self,
+                sys: &S,
+                t0: T,
+                x0: nalgebra::SVector<T, D>,
+                t1: T,
+                observer: F,
+            ) -> Result<crate::Outcome<T, D>, crate::SimError<T, D>>
+            where
+                S: crate::OdeSystem<T, D> + ?Sized,
+                F: FnMut(T, &nalgebra::SVector<T, D>),
+            {
+                crate::sink::observe(t0, x0, observer, |k| self.run(sys, t0, x0, t1, k))
+            }
+
+            fn integrate_with_outputs<S, F, const D: usize>(
+                &mut self,
+                sys: &S,
+                t0: T,
+                x0: nalgebra::SVector<T, D>,
+                t1: T,
+                times: &[T],
+                on_output: F,
+            ) -> Result<crate::Outcome<T, D>, crate::SimError<T, D>>
+            where
+                S: crate::OdeSystem<T, D> + ?Sized,
+                F: FnMut(T, &nalgebra::SVector<T, D>),
+            {
+                let span = (t0, x0, t1);
+                crate::sink::outputs(span, times, on_output, |k| self.run(sys, t0, x0, t1, k))
+            }
+        }
+    };
+}
+pub(crate) use integrator_impl;
+
+/// `integrate_with_jacobian` and `integrate_with_jacobian_and_steps` of an
+/// implicit integrator whose method for an [`OdeJacobian`](crate::OdeJacobian)
+/// system `$sys` is `$method` (documented by the given attributes).
+macro_rules! jacobian_entry_points {
+    (
+        $ty:ident, $field:ident, |$sys:ident| $method:expr,
+        $(#[$plain:meta])* integrate_with_jacobian;
+        $(#[$steps:meta])* integrate_with_jacobian_and_steps;
+    ) => {
+        impl<T: nalgebra::RealField + Copy> $ty<T> {
+            $(#[$plain])*
+            pub fn integrate_with_jacobian<S, const D: usize>(
+                &mut self,
+                $sys: &S,
+                t0: T,
+                x0: nalgebra::SVector<T, D>,
+                t1: T,
+            ) -> Result<crate::Outcome<T, D>, crate::SimError<T, D>>
+            where
+                S: crate::OdeJacobian<T, D> + ?Sized,
+            {
+                self.$field
+                    .run(&mut $method, (t0, x0, t1), &mut crate::sink::Discard)
+            }
+
+            $(#[$steps])*
+            pub fn integrate_with_jacobian_and_steps<S, F, const D: usize>(
+                &mut self,
+                $sys: &S,
+                t0: T,
+                x0: nalgebra::SVector<T, D>,
+                t1: T,
+                on_step: F,
+            ) -> Result<crate::Outcome<T, D>, crate::SimError<T, D>>
+            where
+                S: crate::OdeJacobian<T, D> + ?Sized,
+                F: FnMut(&crate::Step<'_, T, D>),
+            {
+                let mut sink = crate::sink::Steps(on_step);
+                self.$field.run(&mut $method, (t0, x0, t1), &mut sink)
+            }
+        }
+    };
+}
+pub(crate) use jacobian_entry_points;
 
 #[cfg(test)]
 mod tests {

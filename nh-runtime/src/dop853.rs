@@ -1,15 +1,11 @@
 //! Dormand–Prince 8(5,3) with dense output of order 7, after Hairer's `DOP853`.
 
-use core::cell::Cell;
-
 use nalgebra::{RealField, SVector};
 
-use crate::common::{
-    Adaptive, adaptive_builders, all_finite, c, check_arguments, initial_step, machine_epsilon,
-    min_step, scaled,
-};
-use crate::step::{Dense, Poly};
-use crate::{Integrator, OdeSystem, Outcome, SimError, Stats, Step};
+use crate::common::{Adaptive, adaptive_builders, all_finite_in, c, integrator_impl, scaled};
+use crate::driver::{Failure, Method, Pi, Tolerance, counted, stiffness_estimate};
+use crate::step::{Poly, hermite_terms};
+use crate::{OdeSystem, Stats};
 
 // Coefficients of DOP853 (Hairer, Nørsett & Wanner, Solving ODEs I, and
 // Hairer's dop853.f): nodes, weights, error estimators of orders 5 and 3,
@@ -168,18 +164,16 @@ const D713: f64 = -43.53345659001114;
 const D714: f64 = 96.32455395918828;
 const D715: f64 = -39.17726167561544;
 const D716: f64 = -149.72683625798564;
-// Hairer's DOP853 defaults.
-const SAFE: f64 = 0.9;
-const FAC1: f64 = 0.333;
-const FAC2: f64 = 6.0;
-const BETA: f64 = 0.0;
-const EXPO1: f64 = 1.0 / 8.0 - BETA * 0.2;
-/// Accepted steps between routine stiffness tests (Hairer's `NSTIFF`).
-const NSTIFF: usize = 1000;
-/// `h·λ` above this counts as "at the stability boundary" (DOP853's 6.1).
-const STIFF_HLAMB: f64 = 6.1;
-const STIFF_COUNT: usize = 15;
-const NONSTIFF_RESET: usize = 6;
+/// Hairer's DOP853 step-size control: `h_new = h·min(6, max(0.333,
+/// 0.9·err^(−1/8)))`, no PI term (`β = 0`).
+const PI: Pi = Pi {
+    safe: 0.9,
+    expo: 1.0 / 8.0,
+    beta: 0.0,
+    fac_lo: 1.0 / 6.0,
+    fac_hi: 1.0 / 0.333,
+    gustafsson: false,
+};
 
 /// Dormand–Prince 8(5,3): an explicit Runge–Kutta method of order 8 with
 /// adaptive steps and a 7th-order dense output, a port of the algorithm of
@@ -201,25 +195,29 @@ const NONSTIFF_RESET: usize = 6;
 /// * FSAL: the derivative at the new point, needed for the next step, is
 ///   computed only for accepted steps.
 /// * Stiffness detection as in DOP853 (`h·λ > 6.1` in 15 tests), reported
-///   in [`Stats::stiffness_detected`].
-/// * Dense output ([`Step::interpolate`]) of order 7 (`CONTD8`). It needs
-///   three extra stages, which are computed lazily — only for steps whose
-///   interpolant is actually evaluated — and then counted in
-///   [`Stats::rhs_evals`]. `integrate` and `integrate_with_observer` never
-///   pay for them.
+///   in [`Stats::stiffness_detected`](crate::Stats::stiffness_detected).
+/// * Dense output ([`Step::interpolate`](crate::Step::interpolate)) of
+///   order 7 (`CONTD8`). It needs three extra stages, computed only for
+///   steps that are interpolated (every step handed to
+///   [`Integrator::integrate_with_steps`](crate::Integrator::integrate_with_steps),
+///   the steps with an output time inside for
+///   [`Integrator::integrate_with_outputs`](crate::Integrator::integrate_with_outputs))
+///   and counted in [`Stats::rhs_evals`](crate::Stats::rhs_evals); they are checked before the step
+///   is accepted. `integrate` and `integrate_with_observer` never pay for
+///   them.
 /// * [`Dop853::with_fixed_step`] switches the error control off (every step
 ///   accepted): for convergence studies and real-time loops.
 ///
 /// Failure modes are those of [`DormandPrince`](crate::DormandPrince):
 /// non-finite trial steps are retried with half the step, and
-/// [`SimError::NonFinite`] / [`SimError::StepSizeTooSmall`] /
-/// [`SimError::MaxSteps`] (default 100 000 attempts) carry the last accepted
-/// state; invalid settings give [`SimError::InvalidInput`]. In fixed-step
-/// mode a non-finite step returns [`SimError::NonFinite`] at once.
+/// [`SimError::NonFinite`](crate::SimError::NonFinite) / [`SimError::StepSizeTooSmall`](crate::SimError::StepSizeTooSmall) /
+/// [`SimError::MaxSteps`](crate::SimError::MaxSteps) (default 100 000 attempts) carry the last accepted
+/// state; invalid settings give [`SimError::InvalidInput`](crate::SimError::InvalidInput). In fixed-step
+/// mode a non-finite step returns [`SimError::NonFinite`](crate::SimError::NonFinite) at once.
 ///
 /// Work: `rhs_evals = 11·(steps + rejected) + steps + 2` (one evaluation at
 /// `t0`, one for `hinit`; `+ 1` instead of `+ 2` with an explicit initial
-/// step), plus 3 for each step whose dense output was used.
+/// step), plus 3 for each step whose dense output was built.
 ///
 /// # Example
 ///
@@ -240,317 +238,203 @@ pub struct Dop853<T> {
     a: Adaptive<T>,
 }
 
-impl<T: RealField + Copy> Dop853<T> {
-    /// An adaptive integrator with relative tolerance `rtol` (> 0) and
-    /// absolute tolerance `atol` (≥ 0), applied to every component.
-    pub fn new(rtol: T, atol: T) -> Self {
-        Self {
-            a: Adaptive::new(rtol, atol),
-        }
-    }
+adaptive_builders!(Dop853);
+integrator_impl!(Dop853, a, |sys| Dop853Stages::new(sys));
 
-    fn run<S, F, const D: usize>(
-        &mut self,
-        stats: &mut Stats,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        mut on_step: F,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeSystem<T, D> + ?Sized,
-        F: FnMut(&Step<'_, T, D>),
-    {
-        let dir = check_arguments(t0, &x0, t1)?;
-        self.a.check()?;
-        if dir == T::zero() {
-            return Ok(Outcome {
-                t: t0,
-                x: x0,
-                stats: *stats,
-            });
-        }
-
-        let (rtol, atol) = (self.a.rtol, self.a.atol);
-        let eps = machine_epsilon::<T>();
-        let hmax = self.a.max_step.unwrap_or((t1 - t0).abs());
-
-        let (mut t, mut x) = (t0, x0);
-        let mut k1 = sys.rhs(t, &x);
-        stats.rhs_evals += 1;
-        if !all_finite(&k1) {
-            return Err(SimError::NonFinite { t, x });
-        }
-        let mut h = match (self.a.fixed_step, self.a.initial_step) {
-            (Some(hf), _) => hf,
-            (None, Some(h0)) => h0.min(hmax),
-            (None, None) => initial_step(sys, stats, t, &x, &k1, dir, hmax, rtol, atol, 8),
-        } * dir;
-
-        let mut facold = c::<T>(1e-4);
-        let mut reject = false;
-        let mut last = false;
-        let mut nonfinite = false;
-        let mut hlamb = T::zero();
-        let (mut iasti, mut nonsti) = (0usize, 0usize);
-        let cc = |v: f64| c::<T>(v);
-
-        loop {
-            let attempts = stats.steps + stats.rejected;
-            if attempts >= self.a.max_steps {
-                return Err(SimError::MaxSteps {
-                    t,
-                    x,
-                    steps: attempts,
-                });
-            }
-            if !h.is_finite() || h.abs() < min_step(eps, t, t1) {
-                return Err(if nonfinite {
-                    SimError::NonFinite { t, x }
-                } else {
-                    SimError::StepSizeTooSmall { t, x, h }
-                });
-            }
-            if (t + h * c::<T>(1.01) - t1) * dir > T::zero() {
-                h = t1 - t;
-                last = true;
-            }
-            let t_new = if last { t1 } else { t + h };
-
-            let k2 = sys.rhs(t + h * cc(C2), &(x + k1 * (h * cc(A21))));
-            let k3 = sys.rhs(t + h * cc(C3), &(x + (k1 * cc(A31) + k2 * cc(A32)) * h));
-            let k4 = sys.rhs(t + h * cc(C4), &(x + (k1 * cc(A41) + k3 * cc(A43)) * h));
-            let k5 = sys.rhs(
-                t + h * cc(C5),
-                &(x + (k1 * cc(A51) + k3 * cc(A53) + k4 * cc(A54)) * h),
-            );
-            let k6 = sys.rhs(
-                t + h * cc(C6),
-                &(x + (k1 * cc(A61) + k4 * cc(A64) + k5 * cc(A65)) * h),
-            );
-            let k7 = sys.rhs(
-                t + h * cc(C7),
-                &(x + (k1 * cc(A71) + k4 * cc(A74) + k5 * cc(A75) + k6 * cc(A76)) * h),
-            );
-            let k8 = sys.rhs(
-                t + h * cc(C8),
-                &(x + (k1 * cc(A81) + k4 * cc(A84) + k5 * cc(A85) + k6 * cc(A86) + k7 * cc(A87))
-                    * h),
-            );
-            let k9 = sys.rhs(
-                t + h * cc(C9),
-                &(x + (k1 * cc(A91)
-                    + k4 * cc(A94)
-                    + k5 * cc(A95)
-                    + k6 * cc(A96)
-                    + k7 * cc(A97)
-                    + k8 * cc(A98))
-                    * h),
-            );
-            let k10 = sys.rhs(
-                t + h * cc(C10),
-                &(x + (k1 * cc(A101)
-                    + k4 * cc(A104)
-                    + k5 * cc(A105)
-                    + k6 * cc(A106)
-                    + k7 * cc(A107)
-                    + k8 * cc(A108)
-                    + k9 * cc(A109))
-                    * h),
-            );
-            let k11 = sys.rhs(
-                t + h * cc(C11),
-                &(x + (k1 * cc(A111)
-                    + k4 * cc(A114)
-                    + k5 * cc(A115)
-                    + k6 * cc(A116)
-                    + k7 * cc(A117)
-                    + k8 * cc(A118)
-                    + k9 * cc(A119)
-                    + k10 * cc(A1110))
-                    * h),
-            );
-            let x12 = x
-                + (k1 * cc(A121)
-                    + k4 * cc(A124)
-                    + k5 * cc(A125)
-                    + k6 * cc(A126)
-                    + k7 * cc(A127)
-                    + k8 * cc(A128)
-                    + k9 * cc(A129)
-                    + k10 * cc(A1210)
-                    + k11 * cc(A1211))
-                    * h;
-            let k12 = sys.rhs(t_new, &x12);
-            stats.rhs_evals += 11;
-
-            let kb = k1 * cc(B1)
-                + k6 * cc(B6)
-                + k7 * cc(B7)
-                + k8 * cc(B8)
-                + k9 * cc(B9)
-                + k10 * cc(B10)
-                + k11 * cc(B11)
-                + k12 * cc(B12);
-            let x_new = x + kb * h;
-
-            // Error estimate: the 5th-order estimator, damped by the 3rd.
-            let e3 = kb - k1 * cc(BHH1) - k9 * cc(BHH2) - k12 * cc(BHH3);
-            let e5 = k1 * cc(ER1)
-                + k6 * cc(ER6)
-                + k7 * cc(ER7)
-                + k8 * cc(ER8)
-                + k9 * cc(ER9)
-                + k10 * cc(ER10)
-                + k11 * cc(ER11)
-                + k12 * cc(ER12);
-            let (mut err5, mut err3) = (T::zero(), T::zero());
-            for i in 0..D {
-                let sk = atol + rtol * x[i].abs().max(x_new[i].abs());
-                let (r3, r5) = (scaled(e3[i], sk), scaled(e5[i], sk));
-                err3 += r3 * r3;
-                err5 += r5 * r5;
-            }
-            let mut deno = err5 + c::<T>(0.01) * err3;
-            if deno <= T::zero() {
-                deno = T::one();
-            }
-            let err = if D == 0 {
-                T::zero()
-            } else {
-                h.abs() * err5 * (T::one() / (c::<T>(D as f64) * deno)).sqrt()
-            };
-
-            let finite = err.is_finite() && all_finite(&x_new);
-            if !finite {
-                if self.a.fixed_step.is_some() {
-                    return Err(SimError::NonFinite { t, x });
-                }
-                stats.rejected += 1;
-                nonfinite = true;
-                reject = true;
-                last = false;
-                h *= c::<T>(0.5);
-                continue;
-            }
-
-            let fac11 = err.powf(c::<T>(EXPO1));
-            let fac = (fac11 / facold.powf(c::<T>(BETA)) / c::<T>(SAFE))
-                .min(c::<T>(1.0 / FAC1))
-                .max(c::<T>(1.0 / FAC2));
-            let mut h_new = h / fac;
-
-            if err <= T::one() || self.a.fixed_step.is_some() {
-                // FSAL: the derivative at the new point.
-                let k_new = sys.rhs(t_new, &x_new);
-                stats.rhs_evals += 1;
-                if !all_finite(&k_new) {
-                    if self.a.fixed_step.is_some() {
-                        return Err(SimError::NonFinite { t, x });
-                    }
-                    stats.rejected += 1;
-                    nonfinite = true;
-                    reject = true;
-                    last = false;
-                    h *= c::<T>(0.5);
-                    continue;
-                }
-                nonfinite = false;
-                facold = err.max(c::<T>(1e-4));
-                stats.steps += 1;
-
-                if self.a.fixed_step.is_none() && (stats.steps.is_multiple_of(NSTIFF) || iasti > 0)
-                {
-                    let stnum = (k_new - k12).norm_squared();
-                    let stden = (x_new - x12).norm_squared();
-                    if stden > T::zero() {
-                        hlamb = h.abs() * (stnum / stden).sqrt();
-                    }
-                    if hlamb > c::<T>(STIFF_HLAMB) {
-                        nonsti = 0;
-                        iasti += 1;
-                        if iasti >= STIFF_COUNT {
-                            stats.stiffness_detected = true;
-                        }
-                    } else {
-                        nonsti += 1;
-                        if nonsti == NONSTIFF_RESET {
-                            iasti = 0;
-                        }
-                    }
-                }
-
-                let dense = LazyDense {
-                    sys,
-                    t,
-                    h,
-                    x,
-                    x_new,
-                    k: [k1, k6, k7, k8, k9, k10, k11, k12, k_new],
-                    poly: Cell::new(None),
-                    evals: Cell::new(0),
-                };
-                on_step(&Step::new(t, &x, t_new, &x_new, &dense));
-                stats.rhs_evals += dense.evals.get();
-
-                k1 = k_new;
-                x = x_new;
-                t = t_new;
-
-                if let Some(hf) = self.a.fixed_step {
-                    h_new = hf * dir;
-                } else {
-                    if h_new.abs() > hmax {
-                        h_new = hmax * dir;
-                    }
-                    if reject {
-                        h_new = h_new.abs().min(h.abs()) * dir;
-                    }
-                }
-                self.a.last_step = Some(h_new.abs());
-                if last {
-                    return Ok(Outcome {
-                        t,
-                        x,
-                        stats: *stats,
-                    });
-                }
-                reject = false;
-            } else {
-                h_new = h / (fac11 / c::<T>(SAFE)).min(c::<T>(1.0 / FAC1));
-                reject = true;
-                last = false;
-                stats.rejected += 1;
-            }
-            h = h_new;
-        }
-    }
-}
-
-/// The 7th-order dense output of one step, built on first use (it needs
-/// the three extra stages 14–16).
-struct LazyDense<'a, T, S: ?Sized, const D: usize> {
+/// The stages of one DOP853 step: `k[0..12]` are `k1 … k12`, `k[12]` the
+/// derivative at the new point (the next step's `k1`).
+struct Dop853Stages<'a, S: ?Sized, T, const D: usize> {
     sys: &'a S,
-    t: T,
-    h: T,
-    x: SVector<T, D>,
+    k: [SVector<T, D>; 13],
+    x12: SVector<T, D>,
     x_new: SVector<T, D>,
-    /// `k1, k6, …, k12` and the derivative at the new point.
-    k: [SVector<T, D>; 9],
-    poly: Cell<Option<Poly<T, D>>>,
-    evals: Cell<usize>,
+    dense: Poly<T, D>,
 }
 
-impl<T, S, const D: usize> LazyDense<'_, T, S, D>
+impl<'a, S: ?Sized, T: RealField + Copy, const D: usize> Dop853Stages<'a, S, T, D> {
+    fn new(sys: &'a S) -> Self {
+        Dop853Stages {
+            sys,
+            k: [SVector::zeros(); 13],
+            x12: SVector::zeros(),
+            x_new: SVector::zeros(),
+            dense: Poly::from_monomial(&[]),
+        }
+    }
+}
+
+impl<T, S, const D: usize> Dop853Stages<'_, S, T, D>
 where
     T: RealField + Copy,
     S: OdeSystem<T, D> + ?Sized,
 {
-    fn build(&self) -> Poly<T, D> {
+    /// Hairer's error estimate: the 5th-order estimator damped by the 3rd,
+    /// `|h|·E5² / sqrt(D·(E5² + 0.01·E3²))`.
+    fn error(&self, x: &SVector<T, D>, kb: &SVector<T, D>, h: T, tol: &Tolerance<T>) -> T {
         let cc = |v: f64| c::<T>(v);
-        let (t, h, x) = (self.t, self.h, self.x);
-        let [k1, k6, k7, k8, k9, k10, k11, k12, k13] = self.k;
+        let [k1, _, _, _, _, k6, k7, k8, k9, k10, k11, k12, _] = self.k;
+        let e3 = kb - k1 * cc(BHH1) - k9 * cc(BHH2) - k12 * cc(BHH3);
+        let e5 = k1 * cc(ER1)
+            + k6 * cc(ER6)
+            + k7 * cc(ER7)
+            + k8 * cc(ER8)
+            + k9 * cc(ER9)
+            + k10 * cc(ER10)
+            + k11 * cc(ER11)
+            + k12 * cc(ER12);
+        let (mut err5, mut err3) = (T::zero(), T::zero());
+        for i in 0..D {
+            let sk = tol.atol + tol.rtol * x[i].abs().max(self.x_new[i].abs());
+            let (r3, r5) = (scaled(e3[i], sk), scaled(e5[i], sk));
+            err3 += r3 * r3;
+            err5 += r5 * r5;
+        }
+        let mut deno = err5 + c::<T>(0.01) * err3;
+        if deno <= T::zero() {
+            deno = T::one();
+        }
+        if D == 0 {
+            T::zero()
+        } else {
+            h.abs() * err5 * (T::one() / (c::<T>(D as f64) * deno)).sqrt()
+        }
+    }
+}
+
+impl<T, S, const D: usize> Method<T, D> for Dop853Stages<'_, S, T, D>
+where
+    T: RealField + Copy,
+    S: OdeSystem<T, D> + ?Sized,
+{
+    const ORDER: u32 = 8;
+    const STIFF_LIMIT: Option<f64> = Some(6.1);
+    const PI: Pi = PI;
+
+    fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
+        self.sys.rhs(t, x)
+    }
+
+    fn start(&mut self, t: T, x: &SVector<T, D>, stats: &mut Stats) -> Result<(), Failure> {
+        self.k[0] = counted(self.sys.rhs(t, x), stats)?;
+        Ok(())
+    }
+
+    fn slope(&self) -> Option<&SVector<T, D>> {
+        Some(&self.k[0])
+    }
+
+    #[inline(always)]
+    fn attempt(
+        &mut self,
+        t: T,
+        x: &SVector<T, D>,
+        h: T,
+        t_new: T,
+        tol: &Tolerance<T>,
+        stats: &mut Stats,
+    ) -> Result<T, Failure> {
+        let (sys, k1) = (self.sys, self.k[0]);
+        let cc = |v: f64| c::<T>(v);
+        let k2 = sys.rhs(t + h * cc(C2), &(x + k1 * (h * cc(A21))));
+        let k3 = sys.rhs(t + h * cc(C3), &(x + (k1 * cc(A31) + k2 * cc(A32)) * h));
+        let k4 = sys.rhs(t + h * cc(C4), &(x + (k1 * cc(A41) + k3 * cc(A43)) * h));
+        let k5 = sys.rhs(
+            t + h * cc(C5),
+            &(x + (k1 * cc(A51) + k3 * cc(A53) + k4 * cc(A54)) * h),
+        );
+        let k6 = sys.rhs(
+            t + h * cc(C6),
+            &(x + (k1 * cc(A61) + k4 * cc(A64) + k5 * cc(A65)) * h),
+        );
+        let k7 = sys.rhs(
+            t + h * cc(C7),
+            &(x + (k1 * cc(A71) + k4 * cc(A74) + k5 * cc(A75) + k6 * cc(A76)) * h),
+        );
+        let k8 = sys.rhs(
+            t + h * cc(C8),
+            &(x + (k1 * cc(A81) + k4 * cc(A84) + k5 * cc(A85) + k6 * cc(A86) + k7 * cc(A87)) * h),
+        );
+        let k9 = sys.rhs(
+            t + h * cc(C9),
+            &(x + (k1 * cc(A91)
+                + k4 * cc(A94)
+                + k5 * cc(A95)
+                + k6 * cc(A96)
+                + k7 * cc(A97)
+                + k8 * cc(A98))
+                * h),
+        );
+        let k10 = sys.rhs(
+            t + h * cc(C10),
+            &(x + (k1 * cc(A101)
+                + k4 * cc(A104)
+                + k5 * cc(A105)
+                + k6 * cc(A106)
+                + k7 * cc(A107)
+                + k8 * cc(A108)
+                + k9 * cc(A109))
+                * h),
+        );
+        let k11 = sys.rhs(
+            t + h * cc(C11),
+            &(x + (k1 * cc(A111)
+                + k4 * cc(A114)
+                + k5 * cc(A115)
+                + k6 * cc(A116)
+                + k7 * cc(A117)
+                + k8 * cc(A118)
+                + k9 * cc(A119)
+                + k10 * cc(A1110))
+                * h),
+        );
+        let x12 = x
+            + (k1 * cc(A121)
+                + k4 * cc(A124)
+                + k5 * cc(A125)
+                + k6 * cc(A126)
+                + k7 * cc(A127)
+                + k8 * cc(A128)
+                + k9 * cc(A129)
+                + k10 * cc(A1210)
+                + k11 * cc(A1211))
+                * h;
+        let k12 = sys.rhs(t_new, &x12);
+        stats.rhs_evals += 11;
+        let kb = k1 * cc(B1)
+            + k6 * cc(B6)
+            + k7 * cc(B7)
+            + k8 * cc(B8)
+            + k9 * cc(B9)
+            + k10 * cc(B10)
+            + k11 * cc(B11)
+            + k12 * cc(B12);
+        self.x_new = x + kb * h;
+        self.x12 = x12;
+        self.k[..12].copy_from_slice(&[k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12]);
+        // `x12` combines k1, k4 … k11 and `x_new` k1, k6 … k12, all with
+        // non-zero weights, so (in IEEE arithmetic) these four vectors are
+        // finite only if every stage is.
+        if !all_finite_in(&[k2, k3, x12, self.x_new]) {
+            return Err(Failure::NonFinite);
+        }
+        Ok(self.error(x, &kb, h, tol))
+    }
+
+    /// FSAL: the derivative at the new point, only for accepted steps.
+    fn complete(&mut self, t_new: T, stats: &mut Stats) -> Result<(), Failure> {
+        self.k[12] = counted(self.sys.rhs(t_new, &self.x_new), stats)?;
+        Ok(())
+    }
+
+    fn x_new(&self) -> &SVector<T, D> {
+        &self.x_new
+    }
+
+    /// Hairer's `CONTD8`, with the three extra stages 14–16.
+    fn build_dense(&mut self, t: T, x: &SVector<T, D>, h: T, stats: &mut Stats) -> bool {
+        let cc = |v: f64| c::<T>(v);
+        let x = *x;
+        let [k1, _, _, _, _, k6, k7, k8, k9, k10, k11, k12, k13] = self.k;
         let k14 = self.sys.rhs(
             t + h * cc(C14),
             &(x + (k1 * cc(A141)
@@ -587,7 +471,7 @@ where
                 + k15 * cc(A1615))
                 * h),
         );
-        self.evals.set(self.evals.get() + 3);
+        stats.rhs_evals += 3;
         let ks = [k1, k6, k7, k8, k9, k10, k11, k12, k13, k14, k15, k16];
         let comb = |d: [f64; 12]| {
             let mut v = SVector::<T, D>::zeros();
@@ -596,13 +480,12 @@ where
             }
             v * h
         };
-        let ydiff = self.x_new - x;
-        let bspl = k1 * h - ydiff;
-        Poly::from_nested(&[
-            x,
-            ydiff,
-            bspl,
-            ydiff - k13 * h - bspl,
+        let [r0, r1, r2, r3] = hermite_terms(&x, &k1, &self.x_new, &k13, h);
+        self.dense = Poly::from_nested(&[
+            r0,
+            r1,
+            r2,
+            r3,
             comb([
                 D41, D46, D47, D48, D49, D410, D411, D412, D413, D414, D415, D416,
             ]),
@@ -615,47 +498,26 @@ where
             comb([
                 D71, D76, D77, D78, D79, D710, D711, D712, D713, D714, D715, D716,
             ]),
-        ])
+        ]);
+        all_finite_in(&[k14, k15, k16]) && self.dense.is_finite()
     }
-}
 
-impl<T, S, const D: usize> Dense<T, D> for LazyDense<'_, T, S, D>
-where
-    T: RealField + Copy,
-    S: OdeSystem<T, D> + ?Sized,
-{
-    fn eval(&self, theta: T) -> SVector<T, D> {
-        let poly = match self.poly.get() {
-            Some(p) => p,
-            None => {
-                let p = self.build();
-                self.poly.set(Some(p));
-                p
-            }
-        };
-        poly.eval(theta)
+    fn dense(&self) -> &Poly<T, D> {
+        &self.dense
     }
-}
 
-adaptive_builders!(Dop853);
+    fn stiffness_ratio(&self) -> Option<T> {
+        stiffness_estimate((&self.k[12], &self.k[11]), (&self.x_new, &self.x12))
+    }
 
-impl<T: RealField + Copy> Integrator<T> for Dop853<T> {
-    fn integrate_with_steps<S, F, const D: usize>(
+    fn advance(
         &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        on_step: F,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeSystem<T, D> + ?Sized,
-        F: FnMut(&Step<'_, T, D>),
-    {
-        let mut stats = Stats::default();
-        self.a.last_step = None;
-        let result = self.run(&mut stats, sys, t0, x0, t1, on_step);
-        self.a.stats = stats;
-        result
+        _t: T,
+        _x: &SVector<T, D>,
+        _last: bool,
+        _: &mut Stats,
+    ) -> Result<(), Failure> {
+        self.k[0] = self.k[12];
+        Ok(())
     }
 }

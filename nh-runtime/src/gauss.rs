@@ -1,12 +1,18 @@
 //! The 2-stage Gauss–Legendre collocation method (order 4, symplectic).
 
-use nalgebra::{RealField, SMatrix, SVector};
+use alloc::vec;
+use alloc::vec::Vec;
 
-use crate::common::{all_finite, c, check_arguments, check_positive, machine_epsilon};
+use nalgebra::{RealField, SVector};
+
+use crate::Stats;
+use crate::common::{
+    Fixed, all_finite, c, fixed_builders, integrator_impl, jacobian_entry_points, machine_epsilon,
+};
+use crate::driver::{Failure, Method, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource};
-use crate::linalg::Lu;
-use crate::step::Poly;
-use crate::{Integrator, OdeJacobian, OdeSystem, Outcome, SimError, Stats, Step};
+use crate::linalg::{factor, matvec, solve};
+use crate::step::{Poly, hermite_terms};
 
 /// `√3`, to full precision.
 const SQRT3: f64 = 1.732_050_807_568_877_2;
@@ -14,13 +20,6 @@ const SQRT3: f64 = 1.732_050_807_568_877_2;
 const MAX_NEWTON: usize = 50;
 /// Iterations above which the (reused) Jacobian is refreshed next step.
 const SLOW_NEWTON: usize = 10;
-
-/// Why the stage equations of one step could not be solved.
-enum StageFailure {
-    Singular,
-    NonFinite,
-    NoConvergence,
-}
 
 /// The 2-stage Gauss–Legendre method: implicit Runge–Kutta collocation at
 /// the Gauss points `1/2 ∓ √3/6`, order 4, A-stable, symmetric and
@@ -37,7 +36,7 @@ enum StageFailure {
 /// start of a step. The `2D×2D` Newton matrix `I − h A⊗J` cannot be named
 /// as a static matrix on stable Rust (`2*D` in a const generic), but its
 /// blocks are polynomials in `J` and commute, so it is inverted exactly by
-/// block elimination with a single `D×D` LU (partial pivoting, stack only)
+/// block elimination with a single `D×D` LU (partial pivoting)
 /// of `Δ = I − (h/2) J + (h²/12) J²` (`det A = 1/12`, `tr A = 1/2`):
 /// `M⁻¹ = Δ⁻¹ [[I − h a22 J, h a12 J], [h a21 J, I − h a11 J]]`.
 /// `Δ` is singular exactly when `M` is (`hλ = 3 ± i√3` for an eigenvalue
@@ -49,7 +48,7 @@ enum StageFailure {
 /// is `x + √3 (Z_2 − Z_1)` (i.e. `x + Σ d_i Z_i` with `dᵀ = bᵀA⁻¹`, no
 /// extra evaluations).
 ///
-/// The Jacobian (finite differences for any [`OdeSystem`], or the
+/// The Jacobian (finite differences for any [`OdeSystem`](crate::OdeSystem), or the
 /// analytic one via [`GaussLegendre4::integrate_with_jacobian`]) and the LU
 /// of `Δ` are reused from step to step as long as the Newton iteration
 /// converges quickly (≤ 10 iterations); a step whose iteration fails with a
@@ -63,16 +62,23 @@ enum StageFailure {
 /// Failure modes (the step is fixed, so nothing is retried with a smaller
 /// step; use a smaller `h`):
 ///
-/// * a singular `Δ` (even with a fresh Jacobian) → [`SimError::Singular`];
-/// * non-finite stages, Jacobian or new state → [`SimError::NonFinite`];
+/// * a singular `Δ` (even with a fresh Jacobian) → [`SimError::Singular`](crate::SimError::Singular);
+/// * non-finite stages, Jacobian or new state → [`SimError::NonFinite`](crate::SimError::NonFinite);
 /// * a Newton iteration that does not converge in 50 iterations, or
-///   diverges, with a fresh Jacobian → [`SimError::StepSizeTooSmall`]
-///   carrying `h` (read: the step is too *large* for the stage equations to
-///   be solvable by the simplified Newton iteration);
-/// * `h` too small to advance `t` → [`SimError::StepSizeTooSmall`]; the
-///   step budget ([`GaussLegendre4::with_max_steps`], unlimited by default)
-///   → [`SimError::MaxSteps`]; `h` not finite and positive →
-///   [`SimError::InvalidInput`].
+///   diverges, with a fresh Jacobian → [`SimError::NoConvergence`](crate::SimError::NoConvergence)
+///   carrying `h`: the step is too large for the stage equations to be
+///   solvable by the simplified Newton iteration; reduce `h`;
+/// * `h` too small to advance `t` → [`SimError::StepSizeTooSmall`](crate::SimError::StepSizeTooSmall); the
+///   step budget ([`GaussLegendre4::with_max_steps`], 1 000 000 steps by
+///   default) → [`SimError::MaxSteps`](crate::SimError::MaxSteps); `h` not finite and positive →
+///   [`SimError::InvalidInput`](crate::SimError::InvalidInput).
+///
+/// **Memory.** The `D×D` Jacobian and the LU of `Δ` live in a heap
+/// workspace allocated once per call (three allocations, whatever the
+/// number of steps), so large systems do not need a large stack; this is
+/// why `GaussLegendre4` needs the `alloc` feature (part of the default
+/// `std`). The analytic Jacobian of [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) is returned
+/// by value, so it passes through the stack once per evaluation.
 ///
 /// All carry the last accepted `(t, x)`.
 ///
@@ -96,49 +102,16 @@ enum StageFailure {
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GaussLegendre4<T> {
-    h: T,
-    max_steps: usize,
-    stats: Stats,
+    f: Fixed<T>,
 }
 
-/// Reusable Newton data: the Jacobian and the LU of `Δ` for the step size
-/// they were built with.
-struct NewtonMatrix<T, const D: usize> {
-    jac: SMatrix<T, D, D>,
-    lu: Lu<T, D>,
-    h: T,
-}
+fixed_builders!(GaussLegendre4);
+integrator_impl!(GaussLegendre4, f, |sys| Gauss::new(FiniteDifference(sys)));
 
-impl<T: RealField + Copy> GaussLegendre4<T> {
-    /// A fixed-step integrator with step size `h` (> 0).
-    pub fn new(h: T) -> Self {
-        Self {
-            h,
-            max_steps: usize::MAX,
-            stats: Stats::default(),
-        }
-    }
-
-    /// Sets the maximum number of steps (default: unlimited); exceeding it
-    /// returns [`SimError::MaxSteps`].
-    pub fn with_max_steps(mut self, n: usize) -> Self {
-        self.max_steps = n;
-        self
-    }
-
-    /// The step size.
-    pub fn step_size(&self) -> T {
-        self.h
-    }
-
-    /// Work counters of the most recent call to `integrate*`, whether it
-    /// succeeded or failed.
-    pub fn last_stats(&self) -> Stats {
-        self.stats
-    }
-
-    /// Like [`Integrator::integrate`], but with the analytic Jacobian
-    /// [`OdeJacobian::jacobian`] in the Newton iteration.
+jacobian_entry_points! {
+    GaussLegendre4, f, |sys| Gauss::new(Analytic(sys)),
+    /// Like [`Integrator::integrate`](crate::Integrator::integrate), but with the analytic Jacobian
+    /// [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) in the Newton iteration.
     ///
     /// # Example
     ///
@@ -165,87 +138,112 @@ impl<T: RealField + Copy> GaussLegendre4<T> {
     /// // A linear problem: one Jacobian and one LU for the whole run.
     /// assert_eq!(out.stats.jacobian_evals, 1);
     /// ```
-    pub fn integrate_with_jacobian<S, const D: usize>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeJacobian<T, D> + ?Sized,
-    {
-        self.integrate_with_jacobian_and_steps(sys, t0, x0, t1, |_| {})
-    }
+    integrate_with_jacobian;
+    /// Like [`Integrator::integrate_with_steps`](crate::Integrator::integrate_with_steps), but with the analytic
+    /// Jacobian [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) in the Newton iteration.
+    integrate_with_jacobian_and_steps;
+}
 
-    /// Like [`Integrator::integrate_with_steps`], but with the analytic
-    /// Jacobian [`OdeJacobian::jacobian`] in the Newton iteration.
-    pub fn integrate_with_jacobian_and_steps<S, F, const D: usize>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        on_step: F,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeJacobian<T, D> + ?Sized,
-        F: FnMut(&Step<'_, T, D>),
-    {
-        let mut stats = Stats::default();
-        let result = self.run(&mut stats, &Analytic(sys), t0, x0, t1, on_step);
-        self.stats = stats;
-        result
-    }
+impl<T: RealField + Copy> GaussLegendre4<T> {}
 
-    /// Builds the Newton matrix data for step `h` at `(t, x)`.
-    fn newton_matrix<J, const D: usize>(
-        src: &J,
-        stats: &mut Stats,
-        t: T,
-        x: &SVector<T, D>,
-        f0: &SVector<T, D>,
-        h: T,
-    ) -> Result<NewtonMatrix<T, D>, StageFailure>
-    where
-        J: JacobianSource<T, D>,
-    {
-        let jac = src.jacobian(t, x, f0, stats);
-        if !jac.iter().all(|v| v.is_finite()) {
-            return Err(StageFailure::NonFinite);
+/// The state of the Gauss method: the Newton workspace (Jacobian and LU of
+/// `Δ`, on the heap), the derivative at the accepted point and the last
+/// trial with its interpolant.
+struct Gauss<J, T, const D: usize> {
+    src: J,
+    eps: T,
+    /// `∂f/∂x`, column-major.
+    jac: Vec<T>,
+    /// The LU factors of `Δ = I − (h/2) J + (h²/12) J²`, column-major.
+    lu: Vec<T>,
+    perm: Vec<usize>,
+    jac_valid: bool,
+    /// The step the LU was built for.
+    lu_h: Option<T>,
+    /// Whether the next step needs a fresh Jacobian.
+    refresh: bool,
+    f0: SVector<T, D>,
+    x_new: SVector<T, D>,
+    f_new: SVector<T, D>,
+    /// The step of the last trial.
+    h: T,
+    dense: Poly<T, D>,
+    /// The previous step and its interpolant (the next starting guess).
+    prev: Option<(T, Poly<T, D>)>,
+}
+
+impl<J, T, const D: usize> Gauss<J, T, D>
+where
+    T: RealField + Copy,
+    J: JacobianSource<T, D>,
+{
+    /// The method with its workspace (allocated here, once per call).
+    fn new(src: J) -> Self {
+        Gauss {
+            src,
+            eps: machine_epsilon(),
+            jac: vec![T::zero(); D * D],
+            lu: vec![T::zero(); D * D],
+            perm: vec![0; D],
+            jac_valid: false,
+            lu_h: None,
+            refresh: true,
+            f0: SVector::zeros(),
+            x_new: SVector::zeros(),
+            f_new: SVector::zeros(),
+            h: T::zero(),
+            dense: Poly::from_monomial(&[]),
+            prev: None,
         }
-        Self::factor(stats, jac, h)
     }
 
-    fn factor<const D: usize>(
-        stats: &mut Stats,
-        jac: SMatrix<T, D, D>,
-        h: T,
-    ) -> Result<NewtonMatrix<T, D>, StageFailure> {
-        let hj = jac * h;
-        let delta = SMatrix::<T, D, D>::identity() - hj * c::<T>(0.5) + hj * hj / c::<T>(12.0);
+    /// A fresh Jacobian at `(t, x)`.
+    fn new_jacobian(&mut self, t: T, x: &SVector<T, D>, stats: &mut Stats) -> Result<(), Failure> {
+        self.src.jacobian(t, x, &self.f0, &mut self.jac, stats);
+        self.jac_valid = self.jac.iter().all(|v| v.is_finite());
+        if self.jac_valid {
+            Ok(())
+        } else {
+            Err(Failure::NonFinite)
+        }
+    }
+
+    /// Builds and factorises `Δ = I − (h/2) J + (h²/12) J²` for step `h`.
+    fn factor(&mut self, h: T, stats: &mut Stats) -> Result<(), Failure> {
+        let (half, twelfth) = (h * c::<T>(0.5), h * h / c::<T>(12.0));
+        let j = &self.jac;
+        for col in 0..D {
+            for row in 0..D {
+                let mut jj = T::zero();
+                for k in 0..D {
+                    jj += j[row + k * D] * j[k + col * D];
+                }
+                let id = if row == col { T::one() } else { T::zero() };
+                self.lu[row + col * D] = id - j[row + col * D] * half + jj * twelfth;
+            }
+        }
         stats.lu_decompositions += 1;
-        let lu = Lu::new(delta).ok_or(StageFailure::Singular)?;
-        Ok(NewtonMatrix { jac, lu, h })
+        self.lu_h = None;
+        if !factor::<T, D>(&mut self.lu, &mut self.perm) {
+            return Err(Failure::Singular);
+        }
+        self.lu_h = Some(h);
+        Ok(())
     }
 
     /// Solves the stage equations of the step `(t, x) → t + h`; returns the
-    /// new state and the number of Newton iterations, or why it failed.
-    #[allow(clippy::too_many_arguments)]
-    fn solve_stages<J, const D: usize>(
-        src: &J,
-        stats: &mut Stats,
-        nm: &NewtonMatrix<T, D>,
+    /// new state and the number of Newton iterations.
+    fn solve_stages(
+        &self,
         t: T,
         x: &SVector<T, D>,
-        f0: &SVector<T, D>,
         h: T,
-        eps: T,
         guess: Option<&Poly<T, D>>,
-    ) -> Result<(SVector<T, D>, usize), StageFailure>
-    where
-        J: JacobianSource<T, D>,
-    {
+        stats: &mut Stats,
+    ) -> Result<(SVector<T, D>, usize), Failure> {
+        let (src, f0, eps) = (&self.src, &self.f0, self.eps);
+        let jv = |r: &SVector<T, D>| matvec(&self.jac, r) * h;
+        let solve = |b: &SVector<T, D>| solve(&self.lu, &self.perm, b);
         let s36 = c::<T>(SQRT3 / 6.0);
         let quarter = c::<T>(0.25);
         let half = c::<T>(0.5);
@@ -256,7 +254,6 @@ impl<T: RealField + Copy> GaussLegendre4<T> {
             None => (f0 * (c1 * h), f0 * (c2 * h)),
         };
         let scale = x.map(|v| T::one() / (T::one() + v.abs()));
-        let hj = nm.jac * h;
         let mut prev = T::zero();
         for k in 1..=MAX_NEWTON {
             let f1 = src.rhs(t + c1 * h, &(x + z1));
@@ -266,13 +263,13 @@ impl<T: RealField + Copy> GaussLegendre4<T> {
             // Residual r = −G(Z) = h A F − Z.
             let r1 = (f1 * a11 + f2 * a12) * h - z1;
             let r2 = (f1 * a21 + f2 * a22) * h - z2;
-            let (j1, j2) = (hj * r1, hj * r2);
-            let d1 = nm.lu.solve(&(r1 - j1 * a22 + j2 * a12));
-            let d2 = nm.lu.solve(&(j1 * a21 + r2 - j2 * a11));
+            let (j1, j2) = (jv(&r1), jv(&r2));
+            let d1 = solve(&(r1 - j1 * a22 + j2 * a12));
+            let d2 = solve(&(j1 * a21 + r2 - j2 * a11));
             z1 += d1;
             z2 += d2;
             if !(all_finite(&z1) && all_finite(&z2)) {
-                return Err(StageFailure::NonFinite);
+                return Err(Failure::NonFinite);
             }
             let norm = d1
                 .component_mul(&scale)
@@ -293,158 +290,99 @@ impl<T: RealField + Copy> GaussLegendre4<T> {
                     return Ok((x + (z2 - z1) * c::<T>(SQRT3), k));
                 }
                 if norm >= prev {
-                    return Err(StageFailure::NoConvergence);
+                    return Err(Failure::NoConvergence);
                 }
             }
             prev = norm;
         }
-        Err(StageFailure::NoConvergence)
-    }
-
-    fn run<J, F, const D: usize>(
-        &self,
-        stats: &mut Stats,
-        src: &J,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        mut on_step: F,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        J: JacobianSource<T, D>,
-        F: FnMut(&Step<'_, T, D>),
-    {
-        let dir = check_arguments(t0, &x0, t1)?;
-        check_positive(
-            self.h,
-            "GaussLegendre4 step size h must be positive and finite",
-        )?;
-        if dir == T::zero() {
-            return Ok(Outcome {
-                t: t0,
-                x: x0,
-                stats: *stats,
-            });
-        }
-
-        let eps = machine_epsilon::<T>();
-        let h = self.h * dir;
-        let tol = (c::<T>(64.0) * eps * (t0.abs() + t1.abs() + self.h)).min(self.h * c::<T>(0.5));
-        let (mut t, mut x) = (t0, x0);
-        let mut f0 = src.rhs(t, &x);
-        stats.rhs_evals += 1;
-        if !all_finite(&f0) {
-            return Err(SimError::NonFinite { t, x });
-        }
-        let fail = |why: StageFailure, t: T, x: SVector<T, D>, h: T| match why {
-            StageFailure::Singular => SimError::Singular { t, x },
-            StageFailure::NonFinite => SimError::NonFinite { t, x },
-            StageFailure::NoConvergence => SimError::StepSizeTooSmall { t, x, h },
-        };
-        let mut nm: Option<NewtonMatrix<T, D>> = None;
-        let mut refresh = true;
-        let mut prev: Option<(T, Poly<T, D>)> = None;
-        let mut k: usize = 0;
-        loop {
-            if stats.steps >= self.max_steps {
-                return Err(SimError::MaxSteps {
-                    t,
-                    x,
-                    steps: stats.steps,
-                });
-            }
-            k += 1;
-            let mut t_next = t0 + h * c::<T>(k as f64);
-            let last = (t1 - t_next) * dir <= tol;
-            if last {
-                t_next = t1;
-            }
-            let hk = t_next - t;
-            if hk * dir <= T::zero() {
-                return Err(SimError::StepSizeTooSmall { t, x, h });
-            }
-
-            // Newton matrix: reuse unless stale, or built for another step.
-            let mut fresh = false;
-            // (A Newton matrix for a step within 0.1 % of `hk` is as good.)
-            let reusable =
-                !refresh && matches!(&nm, Some(m) if (m.h - hk).abs() <= c::<T>(1e-3) * hk.abs());
-            // Starting guess: the previous step's interpolant, extrapolated
-            // to the new stage times (when the steps are equal).
-            let guess = match &prev {
-                Some((hp, p)) if (*hp - hk).abs() <= c::<T>(1e-3) * hk.abs() => Some(p),
-                _ => None,
-            };
-            if !reusable {
-                let jac = match (&nm, refresh) {
-                    (Some(m), false) => m.jac,
-                    _ => {
-                        fresh = true;
-                        let jac = src.jacobian(t, &x, &f0, stats);
-                        if !jac.iter().all(|v| v.is_finite()) {
-                            return Err(SimError::NonFinite { t, x });
-                        }
-                        jac
-                    }
-                };
-                nm = Some(Self::factor(stats, jac, hk).map_err(|e| fail(e, t, x, hk))?);
-            }
-            let mut result = match &nm {
-                Some(m) => Self::solve_stages(src, stats, m, t, &x, &f0, hk, eps, guess),
-                None => Err(StageFailure::Singular),
-            };
-            if result.is_err() && !fresh {
-                // Retry once with a fresh Jacobian.
-                let m = Self::newton_matrix(src, stats, t, &x, &f0, hk)
-                    .map_err(|e| fail(e, t, x, hk))?;
-                result = Self::solve_stages(src, stats, &m, t, &x, &f0, hk, eps, None);
-                nm = Some(m);
-            }
-            let (x_new, iterations) = result.map_err(|e| fail(e, t, x, hk))?;
-            refresh = iterations > SLOW_NEWTON;
-
-            let f_new = src.rhs(t_next, &x_new);
-            stats.rhs_evals += 1;
-            if !(all_finite(&x_new) && all_finite(&f_new)) {
-                return Err(SimError::NonFinite { t, x });
-            }
-            stats.steps += 1;
-            // Cubic Hermite in Hairer's nested form.
-            let ydiff = x_new - x;
-            let bspl = f0 * hk - ydiff;
-            let dense = Poly::from_nested(&[x, ydiff, bspl, ydiff - f_new * hk - bspl]);
-            on_step(&Step::new(t, &x, t_next, &x_new, &dense));
-            prev = Some((hk, dense));
-            t = t_next;
-            x = x_new;
-            f0 = f_new;
-            if last {
-                return Ok(Outcome {
-                    t,
-                    x,
-                    stats: *stats,
-                });
-            }
-        }
+        Err(Failure::NoConvergence)
     }
 }
 
-impl<T: RealField + Copy> Integrator<T> for GaussLegendre4<T> {
-    fn integrate_with_steps<S, F, const D: usize>(
+impl<J, T, const D: usize> Method<T, D> for Gauss<J, T, D>
+where
+    T: RealField + Copy,
+    J: JacobianSource<T, D>,
+{
+    const ORDER: u32 = 4;
+
+    fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
+        self.src.rhs(t, x)
+    }
+
+    fn start(&mut self, t: T, x: &SVector<T, D>, stats: &mut Stats) -> Result<(), Failure> {
+        self.f0 = counted(self.src.rhs(t, x), stats)?;
+        Ok(())
+    }
+
+    fn attempt(
         &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        on_step: F,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeSystem<T, D> + ?Sized,
-        F: FnMut(&Step<'_, T, D>),
-    {
-        let mut stats = Stats::default();
-        let result = self.run(&mut stats, &FiniteDifference(sys), t0, x0, t1, on_step);
-        self.stats = stats;
-        result
+        t: T,
+        x: &SVector<T, D>,
+        h: T,
+        t_new: T,
+        _tol: &Tolerance<T>,
+        stats: &mut Stats,
+    ) -> Result<T, Failure> {
+        // (A Newton matrix or a guess for a step within 0.1 % of `h` is as good.)
+        let near = |other: T| (other - h).abs() <= c::<T>(1e-3) * h.abs();
+        let reusable = !self.refresh && self.lu_h.is_some_and(near);
+        let mut fresh = false;
+        if !reusable {
+            if self.refresh || !self.jac_valid {
+                fresh = true;
+                self.new_jacobian(t, x, stats)?;
+            }
+            self.factor(h, stats)?;
+        }
+        // Starting guess: the previous step's interpolant, extrapolated to
+        // the new stage times (when the steps are equal).
+        let guess = self
+            .prev
+            .as_ref()
+            .filter(|(hp, _)| near(*hp))
+            .map(|(_, p)| p);
+        let mut result = self.solve_stages(t, x, h, guess, stats);
+        if result.is_err() && !fresh {
+            // Retry once with a fresh Jacobian.
+            self.new_jacobian(t, x, stats)?;
+            self.factor(h, stats)?;
+            result = self.solve_stages(t, x, h, None, stats);
+        }
+        let (x_new, iterations) = result?;
+        self.refresh = iterations > SLOW_NEWTON;
+        self.f_new = self.src.rhs(t_new, &x_new);
+        stats.rhs_evals += 1;
+        (self.x_new, self.h) = (x_new, h);
+        if !(all_finite(&x_new) && all_finite(&self.f_new)) {
+            return Err(Failure::NonFinite);
+        }
+        // Cubic Hermite in Hairer's nested form.
+        self.dense = Poly::from_nested(&hermite_terms(x, &self.f0, &x_new, &self.f_new, h));
+        Ok(T::zero())
+    }
+
+    fn x_new(&self) -> &SVector<T, D> {
+        &self.x_new
+    }
+
+    fn build_dense(&mut self, _t: T, _x: &SVector<T, D>, _h: T, _stats: &mut Stats) -> bool {
+        self.dense.is_finite()
+    }
+
+    fn dense(&self) -> &Poly<T, D> {
+        &self.dense
+    }
+
+    fn advance(
+        &mut self,
+        _t: T,
+        _x: &SVector<T, D>,
+        _last: bool,
+        _: &mut Stats,
+    ) -> Result<(), Failure> {
+        self.prev = Some((self.h, self.dense));
+        self.f0 = self.f_new;
+        Ok(())
     }
 }

@@ -1,7 +1,7 @@
 //! Where the implicit methods get their Jacobians from: finite differences
 //! for any [`OdeSystem`], or the analytic [`OdeJacobian::jacobian`].
 
-use nalgebra::{RealField, SMatrix, SVector};
+use nalgebra::{RealField, SVector};
 
 use crate::common::{c, machine_epsilon};
 use crate::{OdeJacobian, OdeSystem, Stats};
@@ -12,20 +12,38 @@ pub(crate) trait JacobianSource<T: RealField + Copy, const D: usize> {
     /// `f(t, x)` (not counted: callers count).
     fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D>;
 
-    /// `∂f/∂x` at `(t, x)`, where `f0 = f(t, x)`; counts its work in `stats`.
+    /// Writes `∂f/∂x` at `(t, x)`, where `f0 = f(t, x)`, into `out`
+    /// (column-major, `D·D` entries, so that it may live on the heap);
+    /// counts its work in `stats`.
     fn jacobian(
         &self,
         t: T,
         x: &SVector<T, D>,
         f0: &SVector<T, D>,
+        out: &mut [T],
         stats: &mut Stats,
-    ) -> SMatrix<T, D, D>;
+    );
+}
+
+/// The forward-difference increment for a variable of value `v`:
+/// `max(sqrt(eps·max(1e-5, |v|)), sqrt(eps)·|v|)`, rounded so that
+/// `v + δ − v` is exact; returns `(v + δ, δ)`. For `|v| ≤ 1` this is
+/// Hairer's `sqrt(eps·max(1e-5, |v|))`; above, the increment scales with
+/// `|v|` (relative `sqrt(eps)`), so it resolves any finite value, where
+/// Hairer's falls below the spacing of the floating-point numbers near
+/// `|v| = 1e17` in `f64` (`1e10` in `f32`).
+pub(crate) fn increment<T: RealField + Copy>(v: T) -> (T, T) {
+    let eps = machine_epsilon::<T>();
+    let delta = (eps * v.abs().max(c::<T>(1e-5)))
+        .sqrt()
+        .max(eps.sqrt() * v.abs());
+    let vp = v + delta;
+    (vp, vp - v)
 }
 
 /// Forward-difference Jacobian of any [`OdeSystem`]: column `j` is
-/// `(f(t, x + δ_j e_j) − f0)/δ_j` with Hairer's increment
-/// `δ_j = sqrt(eps·max(1e-5, |x_j|))` (rounded so that `x_j + δ_j − x_j`
-/// is exact). Costs `D` evaluations of the right-hand side.
+/// `(f(t, x + δ_j e_j) − f0)/δ_j` with the increment of [`increment`].
+/// Costs `D` evaluations of the right-hand side.
 pub(crate) struct FiniteDifference<'a, S: ?Sized>(pub(crate) &'a S);
 
 impl<T, S, const D: usize> JacobianSource<T, D> for FiniteDifference<'_, S>
@@ -43,23 +61,22 @@ where
         t: T,
         x: &SVector<T, D>,
         f0: &SVector<T, D>,
+        out: &mut [T],
         stats: &mut Stats,
-    ) -> SMatrix<T, D, D> {
-        let eps = machine_epsilon::<T>();
-        let mut jac = SMatrix::<T, D, D>::zeros();
+    ) {
         let mut xp = *x;
-        for j in 0..D {
+        for (j, column) in out.chunks_exact_mut(D.max(1)).take(D).enumerate() {
             let xj = x[j];
-            let delta = (eps * xj.abs().max(c::<T>(1e-5))).sqrt();
-            xp[j] = xj + delta;
-            let delta = xp[j] - xj;
+            let (xpj, delta) = increment(xj);
+            xp[j] = xpj;
             let fj = self.0.rhs(t, &xp);
-            jac.set_column(j, &((fj - f0) / delta));
+            for (i, o) in column.iter_mut().enumerate() {
+                *o = (fj[i] - f0[i]) / delta;
+            }
             xp[j] = xj;
         }
         stats.rhs_evals += D;
         stats.jacobian_evals += 1;
-        jac
     }
 }
 
@@ -81,15 +98,17 @@ where
         t: T,
         x: &SVector<T, D>,
         _f0: &SVector<T, D>,
+        out: &mut [T],
         stats: &mut Stats,
-    ) -> SMatrix<T, D, D> {
+    ) {
         stats.jacobian_evals += 1;
-        self.0.jacobian(t, x)
+        out.copy_from_slice(self.0.jacobian(t, x).as_slice());
     }
 }
 
 /// Forward-difference `∂f/∂t` at `(t, x)` with `f0 = f(t, x)` (one
-/// evaluation, counted); exactly zero for autonomous systems.
+/// evaluation, counted), with the increment of [`increment`]; exactly zero
+/// for autonomous systems.
 pub(crate) fn time_derivative<T, J, const D: usize>(
     src: &J,
     t: T,
@@ -101,10 +120,7 @@ where
     T: RealField + Copy,
     J: JacobianSource<T, D> + ?Sized,
 {
-    let eps = machine_epsilon::<T>();
-    let delta = (eps * t.abs().max(c::<T>(1e-5))).sqrt();
-    let tp = t + delta;
-    let delta = tp - t;
+    let (tp, delta) = increment(t);
     stats.rhs_evals += 1;
     (src.rhs(tp, x) - f0) / delta
 }
@@ -120,7 +136,8 @@ mod tests {
         let x = Vector2::new(0.7, -1.3);
         let mut stats = Stats::default();
         let f0 = f(2.0, &x);
-        let jac = FiniteDifference(&f).jacobian(2.0, &x, &f0, &mut stats);
+        let mut jac = Matrix2::zeros();
+        FiniteDifference(&f).jacobian(2.0, &x, &f0, jac.as_mut_slice(), &mut stats);
         let exact = Matrix2::new(x[1], x[0], x[0].cos(), 0.0);
         assert!((jac - exact).amax() < 1e-7, "{jac} vs {exact}");
         let ft = time_derivative(&FiniteDifference(&f), 2.0, &x, &f0, &mut stats);

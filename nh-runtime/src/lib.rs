@@ -29,10 +29,20 @@
 //!   requested times without changing the steps.
 //! * Results: [`Outcome`] with [`Stats`], or a [`SimError`] that carries the
 //!   last good state.
+//! * One step driver runs every integrator: a method supplies only its
+//!   stages, error estimate and dense output; acceptance, step-size control
+//!   (Hairer's PI controller, or a fixed step for [`Rk4`],
+//!   [`GaussLegendre4`] and `with_fixed_step`), step budgets (100 000
+//!   attempts for the adaptive methods, 1 000 000 steps for the fixed-step
+//!   ones, both `with_max_steps`), stiffness detection, observers, output
+//!   times and the typed failures are the same for all of them.
 //!
 //! Everything is generic over `T: nalgebra::RealField + Copy` (`f64`, `f32`,
-//! ...), works on stack-allocated `SVector`s and never allocates on the
-//! heap. Without the default `std` feature the crate is `#![no_std]`.
+//! ...) and works on stack-allocated `SVector`s; no integrator allocates per
+//! step, and only [`GaussLegendre4`] allocates at all (its `D×D` Newton
+//! workspace, once per call). Without the default `std` feature the crate
+//! is `#![no_std]`; the `alloc` feature (implied by `std`) enables
+//! [`GaussLegendre4`].
 //!
 //! # Example
 //!
@@ -61,20 +71,27 @@
 #![forbid(unsafe_code)]
 #![deny(missing_docs)]
 
+#[cfg(feature = "alloc")]
+extern crate alloc;
+
 mod common;
 mod dop853;
 mod dopri5;
+mod driver;
+#[cfg(feature = "alloc")]
 mod gauss;
 mod jacobian;
 mod linalg;
 mod outcome;
 mod rk4;
 mod rosenbrock;
+mod sink;
 mod step;
 mod system;
 
 pub use dop853::Dop853;
 pub use dopri5::DormandPrince;
+#[cfg(feature = "alloc")]
 pub use gauss::GaussLegendre4;
 pub use outcome::{Outcome, SimError, Stats};
 pub use rk4::Rk4;

@@ -18,63 +18,108 @@ impl<T: RealField + Copy, const D: usize> Lu<T, D> {
     /// (the matrix is singular to working precision, or garbage).
     pub(crate) fn new(mut a: SMatrix<T, D, D>) -> Option<Self> {
         let mut perm = [0usize; D];
-        for (i, p) in perm.iter_mut().enumerate() {
-            *p = i;
-        }
-        for k in 0..D {
-            // Partial pivoting: the largest entry of column k at or below k.
-            let mut p = k;
-            let mut max = a[(k, k)].abs();
-            for i in k + 1..D {
-                let v = a[(i, k)].abs();
-                if v > max {
-                    max = v;
-                    p = i;
-                }
-            }
-            if !(max.is_finite() && max > T::zero()) {
-                return None;
-            }
-            if p != k {
-                a.swap_rows(p, k);
-                perm.swap(p, k);
-            }
-            let pivot = a[(k, k)];
-            for i in k + 1..D {
-                let l = a[(i, k)] / pivot;
-                a[(i, k)] = l;
-                for j in k + 1..D {
-                    let akj = a[(k, j)];
-                    a[(i, j)] -= l * akj;
-                }
-            }
-        }
-        if !a.iter().all(|v| v.is_finite()) {
-            return None;
-        }
-        Some(Self { lu: a, perm })
+        factor::<T, D>(a.as_mut_slice(), &mut perm).then_some(Self { lu: a, perm })
     }
 
     /// Solves `A x = b`.
     pub(crate) fn solve(&self, b: &SVector<T, D>) -> SVector<T, D> {
-        let mut x = SVector::<T, D>::from_fn(|i, _| b[self.perm[i]]);
-        for i in 0..D {
-            for j in 0..i {
-                let lij = self.lu[(i, j)];
-                let xj = x[j];
-                x[i] -= lij * xj;
-            }
-        }
-        for i in (0..D).rev() {
-            for j in i + 1..D {
-                let uij = self.lu[(i, j)];
-                let xj = x[j];
-                x[i] -= uij * xj;
-            }
-            x[i] /= self.lu[(i, i)];
-        }
-        x
+        solve(self.lu.as_slice(), &self.perm, b)
     }
+}
+
+/// The first `D` columns of the column-major slice `a` (`D·D` entries) as
+/// arrays, so that indexing them needs no bounds checks.
+fn columns<T, const D: usize>(a: &[T]) -> &[[T; D]] {
+    &a.as_chunks::<D>().0[..D]
+}
+
+/// [`columns`], mutably.
+fn columns_mut<T, const D: usize>(a: &mut [T]) -> &mut [[T; D]] {
+    &mut a.as_chunks_mut::<D>().0[..D]
+}
+
+/// Factorises the `D×D` column-major matrix `a` in place into `P A = L U`
+/// with partial pivoting (whole rows are exchanged); `false` if a pivot is
+/// zero or anything is non-finite.
+pub(crate) fn factor<T: RealField + Copy, const D: usize>(a: &mut [T], perm: &mut [usize]) -> bool {
+    let a = columns_mut::<T, D>(a);
+    let perm = &mut perm[..D];
+    for (i, p) in perm.iter_mut().enumerate() {
+        *p = i;
+    }
+    for k in 0..D {
+        // Partial pivoting: the largest entry of column k at or below k.
+        let mut p = k;
+        let mut max = a[k][k].abs();
+        for (i, v) in a[k].iter().enumerate().skip(k + 1) {
+            if v.abs() > max {
+                max = v.abs();
+                p = i;
+            }
+        }
+        if !(max.is_finite() && max > T::zero()) {
+            return false;
+        }
+        if p != k {
+            for column in a.iter_mut() {
+                column.swap(p, k);
+            }
+            perm.swap(p, k);
+        }
+        let (left, right) = a.split_at_mut(k + 1);
+        let column_k = &mut left[k];
+        let pivot = column_k[k];
+        for l in &mut column_k[k + 1..] {
+            *l /= pivot;
+        }
+        for column_j in right {
+            let akj = column_j[k];
+            for (aij, &l) in column_j[k + 1..].iter_mut().zip(&column_k[k + 1..]) {
+                *aij -= l * akj;
+            }
+        }
+    }
+    a.iter().flatten().all(|v| v.is_finite())
+}
+
+/// Solves `A x = b` with the factors of [`factor`].
+pub(crate) fn solve<T: RealField + Copy, const D: usize>(
+    lu: &[T],
+    perm: &[usize],
+    b: &SVector<T, D>,
+) -> SVector<T, D> {
+    let lu = columns::<T, D>(lu);
+    let perm = &perm[..D];
+    let mut x = SVector::<T, D>::from_fn(|i, _| b[perm[i]]);
+    for i in 0..D {
+        for j in 0..i {
+            let xj = x[j];
+            x[i] -= lu[j][i] * xj;
+        }
+    }
+    for i in (0..D).rev() {
+        for j in i + 1..D {
+            let xj = x[j];
+            x[i] -= lu[j][i] * xj;
+        }
+        x[i] /= lu[i][i];
+    }
+    x
+}
+
+/// `A v` for the `D×D` column-major matrix `a`.
+#[cfg(feature = "alloc")]
+pub(crate) fn matvec<T: RealField + Copy, const D: usize>(
+    a: &[T],
+    v: &SVector<T, D>,
+) -> SVector<T, D> {
+    let mut y = SVector::<T, D>::zeros();
+    for (column, &vj) in a.chunks_exact(D.max(1)).zip(v.iter()) {
+        for (yi, &aij) in y.iter_mut().zip(column) {
+            *yi += aij * vj;
+        }
+    }
+    y
 }
 
 #[cfg(test)]

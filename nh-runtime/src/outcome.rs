@@ -34,8 +34,9 @@ pub struct Stats {
     pub jacobian_evals: usize,
     /// Whether the integrator's stiffness test fired (only
     /// [`DormandPrince`](crate::DormandPrince) and [`Dop853`](crate::Dop853)
-    /// perform one). The integration still continues; a stiff problem is
-    /// merely slow for an explicit method.
+    /// perform one, and only under error control, not with
+    /// `with_fixed_step`). The integration still continues; a stiff problem
+    /// is merely slow for an explicit method.
     pub stiffness_detected: bool,
     /// Newton iterations (implicit Runge–Kutta methods such as
     /// [`GaussLegendre4`](crate::GaussLegendre4); 0 for the others).
@@ -102,10 +103,8 @@ pub enum SimError<T, const D: usize> {
         x: SVector<T, D>,
     },
     /// The adaptive step size fell below the resolution of `t` (about
-    /// `10 * eps * |t|`, at least `10 * eps² * |t1|`), a fixed step no longer
-    /// advances `t`, or the Newton iteration of
-    /// [`GaussLegendre4`](crate::GaussLegendre4) did not converge (its fixed
-    /// step is too large for the problem; `h` is that step).
+    /// `10 * eps * |t|`, at least `10 * eps² * |t1|`), or a fixed step no
+    /// longer advances `t`.
     StepSizeTooSmall {
         /// Time of the last good state.
         t: T,
@@ -122,6 +121,18 @@ pub enum SimError<T, const D: usize> {
         x: SVector<T, D>,
         /// Step attempts made (accepted plus rejected).
         steps: usize,
+    },
+    /// The Newton iteration for the stages of an implicit method
+    /// ([`GaussLegendre4`](crate::GaussLegendre4)) did not converge, even
+    /// with a fresh Jacobian: the fixed step `h` is too large for the
+    /// problem at `t`. Reduce `h`.
+    NoConvergence {
+        /// Time of the last good state.
+        t: T,
+        /// Last good state.
+        x: SVector<T, D>,
+        /// The step whose stage equations could not be solved.
+        h: T,
     },
     /// A linear system of an implicit method could not be solved: its
     /// iteration matrix is singular to working precision.
@@ -146,6 +157,7 @@ impl<T: Copy, const D: usize> SimError<T, D> {
             Self::NonFinite { t, .. }
             | Self::StepSizeTooSmall { t, .. }
             | Self::MaxSteps { t, .. }
+            | Self::NoConvergence { t, .. }
             | Self::Singular { t, .. } => Some(*t),
             Self::InvalidInput { .. } => None,
         }
@@ -157,6 +169,7 @@ impl<T: Copy, const D: usize> SimError<T, D> {
             Self::NonFinite { x, .. }
             | Self::StepSizeTooSmall { x, .. }
             | Self::MaxSteps { x, .. }
+            | Self::NoConvergence { x, .. }
             | Self::Singular { x, .. } => Some(x),
             Self::InvalidInput { .. } => None,
         }
@@ -175,6 +188,11 @@ impl<T: fmt::Display, const D: usize> fmt::Display for SimError<T, D> {
             Self::MaxSteps { t, steps, .. } => {
                 write!(f, "maximum number of steps ({steps}) reached at t = {t}")
             }
+            Self::NoConvergence { t, h, .. } => write!(
+                f,
+                "the Newton iteration for the implicit stages did not converge at t = {t}: \
+                 the step h = {h} is too large for this problem; reduce h"
+            ),
             Self::Singular { t, .. } => write!(f, "singular linear system at t = {t}"),
             Self::InvalidInput { what } => write!(f, "invalid input: {what}"),
         }

@@ -2,9 +2,10 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::common::{all_finite, c, check_arguments, check_positive, machine_epsilon};
+use crate::common::{Fixed, all_finite_in, c, fixed_builders, integrator_impl};
+use crate::driver::{Failure, Method, Tolerance};
 use crate::step::Poly;
-use crate::{Integrator, OdeSystem, Outcome, SimError, Stats, Step};
+use crate::{OdeSystem, Stats};
 
 /// Classical fourth-order Runge–Kutta with a fixed step `h`.
 ///
@@ -15,13 +16,14 @@ use crate::{Integrator, OdeSystem, Outcome, SimError, Stats, Step};
 ///
 /// * `h` is a magnitude: its sign follows the direction from `t0` to `t1`.
 ///   A non-positive or non-finite `h` makes `integrate` return
-///   [`SimError::InvalidInput`].
+///   [`SimError::InvalidInput`](crate::SimError::InvalidInput).
 /// * After each step the new state is checked; if any component is NaN or
-///   infinite, [`SimError::NonFinite`] is returned at once with the last good
+///   infinite, [`SimError::NonFinite`](crate::SimError::NonFinite) is returned at once with the last good
 ///   `(t, x)`.
 /// * If `h` is too small to advance `t` in floating point,
-///   [`SimError::StepSizeTooSmall`] is returned.
-/// * The step budget ([`Rk4::with_max_steps`]) is unlimited by default.
+///   [`SimError::StepSizeTooSmall`](crate::SimError::StepSizeTooSmall) is returned.
+/// * At most 1 000 000 steps by default ([`Rk4::with_max_steps`] raises
+///   or lowers the budget); more return [`SimError::MaxSteps`](crate::SimError::MaxSteps).
 ///
 /// # Example
 ///
@@ -36,151 +38,102 @@ use crate::{Integrator, OdeSystem, Outcome, SimError, Stats, Step};
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rk4<T> {
-    h: T,
-    max_steps: usize,
-    stats: Stats,
+    f: Fixed<T>,
 }
 
-impl<T: RealField + Copy> Rk4<T> {
-    /// A fixed-step integrator with step size `h` (> 0).
-    pub fn new(h: T) -> Self {
-        Self {
-            h,
-            max_steps: usize::MAX,
-            stats: Stats::default(),
-        }
-    }
+fixed_builders!(Rk4);
+integrator_impl!(Rk4, f, |sys| Rk4Stages::new(sys));
 
-    /// Sets the maximum number of steps (default: unlimited); exceeding it
-    /// returns [`SimError::MaxSteps`].
-    pub fn with_max_steps(mut self, n: usize) -> Self {
-        self.max_steps = n;
-        self
-    }
+/// The four stages of one classical RK4 step.
+struct Rk4Stages<'a, S: ?Sized, T, const D: usize> {
+    sys: &'a S,
+    k: [SVector<T, D>; 4],
+    x_new: SVector<T, D>,
+    dense: Poly<T, D>,
+}
 
-    /// The step size.
-    pub fn step_size(&self) -> T {
-        self.h
-    }
-
-    /// Work counters of the most recent call to `integrate*`, whether it
-    /// succeeded or failed.
-    pub fn last_stats(&self) -> Stats {
-        self.stats
-    }
-
-    fn run<S, F, const D: usize>(
-        &self,
-        stats: &mut Stats,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        mut on_step: F,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeSystem<T, D> + ?Sized,
-        F: FnMut(&Step<'_, T, D>),
-    {
-        let dir = check_arguments(t0, &x0, t1)?;
-        check_positive(self.h, "Rk4 step size h must be positive and finite")?;
-        if dir == T::zero() {
-            return Ok(Outcome {
-                t: t0,
-                x: x0,
-                stats: *stats,
-            });
-        }
-
-        let h = self.h * dir;
-        // Remainders this small are round-off in `t0 + k h`, not real steps.
-        let tol = (c::<T>(64.0) * machine_epsilon::<T>() * (t0.abs() + t1.abs() + self.h))
-            .min(self.h * c::<T>(0.5));
-        let (mut t, mut x) = (t0, x0);
-        let mut k: usize = 0;
-        loop {
-            if stats.steps >= self.max_steps {
-                return Err(SimError::MaxSteps {
-                    t,
-                    x,
-                    steps: stats.steps,
-                });
-            }
-            k += 1;
-            let mut t_next = t0 + h * c::<T>(k as f64);
-            let last = (t1 - t_next) * dir <= tol;
-            if last {
-                t_next = t1;
-            }
-            let hk = t_next - t;
-            if hk * dir <= T::zero() {
-                return Err(SimError::StepSizeTooSmall { t, x, h });
-            }
-            let (x_new, dense) = rk4_step(sys, t, &x, hk);
-            stats.steps += 1;
-            stats.rhs_evals += 4;
-            if !all_finite(&x_new) {
-                return Err(SimError::NonFinite { t, x });
-            }
-            on_step(&Step::new(t, &x, t_next, &x_new, &dense));
-            t = t_next;
-            x = x_new;
-            if last {
-                return Ok(Outcome {
-                    t,
-                    x,
-                    stats: *stats,
-                });
-            }
+impl<'a, S: ?Sized, T: RealField + Copy, const D: usize> Rk4Stages<'a, S, T, D> {
+    fn new(sys: &'a S) -> Self {
+        Rk4Stages {
+            sys,
+            k: [SVector::zeros(); 4],
+            x_new: SVector::zeros(),
+            dense: Poly::from_monomial(&[]),
         }
     }
 }
 
-/// One classical RK4 step of size `h` from `(t, x)`, with its continuous
-/// extension: `x + h Σ b_i(θ) k_i` with `b1 = θ − 3θ²/2 + 2θ³/3`,
-/// `b2 = b3 = θ² − 2θ³/3`, `b4 = −θ²/2 + 2θ³/3`.
-#[inline]
-fn rk4_step<T, S, const D: usize>(
-    sys: &S,
-    t: T,
-    x: &SVector<T, D>,
-    h: T,
-) -> (SVector<T, D>, Poly<T, D>)
+impl<T, S, const D: usize> Method<T, D> for Rk4Stages<'_, S, T, D>
 where
     T: RealField + Copy,
     S: OdeSystem<T, D> + ?Sized,
 {
-    let half = h * c::<T>(0.5);
-    let k1 = sys.rhs(t, x);
-    let k2 = sys.rhs(t + half, &(x + k1 * half));
-    let k3 = sys.rhs(t + half, &(x + k2 * half));
-    let k4 = sys.rhs(t + h, &(x + k3 * h));
-    let x_new = x + (k1 + (k2 + k3) * c::<T>(2.0) + k4) * (h / c::<T>(6.0));
-    let dense = Poly::from_monomial(&[
-        *x,
-        k1 * h,
-        (k2 + k3 - k1 * c::<T>(1.5) - k4 * c::<T>(0.5)) * h,
-        (k1 - k2 - k3 + k4) * (h * c::<T>(2.0 / 3.0)),
-    ]);
-    (x_new, dense)
-}
+    const ORDER: u32 = 4;
 
-impl<T: RealField + Copy> Integrator<T> for Rk4<T> {
-    fn integrate_with_steps<S, F, const D: usize>(
+    fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
+        self.sys.rhs(t, x)
+    }
+
+    fn start(&mut self, _t: T, _x: &SVector<T, D>, _stats: &mut Stats) -> Result<(), Failure> {
+        Ok(())
+    }
+
+    #[inline(always)]
+    fn attempt(
         &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        on_step: F,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeSystem<T, D> + ?Sized,
-        F: FnMut(&Step<'_, T, D>),
-    {
-        let mut stats = Stats::default();
-        let result = self.run(&mut stats, sys, t0, x0, t1, on_step);
-        self.stats = stats;
-        result
+        t: T,
+        x: &SVector<T, D>,
+        h: T,
+        _t_new: T,
+        _tol: &Tolerance<T>,
+        stats: &mut Stats,
+    ) -> Result<T, Failure> {
+        let sys = self.sys;
+        let half = h * c::<T>(0.5);
+        let k1 = sys.rhs(t, x);
+        let k2 = sys.rhs(t + half, &(x + k1 * half));
+        let k3 = sys.rhs(t + half, &(x + k2 * half));
+        let k4 = sys.rhs(t + h, &(x + k3 * h));
+        stats.rhs_evals += 4;
+        self.x_new = x + (k1 + (k2 + k3) * c::<T>(2.0) + k4) * (h / c::<T>(6.0));
+        self.k = [k1, k2, k3, k4];
+        // Every stage enters `x_new` with a positive weight, so (in IEEE
+        // arithmetic) `x_new` is finite only if all of them are.
+        if all_finite_in(&[self.x_new]) {
+            Ok(T::zero())
+        } else {
+            Err(Failure::NonFinite)
+        }
+    }
+
+    fn x_new(&self) -> &SVector<T, D> {
+        &self.x_new
+    }
+
+    /// The continuous extension `x + h Σ b_i(θ) k_i` with
+    /// `b1 = θ − 3θ²/2 + 2θ³/3`, `b2 = b3 = θ² − 2θ³/3`, `b4 = −θ²/2 + 2θ³/3`.
+    fn build_dense(&mut self, _t: T, x: &SVector<T, D>, h: T, _stats: &mut Stats) -> bool {
+        let [k1, k2, k3, k4] = self.k;
+        self.dense = Poly::from_monomial(&[
+            *x,
+            k1 * h,
+            (k2 + k3 - k1 * c::<T>(1.5) - k4 * c::<T>(0.5)) * h,
+            (k1 - k2 - k3 + k4) * (h * c::<T>(2.0 / 3.0)),
+        ]);
+        self.dense.is_finite()
+    }
+
+    fn dense(&self) -> &Poly<T, D> {
+        &self.dense
+    }
+
+    fn advance(
+        &mut self,
+        _t: T,
+        _x: &SVector<T, D>,
+        _last: bool,
+        _: &mut Stats,
+    ) -> Result<(), Failure> {
+        Ok(())
     }
 }

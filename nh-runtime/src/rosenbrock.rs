@@ -3,14 +3,15 @@
 
 use nalgebra::{RealField, SMatrix, SVector};
 
+use crate::Stats;
 use crate::common::{
-    Adaptive, adaptive_builders, all_finite, c, check_arguments, error_norm, initial_step,
-    machine_epsilon, min_step,
+    Adaptive, adaptive_builders, all_finite, all_finite_in, c, error_norm, integrator_impl,
+    jacobian_entry_points,
 };
+use crate::driver::{Failure, Method, Pi, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource, time_derivative};
 use crate::linalg::Lu;
 use crate::step::Poly;
-use crate::{Integrator, OdeJacobian, OdeSystem, Outcome, SimError, Stats, Step};
 
 // RODAS4 (Hairer & Wanner, Solving ODEs II, section IV.7, table 7.2, and
 // Hairer's rodas.f, METH = 1) in the transformed formulation
@@ -60,13 +61,16 @@ const H33: f64 = 16.430_843_208_924_78;
 const H34: f64 = 24.767_225_114_183_86;
 const H35: f64 = -6.594_389_125_716_872;
 
-// Step-size control of rodas.f: 0.2 ≤ h_new/h ≤ 6, safety 0.9, with
-// Gustafsson's predictive controller.
-const SAFE: f64 = 0.9;
-const FAC1: f64 = 5.0;
-const FAC2: f64 = 1.0 / 6.0;
-/// Consecutive singular iteration matrices tolerated (step halved each time).
-const MAX_SINGULAR: usize = 5;
+/// Step-size control of rodas.f: `0.2 ≤ h_new/h ≤ 6`, safety 0.9, with
+/// Gustafsson's predictive controller.
+const PI: Pi = Pi {
+    safe: 0.9,
+    expo: 0.25,
+    beta: 0.0,
+    fac_lo: 1.0 / 6.0,
+    fac_hi: 5.0,
+    gustafsson: true,
+};
 
 /// RODAS4: a 6-stage, L-stable, stiffly accurate Rosenbrock–Wanner method of
 /// order 4 with an embedded 3rd-order error estimate and a 3rd-order dense
@@ -80,15 +84,17 @@ const MAX_SINGULAR: usize = 5;
 /// factorised by a stack-allocated LU with partial pivoting; there is no
 /// Newton iteration.
 ///
-/// * Jacobian: the [`Integrator`] implementation works for any
-///   [`OdeSystem`] with a forward-difference Jacobian (`D` extra right-hand
-///   side evaluations, increment `sqrt(eps·max(1e-5, |x_j|))`);
+/// * Jacobian: the [`Integrator`](crate::Integrator) implementation works for any
+///   [`OdeSystem`](crate::OdeSystem) with a forward-difference Jacobian (`D` extra right-hand
+///   side evaluations, increment `sqrt(eps·max(1e-5, |x_j|))` as in
+///   Hairer's codes, but at least `sqrt(eps)·|x_j|`, so that it resolves
+///   any finite state);
 ///   [`Rosenbrock::integrate_with_jacobian`] uses the analytic
-///   [`OdeJacobian::jacobian`] instead. `∂f/∂t` is always obtained by one
+///   [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) instead. `∂f/∂t` is always obtained by one
 ///   forward difference (exactly zero for autonomous systems). The Jacobian
 ///   is evaluated once per accepted step and reused after rejections;
-///   [`Stats::jacobian_evals`] counts Jacobians (analytic or finite
-///   difference), [`Stats::lu_decompositions`] the LU factorisations.
+///   [`Stats::jacobian_evals`](crate::Stats::jacobian_evals) counts Jacobians (analytic or finite
+///   difference), [`Stats::lu_decompositions`](crate::Stats::lu_decompositions) the LU factorisations.
 /// * Error norm as [`DormandPrince`](crate::DormandPrince) (RMS of
 ///   `err_i/(atol + rtol·max(|x_i|, |x_new_i|))`) applied to the embedded
 ///   estimate `U_6`; step control of `RODAS`:
@@ -101,14 +107,14 @@ const MAX_SINGULAR: usize = 5;
 /// Failure modes:
 ///
 /// * A singular (or non-finite) iteration matrix rejects the step and
-///   halves `h`; after 5 consecutive failures [`SimError::Singular`] is
+///   halves `h`; after 5 consecutive failures [`SimError::Singular`](crate::SimError::Singular) is
 ///   returned with the last accepted state. A non-finite Jacobian at an
-///   accepted state returns [`SimError::NonFinite`] at once.
+///   accepted state returns [`SimError::NonFinite`](crate::SimError::NonFinite) at once.
 /// * Non-finite stages are rejected and retried with half the step; as in
 ///   [`DormandPrince`](crate::DormandPrince), an underflowing step gives
-///   [`SimError::NonFinite`] or [`SimError::StepSizeTooSmall`], and the
-///   budget of step attempts (default 100 000) [`SimError::MaxSteps`].
-/// * Invalid tolerances or step settings give [`SimError::InvalidInput`].
+///   [`SimError::NonFinite`](crate::SimError::NonFinite) or [`SimError::StepSizeTooSmall`](crate::SimError::StepSizeTooSmall), and the
+///   budget of step attempts (default 100 000) [`SimError::MaxSteps`](crate::SimError::MaxSteps).
+/// * Invalid tolerances or step settings give [`SimError::InvalidInput`](crate::SimError::InvalidInput).
 ///
 /// Work per step attempt: 6 evaluations of the right-hand side and one LU
 /// decomposition; per accepted step (and at `t0`) additionally `f(t, x)`,
@@ -134,17 +140,13 @@ pub struct Rosenbrock<T> {
     a: Adaptive<T>,
 }
 
-impl<T: RealField + Copy> Rosenbrock<T> {
-    /// An adaptive integrator with relative tolerance `rtol` (> 0) and
-    /// absolute tolerance `atol` (≥ 0), applied to every component.
-    pub fn new(rtol: T, atol: T) -> Self {
-        Self {
-            a: Adaptive::new(rtol, atol),
-        }
-    }
+adaptive_builders!(Rosenbrock);
+integrator_impl!(Rosenbrock, a, |sys| Rodas::new(FiniteDifference(sys)));
 
-    /// Like [`Integrator::integrate`], but with the analytic Jacobian
-    /// [`OdeJacobian::jacobian`] instead of finite differences.
+jacobian_entry_points! {
+    Rosenbrock, a, |sys| Rodas::new(Analytic(sys)),
+    /// Like [`Integrator::integrate`](crate::Integrator::integrate), but with the analytic Jacobian
+    /// [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) instead of finite differences.
     ///
     /// # Example
     ///
@@ -171,282 +173,162 @@ impl<T: RealField + Copy> Rosenbrock<T> {
     /// // One Jacobian at t0 and one after every accepted step but the last.
     /// assert_eq!(out.stats.jacobian_evals, out.stats.steps);
     /// ```
-    pub fn integrate_with_jacobian<S, const D: usize>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeJacobian<T, D> + ?Sized,
-    {
-        self.integrate_with_jacobian_and_steps(sys, t0, x0, t1, |_| {})
+    integrate_with_jacobian;
+    /// Like [`Integrator::integrate_with_steps`](crate::Integrator::integrate_with_steps), but with the analytic
+    /// Jacobian [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) instead of finite differences.
+    integrate_with_jacobian_and_steps;
+}
+
+/// The state of RODAS4 at an accepted point (derivative, Jacobian, `∂f/∂t`)
+/// and the stages `U_1 … U_5` of the last trial.
+struct Rodas<J, T, const D: usize> {
+    src: J,
+    f0: SVector<T, D>,
+    jac: SMatrix<T, D, D>,
+    ft: SVector<T, D>,
+    u: [SVector<T, D>; 5],
+    x_new: SVector<T, D>,
+    f_new: SVector<T, D>,
+    dense: Poly<T, D>,
+}
+
+impl<J, T, const D: usize> Rodas<J, T, D>
+where
+    T: RealField + Copy,
+    J: JacobianSource<T, D>,
+{
+    fn new(src: J) -> Self {
+        Rodas {
+            src,
+            f0: SVector::zeros(),
+            jac: SMatrix::zeros(),
+            ft: SVector::zeros(),
+            u: [SVector::zeros(); 5],
+            x_new: SVector::zeros(),
+            f_new: SVector::zeros(),
+            dense: Poly::from_monomial(&[]),
+        }
     }
 
-    /// Like [`Integrator::integrate_with_steps`], but with the analytic
-    /// Jacobian [`OdeJacobian::jacobian`] instead of finite differences.
-    pub fn integrate_with_jacobian_and_steps<S, F, const D: usize>(
-        &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        on_step: F,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeJacobian<T, D> + ?Sized,
-        F: FnMut(&Step<'_, T, D>),
-    {
-        let mut stats = Stats::default();
-        self.a.last_step = None;
-        let result = self.run(&mut stats, &Analytic(sys), t0, x0, t1, on_step);
-        self.a.stats = stats;
-        result
-    }
-
-    fn run<J, F, const D: usize>(
-        &mut self,
-        stats: &mut Stats,
-        src: &J,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        mut on_step: F,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        J: JacobianSource<T, D>,
-        F: FnMut(&Step<'_, T, D>),
-    {
-        let dir = check_arguments(t0, &x0, t1)?;
-        self.a.check()?;
-        if dir == T::zero() {
-            return Ok(Outcome {
-                t: t0,
-                x: x0,
-                stats: *stats,
-            });
-        }
-
-        let (rtol, atol) = (self.a.rtol, self.a.atol);
-        let eps = machine_epsilon::<T>();
-        let hmax = self.a.max_step.unwrap_or((t1 - t0).abs());
-        let fixed = self.a.fixed_step.is_some();
-        let cc = |v: f64| c::<T>(v);
-
-        let (mut t, mut x) = (t0, x0);
-        let mut f0 = src.rhs(t, &x);
-        stats.rhs_evals += 1;
-        if !all_finite(&f0) {
-            return Err(SimError::NonFinite { t, x });
-        }
-        let mut h = match (self.a.fixed_step, self.a.initial_step) {
-            (Some(hf), _) => hf,
-            (None, Some(h0)) => h0.min(hmax),
-            (None, None) => {
-                // `hinit` needs an `OdeSystem`; the source's rhs is one.
-                let rhs = |t: T, x: &SVector<T, D>| src.rhs(t, x);
-                initial_step(&rhs, stats, t, &x, &f0, dir, hmax, rtol, atol, 4)
-            }
-        } * dir;
-
-        // Jacobian and ∂f/∂t at the current accepted point.
-        let mut jac = src.jacobian(t, &x, &f0, stats);
-        let mut ft = time_derivative(src, t, &x, &f0, stats);
-        if !(jac.iter().all(|v| v.is_finite()) && all_finite(&ft)) {
-            return Err(SimError::NonFinite { t, x });
-        }
-
-        let mut reject = false;
-        let mut last = false;
-        let mut nonfinite = false;
-        let mut singular = 0usize;
-        let mut first = true;
-        let (mut hacc, mut erracc) = (T::zero(), T::one());
-
-        loop {
-            let attempts = stats.steps + stats.rejected;
-            if attempts >= self.a.max_steps {
-                return Err(SimError::MaxSteps {
-                    t,
-                    x,
-                    steps: attempts,
-                });
-            }
-            if !h.is_finite() || h.abs() < min_step(eps, t, t1) {
-                return Err(if nonfinite {
-                    SimError::NonFinite { t, x }
-                } else {
-                    SimError::StepSizeTooSmall { t, x, h }
-                });
-            }
-            if (t + h * c::<T>(1.01) - t1) * dir > T::zero() {
-                h = t1 - t;
-                last = true;
-            }
-            let t_new = if last { t1 } else { t + h };
-
-            // The iteration matrix I/(hγ) − J and its LU decomposition.
-            let fac = T::one() / (h * cc(GAMMA));
-            let e = SMatrix::<T, D, D>::identity() * fac - jac;
-            stats.lu_decompositions += 1;
-            let Some(lu) = Lu::new(e) else {
-                singular += 1;
-                if singular >= MAX_SINGULAR || fixed {
-                    return Err(SimError::Singular { t, x });
-                }
-                stats.rejected += 1;
-                reject = true;
-                last = false;
-                h *= c::<T>(0.5);
-                continue;
-            };
-            singular = 0;
-            let solve = |b: SVector<T, D>| lu.solve(&b);
-
-            let inv_h = T::one() / h;
-            let u1 = solve(f0 + ft * (h * cc(D1)));
-            let f2 = src.rhs(t + h * cc(C2), &(x + u1 * cc(A21)));
-            let u2 = solve(f2 + u1 * (cc(C21) * inv_h) + ft * (h * cc(D2)));
-            let f3 = src.rhs(t + h * cc(C3), &(x + u1 * cc(A31) + u2 * cc(A32)));
-            let u3 = solve(f3 + (u1 * cc(C31) + u2 * cc(C32)) * inv_h + ft * (h * cc(D3)));
-            let f4 = src.rhs(
-                t + h * cc(C4),
-                &(x + u1 * cc(A41) + u2 * cc(A42) + u3 * cc(A43)),
-            );
-            let u4 = solve(
-                f4 + (u1 * cc(C41) + u2 * cc(C42) + u3 * cc(C43)) * inv_h + ft * (h * cc(D4)),
-            );
-            let x5 = x + u1 * cc(A51) + u2 * cc(A52) + u3 * cc(A53) + u4 * cc(A54);
-            let f5 = src.rhs(t_new, &x5);
-            let u5 =
-                solve(f5 + (u1 * cc(C51) + u2 * cc(C52) + u3 * cc(C53) + u4 * cc(C54)) * inv_h);
-            // Embedded 3rd-order solution, then the last stage.
-            let x6 = x5 + u5;
-            let f6 = src.rhs(t_new, &x6);
-            let u6 = solve(
-                f6 + (u1 * cc(C61) + u2 * cc(C62) + u3 * cc(C63) + u4 * cc(C64) + u5 * cc(C65))
-                    * inv_h,
-            );
-            let x_new = x6 + u6;
-            stats.rhs_evals += 5;
-
-            let err = error_norm(&u6, &x, &x_new, rtol, atol);
-            if !(err.is_finite() && all_finite(&x_new)) {
-                if fixed {
-                    return Err(SimError::NonFinite { t, x });
-                }
-                stats.rejected += 1;
-                nonfinite = true;
-                reject = true;
-                last = false;
-                h *= c::<T>(0.5);
-                continue;
-            }
-
-            let fac = (err.powf(c::<T>(0.25)) / c::<T>(SAFE))
-                .min(c::<T>(FAC1))
-                .max(c::<T>(FAC2));
-            let mut h_new = h / fac;
-
-            if err <= T::one() || fixed {
-                // The derivative and Jacobian at the new point (for the next
-                // step); a non-finite one means the step went somewhere the
-                // system is undefined: reject it.
-                let f_new = src.rhs(t_new, &x_new);
-                stats.rhs_evals += 1;
-                if !all_finite(&f_new) {
-                    if fixed {
-                        return Err(SimError::NonFinite { t, x });
-                    }
-                    stats.rejected += 1;
-                    nonfinite = true;
-                    reject = true;
-                    last = false;
-                    h *= c::<T>(0.5);
-                    continue;
-                }
-                nonfinite = false;
-                stats.steps += 1;
-
-                if !fixed {
-                    // Gustafsson's predictive controller.
-                    if !first {
-                        let facgus = ((hacc / h) * (err * err / erracc).powf(c::<T>(0.25))
-                            / c::<T>(SAFE))
-                        .min(c::<T>(FAC1))
-                        .max(c::<T>(FAC2));
-                        h_new = h / fac.max(facgus);
-                    }
-                    hacc = h;
-                    erracc = err.max(c::<T>(1e-2));
-                }
-                first = false;
-
-                // RODAS's 3rd-order dense output
-                // x(θ) = (1−θ) x + θ (x_new + (1−θ)(r3 + θ r4)).
-                let r3 = u1 * cc(H21) + u2 * cc(H22) + u3 * cc(H23) + u4 * cc(H24) + u5 * cc(H25);
-                let r4 = u1 * cc(H31) + u2 * cc(H32) + u3 * cc(H33) + u4 * cc(H34) + u5 * cc(H35);
-                let dense = Poly::from_nested(&[x, x_new - x, r3, r4]);
-                on_step(&Step::new(t, &x, t_new, &x_new, &dense));
-
-                x = x_new;
-                t = t_new;
-                f0 = f_new;
-
-                if let Some(hf) = self.a.fixed_step {
-                    h_new = hf * dir;
-                } else {
-                    if h_new.abs() > hmax {
-                        h_new = hmax * dir;
-                    }
-                    if reject {
-                        h_new = h_new.abs().min(h.abs()) * dir;
-                    }
-                }
-                self.a.last_step = Some(h_new.abs());
-                if last {
-                    return Ok(Outcome {
-                        t,
-                        x,
-                        stats: *stats,
-                    });
-                }
-                reject = false;
-                jac = src.jacobian(t, &x, &f0, stats);
-                ft = time_derivative(src, t, &x, &f0, stats);
-                if !(jac.iter().all(|v| v.is_finite()) && all_finite(&ft)) {
-                    return Err(SimError::NonFinite { t, x });
-                }
-            } else {
-                reject = true;
-                last = false;
-                stats.rejected += 1;
-            }
-            h = h_new;
+    /// The Jacobian and `∂f/∂t` at the accepted point `(t, x)`.
+    fn linearise(&mut self, t: T, x: &SVector<T, D>, stats: &mut Stats) -> Result<(), Failure> {
+        self.src
+            .jacobian(t, x, &self.f0, self.jac.as_mut_slice(), stats);
+        self.ft = time_derivative(&self.src, t, x, &self.f0, stats);
+        if self.jac.iter().all(|v| v.is_finite()) && all_finite(&self.ft) {
+            Ok(())
+        } else {
+            Err(Failure::NonFinite)
         }
     }
 }
 
-adaptive_builders!(Rosenbrock);
+impl<J, T, const D: usize> Method<T, D> for Rodas<J, T, D>
+where
+    T: RealField + Copy,
+    J: JacobianSource<T, D>,
+{
+    const ORDER: u32 = 4;
+    const PI: Pi = PI;
 
-impl<T: RealField + Copy> Integrator<T> for Rosenbrock<T> {
-    fn integrate_with_steps<S, F, const D: usize>(
+    fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
+        self.src.rhs(t, x)
+    }
+
+    fn start(&mut self, t: T, x: &SVector<T, D>, stats: &mut Stats) -> Result<(), Failure> {
+        self.f0 = counted(self.src.rhs(t, x), stats)?;
+        self.linearise(t, x, stats)
+    }
+
+    fn slope(&self) -> Option<&SVector<T, D>> {
+        Some(&self.f0)
+    }
+
+    fn attempt(
         &mut self,
-        sys: &S,
-        t0: T,
-        x0: SVector<T, D>,
-        t1: T,
-        on_step: F,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        S: OdeSystem<T, D> + ?Sized,
-        F: FnMut(&Step<'_, T, D>),
-    {
-        let mut stats = Stats::default();
-        self.a.last_step = None;
-        let result = self.run(&mut stats, &FiniteDifference(sys), t0, x0, t1, on_step);
-        self.a.stats = stats;
-        result
+        t: T,
+        x: &SVector<T, D>,
+        h: T,
+        t_new: T,
+        tol: &Tolerance<T>,
+        stats: &mut Stats,
+    ) -> Result<T, Failure> {
+        let cc = |v: f64| c::<T>(v);
+        let (src, f0, ft) = (&self.src, self.f0, self.ft);
+        // The iteration matrix I/(hγ) − J and its LU decomposition.
+        let fac = T::one() / (h * cc(GAMMA));
+        stats.lu_decompositions += 1;
+        let lu =
+            Lu::new(SMatrix::<T, D, D>::identity() * fac - self.jac).ok_or(Failure::Singular)?;
+        let solve = |b: SVector<T, D>| lu.solve(&b);
+        let inv_h = T::one() / h;
+        let u1 = solve(f0 + ft * (h * cc(D1)));
+        let f2 = src.rhs(t + h * cc(C2), &(x + u1 * cc(A21)));
+        let u2 = solve(f2 + u1 * (cc(C21) * inv_h) + ft * (h * cc(D2)));
+        let f3 = src.rhs(t + h * cc(C3), &(x + u1 * cc(A31) + u2 * cc(A32)));
+        let u3 = solve(f3 + (u1 * cc(C31) + u2 * cc(C32)) * inv_h + ft * (h * cc(D3)));
+        let f4 = src.rhs(
+            t + h * cc(C4),
+            &(x + u1 * cc(A41) + u2 * cc(A42) + u3 * cc(A43)),
+        );
+        let u4 =
+            solve(f4 + (u1 * cc(C41) + u2 * cc(C42) + u3 * cc(C43)) * inv_h + ft * (h * cc(D4)));
+        let x5 = x + u1 * cc(A51) + u2 * cc(A52) + u3 * cc(A53) + u4 * cc(A54);
+        let f5 = src.rhs(t_new, &x5);
+        let u5 = solve(f5 + (u1 * cc(C51) + u2 * cc(C52) + u3 * cc(C53) + u4 * cc(C54)) * inv_h);
+        // Embedded 3rd-order solution, then the last stage.
+        let x6 = x5 + u5;
+        let f6 = src.rhs(t_new, &x6);
+        let u6 = solve(
+            f6 + (u1 * cc(C61) + u2 * cc(C62) + u3 * cc(C63) + u4 * cc(C64) + u5 * cc(C65)) * inv_h,
+        );
+        stats.rhs_evals += 5;
+        self.u = [u1, u2, u3, u4, u5];
+        self.x_new = x6 + u6;
+        if !(all_finite_in(&self.u) && all_finite_in(&[u6, self.x_new])) {
+            return Err(Failure::NonFinite);
+        }
+        Ok(error_norm(&u6, x, &self.x_new, tol.rtol, tol.atol))
+    }
+
+    /// The derivative at the new point (for the next step); a non-finite
+    /// one means the step went where the system is undefined.
+    fn complete(&mut self, t_new: T, stats: &mut Stats) -> Result<(), Failure> {
+        self.f_new = counted(self.src.rhs(t_new, &self.x_new), stats)?;
+        Ok(())
+    }
+
+    fn x_new(&self) -> &SVector<T, D> {
+        &self.x_new
+    }
+
+    /// RODAS's 3rd-order dense output
+    /// `x(θ) = (1−θ) x + θ (x_new + (1−θ)(r3 + θ r4))`.
+    fn build_dense(&mut self, _t: T, x: &SVector<T, D>, _h: T, _stats: &mut Stats) -> bool {
+        let cc = |v: f64| c::<T>(v);
+        let [u1, u2, u3, u4, u5] = self.u;
+        let r3 = u1 * cc(H21) + u2 * cc(H22) + u3 * cc(H23) + u4 * cc(H24) + u5 * cc(H25);
+        let r4 = u1 * cc(H31) + u2 * cc(H32) + u3 * cc(H33) + u4 * cc(H34) + u5 * cc(H35);
+        self.dense = Poly::from_nested(&[*x, self.x_new - x, r3, r4]);
+        self.dense.is_finite()
+    }
+
+    fn dense(&self) -> &Poly<T, D> {
+        &self.dense
+    }
+
+    fn advance(
+        &mut self,
+        t: T,
+        x: &SVector<T, D>,
+        last: bool,
+        stats: &mut Stats,
+    ) -> Result<(), Failure> {
+        self.f0 = self.f_new;
+        if last {
+            Ok(())
+        } else {
+            self.linearise(t, x, stats)
+        }
     }
 }

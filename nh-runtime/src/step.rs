@@ -21,6 +21,22 @@ const NESTED: [[f64; MAX_COEFFS]; MAX_COEFFS] = [
     [0.0, 0.0, 0.0, 0.0, 1.0, -3.0, 3.0, -1.0],
 ];
 
+/// The first four terms of Hairer's nested dense output for a step
+/// `(x, f) → (x_new, f_new)` of size `h`: `x`, `Δ = x_new − x`,
+/// `r3 = h f − Δ`, `r4 = Δ − h f_new − r3` (alone, the cubic Hermite
+/// interpolant; `CONTD5` and `CONTD8` add higher terms).
+pub(crate) fn hermite_terms<T: RealField + Copy, const D: usize>(
+    x: &SVector<T, D>,
+    f: &SVector<T, D>,
+    x_new: &SVector<T, D>,
+    f_new: &SVector<T, D>,
+    h: T,
+) -> [SVector<T, D>; 4] {
+    let ydiff = x_new - x;
+    let bspl = f * h - ydiff;
+    [*x, ydiff, bspl, ydiff - f_new * h - bspl]
+}
+
 /// A vector polynomial `x(θ) = Σ_j c_j θ^j` in the normalised step time
 /// `θ = (t − t_prev)/h`, of degree `< MAX_COEFFS`.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -53,6 +69,11 @@ impl<T: RealField + Copy, const D: usize> Poly<T, D> {
         Self { c, n: r.len() }
     }
 
+    /// Whether every coefficient is finite.
+    pub(crate) fn is_finite(&self) -> bool {
+        crate::common::all_finite_in(&self.c[..self.n])
+    }
+
     /// Horner evaluation at `θ`.
     pub(crate) fn eval(&self, theta: T) -> SVector<T, D> {
         if self.n == 0 {
@@ -63,21 +84,6 @@ impl<T: RealField + Copy, const D: usize> Poly<T, D> {
             x = x * theta + self.c[j];
         }
         x
-    }
-}
-
-/// A continuous extension over one step, evaluated in normalised time
-/// `θ ∈ [0, 1]`. Most methods store a [`Poly`]; `Dop853` builds its
-/// polynomial lazily, because its 7th-order formula needs three extra
-/// evaluations of the right-hand side.
-pub(crate) trait Dense<T, const D: usize> {
-    /// The interpolant at normalised time `θ`.
-    fn eval(&self, theta: T) -> SVector<T, D>;
-}
-
-impl<T: RealField + Copy, const D: usize> Dense<T, D> for Poly<T, D> {
-    fn eval(&self, theta: T) -> SVector<T, D> {
-        Poly::eval(self, theta)
     }
 }
 
@@ -94,12 +100,16 @@ impl<T: RealField + Copy, const D: usize> Dense<T, D> for Poly<T, D> {
 /// |---|---|
 /// | [`Rk4`](crate::Rk4) | the standard 3rd-order extension of classical RK4 |
 /// | [`DormandPrince`](crate::DormandPrince) | Hairer's 4th-order `CONTD5` (Shampine's coefficients) |
-/// | [`Dop853`](crate::Dop853) | Hairer's 7th-order `CONTD8` (three extra stages, computed only when first needed) |
+/// | [`Dop853`](crate::Dop853) | Hairer's 7th-order `CONTD8` (three extra stages, computed only for steps that are interpolated) |
 /// | [`Rosenbrock`](crate::Rosenbrock) | the 3rd-order formula of Hairer's `RODAS` |
 /// | [`GaussLegendre4`](crate::GaussLegendre4) | cubic Hermite from `(x_prev, f_prev, x, f)` (3rd order, C¹) |
 ///
 /// All of them are continuous across steps and reproduce `x_prev` and `x`
-/// exactly at the ends of the step.
+/// exactly at the ends of the step. The dense output is built, and checked
+/// to be finite, before the step is accepted: a step whose interpolant is
+/// not finite is rejected (retried with a smaller step by the adaptive
+/// methods, [`SimError::NonFinite`](crate::SimError::NonFinite) with a fixed
+/// step), so an interpolated sample is never NaN.
 ///
 /// # Example
 ///
@@ -123,7 +133,7 @@ pub struct Step<'a, T, const D: usize> {
     t: T,
     x_prev: &'a SVector<T, D>,
     x: &'a SVector<T, D>,
-    dense: &'a dyn Dense<T, D>,
+    dense: Option<&'a Poly<T, D>>,
 }
 
 impl<'a, T: RealField + Copy, const D: usize> Step<'a, T, D> {
@@ -132,7 +142,7 @@ impl<'a, T: RealField + Copy, const D: usize> Step<'a, T, D> {
         x_prev: &'a SVector<T, D>,
         t: T,
         x: &'a SVector<T, D>,
-        dense: &'a dyn Dense<T, D>,
+        dense: Option<&'a Poly<T, D>>,
     ) -> Self {
         Self {
             t_prev,
@@ -184,7 +194,13 @@ impl<T: RealField + Copy, const D: usize> Step<'_, T, D> {
         if t == self.t_prev {
             return *self.x_prev;
         }
-        self.dense.eval((t - self.t_prev) / (self.t - self.t_prev))
+        let theta = (t - self.t_prev) / (self.t - self.t_prev);
+        match self.dense {
+            Some(p) => p.eval(theta),
+            // Steps reported without dense output (to observers, which do
+            // not interpolate): the chord.
+            None => self.x_prev + (self.x - self.x_prev) * theta,
+        }
     }
 }
 

@@ -4,7 +4,6 @@ use core::fmt;
 
 use nalgebra::{RealField, SMatrix, SVector};
 
-use crate::common::check_arguments;
 use crate::{Outcome, SimError, Step};
 
 /// An autonomous or time-dependent first-order ODE `x' = f(t, x)` with a
@@ -188,7 +187,15 @@ where
 /// * `t1 == t0` returns `Ok` with `x0` and zeroed [`Stats`](crate::Stats)
 ///   (the observer is still called once, at `t0`).
 /// * On success, [`Outcome::t`] is exactly `t1`.
-/// * No heap allocation: states live in `SVector` stack arrays.
+/// * Every integrator runs on the one step driver of this crate, which owns
+///   acceptance, step-size control, step budgets, stiffness detection,
+///   observers, output times and the typed failures.
+/// * A span too short to be resolved (below the smallest step, about
+///   `10·eps·|t|`) is covered by one explicit Euler step and ends `Ok` at
+///   `t1`.
+/// * No heap allocation per step: states live in `SVector` stack arrays;
+///   only [`GaussLegendre4`](crate::GaussLegendre4) allocates its work
+///   matrices, once per call.
 ///
 /// # Example
 ///
@@ -290,26 +297,15 @@ pub trait Integrator<T: RealField + Copy> {
         t0: T,
         x0: SVector<T, D>,
         t1: T,
-        mut observer: F,
+        observer: F,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
     where
         S: OdeSystem<T, D> + ?Sized,
         F: FnMut(T, &SVector<T, D>),
     {
-        // `t0` is reported just before the first step (or after the call if
-        // there was none), so that invalid input reports nothing.
-        let mut started = false;
-        let result = self.integrate_with_steps(sys, t0, x0, t1, |step| {
-            if !started {
-                started = true;
-                observer(t0, &x0);
-            }
-            observer(step.t(), step.x());
-        });
-        if !started && !matches!(result, Err(SimError::InvalidInput { .. })) {
-            observer(t0, &x0);
-        }
-        result
+        crate::sink::observe(t0, x0, observer, |k| {
+            self.integrate_with_steps(sys, t0, x0, t1, |s| k.step(s))
+        })
     }
 
     /// Integrates from `(t0, x0)` to `t1` and calls `on_output(t_i, &x(t_i))`
@@ -357,47 +353,14 @@ pub trait Integrator<T: RealField + Copy> {
         x0: SVector<T, D>,
         t1: T,
         times: &[T],
-        mut on_output: F,
+        on_output: F,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
     where
         S: OdeSystem<T, D> + ?Sized,
         F: FnMut(T, &SVector<T, D>),
     {
-        let dir = check_arguments(t0, &x0, t1)?;
-        let sort_dir = if dir == T::zero() { T::one() } else { dir };
-        if !times.iter().all(|t| t.is_finite()) {
-            return Err(SimError::InvalidInput {
-                what: "output times must be finite",
-            });
-        }
-        if times
-            .windows(2)
-            .any(|w| (w[1] - w[0]) * sort_dir < T::zero())
-        {
-            return Err(SimError::InvalidInput {
-                what: "output times must be sorted in the direction of integration",
-            });
-        }
-        // Skip the times before t0.
-        let mut i = times
-            .iter()
-            .position(|&ti| (ti - t0) * sort_dir >= T::zero())
-            .unwrap_or(times.len());
-        let mut started = false;
-        let result = self.integrate_with_steps(sys, t0, x0, t1, |step| {
-            started = true;
-            while i < times.len() && (times[i] - step.t()) * dir <= T::zero() {
-                let ti = times[i];
-                on_output(ti, &step.interpolate(ti));
-                i += 1;
-            }
-        });
-        if !started && !matches!(result, Err(SimError::InvalidInput { .. })) {
-            while i < times.len() && times[i] == t0 {
-                on_output(t0, &x0);
-                i += 1;
-            }
-        }
-        result
+        crate::sink::outputs((t0, x0, t1), times, on_output, |k| {
+            self.integrate_with_steps(sys, t0, x0, t1, |s| k.step(s))
+        })
     }
 }

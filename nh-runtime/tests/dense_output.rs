@@ -215,22 +215,35 @@ fn observer_is_silent_on_invalid_input() {
 }
 
 #[test]
-fn dop853_dense_stages_are_lazy() {
+fn dop853_dense_stages_only_where_interpolated() {
+    // The three extra stages of DOP853's dense output are computed (and
+    // checked) before a step is accepted, and only for steps that are
+    // interpolated: every step handed to `integrate_with_steps`, and only
+    // the steps with an output time inside for `integrate_with_outputs`.
     let x0 = Vector2::new(1.0, 0.0);
     let mut d = Dop853::new(1e-9, 1e-12);
     let plain = d.integrate(&Oscillator, 0.0, x0, 10.0).unwrap().stats;
-    let mut used = 0;
-    let dense = d
+    let mut ends = vec![0.0];
+    let steps = d
         .integrate_with_steps(&Oscillator, 0.0, x0, 10.0, |s: &Step<'_, f64, 2>| {
-            // Interpolate in every other step only (twice: built once).
-            if s.t() > 5.0 {
-                used += 1;
-                let _ = s.interpolate(s.t_prev() + 0.3 * s.h());
-                let _ = s.interpolate(s.t_prev() + 0.6 * s.h());
-            }
+            ends.push(s.t())
         })
         .unwrap()
         .stats;
-    assert_eq!(dense.steps, plain.steps);
-    assert_eq!(dense.rhs_evals, plain.rhs_evals + 3 * used);
+    assert_eq!(steps.steps, plain.steps);
+    assert_eq!(steps.rhs_evals, plain.rhs_evals + 3 * plain.steps);
+    // Output times in the second half only (and one exactly at a step end,
+    // which needs no interpolant).
+    let times = [ends[1], 6.0, 6.01, 7.5, 9.0];
+    let inside = ends
+        .windows(2)
+        .filter(|w| times.iter().any(|&t| w[0] < t && t < w[1]))
+        .count();
+    assert_eq!(inside, 3);
+    let outputs = d
+        .integrate_with_outputs(&Oscillator, 0.0, x0, 10.0, &times, |_, _| {})
+        .unwrap()
+        .stats;
+    assert_eq!(outputs.steps, plain.steps);
+    assert_eq!(outputs.rhs_evals, plain.rhs_evals + 3 * inside);
 }

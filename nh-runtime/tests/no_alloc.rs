@@ -1,4 +1,7 @@
-//! Proves that `integrate` performs no heap allocation.
+//! Proves that integration performs no heap allocation per step: the
+//! allocations of a call do not depend on its number of steps, and are zero
+//! for every integrator but `GaussLegendre4` (whose Newton workspace is
+//! allocated once per call).
 //!
 //! A counting global allocator counts allocations made by the current thread
 //! while a thread-local flag is set, so the test harness's own threads do not
@@ -92,23 +95,41 @@ fn integrate_does_not_allocate() {
     assert_eq!(n, 0, "DormandPrince error path allocated {n} times");
 }
 
+/// Allocations of `run(t1)` for a short and a long span: they must not
+/// depend on the number of steps, and must be zero unless the integrator
+/// has a per-call workspace.
+fn per_step<R>(name: &str, workspace: bool, mut run: impl FnMut(f64) -> R) -> (R, R) {
+    let (short, r_short) = allocations_during(|| run(0.05));
+    let (long, r_long) = allocations_during(|| run(5.0));
+    assert_eq!(short, long, "{name}: allocations grow with the steps");
+    if !workspace {
+        assert_eq!(long, 0, "{name}: allocated {long} times");
+    }
+    (r_short, r_long)
+}
+
 /// `integrate`, `integrate_with_outputs` (dense output) and the error path
-/// of one integrator allocate nothing.
-fn check_no_alloc<I: Integrator<f64>>(name: &str, mut make: impl FnMut() -> I, min_steps: usize) {
+/// of one integrator allocate nothing per step.
+fn check_no_alloc<I: Integrator<f64>>(
+    name: &str,
+    mut make: impl FnMut() -> I,
+    min_steps: usize,
+    workspace: bool,
+) {
     let x0 = SVector::<f64, 6>::from([1.0, 0.0, 0.5, 0.0, 0.0, 1.0]);
     let times: [f64; 64] = core::array::from_fn(|i| i as f64 * 5.0 / 63.0);
 
-    let mut i = make();
-    let (n, out) = allocations_during(|| i.integrate(&Oscillators3, 0.0, x0, 5.0));
+    let (_, out) = per_step(name, workspace, |t1| {
+        make().integrate(&Oscillators3, 0.0, x0, t1)
+    });
     let out = out.unwrap();
     assert!(out.stats.steps >= min_steps, "{name}: {:?}", out.stats);
-    assert_eq!(n, 0, "{name}: integrate allocated {n} times");
 
-    let mut i = make();
     let mut seen = 0usize;
     let mut sum = 0.0;
-    let (n, out) = allocations_during(|| {
-        i.integrate_with_outputs(&Oscillators3, 0.0, x0, 5.0, &times, |_, x| {
+    let (_, out) = per_step(name, workspace, |t1| {
+        seen = 0;
+        make().integrate_with_outputs(&Oscillators3, 0.0, x0, t1, &times, |_, x| {
             seen += 1;
             sum += x[0];
         })
@@ -116,40 +137,40 @@ fn check_no_alloc<I: Integrator<f64>>(name: &str, mut make: impl FnMut() -> I, m
     out.unwrap();
     assert_eq!(seen, 64);
     assert!(sum.is_finite());
-    assert_eq!(n, 0, "{name}: integrate_with_outputs allocated {n} times");
 
     let mut seen = 0usize;
-    let (n, out) = allocations_during(|| {
-        i.integrate_with_steps(&Oscillators3, 0.0, x0, 5.0, |s| {
+    let (_, out) = per_step(name, workspace, |t1| {
+        seen = 0;
+        make().integrate_with_steps(&Oscillators3, 0.0, x0, t1, |s| {
             seen += 1;
             let _ = s.interpolate(0.5 * (s.t_prev() + s.t()));
         })
     });
     out.unwrap();
     assert!(seen >= min_steps);
-    assert_eq!(n, 0, "{name}: integrate_with_steps allocated {n} times");
 
-    // An error path: a right-hand side that turns NaN.
-    let nan_late = |t: f64, x: &SVector<f64, 6>| {
-        if t > 1.0 {
-            SVector::<f64, 6>::repeat(f64::NAN)
-        } else {
-            Oscillators3.rhs(t, x)
-        }
-    };
-    let mut i = make();
-    let (n, out) = allocations_during(|| i.integrate(&nan_late, 0.0, x0, 5.0));
-    assert!(out.is_err(), "{name}");
-    assert_eq!(n, 0, "{name}: error path allocated {n} times");
+    // An error path: a right-hand side that turns NaN after a fifth of
+    // the span.
+    let (short, long) = per_step(name, workspace, |t1| {
+        let nan_late = |t: f64, x: &SVector<f64, 6>| {
+            if t > 0.2 * t1 {
+                SVector::<f64, 6>::repeat(f64::NAN)
+            } else {
+                Oscillators3.rhs(t, x)
+            }
+        };
+        make().integrate(&nan_late, 0.0, x0, t1)
+    });
+    assert!(short.is_err() && long.is_err(), "{name}");
 }
 
 #[test]
-fn no_integrator_allocates() {
-    check_no_alloc("rk4", || Rk4::new(1e-2), 500);
-    check_no_alloc("dopri5", || DormandPrince::new(1e-9, 1e-11), 50);
-    check_no_alloc("dop853", || Dop853::new(1e-9, 1e-11), 20);
-    check_no_alloc("rosenbrock", || Rosenbrock::new(1e-6, 1e-8), 20);
-    check_no_alloc("gauss4", || GaussLegendre4::new(1e-2), 500);
+fn no_integrator_allocates_per_step() {
+    check_no_alloc("rk4", || Rk4::new(1e-2), 500, false);
+    check_no_alloc("dopri5", || DormandPrince::new(1e-9, 1e-11), 50, false);
+    check_no_alloc("dop853", || Dop853::new(1e-9, 1e-11), 20, false);
+    check_no_alloc("rosenbrock", || Rosenbrock::new(1e-6, 1e-8), 20, false);
+    check_no_alloc("gauss4", || GaussLegendre4::new(1e-2), 500, true);
 }
 
 #[test]
@@ -180,11 +201,17 @@ fn analytic_jacobian_paths_do_not_allocate() {
         n, 0,
         "Rosenbrock::integrate_with_jacobian allocated {n} times"
     );
-    let mut g = GaussLegendre4::new(1e-2);
-    let (n, out) = allocations_during(|| g.integrate_with_jacobian(&Osc3, 0.0, x0, 5.0));
-    out.unwrap();
+    // The Gauss method allocates its Newton workspace (Jacobian, LU,
+    // permutation) once per call, whatever the number of steps.
+    let (_, out) = per_step("GaussLegendre4::integrate_with_jacobian", true, |t1| {
+        GaussLegendre4::new(1e-2).integrate_with_jacobian(&Osc3, 0.0, x0, t1)
+    });
+    assert!(out.unwrap().stats.steps >= 500);
+    let (n, _) = allocations_during(|| {
+        GaussLegendre4::new(1e-2).integrate_with_jacobian(&Osc3, 0.0, x0, 5.0)
+    });
     assert_eq!(
-        n, 0,
-        "GaussLegendre4::integrate_with_jacobian allocated {n} times"
+        n, 3,
+        "GaussLegendre4: one workspace of three buffers per call"
     );
 }

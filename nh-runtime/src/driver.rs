@@ -1,0 +1,629 @@
+//! The one step driver shared by every integrator.
+//!
+//! A [`Method`] supplies the stages of one step, its error estimate and its
+//! dense output; [`drive`] owns everything else: argument checks, the step
+//! layout (a fixed step, or the PI controller of Hairer's codes),
+//! acceptance and rejection, step budgets, stiffness detection, handing
+//! accepted steps to a [`Sink`] (observers, output times, step callbacks)
+//! and the typed failures ([`SimError`]).
+
+use nalgebra::{RealField, SVector};
+
+use crate::common::{all_finite, c, check_arguments, check_positive, initial_step, min_step};
+use crate::sink::Sink;
+use crate::step::Poly;
+use crate::{Outcome, SimError, Stats, Step};
+
+/// Why a trial step could not be computed.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub(crate) enum Failure {
+    /// A stage, the new state or a derivative is NaN or infinite.
+    NonFinite,
+    /// The iteration matrix of an implicit method is singular.
+    Singular,
+    /// The Newton iteration of an implicit method did not converge.
+    #[cfg_attr(not(feature = "alloc"), allow(dead_code))]
+    NoConvergence,
+}
+
+impl Failure {
+    /// The error of a run that ends with this failure at `(t, x)`, step `h`.
+    fn at<T, const D: usize>(self, t: T, x: SVector<T, D>, h: T) -> SimError<T, D> {
+        match self {
+            Failure::NonFinite => SimError::NonFinite { t, x },
+            Failure::Singular => SimError::Singular { t, x },
+            Failure::NoConvergence => SimError::NoConvergence { t, x, h },
+        }
+    }
+}
+
+/// Relative and absolute tolerance of the error norm.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Tolerance<T> {
+    pub(crate) rtol: T,
+    pub(crate) atol: T,
+}
+
+/// What an integration method supplies to the driver: the stages of one
+/// step from an accepted point, their error estimate and dense output.
+pub(crate) trait Method<T: RealField + Copy, const D: usize> {
+    /// The order of the method, for the initial step heuristic.
+    const ORDER: u32;
+    /// `h·λ` above which Hairer's stiffness test counts a step as being at
+    /// the stability boundary; `None` for methods without the test.
+    const STIFF_LIMIT: Option<f64> = None;
+    /// The step-size controller of the method's reference code (unused by
+    /// the fixed-step methods, which keep this default).
+    const PI: Pi = Pi {
+        safe: 0.9,
+        expo: 0.2,
+        beta: 0.0,
+        fac_lo: 0.1,
+        fac_hi: 5.0,
+        gustafsson: false,
+    };
+
+    /// The right-hand side `f(t, x)` (not counted: callers count).
+    fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D>;
+
+    /// Prepares the first step from `(t0, x0)`: evaluates what it needs
+    /// there (the derivative, a Jacobian) and counts it.
+    fn start(&mut self, t: T, x: &SVector<T, D>, stats: &mut Stats) -> Result<(), Failure>;
+
+    /// The derivative at the current point, if the method keeps it (for
+    /// the initial step heuristic).
+    fn slope(&self) -> Option<&SVector<T, D>> {
+        None
+    }
+
+    /// Computes the trial step `(t, x) → (t_new, x_new)` of signed size `h`
+    /// (`t_new` is `t + h`, or exactly `t1` on the last step) and returns
+    /// its scaled error norm (0 for methods without an estimate). Every
+    /// stage must be finite, or the trial fails.
+    fn attempt(
+        &mut self,
+        t: T,
+        x: &SVector<T, D>,
+        h: T,
+        t_new: T,
+        tol: &Tolerance<T>,
+        stats: &mut Stats,
+    ) -> Result<T, Failure>;
+
+    /// Completes a trial that the controller accepts (for example the
+    /// derivative at the new point, first same as last); a failure rejects
+    /// it after all.
+    fn complete(&mut self, _t_new: T, _stats: &mut Stats) -> Result<(), Failure> {
+        Ok(())
+    }
+
+    /// The new state of the last trial.
+    fn x_new(&self) -> &SVector<T, D>;
+
+    /// Builds the dense output of the last completed trial, which started
+    /// at `(t, x)` with step `h`; `false` if it is not finite.
+    fn build_dense(&mut self, t: T, x: &SVector<T, D>, h: T, stats: &mut Stats) -> bool;
+
+    /// The dense output built by [`Method::build_dense`].
+    fn dense(&self) -> &Poly<T, D>;
+
+    /// `‖Δf‖ / ‖Δx‖` between the last two stages at the end of the step
+    /// (Hairer's stiffness estimate without `|h|`), if defined.
+    fn stiffness_ratio(&self) -> Option<T> {
+        None
+    }
+
+    /// Moves to the accepted point `(t, x)` (the end of the completed
+    /// trial); `last` when the integration ends there.
+    fn advance(
+        &mut self,
+        t: T,
+        x: &SVector<T, D>,
+        last: bool,
+        stats: &mut Stats,
+    ) -> Result<(), Failure>;
+}
+
+/// `f`, one evaluation of the right-hand side (counted), if it is finite.
+pub(crate) fn counted<T: RealField + Copy, const D: usize>(
+    f: SVector<T, D>,
+    stats: &mut Stats,
+) -> Result<SVector<T, D>, Failure> {
+    stats.rhs_evals += 1;
+    if all_finite(&f) {
+        Ok(f)
+    } else {
+        Err(Failure::NonFinite)
+    }
+}
+
+/// Hairer's stiffness estimate `‖f_new − f_prev‖ / ‖x_new − x_prev‖` from
+/// the last two stages of a step (both evaluated at its end), if defined.
+pub(crate) fn stiffness_estimate<T: RealField + Copy, const D: usize>(
+    (f_new, f_prev): (&SVector<T, D>, &SVector<T, D>),
+    (x_new, x_prev): (&SVector<T, D>, &SVector<T, D>),
+) -> Option<T> {
+    let stnum = (f_new - f_prev).norm_squared();
+    let stden = (x_new - x_prev).norm_squared();
+    (stden > T::zero()).then(|| (stnum / stden).sqrt())
+}
+
+/// Parameters of Hairer's step-size controller
+/// `h_new = h / clamp(err^expo / errold^beta / safe, fac_lo, fac_hi)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Pi {
+    pub(crate) safe: f64,
+    pub(crate) expo: f64,
+    pub(crate) beta: f64,
+    /// The smallest `h/h_new` (the largest growth is `1/fac_lo`).
+    pub(crate) fac_lo: f64,
+    /// The largest `h/h_new` (the largest reduction).
+    pub(crate) fac_hi: f64,
+    /// Gustafsson's predictive correction (`RODAS`).
+    pub(crate) gustafsson: bool,
+}
+
+/// How steps are placed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Control<T> {
+    /// Every step has the magnitude `h`; step `k` ends at `t0 + k·h`, the
+    /// last one lands on `t1`.
+    Fixed(T),
+    /// Error control with the method's step-size controller
+    /// ([`Method::PI`], a constant, so that it folds into the loop).
+    Adaptive,
+}
+
+/// Everything [`drive`] needs besides the method.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Settings<T> {
+    pub(crate) control: Control<T>,
+    pub(crate) tol: Tolerance<T>,
+    /// The first trial step (magnitude) instead of Hairer's `hinit`.
+    pub(crate) initial_step: Option<T>,
+    /// The largest step magnitude (default `|t1 − t0|`).
+    pub(crate) max_step: Option<T>,
+    /// Step attempts allowed (accepted plus rejected).
+    pub(crate) max_steps: usize,
+}
+
+/// The bookkeeping of one run, kept also when it fails.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Record<T> {
+    pub(crate) stats: Stats,
+    /// The step size proposed after the last accepted step.
+    pub(crate) last_step: Option<T>,
+}
+
+impl<T> Default for Record<T> {
+    fn default() -> Self {
+        Record {
+            stats: Stats::default(),
+            last_step: None,
+        }
+    }
+}
+
+/// Accepted steps between routine stiffness tests (Hairer's `NSTIFF`).
+const NSTIFF: usize = 1000;
+/// Stiff tests needed to flag stiffness.
+const STIFF_COUNT: usize = 15;
+/// Consecutive non-stiff tests that reset the stiff counter.
+const NONSTIFF_RESET: usize = 6;
+/// Consecutive singular iteration matrices tolerated (step halved each time).
+const MAX_SINGULAR: usize = 5;
+
+/// The state of one run: the accepted point and the counters.
+struct Run<'r, T, const D: usize> {
+    t: T,
+    x: SVector<T, D>,
+    t1: T,
+    dir: T,
+    eps: T,
+    rec: &'r mut Record<T>,
+}
+
+/// Integrates from `(t0, x0)` to `t1` with `method`, reporting every
+/// accepted step to `sink`; the work counters end up in `rec`.
+pub(crate) fn drive<T, M, K, const D: usize>(
+    method: &mut M,
+    settings: &Settings<T>,
+    (t0, x0, t1): (T, SVector<T, D>, T),
+    sink: &mut K,
+    rec: &mut Record<T>,
+) -> Result<Outcome<T, D>, SimError<T, D>>
+where
+    T: RealField + Copy,
+    M: Method<T, D>,
+    K: Sink<T, D> + ?Sized,
+{
+    *rec = Record::default();
+    let dir = check_arguments(t0, &x0, t1)?;
+    check_settings(settings)?;
+    let eps = crate::common::machine_epsilon::<T>();
+    let mut run = Run {
+        t: t0,
+        x: x0,
+        t1,
+        dir,
+        eps,
+        rec,
+    };
+    if dir == T::zero() {
+        return Ok(run.outcome());
+    }
+    if (t1 - t0).abs() < min_step(eps, t0, t1) {
+        return run.tiny_span(method, sink);
+    }
+    method
+        .start(t0, &x0, &mut run.rec.stats)
+        .map_err(|f| f.at(t0, x0, t1 - t0))?;
+    match settings.control {
+        Control::Fixed(h) => run.fixed(method, settings, h, sink),
+        Control::Adaptive => run.adaptive(method, settings, sink),
+    }
+}
+
+/// `InvalidInput` unless the tolerances and step settings are usable.
+fn check_settings<T: RealField + Copy, const D: usize>(
+    s: &Settings<T>,
+) -> Result<(), SimError<T, D>> {
+    check_positive(s.tol.rtol, "rtol must be positive and finite")?;
+    if !(s.tol.atol.is_finite() && s.tol.atol >= T::zero()) {
+        return Err(SimError::InvalidInput {
+            what: "atol must be non-negative and finite",
+        });
+    }
+    if let Control::Fixed(h) = s.control {
+        check_positive(h, "step size h must be positive and finite")?;
+    }
+    if let Some(h) = s.initial_step {
+        check_positive(h, "initial step must be positive and finite")?;
+    }
+    if let Some(h) = s.max_step {
+        check_positive(h, "max step must be positive and finite")?;
+    }
+    Ok(())
+}
+
+/// The state of the step-size controller between attempts.
+struct Controller<T> {
+    pi: Pi,
+    facold: T,
+    /// The previous accepted step and its error (Gustafsson).
+    hacc: Option<(T, T)>,
+    /// Whether the last attempt was rejected.
+    reject: bool,
+}
+
+impl<T: RealField + Copy> Controller<T> {
+    /// Whether `err` is acceptable, and the next step after `h`.
+    #[inline(always)]
+    fn propose(&self, err: T, h: T) -> (bool, T) {
+        let p = &self.pi;
+        let fac11 = err.powf(c(p.expo));
+        if err > T::one() {
+            return (false, h / (fac11 / c(p.safe)).min(c(p.fac_hi)));
+        }
+        // (`β = 0` skips a `powf` per step: DOP853 and RODAS have no PI term.)
+        let errold = if p.beta == 0.0 {
+            T::one()
+        } else {
+            self.facold.powf(c(p.beta))
+        };
+        let fac = (fac11 / errold / c(p.safe))
+            .min(c(p.fac_hi))
+            .max(c(p.fac_lo));
+        let mut h_new = h / fac;
+        if let (true, Some((hacc, erracc))) = (p.gustafsson, self.hacc) {
+            let facgus = ((hacc / h) * (err * err / erracc).powf(c(p.expo)) / c(p.safe))
+                .min(c(p.fac_hi))
+                .max(c(p.fac_lo));
+            h_new = h / fac.max(facgus);
+        }
+        (true, h_new)
+    }
+
+    /// Records an accepted step `h` with error `err`; returns the next step
+    /// from the proposal `h_new`, capped at `hmax` and, after a rejection,
+    /// at `|h|`.
+    fn accepted(&mut self, err: T, h: T, h_new: T, hmax: T, dir: T) -> T {
+        self.facold = err.max(c(1e-4));
+        self.hacc = Some((h, err.max(c(1e-2))));
+        let mut h_new = h_new.abs().min(hmax);
+        if self.reject {
+            h_new = h_new.min(h.abs());
+        }
+        self.reject = false;
+        h_new * dir
+    }
+}
+
+/// Hairer's stiffness test: counts steps at the stability boundary.
+struct Stiffness<T> {
+    hlamb: Option<T>,
+    iasti: usize,
+    nonsti: usize,
+}
+
+impl<T: RealField + Copy> Stiffness<T> {
+    /// Tests after accepted step number `steps` (of size `h`); `true` once
+    /// stiffness is detected.
+    fn test<M: Method<T, D>, const D: usize>(&mut self, m: &M, steps: usize, h: T) -> bool {
+        let Some(limit) = M::STIFF_LIMIT else {
+            return false;
+        };
+        if !(steps.is_multiple_of(NSTIFF) || self.iasti > 0) {
+            return false;
+        }
+        if let Some(r) = m.stiffness_ratio() {
+            self.hlamb = Some(h.abs() * r);
+        }
+        if self.hlamb.is_some_and(|hl| hl > c(limit)) {
+            self.nonsti = 0;
+            self.iasti += 1;
+            self.iasti >= STIFF_COUNT
+        } else {
+            self.nonsti += 1;
+            if self.nonsti == NONSTIFF_RESET {
+                self.iasti = 0;
+            }
+            false
+        }
+    }
+}
+
+impl<T: RealField + Copy, const D: usize> Run<'_, T, D> {
+    fn outcome(&self) -> Outcome<T, D> {
+        Outcome {
+            t: self.t,
+            x: self.x,
+            stats: self.rec.stats,
+        }
+    }
+
+    /// A span below the resolution of `t`: one explicit Euler step to `t1`.
+    fn tiny_span<M, K>(&mut self, m: &mut M, sink: &mut K) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        M: Method<T, D>,
+        K: Sink<T, D> + ?Sized,
+    {
+        let (t, x) = (self.t, self.x);
+        let f = m.rhs(t, &x);
+        self.rec.stats.rhs_evals += 1;
+        let x_new = x + f * (self.t1 - t);
+        if !(all_finite(&f) && all_finite(&x_new)) {
+            return Err(SimError::NonFinite { t, x });
+        }
+        self.rec.stats.steps += 1;
+        let line = Poly::from_monomial(&[x, x_new - x]);
+        sink.step(&Step::new(t, &x, self.t1, &x_new, Some(&line)));
+        self.t = self.t1;
+        self.x = x_new;
+        Ok(self.outcome())
+    }
+
+    /// Completes an acceptable trial from `(t, x)` of size `h`: `complete`,
+    /// and the dense output if the sink needs it (checked to be finite).
+    fn finish<M, K>(&mut self, m: &mut M, sink: &K, h: T, t_new: T) -> Result<bool, Failure>
+    where
+        M: Method<T, D>,
+        K: Sink<T, D> + ?Sized,
+    {
+        let stats = &mut self.rec.stats;
+        m.complete(t_new, stats)?;
+        let dense = sink.wants_dense(self.t, t_new);
+        if dense && !m.build_dense(self.t, &self.x, h, stats) {
+            return Err(Failure::NonFinite);
+        }
+        Ok(dense)
+    }
+
+    /// Hands the accepted step to the sink and moves to its end.
+    fn accept<M, K>(
+        &mut self,
+        m: &mut M,
+        sink: &mut K,
+        t_new: T,
+        dense: bool,
+        last: bool,
+    ) -> Result<(), SimError<T, D>>
+    where
+        M: Method<T, D>,
+        K: Sink<T, D> + ?Sized,
+    {
+        let poly = if dense { Some(m.dense()) } else { None };
+        sink.step(&Step::new(self.t, &self.x, t_new, m.x_new(), poly));
+        self.t = t_new;
+        self.x = *m.x_new();
+        m.advance(t_new, &self.x, last, &mut self.rec.stats)
+            .map_err(|f| f.at(t_new, self.x, T::zero()))
+    }
+
+    /// The fixed-step loop: step `k` ends at `t0 + k·h`, a remainder below a
+    /// few ulps of `t` is merged into the last step; any failure ends the run.
+    fn fixed<M, K>(
+        &mut self,
+        m: &mut M,
+        s: &Settings<T>,
+        h_abs: T,
+        sink: &mut K,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        M: Method<T, D>,
+        K: Sink<T, D> + ?Sized,
+    {
+        let (t0, t1, dir) = (self.t, self.t1, self.dir);
+        let h = h_abs * dir;
+        let tol = (c::<T>(64.0) * self.eps * (t0.abs() + t1.abs() + h_abs)).min(h_abs * c(0.5));
+        let mut k: usize = 0;
+        loop {
+            let stats = &mut self.rec.stats;
+            if stats.steps >= s.max_steps {
+                return Err(self.max_steps());
+            }
+            k += 1;
+            let mut t_new = t0 + h * c::<T>(k as f64);
+            let last = (t1 - t_new) * dir <= tol;
+            if last {
+                t_new = t1;
+            }
+            let hk = t_new - self.t;
+            if hk * dir <= T::zero() {
+                return Err(SimError::StepSizeTooSmall {
+                    t: self.t,
+                    x: self.x,
+                    h,
+                });
+            }
+            let fail = |f: Failure, r: &Self| f.at(r.t, r.x, hk);
+            m.attempt(self.t, &self.x, hk, t_new, &s.tol, stats)
+                .map_err(|f| fail(f, self))?;
+            let dense = self.finish(m, sink, hk, t_new).map_err(|f| fail(f, self))?;
+            self.rec.stats.steps += 1;
+            self.rec.last_step = Some(h_abs);
+            self.accept(m, sink, t_new, dense, last)?;
+            if last {
+                return Ok(self.outcome());
+            }
+        }
+    }
+
+    fn max_steps(&self) -> SimError<T, D> {
+        SimError::MaxSteps {
+            t: self.t,
+            x: self.x,
+            steps: self.rec.stats.steps + self.rec.stats.rejected,
+        }
+    }
+
+    /// The first trial step of an adaptive run (signed): `initial` (capped
+    /// at `hmax`) or Hairer's `hinit` from the method's derivative at `t0`.
+    fn first_step<M: Method<T, D>>(&mut self, m: &M, s: &Settings<T>, hmax: T) -> T {
+        let h = match (s.initial_step, m.slope()) {
+            (Some(h0), _) => h0.min(hmax),
+            (None, Some(f0)) => {
+                let rhs = |t: T, x: &SVector<T, D>| m.rhs(t, x);
+                let (tol, order) = (&s.tol, M::ORDER);
+                let stats = &mut self.rec.stats;
+                let (t, x, dir) = (self.t, &self.x, self.dir);
+                initial_step(&rhs, stats, t, x, f0, dir, hmax, tol.rtol, tol.atol, order)
+            }
+            (None, None) => hmax,
+        };
+        h * self.dir
+    }
+
+    /// Where a trial of size `h` ends: `(h, t_new, last)`, stretched (by up
+    /// to 1 %) or rounded onto `t1` when it would reach it.
+    fn place(&self, h: T) -> (T, T, bool) {
+        let (t, t1, dir) = (self.t, self.t1, self.dir);
+        if (t + h * c::<T>(1.01) - t1) * dir > T::zero() || (t + h - t1) * dir >= T::zero() {
+            (t1 - t, t1, true)
+        } else {
+            (h, t + h, false)
+        }
+    }
+
+    /// The adaptive loop: PI control, rejections, budget and stiffness.
+    fn adaptive<M, K>(
+        &mut self,
+        m: &mut M,
+        s: &Settings<T>,
+        sink: &mut K,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        M: Method<T, D>,
+        K: Sink<T, D> + ?Sized,
+    {
+        let hmax = s.max_step.unwrap_or((self.t1 - self.t).abs());
+        let mut h = self.first_step(m, s, hmax);
+        let mut ctl = Controller {
+            pi: M::PI,
+            facold: c(1e-4),
+            hacc: None,
+            reject: false,
+        };
+        let mut stiff = Stiffness {
+            hlamb: None,
+            iasti: 0,
+            nonsti: 0,
+        };
+        let (mut nonfinite, mut singular) = (false, 0usize);
+        loop {
+            if self.rec.stats.steps + self.rec.stats.rejected >= s.max_steps {
+                return Err(self.max_steps());
+            }
+            if !h.is_finite() || h.abs() < min_step(self.eps, self.t, self.t1) {
+                return Err(if nonfinite {
+                    SimError::NonFinite {
+                        t: self.t,
+                        x: self.x,
+                    }
+                } else {
+                    SimError::StepSizeTooSmall {
+                        t: self.t,
+                        x: self.x,
+                        h,
+                    }
+                });
+            }
+            let (hs, t_new, last) = self.place(h);
+            h = hs;
+            let stats = &mut self.rec.stats;
+            let trial = m
+                .attempt(self.t, &self.x, h, t_new, &s.tol, stats)
+                .and_then(|err| {
+                    if err.partial_cmp(&T::zero()).is_none() {
+                        Err(Failure::NonFinite)
+                    } else {
+                        Ok(err)
+                    }
+                });
+            singular = if trial == Err(Failure::Singular) {
+                singular + 1
+            } else {
+                0
+            };
+            let outcome = trial.and_then(|err| {
+                let (ok, h_new) = ctl.propose(err, h);
+                if !ok {
+                    return Ok((err, h_new, None));
+                }
+                self.finish(m, sink, h, t_new)
+                    .map(|d| (err, h_new, Some(d)))
+            });
+            let (err, h_new, dense) = match outcome {
+                Ok(v) => v,
+                Err(Failure::Singular) if singular >= MAX_SINGULAR => {
+                    return Err(Failure::Singular.at(self.t, self.x, h));
+                }
+                Err(f) => {
+                    // A failed trial is retried with half the step.
+                    nonfinite = f == Failure::NonFinite;
+                    self.rec.stats.rejected += 1;
+                    ctl.reject = true;
+                    h *= c(0.5);
+                    continue;
+                }
+            };
+            nonfinite = false;
+            let Some(dense) = dense else {
+                self.rec.stats.rejected += 1;
+                ctl.reject = true;
+                h = h_new;
+                continue;
+            };
+            self.rec.stats.steps += 1;
+            if stiff.test(m, self.rec.stats.steps, h) {
+                self.rec.stats.stiffness_detected = true;
+            }
+            h = ctl.accepted(err, h, h_new, hmax, self.dir);
+            self.rec.last_step = Some(h.abs());
+            self.accept(m, sink, t_new, dense, last)?;
+            if last {
+                return Ok(self.outcome());
+            }
+        }
+    }
+}
