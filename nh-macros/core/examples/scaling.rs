@@ -153,7 +153,7 @@ fn thousands(n: usize) -> String {
     let digits = n.to_string();
     let mut out = String::new();
     for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i) % 3 == 0 {
+        if i > 0 && (digits.len() - i).is_multiple_of(3) {
             out.push(',');
         }
         out.push(c);
@@ -256,10 +256,10 @@ fn main() {
             r.family, r.size, r.outputs
         );
     }
-    if let Some(path) = csv_path {
-        if let Err(e) = std::fs::write(path, csv(&rows)) {
-            eprintln!("cannot write {path}: {e}");
-            std::process::exit(2);
-        }
+    if let Some(path) = csv_path
+        && let Err(e) = std::fs::write(path, csv(&rows))
+    {
+        eprintln!("cannot write {path}: {e}");
+        std::process::exit(2);
     }
 }

@@ -441,16 +441,24 @@ impl Dag {
         let mut terms: Vec<_> = terms.into_iter().filter(|t| !t.1.is_zero()).collect();
         if terms.len() >= 2 {
             // content: factor out the common rational factor
-            let mut g = terms[0].1.abs();
+            // all or nothing: a content that cannot be taken out exactly
+            // is left in (a partial division would recurse forever)
+            let mut g = Some(terms[0].1.abs());
             for t in &terms[1..] {
-                g = g.gcd(t.1).unwrap_or(Rational::ONE);
+                g = g.and_then(|g| g.gcd(t.1));
             }
+            let mut g = g.unwrap_or(Rational::ONE);
             if terms.iter().all(|t| t.1.is_negative()) {
                 g = g.checked_neg().unwrap_or(g);
             }
-            if !g.is_one() && !g.is_zero() {
-                for t in terms.iter_mut() {
-                    t.1 = t.1.checked_div(g).unwrap_or(t.1);
+            let divided: Option<Vec<Rational>> = if !g.is_one() && !g.is_zero() {
+                terms.iter().map(|t| t.1.checked_div(g)).collect()
+            } else {
+                None
+            };
+            if let Some(divided) = divided {
+                for (t, c) in terms.iter_mut().zip(divided) {
+                    t.1 = c;
                 }
                 let inner = self.poly(eng, terms);
                 let gc = self.constant(g);

@@ -234,7 +234,6 @@ fn dense_30_completes() {
 }
 
 #[test]
-#[ignore = "stack overflow in emit::Dag::poly: its content gcd overflows i128 and recurses forever (fixed by an all-or-nothing content step or the big rationals)"]
 fn cos_sum_of_issue_10_expands() {
     // measured with the content step fixed: 346 lines (before the line-count change of emit)
     let e = isolated("cos_sum");
@@ -251,7 +250,6 @@ fn trig_100_terms_expands() {
 }
 
 #[test]
-#[ignore = "stack overflow in emit::Dag::poly: its content gcd overflows i128 and recurses forever (fixed by an all-or-nothing content step or the big rationals)"]
 fn trig_1000_terms_expands() {
     // no crash and bounded size; a compile error (an engine limit) is acceptable.
     // Measured with the content step fixed: 11,331 lines, no compile error.
