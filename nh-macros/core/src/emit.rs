@@ -371,9 +371,8 @@ impl Dag {
         {
             return self.intern(Op::Powi(a, k as u32));
         }
-        if q.denom() == 2 {
+        if let Some((k, 2)) = q.to_i128_parts() {
             let s = self.intern(Op::Sqrt(a));
-            let k = q.numer();
             if k == 1 {
                 return s;
             }
@@ -840,7 +839,22 @@ fn powi_tokens(a: &TokenStream, k: u32) -> TokenStream {
     }
 }
 
-/// Tokens converting a rational constant to `T`.
+thread_local! {
+    /// The largest constant [`const_tokens`] could not represent in `f64`
+    /// since the last [`take_unrepresentable`].
+    static UNREPRESENTABLE: std::cell::Cell<Option<Rational>> = const { std::cell::Cell::new(None) };
+}
+
+/// The largest constant (in magnitude) that generated code needed but `f64`
+/// cannot hold (beyond ±`f64::MAX`) since the last call, and resets it.
+pub fn take_unrepresentable() -> Option<Rational> {
+    UNREPRESENTABLE.try_with(|c| c.take()).ok().flatten()
+}
+
+/// Tokens converting a rational constant to `T`: the correctly rounded
+/// `f64` literal (exact for `T = f64`: the literal is printed in its
+/// shortest round-trip form). A constant beyond the range of `f64` is
+/// recorded for [`take_unrepresentable`] and emitted as zero.
 pub fn const_tokens(q: Rational) -> TokenStream {
     if q.is_zero() {
         return quote!(T::zero());
@@ -849,6 +863,18 @@ pub fn const_tokens(q: Rational) -> TokenStream {
         return quote!(T::one());
     }
     let v = q.to_f64();
+    if !v.is_finite() {
+        let _ = UNREPRESENTABLE.try_with(|c| {
+            let keep = match c.get() {
+                Some(old) => old.abs() >= q.abs(),
+                None => false,
+            };
+            if !keep {
+                c.set(Some(q));
+            }
+        });
+        return quote!(T::zero());
+    }
     let lit = proc_macro2::Literal::f64_suffixed(v);
     quote!(::nonholonomic::__private::nalgebra::convert::<f64, T>(#lit))
 }

@@ -18,8 +18,10 @@
 //! Pythagorean identity, therefore have the same id, and zero is recognised
 //! exactly for the trigonometric polynomials that mechanics produces.
 //!
-//! Arithmetic never panics: a coefficient overflow sets a flag
-//! ([`Engine::overflowed`]) that the caller turns into a compile error.
+//! Coefficients are exact rationals of any size. Arithmetic never panics:
+//! expression swell or a constant power beyond [`Rational::MAX_DIGITS`] digits
+//! sets a flag ([`Engine::overflowed`]) that the caller turns into a compile
+//! error.
 
 pub mod dd;
 pub mod rational;
@@ -145,8 +147,9 @@ impl Engine {
         e
     }
 
-    /// True if some coefficient overflowed 128 bits or an expression exceeded
-    /// [`MAX_TERMS`]; results are then meaningless.
+    /// True if a constant power exceeded [`Rational::MAX_DIGITS`] digits or
+    /// the work exceeded [`MAX_TERMS`] or [`MAX_WORK`]; results are then
+    /// meaningless.
     pub fn overflowed(&self) -> bool {
         self.overflow
     }
@@ -627,13 +630,42 @@ impl Engine {
         if q.is_one() {
             return a;
         }
+        if q.is_integer()
+            && a != ZERO
+            && let Some(c) = self.as_constant(a)
+        {
+            // a constant to an integer power: exact, bounded in size
+            let v = match q.to_integer() {
+                Some(k) => self.qpowi(c, k),
+                None if c.is_one() => Rational::ONE,
+                None if c == Rational::MINUS_ONE => {
+                    let even = q
+                        .checked_div(Rational::int(2))
+                        .is_some_and(|h| h.is_integer());
+                    if even {
+                        Rational::ONE
+                    } else {
+                        Rational::MINUS_ONE
+                    }
+                }
+                None => {
+                    self.overflow = true;
+                    Rational::ZERO
+                }
+            };
+            return self.constant(v);
+        }
         if q.is_integer() && !q.is_negative() {
             let k = q.to_integer().unwrap_or(i64::MAX);
             let kk = self.exponent_count(k);
             return self.pow_int(a, kk);
         }
         if a == ZERO {
-            // 0 to a negative or fractional power: keep it symbolic (∞ or 0 at run time).
+            // 0^q = 0 for q > 0 (sqrt(0) = 0); 0 to a negative power is a
+            // division by zero, which the caller reports: keep it symbolic.
+            if !q.is_negative() {
+                return ZERO;
+            }
             let b = self.intern_atom(Atom::Base(ZERO));
             return self.atom_power(b, q);
         }
@@ -1106,7 +1138,7 @@ impl Engine {
         vals: &[dd::Dd],
         memo: &mut HashMap<ExprId, dd::Dd>,
     ) -> dd::Dd {
-        let mut t = dd::Dd::ratio(c.numer(), c.denom());
+        let mut t = dd::Dd::from_rational(c);
         for &(a, ex) in &self.monos[m as usize] {
             let b = match &self.atoms[a as usize] {
                 Atom::Sym(s) => vals[*s as usize],
@@ -1127,7 +1159,7 @@ impl Engine {
             };
             t = t * match ex.to_integer() {
                 Some(k) if k.abs() < i32::MAX as i64 => b.powi(k),
-                _ => (b.ln() * dd::Dd::ratio(ex.numer(), ex.denom())).exp(),
+                _ => (b.ln() * dd::Dd::from_rational(ex)).exp(),
             };
         }
         t
@@ -1192,10 +1224,12 @@ enum Normal {
 }
 
 fn floor(e: Rational) -> i64 {
-    let n = e.numer();
-    let d = e.denom();
-    let q = n.div_euclid(d);
-    i64::try_from(q).unwrap_or(if q < 0 { i64::MIN / 2 } else { i64::MAX / 2 })
+    let q = e.floor();
+    q.to_integer().unwrap_or(if q.is_negative() {
+        i64::MIN / 2
+    } else {
+        i64::MAX / 2
+    })
 }
 
 fn merge_factors(a: &[(AtomId, Rational)], b: &[(AtomId, Rational)]) -> Factors {
