@@ -494,6 +494,21 @@ impl Lowerer<'_> {
         }
     }
 
+    /// ": `src` is value" for a message about an argument, if the value
+    /// says more than the source text.
+    fn value_note(&self, arg: &Expr, v: ExprId) -> String {
+        let src = short(arg.to_source());
+        let val = match self.e.as_constant(v) {
+            Some(c) => show(c),
+            None => short(self.e.display(v)),
+        };
+        if src == val {
+            String::new()
+        } else {
+            format!(": `{src}` is {val}")
+        }
+    }
+
     /// The rational `c` if `e` is `c·π`.
     fn pi_multiple(&self, e: ExprId) -> Option<Rational> {
         if self.e.free_symbols(e) != [self.pi_sym] {
@@ -582,7 +597,7 @@ impl Lowerer<'_> {
                             }
                             let digits = c.pow_digits(q.floor());
                             if digits > f64::from(Rational::MAX_DIGITS) {
-                                self.cx.error(x.range(), format!("this power is too large to compute exactly: about {digits:.3e} digits, and the limit is {}", Rational::MAX_DIGITS));
+                                self.cx.error(x.range(), format!("this power is too large to compute exactly: it has about {} digits, and the limit is {}", if digits < 1e12 { format!("{digits:.0}") } else { format!("{digits:.1e}") }, Rational::MAX_DIGITS));
                                 return None;
                             }
                         }
@@ -728,17 +743,15 @@ impl Lowerer<'_> {
         use std::cmp::Ordering::{Equal, Less};
         let domain = match (fun, self.constant_sign(a)) {
             (None, Some(Less)) => Some(format!(
-                "`sqrt` of a negative constant is not a real number: `{}` is {}",
-                short(arg.to_source()),
-                short(self.e.display(a))
+                "`sqrt` of a negative constant is not a real number{}",
+                self.value_note(arg, a)
             )),
             (Some(Fun::Ln), Some(Equal)) => {
                 Some("`ln(0)` is undefined (the logarithm tends to −∞ at 0)".to_string())
             }
             (Some(Fun::Ln), Some(Less)) => Some(format!(
-                "`ln` of a negative constant is not a real number: `{}` is {}",
-                short(arg.to_source()),
-                short(self.e.display(a))
+                "`ln` of a negative constant is not a real number{}",
+                self.value_note(arg, a)
             )),
             (Some(Fun::Tan), _) => self
                 .pi_multiple(a)
@@ -746,9 +759,8 @@ impl Lowerer<'_> {
                 .filter(|d| d.is_integer())
                 .map(|_| {
                     format!(
-                        "`tan` is undefined at odd multiples of π/2 (its cosine is 0): `{}` is {}",
-                        short(arg.to_source()),
-                        short(self.e.display(a))
+                        "`tan` is undefined at odd multiples of π/2 (its cosine is 0){}",
+                        self.value_note(arg, a)
                     )
                 }),
             _ => None,
