@@ -433,6 +433,12 @@ impl Dag {
             let mut g = terms[0].1.abs();
             for t in &terms[1..] {
                 g = g.gcd(t.1).unwrap_or(Rational::ONE);
+                if g.to_i128_parts().is_none() {
+                    // a content past 128 bits (many distinct big denominators)
+                    // only makes every quotient bigger: leave it in the terms
+                    g = Rational::ONE;
+                    break;
+                }
             }
             if terms.iter().all(|t| t.1.is_negative()) {
                 g = g.checked_neg().unwrap_or(g);

@@ -273,7 +273,21 @@ impl Engine {
 
     // ------------------------------------------------------------ rational helpers
 
+    /// Counts arithmetic on big coefficients as work (see [`MAX_WORK`]): a
+    /// product of two values of `a` and `b` words costs about `a·b` word
+    /// operations plus the reduction.
+    fn big_work(&mut self, a: Rational, b: Rational) {
+        if a.to_i128_parts().is_none() || b.to_i128_parts().is_none() {
+            let (wa, wb) = (a.size_words(), b.size_words());
+            let cost = 8u64.saturating_mul(wa + 1).saturating_mul(wb + 1);
+            self.work = self
+                .work
+                .saturating_add(usize::try_from(cost).unwrap_or(usize::MAX));
+        }
+    }
+
     fn qmul(&mut self, a: Rational, b: Rational) -> Rational {
+        self.big_work(a, b);
         a.checked_mul(b).unwrap_or_else(|| {
             self.overflow = true;
             Rational::ZERO
@@ -321,6 +335,12 @@ impl Engine {
         for (m, c) in acc {
             match out.last_mut() {
                 Some((lm, lc)) if *lm == m => {
+                    if lc.to_i128_parts().is_none() || c.to_i128_parts().is_none() {
+                        let w = lc.size_words() + c.size_words() + 1;
+                        self.work = self
+                            .work
+                            .saturating_add(usize::try_from(8 * w * w).unwrap_or(usize::MAX));
+                    }
                     *lc = lc.checked_add(c).unwrap_or_else(|| {
                         self.overflow = true;
                         Rational::ZERO

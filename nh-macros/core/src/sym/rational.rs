@@ -146,11 +146,70 @@ impl Rational {
 
     /// The stored big value (zero if this thread does not hold it).
     fn stored(self) -> BigRational {
+        self.with_stored(|v| v.clone())
+    }
+
+    /// `f` of the stored big value, without copying it (`f` of zero if this
+    /// thread does not hold it).
+    fn with_stored<R: Default>(self, f: impl FnOnce(&BigRational) -> R) -> R {
         let idx = usize::try_from(self.num).unwrap_or(usize::MAX);
-        BIG.try_with(|b| b.try_borrow().ok().and_then(|b| b.vals.get(idx).cloned()))
+        let mut f = Some(f);
+        let r = BIG
+            .try_with(|b| {
+                let b = b.try_borrow().ok()?;
+                let v = b.vals.get(idx)?;
+                f.take().map(|f| f(v))
+            })
             .ok()
-            .flatten()
-            .unwrap_or_else(BigRational::zero)
+            .flatten();
+        match (r, f.take()) {
+            (Some(r), _) => r,
+            (None, Some(f)) => f(&BigRational::zero()),
+            // not reached: `f` is taken only to produce `r`
+            (None, None) => R::default(),
+        }
+    }
+
+    /// `f` of the values of `a` and `b` as big rationals, borrowing the
+    /// interned ones (`R::default()` if this thread does not hold them).
+    fn with_pair<R: Default>(
+        a: Rational,
+        b: Rational,
+        f: impl FnOnce(&BigRational, &BigRational) -> R,
+    ) -> R {
+        let temp = |x: Rational| {
+            x.to_i128_parts()
+                .map(|(n, d)| BigRational::new_raw(BigInt::from(n), BigInt::from(d)))
+        };
+        let (ta, tb) = (temp(a), temp(b));
+        BIG.try_with(|cell| {
+            let st = cell.try_borrow().ok()?;
+            fn pick<'v>(
+                x: Rational,
+                t: &'v Option<BigRational>,
+                vals: &'v [BigRational],
+            ) -> Option<&'v BigRational> {
+                match t {
+                    Some(v) => Some(v),
+                    None => vals.get(usize::try_from(x.num).unwrap_or(usize::MAX)),
+                }
+            }
+            let (x, y) = (pick(a, &ta, &st.vals)?, pick(b, &tb, &st.vals)?);
+            Some(f(x, y))
+        })
+        .ok()
+        .flatten()
+        .unwrap_or_default()
+    }
+
+    /// A measure of the cost of arithmetic on this value: 0 for the small
+    /// form, otherwise the number of 64-bit words of numerator and
+    /// denominator.
+    pub fn size_words(self) -> u64 {
+        match self.den {
+            0 => self.with_stored(|v| (v.numer().bits() + v.denom().bits()).div_ceil(64)),
+            _ => 0,
+        }
     }
 
     /// The canonical `Rational` of a big value: small if it fits, otherwise
@@ -191,7 +250,7 @@ impl Rational {
         if self.den != 0 {
             return BigInt::from(self.num);
         }
-        self.stored().numer().clone()
+        self.with_stored(|v| v.numer().clone())
     }
 
     /// Denominator (always positive).
@@ -199,7 +258,7 @@ impl Rational {
         if self.den != 0 {
             return BigInt::from(self.den);
         }
-        self.stored().denom().clone()
+        self.with_stored(|v| v.denom().clone())
     }
 
     // ------------------------------------------------------------ predicates
@@ -217,7 +276,7 @@ impl Rational {
     /// Is this an integer?
     pub fn is_integer(self) -> bool {
         match self.den {
-            0 => self.stored().is_integer(),
+            0 => self.with_stored(|v| v.is_integer()),
             d => d == 1,
         }
     }
@@ -225,7 +284,7 @@ impl Rational {
     /// Is this strictly negative?
     pub fn is_negative(self) -> bool {
         match self.den {
-            0 => self.stored().is_negative(),
+            0 => self.with_stored(|v| v.is_negative()),
             _ => self.num < 0,
         }
     }
@@ -251,11 +310,10 @@ impl Rational {
     /// denominator (`log10 max(|num|, den)`; 0 for 0 and ±1).
     pub fn digits(self) -> f64 {
         match self.den {
-            0 => {
-                let v = self.stored();
+            0 => self.with_stored(|v| {
                 let bits = v.numer().bits().max(v.denom().bits());
                 bits as f64 * std::f64::consts::LOG10_2
-            }
+            }),
             d => (self.num.unsigned_abs().max(d.unsigned_abs()) as f64).log10(),
         }
     }
@@ -354,7 +412,9 @@ impl Rational {
                 return Some(r);
             }
         }
-        Some(Rational::from_big(self.to_big() + o.to_big()))
+        Some(Rational::from_big(Rational::with_pair(self, o, |x, y| {
+            x + y
+        })))
     }
 
     fn small_add(self, o: Rational) -> Option<Rational> {
@@ -378,7 +438,9 @@ impl Rational {
         {
             return Some(r);
         }
-        Some(Rational::from_big(self.to_big() * o.to_big()))
+        Some(Rational::from_big(Rational::with_pair(self, o, |x, y| {
+            x * y
+        })))
     }
 
     fn small_mul(self, o: Rational) -> Option<Rational> {
@@ -471,10 +533,14 @@ impl Rational {
                 return Some(r);
             }
         }
-        let (a, b) = (self.to_big(), o.to_big());
-        let n = a.numer().gcd(b.numer());
-        let d = a.denom().lcm(b.denom());
-        Some(Rational::from_big(BigRational::new(n, d)))
+        // gcd(n1, n2) and lcm(d1, d2) are coprime (each n_i is coprime to
+        // its d_i), so the quotient needs no further reduction
+        let g = Rational::with_pair(self, o, |a, b| {
+            let n = a.numer().gcd(b.numer());
+            let d = a.denom().lcm(b.denom());
+            BigRational::new_raw(n, d)
+        });
+        Some(Rational::from_big(g))
     }
 }
 
@@ -569,7 +635,21 @@ impl Ord for Rational {
                 return l.cmp(&r);
             }
         }
-        self.to_big().cmp(&other.to_big())
+        if other.is_zero() {
+            return if self.is_negative() {
+                Ordering::Less
+            } else {
+                Ordering::Greater
+            };
+        }
+        if self.is_zero() {
+            return if other.is_negative() {
+                Ordering::Greater
+            } else {
+                Ordering::Less
+            };
+        }
+        Rational::with_pair(*self, *other, |x, y| Some(x.cmp(y))).unwrap_or(Ordering::Equal)
     }
 }
 
