@@ -381,9 +381,8 @@ impl Dag {
         {
             return self.intern(Op::Powi(a, k as u32));
         }
-        if q.denom() == 2 {
+        if let Some((k, 2)) = q.to_i128_parts() {
             let s = self.intern(Op::Sqrt(a));
-            let k = q.numer();
             if k == 1 {
                 return s;
             }
@@ -446,6 +445,12 @@ impl Dag {
             let mut g = Some(terms[0].1.abs());
             for t in &terms[1..] {
                 g = g.and_then(|g| g.gcd(t.1));
+                if g.is_some_and(|g| g.to_i128_parts().is_none()) {
+                    // a content past 128 bits (many distinct big denominators)
+                    // only makes every quotient bigger: leave it in the terms
+                    g = None;
+                    break;
+                }
             }
             let mut g = g.unwrap_or(Rational::ONE);
             if terms.iter().all(|t| t.1.is_negative()) {
@@ -965,8 +970,36 @@ fn powi_text(a: &str, k: u32) -> String {
     }
 }
 
+thread_local! {
+    /// The largest constant generated code needed but `f64` cannot hold,
+    /// since the last [`take_unrepresentable`].
+    static UNREPRESENTABLE: std::cell::Cell<Option<Rational>> = const { std::cell::Cell::new(None) };
+}
+
+/// The largest constant (in magnitude) that generated code needed but `f64`
+/// cannot hold (beyond ±`f64::MAX`) since the last call, and resets it.
+pub fn take_unrepresentable() -> Option<Rational> {
+    UNREPRESENTABLE.try_with(|c| c.take()).ok().flatten()
+}
+
+/// The correctly rounded `f64` of a constant of the generated code, or
+/// `None` (recorded for [`take_unrepresentable`]) beyond the range of `f64`.
+fn representable(q: Rational) -> Option<f64> {
+    let v = q.to_f64();
+    if v.is_finite() {
+        return Some(v);
+    }
+    let _ = UNREPRESENTABLE.try_with(|c| {
+        if c.get().is_none_or(|old| old.abs() < q.abs()) {
+            c.set(Some(q));
+        }
+    });
+    None
+}
+
 /// Text converting a rational constant to `T` (through the generated
-/// `__nh_c`, which names the facade's nalgebra).
+/// `__nh_c`, which names the facade's nalgebra): the correctly rounded
+/// `f64` in its shortest round-trip form, exact for `T = f64`.
 fn const_text(q: Rational) -> String {
     if q.is_zero() {
         return "T::zero()".into();
@@ -974,20 +1007,10 @@ fn const_text(q: Rational) -> String {
     if q.is_one() {
         return "T::one()".into();
     }
-    format!("Self::__nh_c({:?}f64)", q.to_f64())
-}
-
-/// Tokens converting a rational constant to `T`.
-pub fn const_tokens(q: Rational) -> TokenStream {
-    if q.is_zero() {
-        return quote!(T::zero());
+    match representable(q) {
+        Some(v) => format!("Self::__nh_c({v:?}f64)"),
+        None => "T::zero()".into(),
     }
-    if q.is_one() {
-        return quote!(T::one());
-    }
-    let v = q.to_f64();
-    let lit = proc_macro2::Literal::f64_suffixed(v);
-    quote!(__nh_private::nalgebra::convert::<::core::primitive::f64, T>(#lit))
 }
 
 #[cfg(test)]

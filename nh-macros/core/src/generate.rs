@@ -1057,6 +1057,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         ..Stats::default()
     };
     let name = &def.name;
+    let _ = crate::emit::take_unrepresentable();
     let outputs_span = def
         .outputs
         .as_ref()
@@ -1090,7 +1091,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     if m.engine.overflowed() {
         cx.error_at(
             name.span(),
-            "the derivation grew beyond the engine's limits (a coefficient over 128 bits, or expression swell): simplify the Lagrangian or the constraints, or split the system",
+            "the derivation grew beyond the engine's limits (expression swell): simplify the Lagrangian or the constraints, or split the system",
         );
         return (TokenStream::new(), stats);
     }
@@ -1196,6 +1197,17 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
             m.constraints_span.unwrap_or(name.span()),
             proved,
         ));
+    }
+    if let Some(c) = crate::emit::take_unrepresentable() {
+        let msg = format!(
+            "the generated code needs the constant {} (after exact simplification), which is beyond the range of `f64` (about ±1.8e308): rescale the units or the parameters",
+            c.sci()
+        );
+        match m.huge_constant {
+            Some(r) => cx.error(r, msg),
+            None => cx.error_at(name.span(), msg),
+        }
+        return (TokenStream::new(), stats);
     }
     stats.graph_size = m.engine.num_exprs();
     stats.derivatives = m.engine.counters.derivatives;

@@ -106,6 +106,10 @@ pub struct Model {
     pub outputs: Outputs,
     /// Span of the `constraints` keyword, if any (for diagnostics).
     pub constraints_span: Option<Span>,
+    /// The first subexpression of the input whose value is a constant beyond
+    /// the range of `f64` (where an error about such a constant in the
+    /// generated code points).
+    pub huge_constant: Option<SpanRange>,
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -145,6 +149,8 @@ struct Lowerer<'a> {
     all_lets: Vec<String>,
     /// names whose declaration failed: uses are not reported again
     poisoned: Vec<String>,
+    /// see [`Model::huge_constant`]
+    huge_constant: Option<SpanRange>,
 }
 
 /// Lowers a parsed system. Returns `None` when errors make a model
@@ -268,6 +274,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         place: Place::Let,
         all_lets: let_names.iter().map(|l| l.to_string()).collect(),
         poisoned,
+        huge_constant: None,
     };
 
     // lets, in order: later ones may use earlier ones
@@ -409,7 +416,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     if lw.e.overflowed() {
         lw.cx.error_at(
             def.name.span(),
-            "a rational coefficient overflowed 128 bits or an expression grew beyond the engine's limit: simplify the input (fewer digits in literals, smaller powers)",
+            "an expression grew beyond the engine's limits (too many terms, or a constant power of more than 10000 digits): simplify the input",
         );
     }
     let lagrangian = lagrangian?;
@@ -435,7 +442,27 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         a_matrix,
         outputs,
         constraints_span,
+        huge_constant: lw.huge_constant,
     })
+}
+
+/// A text for a message, shortened past 60 characters.
+fn short(s: String) -> String {
+    if s.chars().count() <= 60 {
+        return s;
+    }
+    let head: String = s.chars().take(57).collect();
+    format!("{head}...")
+}
+
+/// A constant for a message: exact if short, else in scientific form.
+fn show(c: Rational) -> String {
+    let s = c.to_string();
+    if s.len() <= 40 {
+        s
+    } else {
+        format!("≈{}", c.sci())
+    }
 }
 
 fn list_names(ids: &[Ident]) -> String {
@@ -456,6 +483,57 @@ impl Lowerer<'_> {
 
     /// Lowers a surface expression; `None` after recording an error.
     fn lower(&mut self, x: &Expr, depth: usize) -> Option<ExprId> {
+        let v = self.lower_inner(x, depth)?;
+        if self.huge_constant.is_none()
+            && let Some(c) = self.e.as_constant(v)
+            && !c.to_f64().is_finite()
+        {
+            self.huge_constant = Some(x.range());
+        }
+        Some(v)
+    }
+
+    /// The sign of `e` if it is a rational constant times a power of π.
+    fn constant_sign(&self, e: ExprId) -> Option<std::cmp::Ordering> {
+        if let Some(c) = self.e.as_constant(e) {
+            return Some(c.cmp(&Rational::ZERO));
+        }
+        match self.e.terms(e) {
+            [(_, c)] if self.e.free_symbols(e) == [self.pi_sym] => Some(c.cmp(&Rational::ZERO)),
+            _ => None,
+        }
+    }
+
+    /// ": `src` is value" for a message about an argument, if the value
+    /// says more than the source text.
+    fn value_note(&self, arg: &Expr, v: ExprId) -> String {
+        let src = short(arg.to_source());
+        let val = match self.e.as_constant(v) {
+            Some(c) => show(c),
+            None => short(self.e.display(v)),
+        };
+        if src == val {
+            String::new()
+        } else {
+            format!(": `{src}` is {val}")
+        }
+    }
+
+    /// The rational `c` if `e` is `c·π`.
+    fn pi_multiple(&self, e: ExprId) -> Option<Rational> {
+        if self.e.free_symbols(e) != [self.pi_sym] {
+            return None;
+        }
+        let [(m, c)] = self.e.terms(e) else {
+            return None;
+        };
+        match self.e.factors(*m) {
+            [(_, k)] if k.is_one() => Some(*c),
+            _ => None,
+        }
+    }
+
+    fn lower_inner(&mut self, x: &Expr, depth: usize) -> Option<ExprId> {
         if depth > crate::parse::MAX_DEPTH {
             self.cx.error(
                 x.range(),
@@ -473,7 +551,7 @@ impl Lowerer<'_> {
             Expr::Chain { first, rest } => {
                 // every operand is lowered, so that all their errors are reported
                 let mut acc = self.lower(first, depth + 1);
-                for (op, _, operand) in rest {
+                for (op, op_span, operand) in rest {
                     let v = self.lower(operand, depth + 1);
                     acc = match (acc, v) {
                         (Some(a), Some(v)) => match op {
@@ -481,7 +559,19 @@ impl Lowerer<'_> {
                             BinOp::Sub => Some(self.e.sub(a, v)),
                             BinOp::Mul => Some(self.e.mul(a, v)),
                             BinOp::Div if v == ZERO => {
-                                self.cx.error(operand.range(), "division by zero");
+                                let at = SpanRange {
+                                    first: *op_span,
+                                    last: operand.range().last,
+                                };
+                                let msg = if matches!(operand, Expr::Num(..)) {
+                                    "division by zero".to_string()
+                                } else {
+                                    format!(
+                                        "division by zero: `{}` is 0",
+                                        short(operand.to_source())
+                                    )
+                                };
+                                self.cx.error(at, msg);
                                 None
                             }
                             BinOp::Div => Some(self.e.div(a, v)),
@@ -496,14 +586,32 @@ impl Lowerer<'_> {
                 let l = self.lower(base, depth + 1);
                 let r = self.lower(exp, depth + 1);
                 let (l, r) = (l?, r?);
+                let base_const = self.e.as_constant(l);
                 Some(match self.e.as_constant(r) {
                     Some(q) => {
-                        if l == ZERO && q <= Rational::ZERO {
-                            self.cx
-                                .error(x.range(), "zero to a non-positive power is undefined");
+                        if l == ZERO && q.is_zero() {
+                            self.cx.error(x.range(), "`0^0` is undefined");
                             return None;
                         }
-                        if q.abs() > Rational::int(64) && self.e.as_constant(l).is_none() {
+                        if l == ZERO && q.is_negative() {
+                            self.cx.error(
+                                x.range(),
+                                format!("division by zero: 0 to the negative power {q}"),
+                            );
+                            return None;
+                        }
+                        if let Some(c) = base_const {
+                            if c.is_negative() && !q.is_integer() {
+                                self.cx.error(x.range(), format!("a negative constant to a fractional power is not a real number: ({})^({})", show(c), show(q)));
+                                return None;
+                            }
+                            let digits = c.pow_digits(q.floor());
+                            if digits > f64::from(Rational::MAX_DIGITS) {
+                                self.cx.error(x.range(), format!("this power is too large to compute exactly: it has about {} digits, and the limit is {}", if digits < 1e12 { format!("{digits:.0}") } else { format!("{digits:.1e}") }, Rational::MAX_DIGITS));
+                                return None;
+                            }
+                        }
+                        if q.abs() > Rational::int(64) && base_const.is_none() {
                             self.cx.error(
                                 exp.range(),
                                 "exponent too large: powers up to 64 are supported",
@@ -514,6 +622,20 @@ impl Lowerer<'_> {
                     }
                     // a^b = exp(b ln a) for a symbolic exponent
                     None => {
+                        if let Some(c) = base_const
+                            && c <= Rational::ZERO
+                        {
+                            let what = if c.is_zero() {
+                                "0 to a symbolic power is undefined here (it is exp(b·ln 0), and ln 0 = −∞)".to_string()
+                            } else {
+                                format!(
+                                    "a negative constant to a symbolic power is not a real number: ({})^(..)",
+                                    show(c)
+                                )
+                            };
+                            self.cx.error(x.range(), what);
+                            return None;
+                        }
                         let ln = self.e.func(Fun::Ln, l);
                         let p = self.e.mul(r, ln);
                         self.e.func(Fun::Exp, p)
@@ -627,6 +749,36 @@ impl Lowerer<'_> {
             }
         };
         let a = self.lower(arg, depth + 1)?;
+        // a constant outside the function's domain
+        use std::cmp::Ordering::{Equal, Less};
+        let domain = match (fun, self.constant_sign(a)) {
+            (None, Some(Less)) => Some(format!(
+                "`sqrt` of a negative constant is not a real number{}",
+                self.value_note(arg, a)
+            )),
+            (Some(Fun::Ln), Some(Equal)) => {
+                Some("`ln(0)` is undefined (the logarithm tends to −∞ at 0)".to_string())
+            }
+            (Some(Fun::Ln), Some(Less)) => Some(format!(
+                "`ln` of a negative constant is not a real number{}",
+                self.value_note(arg, a)
+            )),
+            (Some(Fun::Tan), _) => self
+                .pi_multiple(a)
+                .and_then(|c| c.checked_sub(Rational::new(1, 2)?))
+                .filter(|d| d.is_integer())
+                .map(|_| {
+                    format!(
+                        "`tan` is undefined at odd multiples of π/2 (its cosine is 0){}",
+                        self.value_note(arg, a)
+                    )
+                }),
+            _ => None,
+        };
+        if let Some(msg) = domain {
+            self.cx.error(range, msg);
+            return None;
+        }
         Some(match fun {
             Some(fun) => self.e.func(fun, a),
             None => self.e.pow(a, Rational::new(1, 2).unwrap_or(Rational::ONE)),

@@ -846,7 +846,10 @@ fn parse_primary(input: ParseStream, depth: usize) -> syn::Result<Expr> {
                 Some(q) => Ok(Expr::Num(q, SpanRange::single(span))),
                 None => Err(syn::Error::new(
                     span,
-                    "this number is too large or too precise to be represented exactly; use fewer digits",
+                    format!(
+                        "this number's decimal exponent is out of range: exponents up to ±{} are supported",
+                        Rational::MAX_DIGITS
+                    ),
                 )),
             }
         }
@@ -936,11 +939,13 @@ fn parse_primary(input: ParseStream, depth: usize) -> syn::Result<Expr> {
     }
 }
 
-/// Converts decimal literal digits (`12`, `0.25`, `1e-3`, `2.5E4`) to an exact rational.
+/// Converts decimal literal digits (`12`, `0.25`, `1e-3`, `6.62607015e-34`,
+/// forty-digit integers) to an exact rational; `None` if the decimal exponent
+/// (after the point is moved) exceeds ±[`Rational::MAX_DIGITS`].
 pub fn decimal_to_rational(text: &str) -> Option<Rational> {
     let text = text.replace('_', "");
     let (mantissa, exp) = match text.find(['e', 'E']) {
-        Some(i) => (&text[..i], text[i + 1..].parse::<i32>().ok()?),
+        Some(i) => (&text[..i], text[i + 1..].parse::<i64>().ok()?),
         None => (text.as_str(), 0),
     };
     let (int_part, frac_part) = match mantissa.find('.') {
@@ -949,15 +954,15 @@ pub fn decimal_to_rational(text: &str) -> Option<Rational> {
     };
     let digits = format!("{int_part}{frac_part}");
     let digits = digits.trim_start_matches('0');
-    let num: i128 = if digits.is_empty() {
-        0
-    } else {
-        digits.parse().ok()?
-    };
-    let scale = exp - frac_part.len() as i32;
-    let ten = Rational::int(10);
-    let factor = ten.checked_powi(scale as i64)?;
-    Rational::int(num).checked_mul(factor)
+    if digits.is_empty() {
+        return Some(Rational::ZERO);
+    }
+    let num = Rational::from_digits(digits)?;
+    let scale = exp.checked_sub(i64::try_from(frac_part.len()).ok()?)?;
+    if scale.unsigned_abs() > u64::from(Rational::MAX_DIGITS) {
+        return None;
+    }
+    num.checked_mul(Rational::int(10).checked_powi(scale)?)
 }
 
 #[cfg(test)]

@@ -57,6 +57,20 @@ impl Dd {
         nn / dd
     }
 
+    /// An exact rational as a double-double: `ratio` for the small form,
+    /// otherwise the nearest `f64` plus the nearest `f64` of the exact
+    /// remainder (infinite beyond the range of `f64`).
+    pub fn from_rational(q: super::Rational) -> Dd {
+        if let Some((n, d)) = q.to_i128_parts() {
+            return Dd::ratio(n, d);
+        }
+        let hi = q.to_f64();
+        let lo = super::Rational::from_f64(hi)
+            .and_then(|h| q.checked_sub(h))
+            .map_or(0.0, |r| r.to_f64());
+        Dd { hi, lo }
+    }
+
     fn from_i128(n: i128) -> Dd {
         let hi = n as f64;
         let rest = n - hi as i128;

@@ -18,8 +18,10 @@
 //! Pythagorean identity, therefore have the same id, and zero is recognised
 //! exactly for the trigonometric polynomials that mechanics produces.
 //!
-//! Arithmetic never panics: a coefficient overflow sets a flag
-//! ([`Engine::overflowed`]) that the caller turns into a compile error.
+//! Coefficients are exact rationals of any size. Arithmetic never panics:
+//! expression swell or a constant power beyond [`Rational::MAX_DIGITS`] digits
+//! sets a flag ([`Engine::overflowed`]) that the caller turns into a compile
+//! error.
 
 pub mod dd;
 pub mod rational;
@@ -166,8 +168,9 @@ impl Engine {
         e
     }
 
-    /// True if some coefficient overflowed 128 bits or an expression exceeded
-    /// [`MAX_TERMS`]; results are then meaningless.
+    /// True if a constant power exceeded [`Rational::MAX_DIGITS`] digits or
+    /// the work exceeded [`MAX_TERMS`] or [`MAX_WORK`]; results are then
+    /// meaningless.
     pub fn overflowed(&self) -> bool {
         self.overflow
     }
@@ -301,7 +304,21 @@ impl Engine {
 
     // ------------------------------------------------------------ rational helpers
 
+    /// Counts arithmetic on big coefficients as work (see [`MAX_WORK`]): a
+    /// product of two values of `a` and `b` words costs about `a·b` word
+    /// operations plus the reduction.
+    fn big_work(&mut self, a: Rational, b: Rational) {
+        if a.to_i128_parts().is_none() || b.to_i128_parts().is_none() {
+            let (wa, wb) = (a.size_words(), b.size_words());
+            let cost = 8u64.saturating_mul(wa + 1).saturating_mul(wb + 1);
+            self.work = self
+                .work
+                .saturating_add(usize::try_from(cost).unwrap_or(usize::MAX));
+        }
+    }
+
     fn qmul(&mut self, a: Rational, b: Rational) -> Rational {
+        self.big_work(a, b);
         a.checked_mul(b).unwrap_or_else(|| {
             self.overflow = true;
             Rational::ZERO
@@ -349,6 +366,12 @@ impl Engine {
         for (m, c) in acc {
             match out.last_mut() {
                 Some((lm, lc)) if *lm == m => {
+                    if lc.to_i128_parts().is_none() || c.to_i128_parts().is_none() {
+                        let w = lc.size_words() + c.size_words() + 1;
+                        self.work = self
+                            .work
+                            .saturating_add(usize::try_from(8 * w * w).unwrap_or(usize::MAX));
+                    }
                     *lc = lc.checked_add(c).unwrap_or_else(|| {
                         self.overflow = true;
                         Rational::ZERO
@@ -718,13 +741,42 @@ impl Engine {
         if q.is_one() {
             return a;
         }
+        if q.is_integer()
+            && a != ZERO
+            && let Some(c) = self.as_constant(a)
+        {
+            // a constant to an integer power: exact, bounded in size
+            let v = match q.to_integer() {
+                Some(k) => self.qpowi(c, k),
+                None if c.is_one() => Rational::ONE,
+                None if c == Rational::MINUS_ONE => {
+                    let even = q
+                        .checked_div(Rational::int(2))
+                        .is_some_and(|h| h.is_integer());
+                    if even {
+                        Rational::ONE
+                    } else {
+                        Rational::MINUS_ONE
+                    }
+                }
+                None => {
+                    self.overflow = true;
+                    Rational::ZERO
+                }
+            };
+            return self.constant(v);
+        }
         if q.is_integer() && !q.is_negative() {
             let k = q.to_integer().unwrap_or(i64::MAX);
             let kk = self.exponent_count(k);
             return self.pow_int(a, kk);
         }
         if a == ZERO {
-            // 0 to a negative or fractional power: keep it symbolic (∞ or 0 at run time).
+            // 0^q = 0 for q > 0 (sqrt(0) = 0); 0 to a negative power is a
+            // division by zero, which the caller reports: keep it symbolic.
+            if !q.is_negative() {
+                return ZERO;
+            }
             let b = self.intern_atom(Atom::Base(ZERO));
             return self.atom_power(b, q);
         }
@@ -1212,7 +1264,7 @@ impl Engine {
         vals: &[dd::Dd],
         memo: &mut HashMap<ExprId, dd::Dd>,
     ) -> dd::Dd {
-        let mut t = dd::Dd::ratio(c.numer(), c.denom());
+        let mut t = dd::Dd::from_rational(c);
         for &(a, ex) in &self.monos[m as usize] {
             let b = match &self.atoms[a as usize] {
                 Atom::Sym(s) => vals[*s as usize],
@@ -1233,7 +1285,7 @@ impl Engine {
             };
             t = t * match ex.to_integer() {
                 Some(k) if k.abs() < i32::MAX as i64 => b.powi(k),
-                _ => (b.ln() * dd::Dd::ratio(ex.numer(), ex.denom())).exp(),
+                _ => (b.ln() * dd::Dd::from_rational(ex)).exp(),
             };
         }
         t
@@ -1298,10 +1350,12 @@ enum Normal {
 }
 
 fn floor(e: Rational) -> i64 {
-    let n = e.numer();
-    let d = e.denom();
-    let q = n.div_euclid(d);
-    i64::try_from(q).unwrap_or(if q < 0 { i64::MIN / 2 } else { i64::MAX / 2 })
+    let q = e.floor();
+    q.to_integer().unwrap_or(if q.is_negative() {
+        i64::MIN / 2
+    } else {
+        i64::MAX / 2
+    })
 }
 
 fn merge_factors(a: &[(AtomId, Rational)], b: &[(AtomId, Rational)]) -> Factors {
