@@ -979,6 +979,30 @@ mod tests {
     }
 
     #[test]
+    fn a_physicists_literals_are_exact() {
+        let pow10 = |k: i64| Rational::int(10).checked_powi(k).unwrap();
+        let planck = Rational::int(662607015).checked_div(pow10(42));
+        assert_eq!(decimal_to_rational("6.62607015e-34"), planck);
+        let avogadro = Rational::int(602214076).checked_mul(pow10(15));
+        assert_eq!(decimal_to_rational("6.02214076e23"), avogadro);
+        assert_eq!(decimal_to_rational("1e300"), Some(pow10(300)));
+        assert_eq!(decimal_to_rational("1E-400"), Some(pow10(-400)));
+        let forty = "1234567890123456789012345678901234567890";
+        assert_eq!(decimal_to_rational(forty).unwrap().to_string(), forty);
+        assert_eq!(
+            decimal_to_rational("1_000.000_000_000_000_000_000_000_000_000_000_000_1")
+                .unwrap()
+                .to_string(),
+            format!("1{}1/1{}", "0".repeat(36), "0".repeat(34))
+        );
+        assert_eq!(decimal_to_rational("0e99999999"), Some(Rational::ZERO));
+        // decimal exponents are bounded (the value would have 10^5 digits)
+        assert_eq!(decimal_to_rational("1e10000"), Some(pow10(10000)));
+        assert_eq!(decimal_to_rational("1e10001"), None);
+        assert_eq!(decimal_to_rational("1e-99999999999999999999"), None);
+    }
+
+    #[test]
     fn precedence_of_power_and_minus() {
         let e = parse_expr_all.parse2(quote!(-x ^ 2)).unwrap();
         assert!(matches!(e, Expr::Neg(..)));

@@ -1,6 +1,9 @@
 //! Robustness of the macro's entry point: ≥ 10,000 random mutations of valid
 //! systems (token deletion, duplication, swap, random identifiers and
-//! literals, deep nesting up to thousands of levels, very long sums). The
+//! literals, deep nesting up to thousands of levels, very long sums, numbers
+//! changed to random exact values: literals of up to hundreds of digits,
+//! decimal exponents up to ±400 and beyond the limit, constant powers, sums
+//! of many distinct fractions). The
 //! expansion never panics, never overflows the stack, and every error it
 //! reports points inside the input. Run with `--nocapture` for the figures.
 use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
@@ -150,7 +153,7 @@ fn flatten(ts: TokenStream, out: &mut Vec<String>) {
 
 fn mutate(rng: &mut Rng, toks: &mut Vec<String>) -> &'static str {
     let n = toks.len();
-    match rng.below(9) {
+    match rng.below(10) {
         0 => {
             toks.remove(rng.below(n));
             "delete"
@@ -204,11 +207,124 @@ fn mutate(rng: &mut Rng, toks: &mut Vec<String>) -> &'static str {
             toks[i] = chain;
             "long chain"
         }
+        9 => {
+            // a number of the input (or any token) becomes a random exact value
+            // (not exponents: a velocity to a power of 20-odd with a
+            // 30-digit denominator is expression swell of the derivation,
+            // not a matter of numbers; constant powers come from
+            // `random_number` itself)
+            let nums: Vec<usize> = (0..n)
+                .filter(|&i| toks[i].starts_with(|c: char| c.is_ascii_digit()))
+                .filter(|&i| i == 0 || toks[i - 1] != "^")
+                .collect();
+            let i = if nums.is_empty() || rng.below(4) == 0 {
+                rng.below(n)
+            } else {
+                nums[rng.below(nums.len())]
+            };
+            if i > 0 && toks[i - 1] == "^" {
+                return "skipped";
+            }
+            toks[i] = random_number(rng);
+            "number"
+        }
         _ => {
             let i = rng.below(n);
             let lit = ["0", "1/0", "0^0", "x^1000000", "2^-1", "1e-300", "(x - x)"][rng.below(7)];
             toks[i] = lit.to_string();
             "literal"
+        }
+    }
+}
+
+fn digits(rng: &mut Rng, len: usize) -> String {
+    let mut s = String::with_capacity(len);
+    s.push(char::from(b'1' + rng.below(9) as u8));
+    for _ in 1..len {
+        s.push(char::from(b'0' + rng.below(10) as u8));
+    }
+    s
+}
+
+/// A random number expression: exact literals of up to hundreds of digits,
+/// decimals with exponents (some beyond the supported ±10000), constant
+/// powers (some too large to compute), sums of many distinct fractions, and
+/// values that leave or underflow the range of `f64`.
+fn random_number(rng: &mut Rng) -> String {
+    match rng.below(8) {
+        0 => {
+            let len = 1 + rng.below(300);
+            digits(rng, len)
+        }
+        1 => {
+            let (a, b) = (1 + rng.below(20), 1 + rng.below(20));
+            let e = rng.below(801) as i64 - 400;
+            format!("{}.{}e{e}", digits(rng, a), digits(rng, b))
+        }
+        2 => [
+            "1e300",
+            "1e-300",
+            "1e308",
+            "1e-320",
+            "6.62607015e-34",
+            "6.02214076e23",
+            "1e20000",
+            "2e-10001",
+        ][rng.below(8)]
+        .to_string(),
+        3 => {
+            let base = [
+                "2",
+                "10",
+                "(3/7)",
+                "(-5)",
+                "1.5",
+                "(10^20 + 1)",
+                "(-1)",
+                "0",
+            ][rng.below(8)];
+            let e = [
+                "127",
+                "400",
+                "-45",
+                "(1/3)",
+                "(10^9)",
+                "1000",
+                "(-1)",
+                "(7/2)",
+                "(10^30 + 1/2)",
+            ][rng.below(9)];
+            format!("{base}^{e}")
+        }
+        4 => {
+            // many distinct denominators: their common multiple grows large
+            let k = 2 + rng.below(60);
+            let start = 2 + rng.below(200);
+            let terms: Vec<String> = (start..start + k)
+                .map(|d| format!("{}/{d}", 1 + rng.below(97)))
+                .collect();
+            format!("({})", terms.join(" + "))
+        }
+        5 => {
+            let (a, b) = (1 + rng.below(200), 1 + rng.below(200));
+            format!("({}/{})", digits(rng, a), digits(rng, b))
+        }
+        6 => [
+            "sqrt(0)",
+            "sqrt(-1)",
+            "ln(0)",
+            "ln(-2)",
+            "(-8)^(1/3)",
+            "tan(pi/2)",
+            "1/sqrt(0)",
+            "0^(-1)",
+            "10^400",
+            "10^-400",
+        ][rng.below(10)]
+        .to_string(),
+        _ => {
+            let len = 1 + rng.below(40);
+            format!("{}.{}", digits(rng, len), digits(rng, len))
         }
     }
 }
