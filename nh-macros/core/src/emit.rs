@@ -739,67 +739,30 @@ impl Dag {
         let live = self.live_until(outputs, given);
         let pair_of = self.sin_cos_pairs(&live, given);
         let inline = self.inlined(&live, outputs, given, &pair_of);
-        // Small functions: one `let` per value. Large ones: one stack array,
-        // since thousands of nested `let` scopes overflow rustc's stack when
-        // it emits debug information (seen at ~3,000).
-        let bound: Vec<Node> = live
-            .iter()
-            .copied()
-            .filter(|n| !inline.contains(n))
-            .collect();
-        let array = bound.len() > MAX_LETS;
-        let slot: HashMap<Node, usize> = bound.iter().enumerate().map(|(i, &n)| (n, i)).collect();
         let mut inline_text: HashMap<Node, String> = HashMap::default();
-        let name = |n: Node, inline_text: &HashMap<Node, String>| -> String {
-            if let Some(t) = inline_text.get(&n) {
-                return t.clone();
-            }
-            if array {
-                return format!("__nh_vals[{}]", slot.get(&n).copied().unwrap_or(0));
-            }
-            match &self.ops[n as usize] {
-                // `__nh_`: out of the way of the user's constants (a `let`
-                // pattern naming a constant would match it instead of binding)
-                Op::Leaf(i) if self.leaves[*i].1.is_some() => {
-                    format!("__nh_{}", self.leaves[*i].1.as_deref().unwrap_or("leaf"))
-                }
-                _ => format!("__nh_v{n}"),
-            }
-        };
-        let mut text = String::with_capacity(bound.len() * 40);
-        if array {
-            let len = bound.len();
-            text.push_str(&format!(
-                "let mut __nh_vals: [T; {len}] = [T::zero(); {len}];\n"
-            ));
-        }
+        // one statement per bound value (or sin_cos pair): (values, text)
+        let mut stmts: Vec<(Vec<Node>, String)> = Vec::new();
         let mut done: HashSet<Node> = HashSet::default();
         for &n in &live {
             if done.contains(&n) {
                 continue;
             }
             if let Some(&(s, c)) = pair_of.get(&n) {
-                let (sv, cv) = (name(s, &inline_text), name(c, &inline_text));
                 let Op::Call(_, a) = self.ops[s as usize] else {
                     continue;
                 };
-                let a = name(a, &inline_text);
-                if array {
-                    text.push_str(&format!(
-                        "{{ let (__nh_sin, __nh_cos): (T, T) = {a}.sin_cos(); {sv} = __nh_sin; {cv} = __nh_cos; }}\n"
-                    ));
-                } else {
-                    self.label_text(s, &mut text);
-                    self.label_text(c, &mut text);
-                    text.push_str(&format!("let ({sv}, {cv}): (T, T) = {a}.sin_cos();\n"));
-                }
-                done.insert(s);
-                done.insert(c);
+                let mut text = String::new();
+                self.label_text(s, &mut text);
+                self.label_text(c, &mut text);
+                let (sv, cv, a) = (self.name(s), self.name(c), self.text_of(a, &inline_text));
+                text.push_str(&format!("let ({sv}, {cv}): (T, T) = {a}.sin_cos();\n"));
+                stmts.push((vec![s, c], text));
+                done.extend([s, c]);
                 continue;
             }
             let rhs = match given.get(&n) {
                 Some(tokens) => tokens.to_string(),
-                None => self.op_text(n, &|c| name(c, &inline_text)),
+                None => self.op_text(n, &|c| self.text_of(c, &inline_text)),
             };
             if inline.contains(&n) {
                 let atomic = matches!(
@@ -809,16 +772,108 @@ impl Dag {
                 inline_text.insert(n, if atomic { rhs } else { format!("({rhs})") });
                 continue;
             }
-            let v = name(n, &inline_text);
-            if array {
-                text.push_str(&format!("{v} = {rhs};\n"));
-            } else {
-                self.label_text(n, &mut text);
-                text.push_str(&format!("let {v}: T = {rhs};\n"));
+            let mut text = String::new();
+            self.label_text(n, &mut text);
+            text.push_str(&format!("let {}: T = {rhs};\n", self.name(n)));
+            stmts.push((vec![n], text));
+        }
+        let text = if stmts.len() > MAX_LETS {
+            self.chunked(&stmts, outputs, &inline)
+        } else {
+            stmts.iter().map(|(_, t)| t.as_str()).collect()
+        };
+        let outs = outputs
+            .iter()
+            .map(|&n| self.text_of(n, &inline_text))
+            .collect();
+        (text, outs)
+    }
+
+    /// The name a bound value is known by. `__nh_`: out of the way of the
+    /// user's constants (a `let` pattern naming a constant would match it
+    /// instead of binding).
+    fn name(&self, n: Node) -> String {
+        match &self.ops[n as usize] {
+            Op::Leaf(i) if self.leaves[*i].1.is_some() => {
+                format!("__nh_{}", self.leaves[*i].1.as_deref().unwrap_or("leaf"))
+            }
+            _ => format!("__nh_v{n}"),
+        }
+    }
+
+    /// A value as text: its expression if it is written inline, else its name.
+    fn text_of(&self, n: Node, inline_text: &HashMap<Node, String>) -> String {
+        match inline_text.get(&n) {
+            Some(t) => t.clone(),
+            None => self.name(n),
+        }
+    }
+
+    /// The statements of a large function in blocks of [`CHUNK_LETS`]: each
+    /// block hands the values later blocks or the outputs need out as one
+    /// tuple. Thousands of `let`s in one scope nest thousands of scopes,
+    /// which overflows rustc's stack when it emits debug information (seen
+    /// at ~20,000); a stack array instead costs LLVM gigabytes of memory.
+    fn chunked(
+        &self,
+        stmts: &[(Vec<Node>, String)],
+        outputs: &[Node],
+        inline: &HashSet<Node>,
+    ) -> String {
+        let chunks: Vec<&[(Vec<Node>, String)]> = stmts.chunks(CHUNK_LETS).collect();
+        let mut chunk_of = vec![usize::MAX; self.ops.len()];
+        for (c, chunk) in chunks.iter().enumerate() {
+            for (ns, _) in chunk.iter() {
+                for &n in ns {
+                    chunk_of[n as usize] = c;
+                }
             }
         }
-        let outs = outputs.iter().map(|&n| name(n, &inline_text)).collect();
-        (text, outs)
+        // a value is handed out if a later block or an output reads it
+        let mut exported = vec![false; self.ops.len()];
+        for &o in outputs {
+            exported[o as usize] = true;
+        }
+        for (c, chunk) in chunks.iter().enumerate() {
+            for (ns, _) in chunk.iter() {
+                for &n in ns {
+                    self.each_bound_read(n, inline, &mut |r| {
+                        if chunk_of[r as usize] != usize::MAX && chunk_of[r as usize] < c {
+                            exported[r as usize] = true;
+                        }
+                    });
+                }
+            }
+        }
+        let mut text = String::new();
+        for chunk in &chunks {
+            let out: Vec<String> = chunk
+                .iter()
+                .flat_map(|(ns, _)| ns.iter())
+                .filter(|&&n| exported[n as usize])
+                .map(|&n| self.name(n))
+                .collect();
+            let body: String = chunk.iter().map(|(_, t)| t.as_str()).collect();
+            let names = out.join(", ");
+            let types = vec!["T"; out.len()].join(", ");
+            let comma = if out.len() == 1 { "," } else { "" };
+            text.push_str(&format!(
+                "let ({names}{comma}): ({types}{comma}) = {{\n{body}({names}{comma})\n}};\n"
+            ));
+        }
+        text
+    }
+
+    /// Calls `f` with every bound (not inlined) value the statement of `n`
+    /// reads, looking through the values written inline.
+    fn each_bound_read(&self, n: Node, inline: &HashSet<Node>, f: &mut dyn FnMut(Node)) {
+        for c in self.children(n).into_iter().flatten() {
+            if inline.contains(&c) {
+                self.each_bound_read(c, inline, f);
+            } else {
+                f(c);
+            }
+        }
     }
 
     /// The values written into the expression that uses them instead of a
@@ -957,9 +1012,12 @@ pub fn parse_text(text: &str) -> TokenStream {
 /// Most operations written in one statement by inlining values used once.
 pub const MAX_INLINE_OPS: usize = 6;
 
-/// Most values a generated function holds in separate `let`s; beyond, they
-/// live in one array.
-pub const MAX_LETS: usize = 1500;
+/// Statements in one block of a large function (see `Dag::chunked`).
+pub const CHUNK_LETS: usize = 1000;
+
+/// Most statements a generated function holds in one block; beyond, they
+/// are split into blocks of [`CHUNK_LETS`] (see `Dag::chunked`).
+pub const MAX_LETS: usize = 2000;
 
 fn powi_text(a: &str, k: u32) -> String {
     match k {
