@@ -3,7 +3,8 @@
 //! literals, deep nesting up to thousands of levels, very long sums, numbers
 //! changed to random exact values: literals of up to hundreds of digits,
 //! decimal exponents up to ±400 and beyond the limit, constant powers, sums
-//! of many distinct fractions). The
+//! of many distinct fractions; chains of up to 40 `let`s composed with sin,
+//! affine maps or squares). The
 //! expansion never panics, never overflows the stack, and every error it
 //! reports points inside the input. Run with `--nocapture` for the figures.
 use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
@@ -227,6 +228,28 @@ fn mutate(rng: &mut Rng, toks: &mut Vec<String>) -> &'static str {
             }
             toks[i] = random_number(rng);
             "number"
+        }
+        _ if rng.below(16) == 0 => {
+            // a long chain of `let`s (sin-chained or affine), used by the
+            // Lagrangian: swell by composition
+            let Some(at) = toks.iter().position(|t| t == "lagrangian") else {
+                return "skipped";
+            };
+            let len = 1 + rng.below(40);
+            let step = ["+ sin(__fz{k})/2", "* 2 + 1/3", "* __fz{k} / 7"][rng.below(3)];
+            let mut chain = String::from("let __fz0 = x;");
+            for k in 0..len {
+                let next = step.replace("{k}", &k.to_string());
+                chain.push_str(&format!(" let __fz{} = __fz{k} {next};", k + 1));
+            }
+            toks.insert(at, chain);
+            let uses: Vec<usize> = (at + 1..toks.len())
+                .filter(|&i| toks[i] == "x" || toks[i] == "theta")
+                .collect();
+            if let Some(&u) = uses.get(rng.below(uses.len().max(1))) {
+                toks[u] = format!("__fz{len}");
+            }
+            "let chain"
         }
         _ => {
             let i = rng.below(n);

@@ -107,6 +107,8 @@ pub struct Engine {
     memo_diff: HashMap<(ExprId, SymId), ExprId>,
     overflow: bool,
     work: usize,
+    /// Products under way, one inside another (see [`MAX_NESTING`]).
+    nesting: usize,
     /// Products of sums up to this many term products are expanded
     /// ([`EXPAND_LIMIT`] by default; see [`Engine::set_expansion_limits`]).
     expand_limit: usize,
@@ -139,6 +141,12 @@ pub const MAX_TERMS: usize = 200_000;
 /// Largest number of monomial products one derivation may compute: past it
 /// the engine stops and reports expression swell (a few seconds of work).
 pub const MAX_WORK: usize = 50_000_000;
+
+/// Deepest nesting of products inside products (each kept product takes the
+/// contents of its factors, each normalised monomial multiplies its
+/// expansions); beyond it the derivation reports swell instead of
+/// overflowing the stack.
+pub const MAX_NESTING: usize = 200;
 
 /// Largest number of term products a product of two sums (or an integer
 /// power of a sum) is expanded into; beyond it the factors stay unexpanded
@@ -450,17 +458,33 @@ impl Engine {
         }
         let (la, lb) = (self.exprs[a as usize].len(), self.exprs[b as usize].len());
         // kept: at least one factor becomes an atom (longer than `atom_min`), so
-        // the product of the parts is a monomial times a sum and cannot come
-        // back here
-        if la >= 2
+        // the product of the parts is a monomial times a sum
+        let keep = la >= 2
             && lb >= 2
             && la.max(lb) > self.atom_min
-            && la.saturating_mul(lb) > self.expand_limit
-        {
-            let r = self.kept_product(a, b);
-            self.memo_mul.insert(key, r);
-            return r;
+            && la.saturating_mul(lb) > self.expand_limit;
+        // products nest (a kept product takes contents, a normalised monomial
+        // multiplies its expansions): past MAX_NESTING the input is swell
+        // beyond reason, reported as such rather than overflowing the stack
+        if self.nesting >= MAX_NESTING {
+            self.overflow = true;
+            return ZERO;
         }
+        self.nesting += 1;
+        let r = if keep {
+            self.kept_product(a, b)
+        } else {
+            self.expanded_product(a, b)
+        };
+        self.nesting -= 1;
+        if !self.overflow {
+            self.memo_mul.insert(key, r);
+        }
+        r
+    }
+
+    /// `a · b` distributed over the terms of both factors and normalised.
+    fn expanded_product(&mut self, a: ExprId, b: ExprId) -> ExprId {
         self.counters.products += 1;
         let ta = self.exprs[a as usize].clone();
         let tb = self.exprs[b as usize].clone();
@@ -494,9 +518,7 @@ impl Engine {
         for e in extra {
             acc.extend_from_slice(&self.exprs[e as usize]);
         }
-        let r = self.collect(acc);
-        self.memo_mul.insert(key, r);
-        r
+        self.collect(acc)
     }
 
     /// `a · b` for two sums whose expansion would not pay (more than
@@ -892,7 +914,8 @@ impl Engine {
         };
         let cinv = c.checked_recip()?;
         let ginv = self.scale(ginv_mono, cinv);
-        let rest = self.mul(e, ginv);
+        // distributed, never kept: the rest of a kept product is taken here
+        let rest = self.expanded_product(e, ginv);
         Some((g, rest))
     }
 
