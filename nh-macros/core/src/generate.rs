@@ -661,26 +661,275 @@ impl Derived<'_> {
     }
 }
 
+impl Derived<'_> {
+    /// `dependent_velocities`: ṡ = −A ṙ (5.3).
+    fn dependent_velocities_method(&mut self) -> Method {
+        let p = self.m.p();
+        let args = Args::vectors(self.m.n(), self.m.k());
+        let mut d = bound_dag(self.m, &args);
+        let outs = exprs(&mut d, self.m, &self.m.dependent_velocity);
+        let (stmts, o) = self.emit_hoisted(&d, &outs);
+        let ret = vector_expr(p, &o);
+        Method {
+            doc: "The dependent velocities ṡ = −A(q) ṙ of the constraints (5.3), in the order of [`Self::DEPENDENT`].".into(),
+            body: quote! { let _ = (q, rdot); #stmts #ret },
+        }
+    }
+
+    /// `reduced_system`: Mc and f of the curvature route (5.20).
+    fn reduced_system_method(&mut self) -> Method {
+        let k = self.m.k();
+        let args = Args::vectors(self.m.n(), self.m.k());
+        let mut d = bound_dag(self.m, &args);
+        let mass = matrix(&mut d, self.m, &self.croute.mass);
+        let rhs = exprs(&mut d, self.m, &self.croute.rhs);
+        let mut outs: Vec<Node> = mass.iter().flatten().copied().collect();
+        outs.extend(&rhs);
+        let (stmts, o) = self.emit_hoisted(&d, &outs);
+        let (mo, fo) = o.split_at(k * k);
+        let kk = quote!(__nh_private::nalgebra::SMatrix::<T, #k, #k>);
+        let f = vector_expr(k, fo);
+        Method {
+            doc: "The reduced equations Mc r̈ = f of the curvature route as a matrix and a vector: Mc = ∂²Lc/∂ṙ∂ṙ (5.12) and f the right side of (5.20). [`Self::accelerations`] solves them by an unrolled LDLᵀ factorisation.".into(),
+            body: quote! { let _ = (t, q, rdot); #stmts (#kk::from_row_slice(&[#(#mo),*]), #f) },
+        }
+    }
+
+    /// `multipliers`: λ = E_s along the motion (5.10).
+    fn multipliers_method(&mut self) -> Method {
+        let (n, k, p) = (self.m.n(), self.m.k(), self.m.p());
+        let args = Args::vectors(self.m.n(), self.m.k());
+        let mut d = bound_dag(self.m, &args);
+        let mut mn = multiplier_nodes(&mut d, self.m, &self.mult);
+        let large = self.is_large();
+        let u = self.u_forward();
+        let prologue = if large {
+            // r̈ from `accelerations`, not a second copy of its solve
+            mn.rdd = (0..k).map(|b| d.leaf(quote!(__nh_rdd[#b]))).collect();
+            quote!(let __nh_rdd = self.accelerations(t, q, rdot #u);)
+        } else {
+            quote!()
+        };
+        // q̈ = C r̈ + acc_bias; λ_a = E_{s_a} = (M q̈ + h)_{s_a}   (5.10)
+        let mut qdd = mn.acc_bias.clone();
+        for (i, row) in mn.c.iter().enumerate() {
+            for (b, &cib) in row.iter().enumerate() {
+                let t = d.mul(cib, mn.rdd[b]);
+                qdd[i] = d.add(qdd[i], t);
+            }
+        }
+        let mut lam = Vec::with_capacity(p);
+        for (a, &s) in self.m.dependent.iter().enumerate() {
+            let mut acc = mn.bias[s];
+            for j in 0..n {
+                let t = d.mul(mn.mass[s][j], qdd[j]);
+                acc = d.add(acc, t);
+            }
+            d.label(acc, format!("λ{a} = E_(s{a}) (5.10)"));
+            lam.push(acc);
+        }
+        let (stmts, o) = self.emit_hoisted(&d, &lam);
+        let ret = vector_expr(p, &o);
+        self.stats.derived.push("multipliers");
+        Method {
+            doc: "The Lagrange multipliers λ_a = d/dt ∂L/∂ṡ_a − ∂L/∂s_a − Q_{s_a} along the motion (5.10), one per dependent coordinate: the generalized constraint forces, with the sign convention E(L) = Cᵀλ, C = [A | I].".into(),
+            body: quote! { let _ = (t, q, rdot); #prologue #stmts #ret },
+        }
+    }
+
+    /// `curvature`: the coefficients B of (5.21).
+    fn curvature_method(&mut self) -> Method {
+        let (k, p) = (self.m.k(), self.m.p());
+        let args = Args::vectors(self.m.n(), self.m.k());
+        let mut d = bound_dag(self.m, &args);
+        let mut nodes = Vec::new();
+        let mut places = Vec::new();
+        for (b, mat) in self.curv.iter().enumerate() {
+            for al in 0..k {
+                for be in (al + 1)..k {
+                    if mat[al][be] != ZERO {
+                        let x = d.expr(&self.m.engine, mat[al][be]);
+                        d.label(x, format!("B^{b}_({al},{be}) (5.21)"));
+                        nodes.push(x);
+                        places.push((b, al, be));
+                    }
+                }
+            }
+        }
+        let (stmts, o) = self.emit_hoisted(&d, &nodes);
+        let mut sets = TokenStream::new();
+        for ((b, al, be), v) in places.iter().zip(&o) {
+            sets.extend(quote! {
+                __nh_b[#b][(#al, #be)] = #v;
+                __nh_b[#b][(#be, #al)] = -#v;
+            });
+        }
+        let kk = quote!(__nh_private::nalgebra::SMatrix<T, #k, #k>);
+        let kk_expr = quote!(__nh_private::nalgebra::SMatrix::<T, #k, #k>);
+        let mutable = if places.is_empty() {
+            quote!()
+        } else {
+            quote!(mut)
+        };
+        self.stats.derived.push("curvature");
+        Method {
+            doc: "The curvature of the constraint connection, (5.21): `B[b][(α, β)]` = B^b_{αβ}, antisymmetric in (α, β); entries that are identically zero are not computed.".into(),
+            body: quote! {
+                let _ = q;
+                #stmts
+                let #mutable __nh_b: [#kk; #p] = [#kk_expr::zeros(); #p];
+                #sets
+                __nh_b
+            },
+        }
+    }
+
+    /// `energy`: E = Σ q̇ ∂L/∂q̇ − L.
+    fn energy_method(&mut self) -> Method {
+        let args = Args::vectors(self.m.n(), self.m.k());
+        let en = self.energy.unwrap_or(ZERO);
+        let mut d = bound_dag(self.m, &args);
+        let node = d.expr(&self.m.engine, en);
+        let (stmts, o) = self.emit_hoisted(&d, &[node]);
+        let v = &o[0];
+        self.stats.derived.push("energy");
+        Method {
+            doc: "The energy E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities.".into(),
+            body: quote! { let _ = (q, rdot); #stmts #v },
+        }
+    }
+
+    /// `constraint_matrix`: A of (5.3).
+    fn constraint_matrix_method(&mut self) -> Method {
+        let (k, p) = (self.m.k(), self.m.p());
+        let args = Args::vectors(self.m.n(), self.m.k());
+        let mut d = bound_dag(self.m, &args);
+        let flat: Vec<ExprId> = self.m.a_matrix.iter().flatten().copied().collect();
+        let nodes = exprs(&mut d, self.m, &flat);
+        let (stmts, o) = self.emit_hoisted(&d, &nodes);
+        let pk = quote!(__nh_private::nalgebra::SMatrix::<T, #p, #k>);
+        self.stats.derived.push("constraint_matrix");
+        Method {
+            doc: "The constraint matrix A^a_α of ṡ_a = −Σ_α A^a_α ṙ_α (5.3): rows follow [`Self::DEPENDENT`], columns [`Self::INDEPENDENT`].".into(),
+            body: quote! { let _ = q; #stmts #pk::from_row_slice(&[#(#o),*]) },
+        }
+    }
+
+    /// `mass_matrix`: ∂²L/∂q̇∂q̇.
+    fn mass_matrix_method(&mut self) -> Method {
+        let n = self.m.n();
+        let args = Args::vectors(self.m.n(), self.m.k());
+        let mut d = bound_dag(self.m, &args);
+        let flat: Vec<ExprId> = self.mult.mass.iter().flatten().copied().collect();
+        let nodes = exprs(&mut d, self.m, &flat);
+        let (stmts, o) = self.emit_hoisted(&d, &nodes);
+        let nn = quote!(__nh_private::nalgebra::SMatrix::<T, #n, #n>);
+        self.stats.derived.push("mass_matrix");
+        Method {
+            doc: "The mass matrix ∂²L/∂q̇_i∂q̇_j in coordinate order.".into(),
+            body: quote! { let _ = q; #stmts #nn::from_row_slice(&[#(#o),*]) },
+        }
+    }
+
+    /// `jacobian`: ∂f/∂x of the first-order system.
+    fn jacobian_method(&mut self) -> Method {
+        let (n, k) = (self.m.n(), self.m.k());
+        let dim = n + k;
+        let args_x = Args::state(n, k);
+        let mut d = bound_dag(self.m, &args_x);
+        let vars = self.state_vars();
+        let jac = self.derivative_columns(&mut d, &vars);
+        let flat: Vec<Node> = jac.iter().flatten().copied().collect();
+        let (stmts, o) = self.emit_hoisted(&d, &flat);
+        let dd = quote!(__nh_private::nalgebra::SMatrix::<T, #dim, #dim>);
+        let u = if self.m.inputs.is_empty() {
+            quote!()
+        } else {
+            quote!(let _ = u;)
+        };
+        self.stats.derived.push("jacobian");
+        Method {
+            doc: "The Jacobian ∂f/∂x of the first-order system x = [q, ṙ] ↦ [q̇, r̈], derived symbolically through the reduced solve: ∂r̈/∂z = Mc⁻¹ (∂f/∂z − (∂Mc/∂z) r̈) with the curvature route's Mc and f (5.20), reusing one LDLᵀ factorisation for every column.".into(),
+            body: quote! { let _ = (t, x); #u #stmts #dd::from_row_slice(&[#(#o),*]) },
+        }
+    }
+
+    /// `linearization`: A = ∂f/∂x and B = ∂f/∂u.
+    fn linearization_method(&mut self) -> Method {
+        let (n, k) = (self.m.n(), self.m.k());
+        let (dim, m_in) = (n + k, self.m.inputs.len());
+        let args_x = Args::state(n, k);
+        let mut d = bound_dag(self.m, &args_x);
+        let mut vars = self.state_vars();
+        vars.extend(self.m.input_syms.iter().copied());
+        let cols = self.derivative_columns(&mut d, &vars);
+        let a: Vec<Node> = cols
+            .iter()
+            .flat_map(|row| row[..dim].iter().copied())
+            .collect();
+        let b: Vec<Node> = cols
+            .iter()
+            .flat_map(|row| row[dim..].iter().copied())
+            .collect();
+        let mut all = a.clone();
+        all.extend(&b);
+        let (stmts, o) = self.emit_hoisted(&d, &all);
+        let (ao, bo) = o.split_at(a.len());
+        let dd = quote!(__nh_private::nalgebra::SMatrix::<T, #dim, #dim>);
+        let du = quote!(__nh_private::nalgebra::SMatrix::<T, #dim, #m_in>);
+        let u = if self.m.inputs.is_empty() {
+            quote!()
+        } else {
+            quote!(let _ = u;)
+        };
+        self.stats.derived.push("linearization");
+        Method {
+            doc: "The linearisation of the first-order system ẋ = f(t, x, u) at (t, x, u): A = ∂f/∂x and B = ∂f/∂u, derived symbolically through the reduced solve (as for the Jacobian): ∂r̈/∂z = Mc⁻¹ (∂f/∂z − (∂Mc/∂z) r̈) (5.20). For controller design: δẋ ≈ A δx + B δu.".into(),
+            body: quote! { let _ = (t, x); #u #stmts (#dd::from_row_slice(&[#(#ao),*]), #du::from_row_slice(&[#(#bo),*])) },
+        }
+    }
+
+    /// The runtime's `rhs`: q̇ and r̈ from their inlined methods.
+    fn rhs_method(&mut self) -> Method {
+        let (n, k) = (self.m.n(), self.m.k());
+        let u = self.u_forward();
+        let ret = vector_expr(n + k, &{
+            let mut v: Vec<TokenStream> = Vec::with_capacity(n + k);
+            let (mut j, mut a) = (0usize, 0usize);
+            for i in 0..n {
+                if self.m.independent.contains(&i) {
+                    v.push(quote!(__nh_rdot[#j]));
+                    j += 1;
+                } else {
+                    v.push(quote!(__nh_sdot[#a]));
+                    a += 1;
+                }
+            }
+            v.extend((0..k).map(|b| quote!(__nh_rdd[#b])));
+            v
+        });
+        Method {
+            doc: "ẋ for the state x = [q, ṙ]: ẋ = [q̇(q, ṙ), r̈], with the dependent velocities from the constraints.".into(),
+            body: quote! {
+                let __nh_q = x.fixed_rows::<#n>(0).into_owned();
+                let __nh_rdot = x.fixed_rows::<#k>(#n).into_owned();
+                let __nh_sdot = self.dependent_velocities(&__nh_q, &__nh_rdot);
+                let __nh_rdd = self.accelerations(t, &__nh_q, &__nh_rdot #u);
+                #ret
+            },
+        }
+    }
+}
+
 impl Bodies for Derived<'_> {
     fn method(&mut self, name: &str) -> Method {
-        let (n, k, p) = (self.m.n(), self.m.k(), self.m.p());
-        let args = Args::vectors(n, k);
         let u_doc = if self.m.inputs.is_empty() {
             ""
         } else {
             "\n\n`u` holds the inputs in declared order."
         };
         match name {
-            "dependent_velocities" => {
-                let mut d = bound_dag(self.m, &args);
-                let outs = exprs(&mut d, self.m, &self.m.dependent_velocity);
-                let (stmts, o) = self.emit_hoisted(&d, &outs);
-                let ret = vector_expr(p, &o);
-                Method {
-                    doc: "The dependent velocities ṡ = −A(q) ṙ of the constraints (5.3), in the order of [`Self::DEPENDENT`].".into(),
-                    body: quote! { let _ = (q, rdot); #stmts #ret },
-                }
-            }
+            "dependent_velocities" => self.dependent_velocities_method(),
             "accelerations" => {
                 let (used, other) = match self.route {
                     Route::Curvature => (self.stats.ops_curvature, self.stats.ops_multiplier),
@@ -734,138 +983,12 @@ impl Bodies for Derived<'_> {
                 );
                 self.accelerations(Route::Curvature, doc)
             }
-            "reduced_system" => {
-                let mut d = bound_dag(self.m, &args);
-                let mass = matrix(&mut d, self.m, &self.croute.mass);
-                let rhs = exprs(&mut d, self.m, &self.croute.rhs);
-                let mut outs: Vec<Node> = mass.iter().flatten().copied().collect();
-                outs.extend(&rhs);
-                let (stmts, o) = self.emit_hoisted(&d, &outs);
-                let (mo, fo) = o.split_at(k * k);
-                let kk = quote!(__nh_private::nalgebra::SMatrix::<T, #k, #k>);
-                let f = vector_expr(k, fo);
-                Method {
-                    doc: "The reduced equations Mc r̈ = f of the curvature route as a matrix and a vector: Mc = ∂²Lc/∂ṙ∂ṙ (5.12) and f the right side of (5.20). [`Self::accelerations`] solves them by an unrolled LDLᵀ factorisation.".into(),
-                    body: quote! { let _ = (t, q, rdot); #stmts (#kk::from_row_slice(&[#(#mo),*]), #f) },
-                }
-            }
-            "multipliers" => {
-                let mut d = bound_dag(self.m, &args);
-                let mut mn = multiplier_nodes(&mut d, self.m, &self.mult);
-                let large = self.is_large();
-                let u = self.u_forward();
-                let prologue = if large {
-                    // r̈ from `accelerations`, not a second copy of its solve
-                    mn.rdd = (0..k).map(|b| d.leaf(quote!(__nh_rdd[#b]))).collect();
-                    quote!(let __nh_rdd = self.accelerations(t, q, rdot #u);)
-                } else {
-                    quote!()
-                };
-                // q̈ = C r̈ + acc_bias; λ_a = E_{s_a} = (M q̈ + h)_{s_a}   (5.10)
-                let mut qdd = mn.acc_bias.clone();
-                for (i, row) in mn.c.iter().enumerate() {
-                    for (b, &cib) in row.iter().enumerate() {
-                        let t = d.mul(cib, mn.rdd[b]);
-                        qdd[i] = d.add(qdd[i], t);
-                    }
-                }
-                let mut lam = Vec::with_capacity(p);
-                for (a, &s) in self.m.dependent.iter().enumerate() {
-                    let mut acc = mn.bias[s];
-                    for j in 0..n {
-                        let t = d.mul(mn.mass[s][j], qdd[j]);
-                        acc = d.add(acc, t);
-                    }
-                    d.label(acc, format!("λ{a} = E_(s{a}) (5.10)"));
-                    lam.push(acc);
-                }
-                let (stmts, o) = self.emit_hoisted(&d, &lam);
-                let ret = vector_expr(p, &o);
-                self.stats.derived.push("multipliers");
-                Method {
-                    doc: "The Lagrange multipliers λ_a = d/dt ∂L/∂ṡ_a − ∂L/∂s_a − Q_{s_a} along the motion (5.10), one per dependent coordinate: the generalized constraint forces, with the sign convention E(L) = Cᵀλ, C = [A | I].".into(),
-                    body: quote! { let _ = (t, q, rdot); #prologue #stmts #ret },
-                }
-            }
-            "curvature" => {
-                let mut d = bound_dag(self.m, &args);
-                let mut nodes = Vec::new();
-                let mut places = Vec::new();
-                for (b, mat) in self.curv.iter().enumerate() {
-                    for al in 0..k {
-                        for be in (al + 1)..k {
-                            if mat[al][be] != ZERO {
-                                let x = d.expr(&self.m.engine, mat[al][be]);
-                                d.label(x, format!("B^{b}_({al},{be}) (5.21)"));
-                                nodes.push(x);
-                                places.push((b, al, be));
-                            }
-                        }
-                    }
-                }
-                let (stmts, o) = self.emit_hoisted(&d, &nodes);
-                let mut sets = TokenStream::new();
-                for ((b, al, be), v) in places.iter().zip(&o) {
-                    sets.extend(quote! {
-                        __nh_b[#b][(#al, #be)] = #v;
-                        __nh_b[#b][(#be, #al)] = -#v;
-                    });
-                }
-                let kk = quote!(__nh_private::nalgebra::SMatrix<T, #k, #k>);
-                let kk_expr = quote!(__nh_private::nalgebra::SMatrix::<T, #k, #k>);
-                let mutable = if places.is_empty() {
-                    quote!()
-                } else {
-                    quote!(mut)
-                };
-                self.stats.derived.push("curvature");
-                Method {
-                    doc: "The curvature of the constraint connection, (5.21): `B[b][(α, β)]` = B^b_{αβ}, antisymmetric in (α, β); entries that are identically zero are not computed.".into(),
-                    body: quote! {
-                        let _ = q;
-                        #stmts
-                        let #mutable __nh_b: [#kk; #p] = [#kk_expr::zeros(); #p];
-                        #sets
-                        __nh_b
-                    },
-                }
-            }
-            "energy" => {
-                let en = self.energy.unwrap_or(ZERO);
-                let mut d = bound_dag(self.m, &args);
-                let node = d.expr(&self.m.engine, en);
-                let (stmts, o) = self.emit_hoisted(&d, &[node]);
-                let v = &o[0];
-                self.stats.derived.push("energy");
-                Method {
-                    doc: "The energy E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities.".into(),
-                    body: quote! { let _ = (q, rdot); #stmts #v },
-                }
-            }
-            "constraint_matrix" => {
-                let mut d = bound_dag(self.m, &args);
-                let flat: Vec<ExprId> = self.m.a_matrix.iter().flatten().copied().collect();
-                let nodes = exprs(&mut d, self.m, &flat);
-                let (stmts, o) = self.emit_hoisted(&d, &nodes);
-                let pk = quote!(__nh_private::nalgebra::SMatrix::<T, #p, #k>);
-                self.stats.derived.push("constraint_matrix");
-                Method {
-                    doc: "The constraint matrix A^a_α of ṡ_a = −Σ_α A^a_α ṙ_α (5.3): rows follow [`Self::DEPENDENT`], columns [`Self::INDEPENDENT`].".into(),
-                    body: quote! { let _ = q; #stmts #pk::from_row_slice(&[#(#o),*]) },
-                }
-            }
-            "mass_matrix" => {
-                let mut d = bound_dag(self.m, &args);
-                let flat: Vec<ExprId> = self.mult.mass.iter().flatten().copied().collect();
-                let nodes = exprs(&mut d, self.m, &flat);
-                let (stmts, o) = self.emit_hoisted(&d, &nodes);
-                let nn = quote!(__nh_private::nalgebra::SMatrix::<T, #n, #n>);
-                self.stats.derived.push("mass_matrix");
-                Method {
-                    doc: "The mass matrix ∂²L/∂q̇_i∂q̇_j in coordinate order.".into(),
-                    body: quote! { let _ = q; #stmts #nn::from_row_slice(&[#(#o),*]) },
-                }
-            }
+            "reduced_system" => self.reduced_system_method(),
+            "multipliers" => self.multipliers_method(),
+            "curvature" => self.curvature_method(),
+            "energy" => self.energy_method(),
+            "constraint_matrix" => self.constraint_matrix_method(),
+            "mass_matrix" => self.mass_matrix_method(),
             "jacobian" if self.m.outputs.linearization => {
                 // the linearisation's A is this Jacobian: one copy of the code
                 let u = if self.m.inputs.is_empty() {
@@ -879,88 +1002,11 @@ impl Bodies for Derived<'_> {
                     body: quote! { self.linearization(t, x #u).0 },
                 }
             }
-            "jacobian" => {
-                let dim = n + k;
-                let args_x = Args::state(n, k);
-                let mut d = bound_dag(self.m, &args_x);
-                let vars = self.state_vars();
-                let jac = self.derivative_columns(&mut d, &vars);
-                let flat: Vec<Node> = jac.iter().flatten().copied().collect();
-                let (stmts, o) = self.emit_hoisted(&d, &flat);
-                let dd = quote!(__nh_private::nalgebra::SMatrix::<T, #dim, #dim>);
-                let u = if self.m.inputs.is_empty() {
-                    quote!()
-                } else {
-                    quote!(let _ = u;)
-                };
-                self.stats.derived.push("jacobian");
-                Method {
-                    doc: "The Jacobian ∂f/∂x of the first-order system x = [q, ṙ] ↦ [q̇, r̈], derived symbolically through the reduced solve: ∂r̈/∂z = Mc⁻¹ (∂f/∂z − (∂Mc/∂z) r̈) with the curvature route's Mc and f (5.20), reusing one LDLᵀ factorisation for every column.".into(),
-                    body: quote! { let _ = (t, x); #u #stmts #dd::from_row_slice(&[#(#o),*]) },
-                }
-            }
-            "linearization" => {
-                let (dim, m_in) = (n + k, self.m.inputs.len());
-                let args_x = Args::state(n, k);
-                let mut d = bound_dag(self.m, &args_x);
-                let mut vars = self.state_vars();
-                vars.extend(self.m.input_syms.iter().copied());
-                let cols = self.derivative_columns(&mut d, &vars);
-                let a: Vec<Node> = cols
-                    .iter()
-                    .flat_map(|row| row[..dim].iter().copied())
-                    .collect();
-                let b: Vec<Node> = cols
-                    .iter()
-                    .flat_map(|row| row[dim..].iter().copied())
-                    .collect();
-                let mut all = a.clone();
-                all.extend(&b);
-                let (stmts, o) = self.emit_hoisted(&d, &all);
-                let (ao, bo) = o.split_at(a.len());
-                let dd = quote!(__nh_private::nalgebra::SMatrix::<T, #dim, #dim>);
-                let du = quote!(__nh_private::nalgebra::SMatrix::<T, #dim, #m_in>);
-                let u = if self.m.inputs.is_empty() {
-                    quote!()
-                } else {
-                    quote!(let _ = u;)
-                };
-                self.stats.derived.push("linearization");
-                Method {
-                    doc: "The linearisation of the first-order system ẋ = f(t, x, u) at (t, x, u): A = ∂f/∂x and B = ∂f/∂u, derived symbolically through the reduced solve (as for the Jacobian): ∂r̈/∂z = Mc⁻¹ (∂f/∂z − (∂Mc/∂z) r̈) (5.20). For controller design: δẋ ≈ A δx + B δu.".into(),
-                    body: quote! { let _ = (t, x); #u #stmts (#dd::from_row_slice(&[#(#ao),*]), #du::from_row_slice(&[#(#bo),*])) },
-                }
-            }
+            "jacobian" => self.jacobian_method(),
+            "linearization" => self.linearization_method(),
             // "rhs": q̇ and r̈ from their methods, inlined (one copy of the
             // code; measured as fast as a fused body)
-            _ => {
-                let u = self.u_forward();
-                let ret = vector_expr(n + k, &{
-                    let mut v: Vec<TokenStream> = Vec::with_capacity(n + k);
-                    let (mut j, mut a) = (0usize, 0usize);
-                    for i in 0..n {
-                        if self.m.independent.contains(&i) {
-                            v.push(quote!(__nh_rdot[#j]));
-                            j += 1;
-                        } else {
-                            v.push(quote!(__nh_sdot[#a]));
-                            a += 1;
-                        }
-                    }
-                    v.extend((0..k).map(|b| quote!(__nh_rdd[#b])));
-                    v
-                });
-                Method {
-                    doc: "ẋ for the state x = [q, ṙ]: ẋ = [q̇(q, ṙ), r̈], with the dependent velocities from the constraints.".into(),
-                    body: quote! {
-                        let __nh_q = x.fixed_rows::<#n>(0).into_owned();
-                        let __nh_rdot = x.fixed_rows::<#k>(#n).into_owned();
-                        let __nh_sdot = self.dependent_velocities(&__nh_q, &__nh_rdot);
-                        let __nh_rdd = self.accelerations(t, &__nh_q, &__nh_rdot #u);
-                        #ret
-                    },
-                }
-            }
+            _ => self.rhs_method(),
         }
     }
 
