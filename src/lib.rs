@@ -1,18 +1,27 @@
 //! # nonholonomic
 //!
-//! A mechanical system written as mathematics — parameters, coordinates, a
-//! Lagrangian and velocity constraints linear in the velocities (rolling
-//! without slipping, knife edges) — becomes specialised Rust at compile time.
-//! [`nonholonomic_system!`] differentiates symbolically and emits
-//! monomorphised code for the reduced equations of motion, the Lagrange
-//! multipliers and the curvature of the constraint connection, following
-//! Flygare (2012), sections 4–6, and Bloch, *Nonholonomic Mechanics and Control*.
+//! A mechanical system written as mathematics — parameters, generalized
+//! coordinates, a Lagrangian and velocity constraints linear in the velocities
+//! (rolling without slipping, knife edges) — becomes specialised Rust at compile
+//! time. [`nonholonomic_system!`] differentiates symbolically while your crate
+//! compiles and emits monomorphised code for the reduced equations of motion and,
+//! on request, the Lagrange multipliers (constraint forces), the curvature of the
+//! constraint distribution, the energy, the matrices and the Jacobians a
+//! controller needs. The runtime ([`runtime`], re-exported by [`prelude`])
+//! integrates the result without allocating.
+//!
+//! The mathematics follows C. Flygare, *Holonomic versus nonholonomic
+//! constraints* (2012), sections 4–6, which follows A. M. Bloch, *Nonholonomic
+//! Mechanics and Control*; equation numbers are the thesis's. The repository's
+//! `DESIGN.md` fixes the conventions and the mathematics in full; this page is the
+//! reference of the input language and of what it generates.
 //!
 //! ```
 //! use nonholonomic::prelude::*;
 //!
 //! nonholonomic_system! {
-//!     /// A knife edge (Chaplygin sled) on a plane.
+//!     /// A knife edge (Chaplygin sled) on a plane: the blade at (x, y) may
+//!     /// only move along its heading θ; the centre of mass is a ahead of it.
 //!     pub struct Sled {
 //!         parameters { m, J, a }
 //!         coordinates { x, theta, y }
@@ -22,24 +31,315 @@
 //!     }
 //! }
 //!
-//! let sled = Sled::new(2.0, 0.3, 0.5);
-//! let x0 = SVector::<f64, 5>::from([0.0, 0.2, 0.0, 0.4, 0.9]); // [x, θ, y, ẋ, θ̇]
+//! let sled = Sled::new(2.0, 0.3, 0.5);                                // m, J, a
+//! let x0 = SVector::<f64, 5>::from([0.0, 0.2, 0.0, 0.4, 0.9]);     // [x, θ, y, ẋ, θ̇]
 //! let out = DormandPrince::new(1e-10, 1e-12).integrate(&sled, 0.0, x0, 1.0).unwrap();
-//! assert!(out.x.iter().all(|v| v.is_finite()));
+//! // the blade never slips: ẏ = tan θ ẋ holds along the motion by construction
+//! let (q, rdot) = (out.x.fixed_rows::<3>(0).into_owned(), out.x.fixed_rows::<2>(3).into_owned());
+//! let ydot = sled.dependent_velocities(&q, &rdot)[0];
+//! assert!((ydot - q[1].tan() * rdot[0]).abs() < 1e-15);
 //! ```
 //!
-//! The input language, the generated API and the conventions are described in
-//! the repository's `DESIGN.md` and README.
+//! # The input language
+//!
+//! A system is a `struct` item whose body holds the items below, in any order
+//! (a `let` only after the `let`s it uses). Doc comments and attributes on the
+//! struct are kept.
+//!
+//! | item | meaning |
+//! |---|---|
+//! | `parameters { a, b, .. }` | constant physical parameters; they become public fields of type `T` |
+//! | `coordinates { q1, q2, .. }` | the generalized coordinates q; this order is *the* coordinate order everywhere |
+//! | `inputs { u1, .. }` | optional: control inputs supplied at run time, usable in `forces` |
+//! | `let NAME = expr;` | a named subexpression; may use coordinates, velocities, parameters, inputs, `t` and earlier `let`s |
+//! | `lagrangian = expr;` | exactly one: L(q, q̇, t) |
+//! | `forces { q: expr; .. }` | optional generalized non-potential forces Q_j (damping, actuation, forcing) |
+//! | `constraints { dot(s) = expr; .. }` | linear homogeneous velocity constraints, one per dependent coordinate s |
+//! | `outputs { name, .. }` | optional extra generated methods (below); by default only the core API is derived |
+//!
+//! ## Expressions
+//!
+//! Numeric literals, names, `+ - * /`, unary minus, parentheses and `^` (power,
+//! with mathematical precedence: `m*x^2` is m·(x²), `-x^2` is −(x²), `a^b^c` is
+//! a^(b^c)); the functions `sin cos tan exp ln sqrt`; the constant `pi`; `t` for
+//! time. `dot(q)` is the velocity q̇ of coordinate `q`. `dot(NAME)` of a `let`
+//! without velocities is its total time derivative Σ ∂NAME/∂q_i q̇_i + ∂NAME/∂t:
+//! this is how kinetic energy is written from positions.
+//!
+//! Numbers are exact rationals of any size however written: `1/4` is one
+//! quarter (never integer division), `0.1` is 1/10, `6.62607015e-34` is
+//! 662607015/10⁴². They stay exact through the whole derivation; only the
+//! constants in the generated code are rounded, once, to the nearest `f64`.
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     /// A pendulum written from the position of its bob.
+//!     pub struct Pendulum {
+//!         parameters { m, l, g }
+//!         coordinates { theta }
+//!         let X = l*sin(theta);
+//!         let Y = -l*cos(theta);
+//!         lagrangian = m/2*(dot(X)^2 + dot(Y)^2) - m*g*Y;
+//!     }
+//! }
+//!
+//! let p = Pendulum::new(1.5, 0.8, 9.81);
+//! let (q, v) = (SVector::from([0.7]), SVector::from([0.3]));
+//! let a = p.accelerations(0.0, &q, &v)[0];
+//! assert!((a - (-9.81 / 0.8 * 0.7_f64.sin())).abs() < 1e-14);
+//! ```
+//!
+//! ## Constraints
+//!
+//! `constraints { dot(s) = expr; .. }` lists velocity constraints in the form
+//! (5.3) of the thesis, ṡ_a = −Σ_α A^a_α(q) ṙ_α: the left side is the velocity of
+//! a distinct coordinate s, which becomes *dependent*; the right side is linear
+//! and homogeneous in the velocities of the other, *independent* coordinates r,
+//! with coefficients that may depend on the coordinates and parameters. With n
+//! coordinates and p constraints, k = n − p velocities remain free.
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     /// The rolling disc of the thesis, section 6: lean ψ, heading φ,
+//!     /// rolling angle θ, contact point (x, y).
+//!     pub struct ThesisDisc {
+//!         parameters { m, R, g }
+//!         coordinates { theta, phi, psi, x, y }
+//!
+//!         let X = x - R*sin(phi)*sin(psi);      // (6.12)
+//!         let Y = y + R*cos(phi)*sin(psi);      // (6.13), sign as (6.16) uses it
+//!         let Z = R*cos(psi);                   // (6.14)
+//!
+//!         lagrangian = m/2*(dot(X)^2 + dot(Y)^2 + dot(Z)^2)
+//!                    + m*R^2/2*(dot(theta)^2/2 + dot(phi)^2/4 + dot(psi)^2/4)
+//!                    - m*g*Z;
+//!
+//!         constraints {
+//!             dot(x) = R*cos(phi)*dot(theta);   // (6.27)
+//!             dot(y) = R*sin(phi)*dot(theta);   // (6.28)
+//!         }
+//!     }
+//! }
+//!
+//! assert_eq!(ThesisDisc::<f64>::INDEPENDENT, [0, 1, 2]);   // θ, φ, ψ
+//! assert_eq!(ThesisDisc::<f64>::DEPENDENT, [3, 4]);        // x, y
+//! let disc = ThesisDisc::new(1.7, 0.35, 9.81);
+//! let (th, ph, ps, thd, phd, psd) = (0.1, 0.4, 0.3_f64, 6.0, 2.0, 0.5);
+//! let q = SVector::from([th, ph, ps, 0.0, 0.0]);
+//! let rdot = SVector::from([thd, phd, psd]);
+//! let a = disc.accelerations(0.0, &q, &rdot);
+//! // the thesis's closed form (6.60)-(6.62)
+//! let d = 4.0 * ps.sin().powi(2) + 3.0;
+//! let psdd = 4.0 * (0.35 * (ps.sin() * phd - thd) * ps.cos() * phd + 9.81 * ps.sin()) / (5.0 * 0.35);
+//! assert!((a[0] - 4.0 * ps.cos() * phd * psd / d).abs() < 1e-13);
+//! assert!((a[1] + 4.0 * (2.0 * ps).sin() * phd * psd / d).abs() < 1e-13);
+//! assert!((a[2] - psdd).abs() < 1e-12);
+//! ```
+//!
+//! ## Forces, inputs and time
+//!
+//! `forces { q: expr; .. }` adds a generalized force Q_q to the equation of
+//! coordinate q (coordinates without an entry get none). Forces may use
+//! velocities, `t` and the `inputs`. A system with m inputs takes an extra
+//! `u: &SVector<T, m>` as the last argument of `accelerations` and the methods
+//! that need it, implements [`ControlledSystem`](runtime::ControlledSystem)
+//! instead of [`OdeSystem`](runtime::OdeSystem), and [`Driven`](runtime::Driven)
+//! holds an input fixed to make it an `OdeSystem` for one sampling period.
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     /// A damped pendulum driven by a torque τ and shaken by a periodic torque.
+//!     pub struct ForcedPendulum {
+//!         parameters { m, l, g, c, A, w }
+//!         coordinates { theta }
+//!         inputs { tau }
+//!         lagrangian = m*l^2/2*dot(theta)^2 + m*g*l*cos(theta);
+//!         forces { theta: tau - c*dot(theta) + A*sin(w*t); }
+//!     }
+//! }
+//!
+//! let p = ForcedPendulum::new(1.0, 0.5, 9.81, 0.2, 0.3, 2.0);
+//! let (t, q, v, u) = (0.4_f64, SVector::from([0.1]), SVector::from([1.5]), SVector::from([0.05]));
+//! let expect = (0.05 - 0.2 * 1.5 + 0.3 * (2.0 * t).sin()) / 0.25 - 9.81 / 0.5 * 0.1_f64.sin();
+//! assert!((p.accelerations(t, &q, &v, &u)[0] - expect).abs() < 1e-13);
+//!
+//! // hold u for one sampling period of 10 ms
+//! let x0 = SVector::<f64, 2>::from([0.1, 1.5]);
+//! let x1 = Rk4::new(1e-3).integrate(&Driven::new(&p, u), 0.0, x0, 0.01).unwrap().x;
+//! assert!(x1[0] > 0.1);
+//! ```
+//!
+//! # The generated API
+//!
+//! For `pub struct Name { .. }` with n coordinates, p constraints, k = n − p
+//! independent coordinates and m inputs, the macro emits a struct
+//! `Name<T = f64>` generic over the scalar (`T: nalgebra::RealField + Copy`:
+//! `f64`, `f32`, or a dual or interval type) with one public field per
+//! parameter, and:
+//!
+//! | item | meaning |
+//! |---|---|
+//! | `Name::new(params..)` | the parameters in declared order (a `const fn`) |
+//! | `COORDINATES: [&str; n]`, `INPUTS: [&str; m]` | names in declared order |
+//! | `INDEPENDENT: [usize; k]`, `DEPENDENT: [usize; p]` | the indices of r and s in q, ascending |
+//! | `N`, `K`, `P`, `STATE_DIM` | n, k, p and n + k |
+//! | `INTEGRABLE: bool` | the curvature vanishes identically: the constraints are holonomic in disguise (the macro also warns) |
+//! | `dependent_velocities(&self, q, rdot) -> SVector<T, p>` | ṡ = −A(q) ṙ |
+//! | `accelerations(&self, t, q, rdot[, u]) -> SVector<T, k>` | r̈, the reduced equations of motion (5.9) |
+//! | `impl OdeSystem<T, n + k>` | ẋ = [q̇(q, ṙ), r̈] on the state x = [q_1 … q_n, ṙ_1 … ṙ_k] (`ControlledSystem<T, n + k, m>` with inputs) |
+//!
+//! The runtime state holds every coordinate and only the independent velocities;
+//! the dependent velocities are computed from the constraints at every
+//! evaluation, so an integrated motion satisfies them exactly.
+//!
+//! ## Outputs
+//!
+//! `outputs { .. }` asks for more; nothing else is derived or emitted.
+//!
+//! | output | method | value |
+//! |---|---|---|
+//! | `multipliers` | `multipliers(&self, t, q, rdot[, u]) -> SVector<T, p>` | λ_a = d/dt ∂L/∂ṡ_a − ∂L/∂s_a − Q_{s_a} along the motion (5.10): the constraint forces |
+//! | `curvature` | `curvature(&self, q) -> [SMatrix<T, k, k>; p]` | `B[b][(α, β)]` = B^b_{αβ} of (5.21) |
+//! | `energy` | `energy(&self, q, rdot) -> T` | E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities (L must not depend on `t`) |
+//! | `constraint_matrix` | `constraint_matrix(&self, q) -> SMatrix<T, p, k>` | A^a_α, minus the coefficient of ṙ_α in the constraint of s_a |
+//! | `mass_matrix` | `mass_matrix(&self, q) -> SMatrix<T, n, n>` | ∂²L/∂q̇_i∂q̇_j |
+//! | `jacobian` | `jacobian(&self, t, x[, u]) -> SMatrix<T, n+k, n+k>` and `impl OdeJacobian` | ∂f/∂x of the first-order system, for the stiff integrators |
+//! | `linearization` | `linearization(&self, t, x, u) -> (A, B)` | A = ∂f/∂x and B = ∂f/∂u of ẋ = f(t, x, u), for controller design |
+//! | `routes` | `accelerations_multiplier_route`, `accelerations_curvature_route`, `reduced_system`, `OPS_MULTIPLIER_ROUTE`, `OPS_CURVATURE_ROUTE`, `ROUTE` | both derivations of r̈ as separate methods with their operation counts, and the reduced system M_c r̈ = f |
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     /// The sled again, with the outputs a scene inspects.
+//!     pub struct Sled {
+//!         parameters { m, J, a }
+//!         coordinates { x, theta, y }
+//!         lagrangian = J*dot(theta)^2/2
+//!             + m/2*((dot(x) - a*sin(theta)*dot(theta))^2 + (dot(y) + a*cos(theta)*dot(theta))^2);
+//!         constraints { dot(y) = tan(theta)*dot(x); }
+//!         outputs { energy, constraint_matrix, mass_matrix, multipliers, jacobian }
+//!     }
+//! }
+//!
+//! let s = Sled::new(2.0, 0.3, 0.5);
+//! let (th, xd, thd) = (0.2_f64, 0.4, 0.9);
+//! let q = SVector::from([0.0, th, 0.0]);
+//! let rdot = SVector::from([xd, thd]);
+//! // A^y_x = −tan θ: minus the coefficient of ẋ in the constraint of y
+//! assert!((s.constraint_matrix(&q)[(0, 0)] + th.tan()).abs() < 1e-15);
+//! assert_eq!(s.constraint_matrix(&q)[(0, 1)], 0.0);
+//! // M = ∂²L/∂q̇∂q̇, in coordinate order (x, θ, y)
+//! let mm = s.mass_matrix(&q);
+//! assert!((mm[(1, 1)] - (0.3 + 2.0 * 0.25)).abs() < 1e-15 && (mm[(0, 1)] + 2.0 * 0.5 * th.sin()).abs() < 1e-15);
+//! // E = ½ q̇ᵀ M q̇ with ẏ = tan θ ẋ
+//! let qd = SVector::from([xd, thd, th.tan() * xd]);
+//! assert!((s.energy(&q, &rdot) - 0.5 * qd.dot(&(mm * qd))).abs() < 1e-14);
+//! // the blade's side force does no work: λ is finite and the energy is conserved
+//! let x0 = SVector::<f64, 5>::from([0.0, th, 0.0, xd, thd]);
+//! let out = Rosenbrock::new(1e-9, 1e-11).integrate_with_jacobian(&s, 0.0, x0, 2.0).unwrap();
+//! let (q1, r1) = (out.x.fixed_rows::<3>(0).into_owned(), out.x.fixed_rows::<2>(3).into_owned());
+//! assert!((s.energy(&q1, &r1) - s.energy(&q, &rdot)).abs() < 1e-7);
+//! assert!(s.multipliers(out.t, &q1, &r1)[0].is_finite());
+//! ```
+//!
+//! Of the two derivations of r̈ — projecting the full Euler–Lagrange equations
+//! with multipliers (5.9), or Bloch's form with the constrained Lagrangian and the
+//! curvature (5.12)–(5.21) — both are derived when k ≤ 6 (or with `routes`), and
+//! `accelerations` uses the one with fewer weighted operations; they agree to
+//! rounding. Values that depend on parameters alone are computed in `new` and
+//! recomputed if a parameter field is changed afterwards.
+//!
+//! ## Conventions
+//!
+//! * Coordinates keep their declared order; r and s are subsequences of it.
+//! * A^a_α is *minus* the coefficient of `dot(r_α)` in the constraint of s_a, so
+//!   that ṡ = −A ṙ. For the disc above, `dot(x) = R*cos(phi)*dot(theta)` gives
+//!   A^x_θ = −R cos φ.
+//! * Multipliers carry the thesis's sign: E = Cᵀ λ with C = [A | I] (columns
+//!   in the order r, s) and E_j = d/dt ∂L/∂q̇_j − ∂L/∂q_j − Q_j.
+//! * Names are used as written (`R`, `J`, `I1` are fine); `r#x` and `x` are one
+//!   name. The generated code binds only `__nh_` names of its own.
+//!
+//! ## Compile errors
+//!
+//! Malformed input is a compile error at the culprit's tokens, with a message that
+//! says how to fix it; every independent mistake is reported in one compilation,
+//! and a stand-in with the full API is emitted so that the code using the system
+//! produces no follow-up errors. A constraint that is not linear in the
+//! velocities:
+//!
+//! ```compile_fail
+//! nonholonomic::nonholonomic_system! {
+//!     pub struct Bad {
+//!         parameters { R }
+//!         coordinates { theta, x }
+//!         lagrangian = dot(theta)^2/2 + dot(x)^2/2;
+//!         constraints { dot(x) = R*dot(theta)^2; }  // error: not linear in the velocities
+//!     }
+//! }
+//! ```
+//!
+//! a misspelled function (the message asks "did you mean `cos`?"):
+//!
+//! ```compile_fail
+//! nonholonomic::nonholonomic_system! {
+//!     pub struct Bad {
+//!         parameters { m, g, l }
+//!         coordinates { theta }
+//!         lagrangian = m*l^2*dot(theta)^2/2 + m*g*l*cso(theta);  // error: unknown function
+//!     }
+//! }
+//! ```
+//!
+//! and an affine term (the constraint must be homogeneous in the velocities):
+//!
+//! ```compile_fail
+//! nonholonomic::nonholonomic_system! {
+//!     pub struct Bad {
+//!         parameters { v }
+//!         coordinates { x, y }
+//!         lagrangian = dot(x)^2/2 + dot(y)^2/2;
+//!         constraints { dot(y) = dot(x) + v; }  // error: velocity-free term
+//!     }
+//! }
+//! ```
+//!
+//! The full list of error classes, each with a case in `tests/ui/`, is in the
+//! README. Setting `NH_STATS=1` while compiling makes the macro print each
+//! system's expansion time, the operation counts of both routes and the route
+//! chosen.
+//!
+//! # The runtime
+//!
+//! [`runtime`] (all of it in [`prelude`]) has the traits
+//! [`OdeSystem`](runtime::OdeSystem), [`OdeJacobian`](runtime::OdeJacobian),
+//! [`ControlledSystem`](runtime::ControlledSystem) and
+//! [`Integrator`](runtime::Integrator), and five integrators on one step driver:
+//! [`Rk4`](runtime::Rk4), [`DormandPrince`](runtime::DormandPrince),
+//! [`Dop853`](runtime::Dop853), [`Rosenbrock`](runtime::Rosenbrock) and
+//! [`GaussLegendre4`](runtime::GaussLegendre4). A run returns an
+//! [`Outcome`](runtime::Outcome) or a [`SimError`](runtime::SimError) that
+//! carries the time and the last good state; no integrator allocates per step.
+//! Without the default `std` feature the facade is `no_std`.
 #![forbid(unsafe_code)]
 #![cfg_attr(not(feature = "std"), no_std)]
 
-/// Derives the equations of motion of a mechanical system with linear
-/// velocity constraints at compile time: `pub struct Name { parameters { .. }
-/// coordinates { .. } lagrangian = ..; constraints { .. } }` becomes a struct
-/// `Name<T = f64>` with one public field per parameter, and its methods
-/// (`new`, `accelerations`, `dependent_velocities`, the requested outputs)
-/// and runtime trait implementation. The input language and the generated
-/// API are described in the README.
+/// Derives the equations of motion of a mechanical system at compile time.
+///
+/// The input is a `struct` item in the input language described on the
+/// [crate page](crate#the-input-language): `parameters`, `coordinates`,
+/// `let`s, one `lagrangian`, and optionally `inputs`, `forces`, `constraints`
+/// and `outputs`. The output is the struct `Name<T = f64>` with one public
+/// field per parameter, its constants and methods
+/// ([the generated API](crate#the-generated-api)) and its runtime trait
+/// implementation.
 ///
 /// The struct derives `Clone`, `Copy`, `Debug` and `PartialEq` (and
 /// `Default` when it has no parameters); deriving one of them again is a
