@@ -9,11 +9,13 @@
 
 pub mod api;
 pub mod attrs;
+pub mod check;
 pub mod ctxt;
 pub mod emit;
 pub mod generate;
 pub mod lower;
 pub mod mechanics;
+pub mod model;
 pub mod names;
 pub mod parse;
 pub mod sym;
