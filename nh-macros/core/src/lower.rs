@@ -453,102 +453,111 @@ impl Lowerer<'_> {
                 let v = self.lower(inner, depth + 1)?;
                 Some(self.e.neg(v))
             }
-            Expr::Chain { first, rest } => {
-                // every operand is lowered, so that all their errors are reported
-                let mut acc = self.lower(first, depth + 1);
-                for (op, op_span, operand) in rest {
-                    let v = self.lower(operand, depth + 1);
-                    acc = match (acc, v) {
-                        (Some(a), Some(v)) => match op {
-                            BinOp::Add => Some(self.e.add(a, v)),
-                            BinOp::Sub => Some(self.e.sub(a, v)),
-                            BinOp::Mul => Some(self.e.mul(a, v)),
-                            BinOp::Div if v == ZERO => {
-                                let at = SpanRange {
-                                    first: *op_span,
-                                    last: operand.range().last,
-                                };
-                                let msg = if matches!(operand, Expr::Num(..)) {
-                                    "division by zero".to_string()
-                                } else {
-                                    format!(
-                                        "division by zero: `{}` is 0",
-                                        short(operand.to_source())
-                                    )
-                                };
-                                self.cx.error(at, msg);
-                                None
-                            }
-                            BinOp::Div => Some(self.e.div(a, v)),
-                            BinOp::Pow => None,
-                        },
-                        _ => None,
-                    };
-                }
-                acc
-            }
-            Expr::Pow { base, exp, .. } => {
-                let l = self.lower(base, depth + 1);
-                let r = self.lower(exp, depth + 1);
-                let (l, r) = (l?, r?);
-                let base_const = self.e.as_constant(l);
-                Some(match self.e.as_constant(r) {
-                    Some(q) => {
-                        if l == ZERO && q.is_zero() {
-                            self.cx.error(x.range(), "`0^0` is undefined");
-                            return None;
-                        }
-                        if l == ZERO && q.is_negative() {
-                            self.cx.error(
-                                x.range(),
-                                format!("division by zero: 0 to the negative power {q}"),
-                            );
-                            return None;
-                        }
-                        if let Some(c) = base_const {
-                            if c.is_negative() && !q.is_integer() {
-                                self.cx.error(x.range(), format!("a negative constant to a fractional power is not a real number: ({})^({})", show(c), show(q)));
-                                return None;
-                            }
-                            let digits = c.pow_digits(q.floor());
-                            if digits > f64::from(Rational::MAX_DIGITS) {
-                                self.cx.error(x.range(), format!("this power is too large to compute exactly: it has about {} digits, and the limit is {}", if digits < 1e12 { format!("{digits:.0}") } else { format!("{digits:.1e}") }, Rational::MAX_DIGITS));
-                                return None;
-                            }
-                        }
-                        if q.abs() > Rational::int(64) && base_const.is_none() {
-                            self.cx.error(
-                                exp.range(),
-                                "exponent too large: powers up to 64 are supported",
-                            );
-                            return None;
-                        }
-                        self.e.pow(l, q)
-                    }
-                    // a^b = exp(b ln a) for a symbolic exponent
-                    None => {
-                        if let Some(c) = base_const
-                            && c <= Rational::ZERO
-                        {
-                            let what = if c.is_zero() {
-                                "0 to a symbolic power is undefined here (it is exp(b·ln 0), and ln 0 = −∞)".to_string()
-                            } else {
-                                format!(
-                                    "a negative constant to a symbolic power is not a real number: ({})^(..)",
-                                    show(c)
-                                )
-                            };
-                            self.cx.error(x.range(), what);
-                            return None;
-                        }
-                        let ln = self.e.func(Fun::Ln, l);
-                        let p = self.e.mul(r, ln);
-                        self.e.func(Fun::Exp, p)
-                    }
-                })
-            }
+            Expr::Chain { first, rest } => self.lower_chain(first, rest, depth),
+            Expr::Pow { base, exp, .. } => self.lower_pow(x, base, exp, depth),
             Expr::Call { func, arg, range } => self.lower_call(func, arg, *range, depth),
         }
+    }
+
+    /// A chain of binary operations of one precedence, left to right.
+    fn lower_chain(
+        &mut self,
+        first: &Expr,
+        rest: &[(BinOp, Span, Expr)],
+        depth: usize,
+    ) -> Option<ExprId> {
+        // every operand is lowered, so that all their errors are reported
+        let mut acc = self.lower(first, depth + 1);
+        for (op, op_span, operand) in rest {
+            let v = self.lower(operand, depth + 1);
+            acc = match (acc, v) {
+                (Some(a), Some(v)) => match op {
+                    BinOp::Add => Some(self.e.add(a, v)),
+                    BinOp::Sub => Some(self.e.sub(a, v)),
+                    BinOp::Mul => Some(self.e.mul(a, v)),
+                    BinOp::Div if v == ZERO => {
+                        let at = SpanRange {
+                            first: *op_span,
+                            last: operand.range().last,
+                        };
+                        let msg = if matches!(operand, Expr::Num(..)) {
+                            "division by zero".to_string()
+                        } else {
+                            format!("division by zero: `{}` is 0", short(operand.to_source()))
+                        };
+                        self.cx.error(at, msg);
+                        None
+                    }
+                    BinOp::Div => Some(self.e.div(a, v)),
+                    BinOp::Pow => None,
+                },
+                _ => None,
+            };
+        }
+        acc
+    }
+
+    /// `base ^ exp`.
+    fn lower_pow(&mut self, x: &Expr, base: &Expr, exp: &Expr, depth: usize) -> Option<ExprId> {
+        let l = self.lower(base, depth + 1);
+        let r = self.lower(exp, depth + 1);
+        let (l, r) = (l?, r?);
+        let base_const = self.e.as_constant(l);
+        Some(match self.e.as_constant(r) {
+            Some(q) => {
+                if l == ZERO && q.is_zero() {
+                    self.cx.error(x.range(), "`0^0` is undefined");
+                    return None;
+                }
+                if l == ZERO && q.is_negative() {
+                    self.cx.error(
+                        x.range(),
+                        format!("division by zero: 0 to the negative power {q}"),
+                    );
+                    return None;
+                }
+                if let Some(c) = base_const {
+                    if c.is_negative() && !q.is_integer() {
+                        self.cx.error(x.range(), format!("a negative constant to a fractional power is not a real number: ({})^({})", show(c), show(q)));
+                        return None;
+                    }
+                    let digits = c.pow_digits(q.floor());
+                    if digits > f64::from(Rational::MAX_DIGITS) {
+                        self.cx.error(x.range(), format!("this power is too large to compute exactly: it has about {} digits, and the limit is {}", if digits < 1e12 { format!("{digits:.0}") } else { format!("{digits:.1e}") }, Rational::MAX_DIGITS));
+                        return None;
+                    }
+                }
+                if q.abs() > Rational::int(64) && base_const.is_none() {
+                    self.cx.error(
+                        exp.range(),
+                        "exponent too large: powers up to 64 are supported",
+                    );
+                    return None;
+                }
+                self.e.pow(l, q)
+            }
+            // a^b = exp(b ln a) for a symbolic exponent
+            None => {
+                if let Some(c) = base_const
+                    && c <= Rational::ZERO
+                {
+                    let what = if c.is_zero() {
+                        "0 to a symbolic power is undefined here (it is exp(b·ln 0), and ln 0 = −∞)"
+                            .to_string()
+                    } else {
+                        format!(
+                            "a negative constant to a symbolic power is not a real number: ({})^(..)",
+                            show(c)
+                        )
+                    };
+                    self.cx.error(x.range(), what);
+                    return None;
+                }
+                let ln = self.e.func(Fun::Ln, l);
+                let p = self.e.mul(r, ln);
+                self.e.func(Fun::Exp, p)
+            }
+        })
     }
 
     fn lower_name(&mut self, id: &Ident) -> Option<ExprId> {
