@@ -68,11 +68,6 @@ impl Ctxt {
         self.errors.push(e);
     }
 
-    /// Number of errors so far.
-    pub fn len(&self) -> usize {
-        self.errors.len()
-    }
-
     /// Whether no error has been recorded.
     pub fn is_empty(&self) -> bool {
         self.errors.is_empty()
@@ -90,10 +85,5 @@ impl Ctxt {
                 Err(first)
             }
         }
-    }
-
-    /// The individual errors (for tests).
-    pub fn errors(&self) -> &[syn::Error] {
-        &self.errors
     }
 }

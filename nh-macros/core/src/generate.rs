@@ -153,13 +153,7 @@ fn bound_dag(m: &Model, args: &Args) -> Dag {
     for c in &m.constraints {
         let s = &m.coordinates[c.dependent];
         let v = d.expr(&m.engine, c.velocity);
-        d.label(
-            v,
-            format!(
-                "dot({}): dependent velocity from the constraint (5.3)",
-                s.name
-            ),
-        );
+        d.label(v, format!("dot({}): {}", s.name, c.kind.velocity_source()));
         d.bind(s.velocity, v);
     }
     d

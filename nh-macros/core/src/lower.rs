@@ -340,7 +340,6 @@ impl<'a> Lowerer<'a> {
                     dependent: s,
                     velocity: rhs,
                     coefficients,
-                    span: c.lhs.range().to(c.rhs.range()),
                 });
             }
         }
@@ -489,7 +488,6 @@ impl Lowerer<'_> {
                         None
                     }
                     BinOp::Div => Some(self.e.div(a, v)),
-                    BinOp::Pow => None,
                 },
                 _ => None,
             };

@@ -44,8 +44,6 @@ pub struct CurvatureRoute {
     pub rhs: Vec<ExprId>,
     /// r̈ solved symbolically, when that is cheaper than solving numerically.
     pub solution: Option<Vec<ExprId>>,
-    /// Whether `rhs` was derived (see [`Model::reduced_mass_only`]).
-    pub rhs_derived: bool,
 }
 
 impl Model {
@@ -248,7 +246,7 @@ impl Model {
     }
 
     /// The curvature route's reduced mass matrix alone (the right side left
-    /// zero, `rhs_derived` false): what the singularity check needs when the
+    /// zero): what the singularity check needs when the
     /// route itself is not derived.
     pub fn reduced_mass_only(&mut self, curvature: &[Vec<Vec<ExprId>>]) -> CurvatureRoute {
         self.curvature_route_parts(curvature, false)
@@ -302,7 +300,6 @@ impl Model {
                 mass,
                 rhs: vec![ZERO; k],
                 solution: None,
-                rhs_derived: false,
             };
         }
         for al in 0..k {
@@ -354,7 +351,6 @@ impl Model {
             mass,
             rhs,
             solution: None,
-            rhs_derived: true,
         }
     }
 

@@ -114,6 +114,16 @@ pub enum ConstraintKind {
     ExplicitVelocity,
 }
 
+impl ConstraintKind {
+    /// Where the dependent velocity comes from, for the generated code's
+    /// labels.
+    pub fn velocity_source(self) -> &'static str {
+        match self {
+            ConstraintKind::ExplicitVelocity => "dependent velocity from the constraint (5.3)",
+        }
+    }
+}
+
 /// One nonholonomic constraint, solved for the velocity of its dependent
 /// coordinate s_a: ṡ_a = −Σ_α A^a_α ṙ_α (5.3).
 pub struct Constraint {
@@ -127,8 +137,6 @@ pub struct Constraint {
     /// The row A^a_· of the constraint matrix: minus the coefficient of each
     /// independent velocity ṙ_α, in the order of [`Model::independent`].
     pub coefficients: Vec<ExprId>,
-    /// The constraint in the source, `dot(s)` to the end of its right side.
-    pub span: SpanRange,
 }
 
 /// The symbols a system declares, with the engine that holds them.

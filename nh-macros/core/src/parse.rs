@@ -28,8 +28,6 @@ pub enum BinOp {
     Mul,
     /// `/`
     Div,
-    /// `^`
-    Pow,
 }
 
 /// A surface expression. Chains of `+ -` and of `* /` are flat lists, so a
@@ -64,8 +62,6 @@ pub enum Expr {
         base: Box<Expr>,
         /// the exponent
         exp: Box<Expr>,
-        /// span of `^`
-        op_span: Span,
     },
 }
 
@@ -111,7 +107,6 @@ impl Expr {
                         BinOp::Sub => " - ",
                         BinOp::Mul => "*",
                         BinOp::Div => "/",
-                        BinOp::Pow => "^",
                     };
                     out.push_str(sym);
                     let need = if sum {
@@ -156,8 +151,6 @@ pub struct Constraint {
     pub lhs: Expr,
     /// right side
     pub rhs: Expr,
-    /// the whole statement
-    pub range: SpanRange,
 }
 
 /// One `q: expr;` generalized force.
@@ -179,8 +172,6 @@ pub struct SystemDef {
     pub vis: Visibility,
     /// struct name
     pub name: Ident,
-    /// span of the brace group of the body
-    pub body_span: Span,
     /// `parameters { .. }` (keyword span, names)
     pub parameters: Option<(Ident, Vec<Ident>)>,
     /// `coordinates { .. }`
@@ -297,7 +288,6 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         attrs,
         vis,
         name,
-        body_span: body.span(),
         parameters: None,
         coordinates: None,
         inputs: None,
@@ -645,8 +635,7 @@ fn parse_constraint(input: ParseStream) -> syn::Result<Constraint> {
     }
     let _: Token![=] = input.parse()?;
     let rhs = parse_expr_all(input)?;
-    let range = lhs.range().to(rhs.range());
-    Ok(Constraint { lhs, rhs, range })
+    Ok(Constraint { lhs, rhs })
 }
 
 fn parse_force(input: ParseStream) -> syn::Result<Force> {
@@ -802,12 +791,11 @@ fn parse_power(input: ParseStream, depth: usize) -> syn::Result<Expr> {
     }
     let base = parse_primary(input, depth)?;
     if input.peek(Token![^]) && !input.peek(Token![^=]) {
-        let t: Token![^] = input.parse()?;
+        let _: Token![^] = input.parse()?;
         let exp = parse_unary(input, depth + 1)?;
         return Ok(Expr::Pow {
             base: Box::new(base),
             exp: Box::new(exp),
-            op_span: t.span,
         });
     }
     Ok(base)
