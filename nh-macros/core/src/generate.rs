@@ -215,42 +215,23 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
     let mut mc = vec![vec![ZERO_NODE; k]; n];
     for i in 0..n {
         for b in 0..k {
-            let mut acc = ZERO_NODE;
-            for j in 0..n {
-                let t = d.mul(mass[i][j], c[j][b]);
-                acc = d.add(acc, t);
-            }
-            mc[i][b] = acc;
+            mc[i][b] = dot(d, ZERO_NODE, (0..n).map(|j| (mass[i][j], c[j][b])));
         }
     }
     let mut mr = vec![vec![ZERO_NODE; k]; k];
     for a in 0..k {
         for b in a..k {
-            let mut acc = ZERO_NODE;
-            for i in 0..n {
-                let t = d.mul(c[i][a], mc[i][b]);
-                acc = d.add(acc, t);
-            }
+            let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], mc[i][b])));
             mr[a][b] = acc;
             mr[b][a] = acc;
         }
     }
-    let mut g = Vec::with_capacity(n);
-    for i in 0..n {
-        let mut acc = bias[i];
-        for j in 0..n {
-            let t = d.mul(mass[i][j], acc_bias[j]);
-            acc = d.add(acc, t);
-        }
-        g.push(acc);
-    }
+    let g: Vec<Node> = (0..n)
+        .map(|i| dot(d, bias[i], (0..n).map(|j| (mass[i][j], acc_bias[j]))))
+        .collect();
     let mut f = Vec::with_capacity(k);
     for a in 0..k {
-        let mut acc = ZERO_NODE;
-        for i in 0..n {
-            let t = d.mul(c[i][a], g[i]);
-            acc = d.add(acc, t);
-        }
+        let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], g[i])));
         f.push(d.neg(acc));
     }
     for (a, row) in mr.iter().enumerate() {
@@ -275,6 +256,34 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
         pivots: fac.d.clone(),
         fac,
     }
+}
+
+impl MultiplierNodes {
+    /// q̈ = C r̈ + acc_bias at these nodes' r̈.
+    fn qdd(&self, d: &mut Dag) -> Vec<Node> {
+        (0..self.c.len())
+            .map(|i| {
+                let pairs = self.c[i].iter().copied().zip(self.rdd.iter().copied());
+                dot(d, self.acc_bias[i], pairs)
+            })
+            .collect()
+    }
+
+    /// The Euler–Lagrange term E_i = (M q̈ + h)_i (3.9) at accelerations `qdd`.
+    fn euler_lagrange(&self, d: &mut Dag, i: usize, qdd: &[Node]) -> Node {
+        let pairs = self.mass[i].iter().copied().zip(qdd.iter().copied());
+        dot(d, self.bias[i], pairs)
+    }
+}
+
+/// `init + Σ x·y` over `pairs`, added up in order.
+fn dot(d: &mut Dag, init: Node, pairs: impl IntoIterator<Item = (Node, Node)>) -> Node {
+    let mut acc = init;
+    for (x, y) in pairs {
+        let t = d.mul(x, y);
+        acc = d.add(acc, t);
+    }
+    acc
 }
 
 fn curvature_nodes(d: &mut Dag, m: &Model, r: &CurvatureRoute) -> (Vec<Node>, Vec<Node>) {
@@ -580,22 +589,8 @@ impl Derived<'_> {
     fn multiplier_columns(&mut self, d: &mut Dag, vars: &[SymId]) -> Vec<Vec<Node>> {
         let (n, k) = (self.m.n(), self.m.k());
         let mn = multiplier_nodes(d, self.m, &self.dv.multiplier_route);
-        let mut qdd = mn.acc_bias.clone();
-        for i in 0..n {
-            for b in 0..k {
-                let t = d.mul(mn.c[i][b], mn.rdd[b]);
-                qdd[i] = d.add(qdd[i], t);
-            }
-        }
-        let mut e_nodes = Vec::with_capacity(n);
-        for i in 0..n {
-            let mut acc = mn.bias[i];
-            for j in 0..n {
-                let t = d.mul(mn.mass[i][j], qdd[j]);
-                acc = d.add(acc, t);
-            }
-            e_nodes.push(acc);
-        }
+        let qdd = mn.qdd(d);
+        let e_nodes: Vec<Node> = (0..n).map(|i| mn.euler_lagrange(d, i, &qdd)).collect();
         let mut out = self.velocity_rows(d, vars);
         for (col, &z) in vars.iter().enumerate() {
             let dsdot: Vec<Node> = (0..self.m.p())
@@ -616,13 +611,8 @@ impl Derived<'_> {
             // ∂q̈/∂z at fixed r̈
             let mut dqdd = vec![ZERO_NODE; n];
             for (a, &s) in dependent.iter().enumerate() {
-                let mut acc =
-                    self.total_diff(d, self.dv.multiplier_route.dependent_bias[a], z, &dsdot);
-                for b in 0..k {
-                    let t = d.mul(dc[s][b], mn.rdd[b]);
-                    acc = d.add(acc, t);
-                }
-                dqdd[s] = acc;
+                let acc = self.total_diff(d, self.dv.multiplier_route.dependent_bias[a], z, &dsdot);
+                dqdd[s] = dot(d, acc, (0..k).map(|b| (dc[s][b], mn.rdd[b])));
             }
             // ∂E/∂z = ∂M/∂z q̈ + M ∂q̈/∂z + ∂h/∂z
             let mut de = Vec::with_capacity(n);
@@ -640,13 +630,8 @@ impl Derived<'_> {
             // −∂R/∂z = −Σ_i (∂C_iα/∂z E_i + C_iα ∂E_i/∂z)
             let mut rhs = Vec::with_capacity(k);
             for al in 0..k {
-                let mut acc = ZERO_NODE;
-                for i in 0..n {
-                    let t = d.mul(dc[i][al], e_nodes[i]);
-                    acc = d.add(acc, t);
-                    let t = d.mul(mn.c[i][al], de[i]);
-                    acc = d.add(acc, t);
-                }
+                let pairs = (0..n).flat_map(|i| [(dc[i][al], e_nodes[i]), (mn.c[i][al], de[i])]);
+                let acc = dot(d, ZERO_NODE, pairs);
                 rhs.push(d.neg(acc));
             }
             let x = d.solve_factored(&mn.fac, &rhs);
@@ -736,7 +721,7 @@ impl Derived<'_> {
 
     /// `multipliers`: λ = E_s along the motion (5.10).
     fn multipliers_body(&mut self) -> TokenStream {
-        let (n, k, p) = (self.m.n(), self.m.k(), self.m.p());
+        let (k, p) = (self.m.k(), self.m.p());
         let args = Args::vectors(self.m.n(), self.m.k());
         let mut d = bound_dag(self.m, &args);
         let mut mn = multiplier_nodes(&mut d, self.m, &self.dv.multiplier_route);
@@ -750,20 +735,10 @@ impl Derived<'_> {
             quote!()
         };
         // q̈ = C r̈ + acc_bias; λ_a = E_{s_a} = (M q̈ + h)_{s_a}   (5.10)
-        let mut qdd = mn.acc_bias.clone();
-        for (i, row) in mn.c.iter().enumerate() {
-            for (b, &cib) in row.iter().enumerate() {
-                let t = d.mul(cib, mn.rdd[b]);
-                qdd[i] = d.add(qdd[i], t);
-            }
-        }
+        let qdd = mn.qdd(&mut d);
         let mut lam = Vec::with_capacity(p);
         for (a, &s) in self.m.dependent().iter().enumerate() {
-            let mut acc = mn.bias[s];
-            for j in 0..n {
-                let t = d.mul(mn.mass[s][j], qdd[j]);
-                acc = d.add(acc, t);
-            }
+            let acc = mn.euler_lagrange(&mut d, s, &qdd);
             d.label(acc, format!("λ{a} = E_(s{a}) (5.10)"));
             lam.push(acc);
         }
@@ -829,37 +804,32 @@ impl Derived<'_> {
     /// `constraint_matrix`: A of (5.3).
     fn constraint_matrix_body(&mut self) -> TokenStream {
         let (k, p) = (self.m.k(), self.m.p());
-        let args = Args::vectors(self.m.n(), self.m.k());
-        let mut d = bound_dag(self.m, &args);
         let flat: Vec<ExprId> = self
             .m
             .constraints
             .iter()
             .flat_map(|c| c.coefficients.iter().copied())
             .collect();
-        let nodes = exprs(&mut d, self.m, &flat);
-        let (stmts, o) = self.emit_hoisted(&d, &nodes);
-        let pk = quote!(__nh_private::nalgebra::SMatrix::<T, #p, #k>);
-        quote! { let _ = q; #stmts #pk::from_row_slice(&[#(#o),*]) }
+        self.matrix_of_q(p, k, &flat)
     }
 
     /// `mass_matrix`: ∂²L/∂q̇∂q̇.
     fn mass_matrix_body(&mut self) -> TokenStream {
         let n = self.m.n();
+        let mass = &self.dv.multiplier_route.mass;
+        let flat: Vec<ExprId> = mass.iter().flatten().copied().collect();
+        self.matrix_of_q(n, n, &flat)
+    }
+
+    /// A method of `q` returning the `rows` × `cols` matrix of the entries
+    /// `flat`, row by row.
+    fn matrix_of_q(&mut self, rows: usize, cols: usize, flat: &[ExprId]) -> TokenStream {
         let args = Args::vectors(self.m.n(), self.m.k());
         let mut d = bound_dag(self.m, &args);
-        let flat: Vec<ExprId> = self
-            .dv
-            .multiplier_route
-            .mass
-            .iter()
-            .flatten()
-            .copied()
-            .collect();
-        let nodes = exprs(&mut d, self.m, &flat);
+        let nodes = exprs(&mut d, self.m, flat);
         let (stmts, o) = self.emit_hoisted(&d, &nodes);
-        let nn = quote!(__nh_private::nalgebra::SMatrix::<T, #n, #n>);
-        quote! { let _ = q; #stmts #nn::from_row_slice(&[#(#o),*]) }
+        let ty = quote!(__nh_private::nalgebra::SMatrix::<T, #rows, #cols>);
+        quote! { let _ = q; #stmts #ty::from_row_slice(&[#(#o),*]) }
     }
 
     /// `jacobian`: ∂f/∂x of the first-order system.

@@ -5,7 +5,7 @@
 
 use crate::check;
 use crate::ctxt::{Ctxt, SpanRange};
-use crate::model::{Constraint, ConstraintKind, Coordinate, Declared, Input, Model, Parameter};
+use crate::model::{Constraint, ConstraintKind, Coordinate, Input, Model, Parameter, Partition};
 use crate::names;
 use crate::parse::{BinOp, Expr, SystemDef};
 use crate::sym::{Engine, ExprId, Fun, Rational, SymId, ZERO};
@@ -139,22 +139,22 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     if !lw.cx.is_empty() {
         return None;
     }
-    let declared = Declared {
+    let mut constraints = constraints;
+    let partition = Partition::of(lw.coords.len(), &mut constraints);
+    Some(Model {
         engine: lw.e,
         parameters: lw.params,
         coordinates: lw.coords,
         inputs: lw.inputs,
         time: lw.t_sym,
         pi: lw.pi_sym,
-    };
-    Some(Model::new(
-        declared,
         lagrangian,
         constraints,
+        partition,
         outputs,
-        def.constraints.as_ref().map(|c| c.0.span()),
-        lw.huge_constant,
-    ))
+        constraints_span: def.constraints.as_ref().map(|c| c.0.span()),
+        huge_constant: lw.huge_constant,
+    })
 }
 
 impl<'a> Lowerer<'a> {

@@ -199,15 +199,11 @@ impl Model {
     pub fn curvature(&mut self) -> Vec<Vec<Vec<ExprId>>> {
         let (k, p) = (self.k(), self.p());
         let mut b = vec![vec![vec![ZERO; k]; k]; p];
-        let r: Vec<SymId> = self
-            .independent()
-            .iter()
-            .map(|&i| self.coordinates[i].position)
-            .collect();
+        let r = self.of_independent(|c| c.position);
         let s_syms: Vec<SymId> = self
-            .dependent()
+            .constraints
             .iter()
-            .map(|&s| self.coordinates[s].position)
+            .map(|c| self.coordinates[c.dependent].position)
             .collect();
         let a: Vec<&[ExprId]> = self
             .constraints
@@ -262,16 +258,8 @@ impl Model {
         let qdot_c = self.constrained_qdot();
         let l = self.lagrangian;
         let r_vel = self.independent_velocities();
-        let r_pos: Vec<SymId> = self
-            .independent()
-            .iter()
-            .map(|&i| self.coordinates[i].position)
-            .collect();
-        let r_force: Vec<ExprId> = self
-            .independent()
-            .iter()
-            .map(|&i| self.coordinates[i].force)
-            .collect();
+        let r_pos = self.of_independent(|c| c.position);
+        let r_force = self.of_independent(|c| c.force);
         let q = &self.coordinates;
         let e = &mut self.engine;
         let mut memo = HashMap::default();

@@ -139,20 +139,25 @@ pub struct Constraint {
     pub coefficients: Vec<ExprId>,
 }
 
-/// The symbols a system declares, with the engine that holds them.
-pub struct Declared {
-    /// The engine holding every expression of the model.
-    pub engine: Engine,
-    /// Parameters in declared order.
-    pub parameters: Vec<Parameter>,
-    /// Coordinates in declared order (THE coordinate order).
-    pub coordinates: Vec<Coordinate>,
-    /// Inputs in declared order.
-    pub inputs: Vec<Input>,
-    /// Time t.
-    pub time: SymId,
-    /// π.
-    pub pi: SymId,
+/// Which coordinates are independent and which dependent: the partition
+/// the constraints make.
+pub struct Partition {
+    independent: Vec<usize>,
+    dependent: Vec<usize>,
+}
+
+impl Partition {
+    /// The partition of `n` coordinates by `constraints` (at most one per
+    /// coordinate), which it sorts into coordinate order.
+    pub fn of(n: usize, constraints: &mut [Constraint]) -> Partition {
+        constraints.sort_by_key(|c| c.dependent);
+        let dependent: Vec<usize> = constraints.iter().map(|c| c.dependent).collect();
+        let independent = (0..n).filter(|i| !dependent.contains(i)).collect();
+        Partition {
+            independent,
+            dependent,
+        }
+    }
 }
 
 /// A system after lowering: everything the mechanics needs, as symbols and
@@ -173,12 +178,10 @@ pub struct Model {
     /// L(q, q̇, t).
     pub lagrangian: ExprId,
     /// The constraints, one per dependent coordinate, in coordinate order
-    /// (the order of [`Model::dependent`]; [`Model::new`] sorts them).
+    /// (the order of [`Model::dependent`]).
     pub constraints: Vec<Constraint>,
-    /// Indices of the independent coordinates r, ascending.
-    independent: Vec<usize>,
-    /// Indices of the dependent coordinates s, ascending.
-    dependent: Vec<usize>,
+    /// The partition of the coordinates by the constraints.
+    pub partition: Partition,
     /// Requested outputs.
     pub outputs: Outputs,
     /// Span of the `constraints` keyword, if any (for diagnostics).
@@ -190,47 +193,15 @@ pub struct Model {
 }
 
 impl Model {
-    /// A model of the declared symbols, the Lagrangian and the constraints
-    /// (at most one per coordinate, in any order).
-    pub fn new(
-        declared: Declared,
-        lagrangian: ExprId,
-        mut constraints: Vec<Constraint>,
-        outputs: Outputs,
-        constraints_span: Option<Span>,
-        huge_constant: Option<SpanRange>,
-    ) -> Model {
-        constraints.sort_by_key(|c| c.dependent);
-        let dependent: Vec<usize> = constraints.iter().map(|c| c.dependent).collect();
-        let independent = (0..declared.coordinates.len())
-            .filter(|i| !dependent.contains(i))
-            .collect();
-        Model {
-            engine: declared.engine,
-            parameters: declared.parameters,
-            coordinates: declared.coordinates,
-            inputs: declared.inputs,
-            time: declared.time,
-            pi: declared.pi,
-            lagrangian,
-            constraints,
-            independent,
-            dependent,
-            outputs,
-            constraints_span,
-            huge_constant,
-        }
-    }
-
     /// Indices of the independent coordinates r, ascending.
     pub fn independent(&self) -> &[usize] {
-        &self.independent
+        &self.partition.independent
     }
 
     /// Indices of the dependent coordinates s, ascending (the order of
     /// [`Model::constraints`]).
     pub fn dependent(&self) -> &[usize] {
-        &self.dependent
+        &self.partition.dependent
     }
 
     /// Number of coordinates n.
@@ -240,12 +211,12 @@ impl Model {
 
     /// Number of independent coordinates k.
     pub fn k(&self) -> usize {
-        self.independent.len()
+        self.independent().len()
     }
 
     /// Number of constraints p.
     pub fn p(&self) -> usize {
-        self.dependent.len()
+        self.dependent().len()
     }
 
     /// The symbols of the coordinates, in coordinate order.
@@ -253,11 +224,16 @@ impl Model {
         self.coordinates.iter().map(|c| c.position)
     }
 
+    /// `f` of each independent coordinate, in their order.
+    pub fn of_independent<T>(&self, f: impl Fn(&Coordinate) -> T) -> Vec<T> {
+        self.independent()
+            .iter()
+            .map(|&i| f(&self.coordinates[i]))
+            .collect()
+    }
+
     /// The symbols of the velocities of the independent coordinates ṙ.
     pub fn independent_velocities(&self) -> Vec<SymId> {
-        self.independent
-            .iter()
-            .map(|&i| self.coordinates[i].velocity)
-            .collect()
+        self.of_independent(|c| c.velocity)
     }
 }

@@ -678,30 +678,70 @@ fn parse_expr_all(input: ParseStream) -> syn::Result<Expr> {
     Ok(e)
 }
 
-/// expr := term (('+' | '-') term)*
-fn parse_expr(input: ParseStream, depth: usize) -> syn::Result<Expr> {
+/// An error past [`MAX_DEPTH`] levels of nesting (`why`: a guess at the
+/// cause, for the message).
+fn not_too_deep(input: ParseStream, depth: usize, why: &str) -> syn::Result<()> {
     if depth > MAX_DEPTH {
         return Err(input.error(format!(
-            "expression nested more than {MAX_DEPTH} levels deep: split it into `let` items"
+            "expression nested more than {MAX_DEPTH} levels deep{why}: split it into `let` items"
         )));
     }
-    let first = parse_term(input, depth)?;
+    Ok(())
+}
+
+/// expr := term (('+' | '-') term)*
+fn parse_expr(input: ParseStream, depth: usize) -> syn::Result<Expr> {
+    not_too_deep(input, depth, "")?;
+    parse_chain(input, depth, parse_term, additive_op)
+}
+
+/// `operand (op operand)*` as one chain, with `op` parsed by `next_op`.
+fn parse_chain(
+    input: ParseStream,
+    depth: usize,
+    operand: fn(ParseStream, usize) -> syn::Result<Expr>,
+    next_op: fn(ParseStream) -> syn::Result<Option<(BinOp, Span)>>,
+) -> syn::Result<Expr> {
+    let first = operand(input, depth)?;
     let mut rest = Vec::new();
-    loop {
-        let op = if input.peek(Token![+]) {
-            let t: Token![+] = input.parse()?;
-            (BinOp::Add, t.span)
-        } else if input.peek(Token![-]) && !input.peek(Token![-=]) {
-            let t: Token![-] = input.parse()?;
-            (BinOp::Sub, t.span)
-        } else {
-            break;
-        };
-        check_chain_length(&rest, op.1)?;
-        let rhs = parse_term(input, depth)?;
-        rest.push((op.0, op.1, rhs));
+    while let Some((op, span)) = next_op(input)? {
+        check_chain_length(&rest, span)?;
+        let rhs = operand(input, depth)?;
+        rest.push((op, span, rhs));
     }
     Ok(chain(first, rest))
+}
+
+/// `+` or `-` (not `-=`), if next.
+fn additive_op(input: ParseStream) -> syn::Result<Option<(BinOp, Span)>> {
+    Ok(if input.peek(Token![+]) {
+        let t: Token![+] = input.parse()?;
+        Some((BinOp::Add, t.span))
+    } else if input.peek(Token![-]) && !input.peek(Token![-=]) {
+        let t: Token![-] = input.parse()?;
+        Some((BinOp::Sub, t.span))
+    } else {
+        None
+    })
+}
+
+/// `*` (not `*=` or `**`) or `/` (not `/=`), if next.
+fn multiplicative_op(input: ParseStream) -> syn::Result<Option<(BinOp, Span)>> {
+    Ok(if input.peek(Token![*]) && !input.peek(Token![*=]) {
+        let t: Token![*] = input.parse()?;
+        if input.peek(Token![*]) {
+            return Err(syn::Error::new(
+                t.span,
+                "`**` is not an operator here: write powers with `^`, as in `x^2`",
+            ));
+        }
+        Some((BinOp::Mul, t.span))
+    } else if input.peek(Token![/]) && !input.peek(Token![/=]) {
+        let t: Token![/] = input.parse()?;
+        Some((BinOp::Div, t.span))
+    } else {
+        None
+    })
 }
 
 /// Longest chain of operands accepted in one sum or product.
@@ -732,29 +772,7 @@ fn chain(first: Expr, rest: Vec<(BinOp, Span, Expr)>) -> Expr {
 
 /// term := unary (('*' | '/') unary)*
 fn parse_term(input: ParseStream, depth: usize) -> syn::Result<Expr> {
-    let first = parse_unary(input, depth)?;
-    let mut rest = Vec::new();
-    loop {
-        let op = if input.peek(Token![*]) && !input.peek(Token![*=]) {
-            let t: Token![*] = input.parse()?;
-            if input.peek(Token![*]) {
-                return Err(syn::Error::new(
-                    t.span,
-                    "`**` is not an operator here: write powers with `^`, as in `x^2`",
-                ));
-            }
-            (BinOp::Mul, t.span)
-        } else if input.peek(Token![/]) && !input.peek(Token![/=]) {
-            let t: Token![/] = input.parse()?;
-            (BinOp::Div, t.span)
-        } else {
-            break;
-        };
-        check_chain_length(&rest, op.1)?;
-        let rhs = parse_unary(input, depth)?;
-        rest.push((op.0, op.1, rhs));
-    }
-    Ok(chain(first, rest))
+    parse_chain(input, depth, parse_unary, multiplicative_op)
 }
 
 /// unary := '-' unary | power
@@ -784,11 +802,7 @@ fn parse_unary(input: ParseStream, depth: usize) -> syn::Result<Expr> {
 
 /// power := primary ('^' unary)?
 fn parse_power(input: ParseStream, depth: usize) -> syn::Result<Expr> {
-    if depth > MAX_DEPTH {
-        return Err(input.error(format!(
-            "expression nested more than {MAX_DEPTH} levels deep (a tower of powers?): split it into `let` items"
-        )));
-    }
+    not_too_deep(input, depth, " (a tower of powers?)")?;
     let base = parse_primary(input, depth)?;
     if input.peek(Token![^]) && !input.peek(Token![^=]) {
         let _: Token![^] = input.parse()?;
