@@ -736,3 +736,17 @@ impl Bodies for StandIn {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{GeneratedMethod, METHODS};
+
+    #[test]
+    fn every_method_has_its_row() {
+        for (i, spec) in METHODS.iter().enumerate() {
+            assert_eq!(spec.method as usize, i, "{}", spec.name);
+            assert_eq!(spec.method.spec().name, spec.name);
+        }
+        assert_eq!(GeneratedMethod::Rhs.spec().name, "rhs");
+    }
+}

@@ -130,7 +130,7 @@ pub fn derivation(def: &SystemDef, m: &Model, dv: &Derivation, cx: &mut Ctxt) ->
 /// The reduced mass matrix is regular: no pivot of its factorisation, by
 /// either route, is structurally zero. False after an error.
 pub fn regular(def: &SystemDef, pivots: &[Node], cx: &mut Ctxt) -> bool {
-    let structurally_singular = pivots.iter().any(|&x| x == ZERO_NODE);
+    let structurally_singular = pivots.contains(&ZERO_NODE);
     if structurally_singular {
         cx.error_at(
             def.name.span(),

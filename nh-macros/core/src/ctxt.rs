@@ -68,6 +68,18 @@ impl Ctxt {
         self.errors.push(e);
     }
 
+    /// Number of errors so far.
+    #[cfg(test)]
+    pub fn len(&self) -> usize {
+        self.errors.len()
+    }
+
+    /// The individual errors.
+    #[cfg(test)]
+    pub fn errors(&self) -> &[syn::Error] {
+        &self.errors
+    }
+
     /// Whether no error has been recorded.
     pub fn is_empty(&self) -> bool {
         self.errors.is_empty()

@@ -237,3 +237,20 @@ impl Model {
         self.of_independent(|c| c.velocity)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{Output, Outputs};
+
+    #[test]
+    fn outputs_are_indexed_by_their_place_in_all() {
+        for (i, o) in Output::ALL.into_iter().enumerate() {
+            assert_eq!(o as usize, i);
+            let mut outputs = Outputs::default();
+            assert_eq!(outputs.set(o.name()), Some(false));
+            assert!(outputs.contains(o));
+            assert_eq!(outputs.set(o.name()), Some(true));
+        }
+        assert_eq!(Outputs::default().set("unknown"), None);
+    }
+}

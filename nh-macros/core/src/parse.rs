@@ -695,12 +695,15 @@ fn parse_expr(input: ParseStream, depth: usize) -> syn::Result<Expr> {
     parse_chain(input, depth, parse_term, additive_op)
 }
 
+/// A binary operator with its span.
+type Operator = (BinOp, Span);
+
 /// `operand (op operand)*` as one chain, with `op` parsed by `next_op`.
 fn parse_chain(
     input: ParseStream,
     depth: usize,
     operand: fn(ParseStream, usize) -> syn::Result<Expr>,
-    next_op: fn(ParseStream) -> syn::Result<Option<(BinOp, Span)>>,
+    next_op: fn(ParseStream) -> syn::Result<Option<Operator>>,
 ) -> syn::Result<Expr> {
     let first = operand(input, depth)?;
     let mut rest = Vec::new();
@@ -713,7 +716,7 @@ fn parse_chain(
 }
 
 /// `+` or `-` (not `-=`), if next.
-fn additive_op(input: ParseStream) -> syn::Result<Option<(BinOp, Span)>> {
+fn additive_op(input: ParseStream) -> syn::Result<Option<Operator>> {
     Ok(if input.peek(Token![+]) {
         let t: Token![+] = input.parse()?;
         Some((BinOp::Add, t.span))
@@ -726,7 +729,7 @@ fn additive_op(input: ParseStream) -> syn::Result<Option<(BinOp, Span)>> {
 }
 
 /// `*` (not `*=` or `**`) or `/` (not `/=`), if next.
-fn multiplicative_op(input: ParseStream) -> syn::Result<Option<(BinOp, Span)>> {
+fn multiplicative_op(input: ParseStream) -> syn::Result<Option<Operator>> {
     Ok(if input.peek(Token![*]) && !input.peek(Token![*=]) {
         let t: Token![*] = input.parse()?;
         if input.peek(Token![*]) {
