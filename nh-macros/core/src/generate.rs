@@ -61,6 +61,21 @@ pub struct Stats {
 }
 
 impl Stats {
+    /// Operations of r̈ by `route`, after CSE.
+    fn ops(&self, route: Route) -> usize {
+        match route {
+            Route::Multiplier => self.ops_multiplier,
+            Route::Curvature => self.ops_curvature,
+        }
+    }
+
+    /// Whether r̈ by `route`, the route `accelerations` uses, is large enough
+    /// that methods needing it call `accelerations` instead of repeating its
+    /// code.
+    fn is_large(&self, route: Route) -> bool {
+        self.ops(route) > LARGE_OPS
+    }
+
     /// One line: operation counts, route, graph size.
     pub fn summary(&self) -> String {
         let curvature = if self.ops_curvature == 0 {
@@ -449,10 +464,7 @@ impl Derived<'_> {
 
     /// Operations of r̈ by `route`, after CSE.
     fn ops(&self, route: Route) -> usize {
-        match route {
-            Route::Multiplier => self.stats.ops_multiplier,
-            Route::Curvature => self.stats.ops_curvature,
-        }
+        self.stats.ops(route)
     }
 
     /// The documentation of `accelerations`: what it computes, and by which
@@ -493,7 +505,7 @@ impl Derived<'_> {
     /// [`accelerations`] instead of repeating its code? (Small systems keep
     /// one fused body per method: their shared work is a few operations.)
     fn is_large(&self) -> bool {
-        self.ops(self.route) > LARGE_OPS
+        self.stats.is_large(self.route)
     }
 
     /// `, u` when the system has inputs (to forward them to another method).
@@ -1104,7 +1116,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         return (TokenStream::new(), stats);
     }
     let route = compared.choose(&mut stats);
-    let graphs = compared.keep(route, &m, &dv);
+    let graphs = compared.keep(route, &m, &dv, &stats);
     let (integrable, proved) = (dv.integrable, dv.integrable_proved);
     let mut shape = shape_of(def);
     shape.integrable = integrable;
@@ -1200,11 +1212,13 @@ impl ComparedRoutes {
     }
 
     /// The graphs a method will emit: the chosen route's, and with `routes`
-    /// the other's, unless its method needs another graph (the curvature
-    /// route solved symbolically is emitted with its steps labelled).
-    fn keep(self, route: Route, m: &Model, dv: &Derivation) -> RouteGraphs {
+    /// the other's, unless its method emits another graph (the curvature
+    /// route of a large system is solved from `reduced_system`; solved
+    /// symbolically, it is emitted with its steps labelled).
+    fn keep(self, route: Route, m: &Model, dv: &Derivation, stats: &Stats) -> RouteGraphs {
         let other_kept = m.outputs.contains(Output::Routes)
-            && (route == Route::Curvature || dv.curvature_route.solution.is_none());
+            && (route == Route::Curvature
+                || (dv.curvature_route.solution.is_none() && !stats.is_large(route)));
         let mut graphs = RouteGraphs::default();
         let (multiplier, curvature) = (self.multiplier, self.curvature);
         if route == Route::Multiplier || other_kept {
