@@ -20,11 +20,11 @@ use proc_macro::TokenStream;
 /// the route chosen) to standard error.
 #[proc_macro]
 pub fn nonholonomic_system(input: TokenStream) -> TokenStream {
-    nh_core::emit::with_text_parser(compiler_lexer, || expand(input))
+    nh_core::with_text_parser(compiler_lexer, || expand(input))
 }
 
 /// Generated text lexed by the compiler directly (see
-/// `nh_core::emit::with_text_parser`).
+/// `nh_core::with_text_parser`).
 fn compiler_lexer(text: &str) -> Option<proc_macro2::TokenStream> {
     text.parse::<TokenStream>().ok().map(Into::into)
 }

@@ -78,7 +78,7 @@ struct Row {
     runs: usize,
     median_ms: f64,
     wall_s: f64,
-    stats: nh_core::generate::Stats,
+    stats: nh_core::Stats,
     /// The message of the first `compile_error!` in the expansion.
     error: Option<String>,
 }
@@ -93,7 +93,7 @@ fn compile_error(code: &str) -> Option<String> {
 
 /// Expands `body` once on an 8 MiB stack: time in ms, statistics, and (if
 /// `check`) the compile error the expansion ends in, if any.
-fn expand_once(body: &str, check: bool) -> (f64, nh_core::generate::Stats, Option<String>) {
+fn expand_once(body: &str, check: bool) -> (f64, nh_core::Stats, Option<String>) {
     let body = body.to_string();
     let worker = std::thread::Builder::new()
         .stack_size(8 << 20)

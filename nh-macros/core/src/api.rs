@@ -14,7 +14,7 @@
 //! identifier the generated code introduces (locals, temporaries, the cache)
 //! starts with `__nh_`.
 
-use crate::lower::Outputs;
+use crate::model::{Output, Outputs};
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 use syn::Visibility;
@@ -45,6 +45,217 @@ pub struct Shape<'a> {
     pub integrable: bool,
 }
 
+/// A method of the generated API: one variant per method, in the order of
+/// [`METHODS`] (the order they are emitted and derived in).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum GeneratedMethod {
+    /// `dependent_velocities`
+    DependentVelocities,
+    /// `accelerations`
+    Accelerations,
+    /// `accelerations_multiplier_route`
+    AccelerationsMultiplierRoute,
+    /// `accelerations_curvature_route`
+    AccelerationsCurvatureRoute,
+    /// `reduced_system`
+    ReducedSystem,
+    /// `multipliers`
+    Multipliers,
+    /// `curvature`
+    Curvature,
+    /// `energy`
+    Energy,
+    /// `constraint_matrix`
+    ConstraintMatrix,
+    /// `mass_matrix`
+    MassMatrix,
+    /// `linearization`
+    Linearization,
+    /// `jacobian`
+    Jacobian,
+    /// `rhs` (or `rhs_with_input`) of the runtime trait implementation.
+    Rhs,
+}
+
+/// What a generated method takes besides `&self`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Arguments {
+    /// `q`
+    Coordinates,
+    /// `q, rdot`
+    Velocities,
+    /// `t, q, rdot` and `u` for a system with inputs.
+    Motion,
+    /// `t, x` and `u` for a system with inputs.
+    State,
+}
+
+/// What a generated method returns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Returns {
+    /// A vector of p values, one per dependent coordinate.
+    Dependent,
+    /// A vector of k values, one per independent coordinate.
+    Independent,
+    /// A k × k matrix and a vector of k values.
+    ReducedSystem,
+    /// p antisymmetric k × k matrices.
+    Curvature,
+    /// One value.
+    Scalar,
+    /// A p × k matrix.
+    ConstraintMatrix,
+    /// An n × n matrix.
+    MassMatrix,
+    /// An (n + k) × (n + k) matrix.
+    StateMatrix,
+    /// An (n + k) × (n + k) and an (n + k) × m matrix.
+    StateAndInputMatrices,
+    /// A vector of n + k values, the state's derivative.
+    State,
+}
+
+/// One row of the table of generated methods.
+pub struct MethodSpec {
+    /// The method.
+    pub method: GeneratedMethod,
+    /// Its name in the generated code.
+    pub name: &'static str,
+    /// Its documentation, or (for the accelerations and the Jacobian) the
+    /// opening the derivation completes with its figures; for a route's
+    /// method, the route's description.
+    pub doc: &'static str,
+    /// What it takes.
+    pub takes: Arguments,
+    /// What it returns.
+    pub returns: Returns,
+    /// The output that asks for it; `None` for a method every system has.
+    pub requested_by: Option<Output>,
+}
+
+/// Every generated method, in the order they are emitted and derived in
+/// (`rhs` last: the runtime trait calls the others).
+pub const METHODS: [MethodSpec; 13] = [
+    MethodSpec {
+        method: GeneratedMethod::DependentVelocities,
+        name: "dependent_velocities",
+        doc: "The dependent velocities ṡ = −A(q) ṙ of the constraints (5.3), in the order of [`Self::DEPENDENT`].",
+        takes: Arguments::Velocities,
+        returns: Returns::Dependent,
+        requested_by: None,
+    },
+    MethodSpec {
+        method: GeneratedMethod::Accelerations,
+        name: "accelerations",
+        doc: "The reduced equations of motion: r̈, the accelerations of the independent coordinates (in the order of [`Self::INDEPENDENT`]) at time `t`, coordinates `q` and independent velocities `rdot`.",
+        takes: Arguments::Motion,
+        returns: Returns::Independent,
+        requested_by: None,
+    },
+    MethodSpec {
+        method: GeneratedMethod::AccelerationsMultiplierRoute,
+        name: "accelerations_multiplier_route",
+        doc: "the multiplier route: the Euler–Lagrange terms (3.9) projected onto the constraint distribution, (5.9)",
+        takes: Arguments::Motion,
+        returns: Returns::Independent,
+        requested_by: Some(Output::Routes),
+    },
+    MethodSpec {
+        method: GeneratedMethod::AccelerationsCurvatureRoute,
+        name: "accelerations_curvature_route",
+        doc: "the curvature route: the constrained Lagrangian Lc (5.12) with the curvature term of (5.20)–(5.21)",
+        takes: Arguments::Motion,
+        returns: Returns::Independent,
+        requested_by: Some(Output::Routes),
+    },
+    MethodSpec {
+        method: GeneratedMethod::ReducedSystem,
+        name: "reduced_system",
+        doc: "The reduced equations Mc r̈ = f of the curvature route as a matrix and a vector: Mc = ∂²Lc/∂ṙ∂ṙ (5.12) and f the right side of (5.20). [`Self::accelerations`] solves them by an unrolled LDLᵀ factorisation.",
+        takes: Arguments::Motion,
+        returns: Returns::ReducedSystem,
+        requested_by: Some(Output::Routes),
+    },
+    MethodSpec {
+        method: GeneratedMethod::Multipliers,
+        name: "multipliers",
+        doc: "The Lagrange multipliers λ_a = d/dt ∂L/∂ṡ_a − ∂L/∂s_a − Q_{s_a} along the motion (5.10), one per dependent coordinate: the generalized constraint forces, with the sign convention E(L) = Cᵀλ, C = [A | I].",
+        takes: Arguments::Motion,
+        returns: Returns::Dependent,
+        requested_by: Some(Output::Multipliers),
+    },
+    MethodSpec {
+        method: GeneratedMethod::Curvature,
+        name: "curvature",
+        doc: "The curvature of the constraint connection, (5.21): `B[b][(α, β)]` = B^b_{αβ}, antisymmetric in (α, β); entries that are identically zero are not computed.",
+        takes: Arguments::Coordinates,
+        returns: Returns::Curvature,
+        requested_by: Some(Output::Curvature),
+    },
+    MethodSpec {
+        method: GeneratedMethod::Energy,
+        name: "energy",
+        doc: "The energy E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities.",
+        takes: Arguments::Velocities,
+        returns: Returns::Scalar,
+        requested_by: Some(Output::Energy),
+    },
+    MethodSpec {
+        method: GeneratedMethod::ConstraintMatrix,
+        name: "constraint_matrix",
+        doc: "The constraint matrix A^a_α of ṡ_a = −Σ_α A^a_α ṙ_α (5.3): rows follow [`Self::DEPENDENT`], columns [`Self::INDEPENDENT`].",
+        takes: Arguments::Coordinates,
+        returns: Returns::ConstraintMatrix,
+        requested_by: Some(Output::ConstraintMatrix),
+    },
+    MethodSpec {
+        method: GeneratedMethod::MassMatrix,
+        name: "mass_matrix",
+        doc: "The mass matrix ∂²L/∂q̇_i∂q̇_j in coordinate order.",
+        takes: Arguments::Coordinates,
+        returns: Returns::MassMatrix,
+        requested_by: Some(Output::MassMatrix),
+    },
+    MethodSpec {
+        method: GeneratedMethod::Linearization,
+        name: "linearization",
+        doc: "The linearisation of the first-order system ẋ = f(t, x, u) at (t, x, u): A = ∂f/∂x and B = ∂f/∂u, derived symbolically through the reduced solve (as for the Jacobian): ∂r̈/∂z = Mc⁻¹ (∂f/∂z − (∂Mc/∂z) r̈) (5.20). For controller design: δẋ ≈ A δx + B δu.",
+        takes: Arguments::State,
+        returns: Returns::StateAndInputMatrices,
+        requested_by: Some(Output::Linearization),
+    },
+    MethodSpec {
+        method: GeneratedMethod::Jacobian,
+        name: "jacobian",
+        doc: "The Jacobian ∂f/∂x of the first-order system x = [q, ṙ] ↦ [q̇, r̈]",
+        takes: Arguments::State,
+        returns: Returns::StateMatrix,
+        requested_by: Some(Output::Jacobian),
+    },
+    MethodSpec {
+        method: GeneratedMethod::Rhs,
+        name: "rhs",
+        doc: "ẋ for the state x = [q, ṙ]: ẋ = [q̇(q, ṙ), r̈], with the dependent velocities from the constraints.",
+        takes: Arguments::State,
+        returns: Returns::State,
+        requested_by: None,
+    },
+];
+
+impl GeneratedMethod {
+    /// Its row of [`METHODS`].
+    pub fn spec(self) -> &'static MethodSpec {
+        &METHODS[self as usize]
+    }
+}
+
+impl MethodSpec {
+    /// Whether a system with these outputs has this method.
+    pub fn is_requested(&self, outputs: &Outputs) -> bool {
+        self.requested_by.is_none_or(|o| outputs.contains(o))
+    }
+}
+
 /// The body and documentation of one generated method.
 pub struct Method {
     /// Rustdoc text.
@@ -53,13 +264,11 @@ pub struct Method {
     pub body: TokenStream,
 }
 
-/// Supplies method bodies by method name: `dependent_velocities`,
-/// `accelerations`, `accelerations_multiplier_route`,
-/// `accelerations_curvature_route`, `reduced_system`, `multipliers`,
-/// `curvature`, `energy`, `constraint_matrix`, `mass_matrix`, `rhs`.
+/// Supplies the bodies of the generated methods.
 pub trait Bodies {
-    /// The method named `name`.
-    fn method(&mut self, name: &str) -> Method;
+    /// The body of `method`, asked for once per method the system has, in
+    /// the order of [`METHODS`].
+    fn method(&mut self, method: GeneratedMethod) -> Method;
     /// Extra associated constants (route figures), emitted with `routes`.
     fn route_consts(&mut self) -> TokenStream;
     /// The parameter-only values hoisted out of the methods (asked for after
@@ -89,298 +298,125 @@ fn allow_lints() -> TokenStream {
     quote!(#[allow(non_snake_case, clippy::all, clippy::pedantic, unused_variables, unused_parens, unused_doc_comments)])
 }
 
+/// The sizes of a system: n coordinates, k independent, p constraints,
+/// m inputs, and the state's length n + k.
+#[derive(Clone, Copy)]
+struct Dims {
+    n: usize,
+    k: usize,
+    p: usize,
+    inputs: usize,
+    state: usize,
+}
+
+impl Dims {
+    fn of(shape: &Shape) -> Dims {
+        let (n, k) = (shape.coords.len(), shape.independent.len());
+        Dims {
+            n,
+            k,
+            p: shape.dependent.len(),
+            inputs: shape.inputs.len(),
+            state: n + k,
+        }
+    }
+
+    /// `, u: &SVector<T, m>` for a system with inputs.
+    fn u_arg(self) -> TokenStream {
+        if self.inputs > 0 {
+            let uty = svector(self.inputs);
+            quote!(, u: &#uty)
+        } else {
+            quote!()
+        }
+    }
+
+    /// The arguments of a method, `&self` included.
+    fn arguments(self, takes: Arguments) -> TokenStream {
+        let (qty, rty, xty, u_arg) = (
+            svector(self.n),
+            svector(self.k),
+            svector(self.state),
+            self.u_arg(),
+        );
+        match takes {
+            Arguments::Coordinates => quote!(&self, q: &#qty),
+            Arguments::Velocities => quote!(&self, q: &#qty, rdot: &#rty),
+            Arguments::Motion => quote!(&self, t: T, q: &#qty, rdot: &#rty #u_arg),
+            Arguments::State => quote!(&self, t: T, x: &#xty #u_arg),
+        }
+    }
+
+    /// The return type of a method.
+    fn returns(self, returns: Returns) -> TokenStream {
+        let Dims { n, k, p, .. } = self;
+        let dim = self.state;
+        match returns {
+            Returns::Dependent => svector(p),
+            Returns::Independent => svector(k),
+            Returns::ReducedSystem => {
+                let (kk, rty) = (smatrix(k, k), svector(k));
+                quote!((#kk, #rty))
+            }
+            Returns::Curvature => {
+                let kk = smatrix(k, k);
+                quote!([#kk; #p])
+            }
+            Returns::Scalar => quote!(T),
+            Returns::ConstraintMatrix => smatrix(p, k),
+            Returns::MassMatrix => smatrix(n, n),
+            Returns::StateMatrix => smatrix(dim, dim),
+            Returns::StateAndInputMatrices => {
+                let (dd, du) = (smatrix(dim, dim), smatrix(dim, self.inputs));
+                quote!((#dd, #du))
+            }
+            Returns::State => svector(dim),
+        }
+    }
+}
+
 /// The whole expansion for a system of the given shape.
 pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
-    let (n, k, p) = (
-        shape.coords.len(),
-        shape.independent.len(),
-        shape.dependent.len(),
-    );
-    let n_in = shape.inputs.len();
-    let dim = n + k;
-    let Shape {
-        attrs, vis, name, ..
-    } = shape;
-    // a parameter that cannot be a field (a keyword such as `self`, or a
-    // repeated name: both already reported) gets a stand-in name, so the
-    // struct emitted next to the errors compiles and `new` keeps its arity
-    let params: &Vec<Ident> = &shape
-        .params
-        .iter()
-        .enumerate()
-        .map(|(i, p)| {
-            if crate::names::is_rust_identifier(p) && !shape.params[..i].contains(p) {
-                p.clone()
-            } else {
-                format_ident!("__nh_parameter_{}", i)
-            }
-        })
-        .collect();
-    let (qty, rty, pty, uty, xty) = (
-        svector(n),
-        svector(k),
-        svector(p),
-        svector(n_in),
-        svector(dim),
-    );
-    let has_inputs = n_in > 0;
-    let u_arg = if has_inputs {
-        quote!(, u: &#uty)
-    } else {
-        quote!()
-    };
-    let allow = allow_lints();
-
-    let mut method = |fname: &str, sig: TokenStream| -> TokenStream {
-        let Method { doc, body } = bodies.method(fname);
-        quote! {
-            #[doc = #doc]
-            #[inline]
-            #sig {
-                #body
-            }
-        }
-    };
-    let mut methods = TokenStream::new();
-    methods.extend(method(
-        "dependent_velocities",
-        quote!(pub fn dependent_velocities(&self, q: &#qty, rdot: &#rty) -> #pty),
-    ));
-    methods.extend(method(
-        "accelerations",
-        quote!(pub fn accelerations(&self, t: T, q: &#qty, rdot: &#rty #u_arg) -> #rty),
-    ));
-    let o = &shape.outputs;
-    if o.routes {
-        for f in [
-            "accelerations_multiplier_route",
-            "accelerations_curvature_route",
-        ] {
-            let id = format_ident!("{f}");
-            methods.extend(method(
-                f,
-                quote!(pub fn #id(&self, t: T, q: &#qty, rdot: &#rty #u_arg) -> #rty),
-            ));
-        }
-        let kk = smatrix(k, k);
-        methods.extend(method(
-            "reduced_system",
-            quote!(pub fn reduced_system(&self, t: T, q: &#qty, rdot: &#rty #u_arg) -> (#kk, #rty)),
-        ));
-    }
-    if o.multipliers {
-        methods.extend(method(
-            "multipliers",
-            quote!(pub fn multipliers(&self, t: T, q: &#qty, rdot: &#rty #u_arg) -> #pty),
-        ));
-    }
-    if o.curvature {
-        let kk = smatrix(k, k);
-        methods.extend(method(
-            "curvature",
-            quote!(pub fn curvature(&self, q: &#qty) -> [#kk; #p]),
-        ));
-    }
-    if o.energy {
-        methods.extend(method(
-            "energy",
-            quote!(pub fn energy(&self, q: &#qty, rdot: &#rty) -> T),
-        ));
-    }
-    if o.constraint_matrix {
-        let pk = smatrix(p, k);
-        methods.extend(method(
-            "constraint_matrix",
-            quote!(pub fn constraint_matrix(&self, q: &#qty) -> #pk),
-        ));
-    }
-    if o.mass_matrix {
-        let nn = smatrix(n, n);
-        methods.extend(method(
-            "mass_matrix",
-            quote!(pub fn mass_matrix(&self, q: &#qty) -> #nn),
-        ));
-    }
-    if o.linearization {
-        let (dd, du) = (smatrix(dim, dim), smatrix(dim, n_in));
-        methods.extend(method(
-            "linearization",
-            quote!(pub fn linearization(&self, t: T, x: &#xty #u_arg) -> (#dd, #du)),
-        ));
-    }
-    let mut jacobian_impl = quote!();
-    if o.jacobian {
-        let dd = smatrix(dim, dim);
-        methods.extend(method(
-            "jacobian",
-            quote!(pub fn jacobian(&self, t: T, x: &#xty #u_arg) -> #dd),
-        ));
-        if !has_inputs {
-            jacobian_impl = quote! {
-                #allow
-                impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy>
-                    __nh_private::nh_runtime::OdeJacobian<T, #dim> for #name<T>
-                {
-                    /// ∂f/∂x of the first-order system, derived symbolically (see the inherent `jacobian`).
-                    #[inline]
-                    fn jacobian(&self, t: T, x: &#xty) -> #dd {
-                        #name::jacobian(self, t, x)
-                    }
-                }
-            };
-        }
-    }
-    let route_consts = if o.routes {
+    let dims = Dims::of(shape);
+    let params = field_names(&shape.params);
+    let methods = inherent_methods(shape, dims, bodies);
+    let route_consts = if shape.outputs.contains(Output::Routes) {
         bodies.route_consts()
     } else {
         quote!()
     };
-
-    let Method {
-        doc: rhs_doc,
-        body: rhs_body,
-    } = bodies.method("rhs");
-    let runtime_impl = if has_inputs {
-        quote! {
-            #allow
-            impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy>
-                __nh_private::nh_runtime::ControlledSystem<T, #dim, #n_in> for #name<T>
-            {
-                #[doc = #rhs_doc]
-                #[inline]
-                fn rhs_with_input(&self, t: T, x: &#xty, u: &#uty) -> #xty {
-                    #rhs_body
-                }
-            }
-        }
-    } else {
-        quote! {
-            #allow
-            impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy>
-                __nh_private::nh_runtime::OdeSystem<T, #dim> for #name<T>
-            {
-                #[doc = #rhs_doc]
-                #[inline]
-                fn rhs(&self, t: T, x: &#xty) -> #xty {
-                    #rhs_body
-                }
-            }
-        }
-    };
-
-    // `new` takes the parameters under their own names (the block around
-    // the impls shadows any constant of those names, see below)
-    let param_args = params;
-    // values that depend on parameters alone: computed when the parameters
-    // are set, kept in a cache with the parameters it was computed for; a
-    // method whose parameters were changed since (the fields are public)
-    // computes them afresh, so a stale cache is never read
-    let (n_hoisted, hoist_code) = bodies.hoisting();
-    let n_par = params.len();
-    let (cache_fields, cache_init, cache_methods, new_const) = if n_hoisted > 0 {
-        (
-            quote! {
-                #[doc(hidden)]
-                __nh_cache: [T; #n_hoisted],
-                #[doc(hidden)]
-                __nh_cache_for: [T; #n_par],
-            },
-            quote!(__nh_cache: [T::zero(); #n_hoisted], __nh_cache_for: [#(#param_args),*],),
-            quote! {
-                /// The values that depend on the parameters alone, computed once.
-                fn __nh_compute_cache(&self) -> [T; #n_hoisted] {
-                    let mut __nh_hoisted = [T::zero(); #n_hoisted];
-                    #hoist_code
-                    __nh_hoisted
-                }
-
-                /// The cache, or the values afresh if a parameter changed since.
-                #[inline(always)]
-                fn __nh_cached(&self) -> [T; #n_hoisted] {
-                    if self.__nh_cache_for == [#(self.#params),*] {
-                        self.__nh_cache
-                    } else {
-                        self.__nh_compute_cache()
-                    }
-                }
-            },
-            false,
-        )
-    } else {
-        (quote!(), quote!(), quote!(), true)
-    };
-    let coord_names: Vec<Literal> = shape.coords.iter().map(|c| Literal::string(c)).collect();
-    let input_names: Vec<Literal> = shape.inputs.iter().map(|c| Literal::string(c)).collect();
-    let indep = &shape.independent;
-    let dep = &shape.dependent;
-    let integrable = shape.integrable;
-    let integrable_doc = if p == 0 {
-        "No constraints: trivially `true`.".to_string()
-    } else if integrable {
-        "`true`: every curvature coefficient B^b_{αβ} (5.21) is identically zero, so the constraints are integrable (holonomic in disguise) and could be eliminated by integrating them.".to_string()
-    } else {
-        "`false`: some curvature coefficient B^b_{αβ} (5.21) is not identically zero, so the constraints are genuinely nonholonomic.".to_string()
-    };
-    let new_doc = format!(
-        "A system with the given parameters ({}).",
-        if params.is_empty() {
-            "none".to_string()
-        } else {
-            params
-                .iter()
-                .map(|p| format!("`{p}`"))
-                .collect::<Vec<_>>()
-                .join(", ")
-        }
-    );
-    let field_docs: Vec<String> = params.iter().map(|p| format!("Parameter `{p}`.")).collect();
-    // the derives of `crate::attrs::DERIVED` (a user's derive of one of
-    // them is an error at its path, see `attrs::check_derives`)
-    let (phantom_field, phantom_init, derive) = if params.is_empty() {
+    let runtime_impl = runtime_impl(shape, dims, bodies.method(GeneratedMethod::Rhs));
+    let jacobian_impl = jacobian_impl(shape, dims);
+    let cache = Cache::new(&params, bodies.hoisting());
+    let constants = constants(shape, dims);
+    let new_fn = new_fn(&params, &cache);
+    let Cache {
+        fields: cache_fields,
+        methods: cache_methods,
+        ..
+    } = cache;
+    let Shape {
+        attrs, vis, name, ..
+    } = shape;
+    let (phantom_field, derive) = if params.is_empty() {
         (
             quote!(#[doc(hidden)] pub __nh_scalar: ::core::marker::PhantomData<T>,),
-            quote!(__nh_scalar: ::core::marker::PhantomData,),
             quote!(#[derive(::core::clone::Clone, ::core::marker::Copy, ::core::fmt::Debug, ::core::cmp::PartialEq, ::core::default::Default)]),
         )
     } else {
         (
             quote!(),
-            quote!(),
             quote!(#[derive(::core::clone::Clone, ::core::marker::Copy, ::core::fmt::Debug, ::core::cmp::PartialEq)]),
         )
     };
-    let new_fn = if new_const {
-        quote! {
-            #[doc = #new_doc]
-            pub const fn new(#(#param_args: T),*) -> Self {
-                Self { #(#params: #param_args,)* #phantom_init }
-            }
-        }
-    } else {
-        quote! {
-            #[doc = #new_doc]
-            pub fn new(#(#param_args: T),*) -> Self {
-                let mut __nh_new = Self { #(#params: #param_args,)* #phantom_init #cache_init };
-                __nh_new.__nh_cache = __nh_new.__nh_compute_cache();
-                __nh_new
-            }
-        }
-    };
+    let field_docs: Vec<String> = params.iter().map(|p| format!("Parameter `{p}`.")).collect();
     let inherited = crate::attrs::inherited(attrs);
     let krate = shape.krate;
     let private = private();
-    // a function for every argument name: it shadows a user's constant,
-    // static or unit struct of that name, which the argument pattern would
-    // match instead of binding (functions do not take part in patterns)
-    let mut arg_names: Vec<Ident> = ["t", "q", "rdot", "x", "u"]
-        .iter()
-        .map(|a| format_ident!("{a}"))
-        .collect();
-    for p in params {
-        if !arg_names.contains(p) {
-            arg_names.push(p.clone());
-        }
-    }
+    let arg_names = argument_names(&params);
+    let allow = allow_lints();
+    // the derives of `crate::attrs::DERIVED` (a user's derive of one of
+    // them is an error at its path, see `attrs::check_derives`)
     quote! {
         #(#attrs)*
         #[allow(non_snake_case)]
@@ -401,24 +437,7 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
 
             #allow
             impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy> #name<T> {
-                /// The generalized coordinates in declared order: the coordinate order of `q` everywhere.
-                pub const COORDINATES: [&'static ::core::primitive::str; #n] = [#(#coord_names),*];
-                /// Indices in `q` of the independent coordinates r, ascending.
-                pub const INDEPENDENT: [::core::primitive::usize; #k] = [#(#indep),*];
-                /// Indices in `q` of the dependent coordinates s (one per constraint), ascending.
-                pub const DEPENDENT: [::core::primitive::usize; #p] = [#(#dep),*];
-                /// The inputs in declared order.
-                pub const INPUTS: [&'static ::core::primitive::str; #n_in] = [#(#input_names),*];
-                /// Number of coordinates n.
-                pub const N: ::core::primitive::usize = #n;
-                /// Number of independent coordinates k = n − p.
-                pub const K: ::core::primitive::usize = #k;
-                /// Number of constraints p.
-                pub const P: ::core::primitive::usize = #p;
-                /// Length of the runtime state x = [q, ṙ]: n + k.
-                pub const STATE_DIM: ::core::primitive::usize = #dim;
-                #[doc = #integrable_doc]
-                pub const INTEGRABLE: ::core::primitive::bool = #integrable;
+                #constants
                 #route_consts
 
                 #new_fn
@@ -440,6 +459,253 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     }
 }
 
+/// The parameters as field names: a parameter that cannot be a field (a
+/// keyword such as `self`, or a repeated name: both already reported) gets
+/// a stand-in name, so the struct emitted next to the errors compiles and
+/// `new` keeps its arity.
+fn field_names(params: &[Ident]) -> Vec<Ident> {
+    params
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            if crate::names::is_rust_identifier(p) && !params[..i].contains(p) {
+                p.clone()
+            } else {
+                format_ident!("__nh_parameter_{}", i)
+            }
+        })
+        .collect()
+}
+
+/// The inherent methods the system has, from the table, with their bodies.
+fn inherent_methods(shape: &Shape, dims: Dims, bodies: &mut dyn Bodies) -> TokenStream {
+    let mut methods = TokenStream::new();
+    for spec in METHODS.iter().filter(|s| s.method != GeneratedMethod::Rhs) {
+        if !spec.is_requested(&shape.outputs) {
+            continue;
+        }
+        let Method { doc, body } = bodies.method(spec.method);
+        let id = format_ident!("{}", spec.name);
+        let (args, ret) = (dims.arguments(spec.takes), dims.returns(spec.returns));
+        methods.extend(quote! {
+            #[doc = #doc]
+            #[inline]
+            pub fn #id(#args) -> #ret {
+                #body
+            }
+        });
+    }
+    methods
+}
+
+/// The runtime trait implementation: `OdeSystem`, or `ControlledSystem`
+/// for a system with inputs.
+fn runtime_impl(shape: &Shape, dims: Dims, rhs: Method) -> TokenStream {
+    let Method { doc, body } = rhs;
+    let (name, dim, n_in) = (shape.name, dims.state, dims.inputs);
+    let xty = svector(dim);
+    let allow = allow_lints();
+    let (runtime_trait, rhs_fn) = if n_in > 0 {
+        let uty = svector(n_in);
+        (
+            quote!(ControlledSystem<T, #dim, #n_in>),
+            quote!(fn rhs_with_input(&self, t: T, x: &#xty, u: &#uty) -> #xty),
+        )
+    } else {
+        (
+            quote!(OdeSystem<T, #dim>),
+            quote!(fn rhs(&self, t: T, x: &#xty) -> #xty),
+        )
+    };
+    quote! {
+        #allow
+        impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy>
+            __nh_private::nh_runtime::#runtime_trait for #name<T>
+        {
+            #[doc = #doc]
+            #[inline]
+            #rhs_fn {
+                #body
+            }
+        }
+    }
+}
+
+/// The runtime's `OdeJacobian` for a system with `jacobian` and no inputs.
+fn jacobian_impl(shape: &Shape, dims: Dims) -> TokenStream {
+    if !shape.outputs.contains(Output::Jacobian) || dims.inputs > 0 {
+        return quote!();
+    }
+    let (name, dim) = (shape.name, dims.state);
+    let (xty, dd) = (svector(dim), smatrix(dim, dim));
+    let allow = allow_lints();
+    quote! {
+        #allow
+        impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy>
+            __nh_private::nh_runtime::OdeJacobian<T, #dim> for #name<T>
+        {
+            /// ∂f/∂x of the first-order system, derived symbolically (see the inherent `jacobian`).
+            #[inline]
+            fn jacobian(&self, t: T, x: &#xty) -> #dd {
+                #name::jacobian(self, t, x)
+            }
+        }
+    }
+}
+
+/// The associated constants: the coordinates, their partition, the inputs,
+/// the sizes and integrability.
+fn constants(shape: &Shape, dims: Dims) -> TokenStream {
+    let Dims { n, k, p, .. } = dims;
+    let (n_in, dim) = (dims.inputs, dims.state);
+    let coord_names: Vec<Literal> = shape.coords.iter().map(|c| Literal::string(c)).collect();
+    let input_names: Vec<Literal> = shape.inputs.iter().map(|c| Literal::string(c)).collect();
+    let indep = &shape.independent;
+    let dep = &shape.dependent;
+    let integrable = shape.integrable;
+    let integrable_doc = if p == 0 {
+        "No constraints: trivially `true`.".to_string()
+    } else if integrable {
+        "`true`: every curvature coefficient B^b_{αβ} (5.21) is identically zero, so the constraints are integrable (holonomic in disguise) and could be eliminated by integrating them.".to_string()
+    } else {
+        "`false`: some curvature coefficient B^b_{αβ} (5.21) is not identically zero, so the constraints are genuinely nonholonomic.".to_string()
+    };
+    quote! {
+        /// The generalized coordinates in declared order: the coordinate order of `q` everywhere.
+        pub const COORDINATES: [&'static ::core::primitive::str; #n] = [#(#coord_names),*];
+        /// Indices in `q` of the independent coordinates r, ascending.
+        pub const INDEPENDENT: [::core::primitive::usize; #k] = [#(#indep),*];
+        /// Indices in `q` of the dependent coordinates s (one per constraint), ascending.
+        pub const DEPENDENT: [::core::primitive::usize; #p] = [#(#dep),*];
+        /// The inputs in declared order.
+        pub const INPUTS: [&'static ::core::primitive::str; #n_in] = [#(#input_names),*];
+        /// Number of coordinates n.
+        pub const N: ::core::primitive::usize = #n;
+        /// Number of independent coordinates k = n − p.
+        pub const K: ::core::primitive::usize = #k;
+        /// Number of constraints p.
+        pub const P: ::core::primitive::usize = #p;
+        /// Length of the runtime state x = [q, ṙ]: n + k.
+        pub const STATE_DIM: ::core::primitive::usize = #dim;
+        #[doc = #integrable_doc]
+        pub const INTEGRABLE: ::core::primitive::bool = #integrable;
+    }
+}
+
+/// Values that depend on parameters alone: computed when the parameters
+/// are set, kept in a cache with the parameters it was computed for; a
+/// method whose parameters were changed since (the fields are public)
+/// computes them afresh, so a stale cache is never read.
+struct Cache {
+    /// The number of cached values (none: no cache).
+    len: usize,
+    /// The struct's fields holding the cache.
+    fields: TokenStream,
+    /// The initialisers of those fields in `new`.
+    init: TokenStream,
+    /// The methods computing and reading the cache.
+    methods: TokenStream,
+}
+
+impl Cache {
+    fn new(params: &[Ident], (len, hoist_code): (usize, TokenStream)) -> Cache {
+        if len == 0 {
+            return Cache {
+                len,
+                fields: quote!(),
+                init: quote!(),
+                methods: quote!(),
+            };
+        }
+        let n_par = params.len();
+        Cache {
+            len,
+            fields: quote! {
+                #[doc(hidden)]
+                __nh_cache: [T; #len],
+                #[doc(hidden)]
+                __nh_cache_for: [T; #n_par],
+            },
+            init: quote!(__nh_cache: [T::zero(); #len], __nh_cache_for: [#(#params),*],),
+            methods: quote! {
+                /// The values that depend on the parameters alone, computed once.
+                fn __nh_compute_cache(&self) -> [T; #len] {
+                    let mut __nh_hoisted = [T::zero(); #len];
+                    #hoist_code
+                    __nh_hoisted
+                }
+
+                /// The cache, or the values afresh if a parameter changed since.
+                #[inline(always)]
+                fn __nh_cached(&self) -> [T; #len] {
+                    if self.__nh_cache_for == [#(self.#params),*] {
+                        self.__nh_cache
+                    } else {
+                        self.__nh_compute_cache()
+                    }
+                }
+            },
+        }
+    }
+}
+
+/// `new`, taking the parameters under their own names (the block around
+/// the impls shadows any constant of those names, see below): a `const fn`
+/// unless it fills a cache.
+fn new_fn(params: &[Ident], cache: &Cache) -> TokenStream {
+    let new_doc = format!(
+        "A system with the given parameters ({}).",
+        if params.is_empty() {
+            "none".to_string()
+        } else {
+            params
+                .iter()
+                .map(|p| format!("`{p}`"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        }
+    );
+    let phantom_init = if params.is_empty() {
+        quote!(__nh_scalar: ::core::marker::PhantomData,)
+    } else {
+        quote!()
+    };
+    if cache.len == 0 {
+        quote! {
+            #[doc = #new_doc]
+            pub const fn new(#(#params: T),*) -> Self {
+                Self { #(#params: #params,)* #phantom_init }
+            }
+        }
+    } else {
+        let cache_init = &cache.init;
+        quote! {
+            #[doc = #new_doc]
+            pub fn new(#(#params: T),*) -> Self {
+                let mut __nh_new = Self { #(#params: #params,)* #phantom_init #cache_init };
+                __nh_new.__nh_cache = __nh_new.__nh_compute_cache();
+                __nh_new
+            }
+        }
+    }
+}
+
+/// A function for every argument name: it shadows a user's constant,
+/// static or unit struct of that name, which the argument pattern would
+/// match instead of binding (functions do not take part in patterns).
+fn argument_names(params: &[Ident]) -> Vec<Ident> {
+    let mut arg_names: Vec<Ident> = ["t", "q", "rdot", "x", "u"]
+        .iter()
+        .map(|a| format_ident!("{a}"))
+        .collect();
+    for p in params {
+        if !arg_names.contains(p) {
+            arg_names.push(p.clone());
+        }
+    }
+    arg_names
+}
+
 /// Bodies of a system that failed to expand: each method diverges. They are
 /// never run, since the expansion also carries the compile errors; they only
 /// keep the user's code that calls the system free of follow-up errors.
@@ -450,7 +716,7 @@ impl Bodies for StandIn {
         (0, TokenStream::new())
     }
 
-    fn method(&mut self, _name: &str) -> Method {
+    fn method(&mut self, _method: GeneratedMethod) -> Method {
         Method {
             doc: "Not generated: the system definition has errors (see the compile errors).".into(),
             body: quote!(::core::panic!(
@@ -468,5 +734,19 @@ impl Bodies for StandIn {
             /// Not generated (the system has errors).
             pub const ROUTE: &'static str = "";
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{GeneratedMethod, METHODS};
+
+    #[test]
+    fn every_method_has_its_row() {
+        for (i, spec) in METHODS.iter().enumerate() {
+            assert_eq!(spec.method as usize, i, "{}", spec.name);
+            assert_eq!(spec.method.spec().name, spec.name);
+        }
+        assert_eq!(GeneratedMethod::Rhs.spec().name, "rhs");
     }
 }

@@ -69,8 +69,15 @@ impl Ctxt {
     }
 
     /// Number of errors so far.
+    #[cfg(test)]
     pub fn len(&self) -> usize {
         self.errors.len()
+    }
+
+    /// The individual errors.
+    #[cfg(test)]
+    pub fn errors(&self) -> &[syn::Error] {
+        &self.errors
     }
 
     /// Whether no error has been recorded.
@@ -90,10 +97,5 @@ impl Ctxt {
                 Err(first)
             }
         }
-    }
-
-    /// The individual errors (for tests).
-    pub fn errors(&self) -> &[syn::Error] {
-        &self.errors
     }
 }

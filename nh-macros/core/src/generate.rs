@@ -1,11 +1,12 @@
 //! Assembly of the generated struct, its inherent methods and its runtime
 //! trait implementation (DESIGN §3), from the derived mechanics.
 
-use crate::api::{Bodies, Method, Shape};
+use crate::api::{Bodies, GeneratedMethod, Method, Shape};
+use crate::check;
 use crate::ctxt::Ctxt;
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
-use crate::lower::Model;
-use crate::mechanics::{CurvatureRoute, MultiplierRoute};
+use crate::mechanics::{CurvatureRoute, Derivation, MultiplierRoute};
+use crate::model::{Model, Output};
 use crate::parse::SystemDef;
 use crate::sym::{ExprId, SymId, ZERO};
 use proc_macro2::{Ident, TokenStream};
@@ -60,6 +61,21 @@ pub struct Stats {
 }
 
 impl Stats {
+    /// Operations of r̈ by `route`, after CSE.
+    fn ops(&self, route: Route) -> usize {
+        match route {
+            Route::Multiplier => self.ops_multiplier,
+            Route::Curvature => self.ops_curvature,
+        }
+    }
+
+    /// Whether r̈ by `route`, the route `accelerations` uses, is large enough
+    /// that methods needing it call `accelerations` instead of repeating its
+    /// code.
+    fn is_large(&self, route: Route) -> bool {
+        self.ops(route) > LARGE_OPS
+    }
+
     /// One line: operation counts, route, graph size.
     pub fn summary(&self) -> String {
         let curvature = if self.ops_curvature == 0 {
@@ -114,49 +130,46 @@ impl Args {
 /// A graph with every symbol of the model bound to its source.
 fn bound_dag(m: &Model, args: &Args) -> Dag {
     let mut d = Dag::new();
-    for (i, &s) in m.coord_syms.iter().enumerate() {
+    for (i, c) in m.coordinates.iter().enumerate() {
         let l = d.leaf_named(
             args.coord[i].clone(),
-            &format!("q_{}", syn::ext::IdentExt::unraw(&m.coords[i])),
+            &format!("q_{}", syn::ext::IdentExt::unraw(&c.name)),
         );
-        d.bind(s, l);
+        d.bind(c.position, l);
     }
-    for (j, &i) in m.independent.iter().enumerate() {
+    for (j, &i) in m.independent().iter().enumerate() {
+        let c = &m.coordinates[i];
         let l = d.leaf_named(
             args.rvel[j].clone(),
-            &format!("dot_{}", syn::ext::IdentExt::unraw(&m.coords[i])),
+            &format!("dot_{}", syn::ext::IdentExt::unraw(&c.name)),
         );
-        d.bind(m.vel_syms[i], l);
+        d.bind(c.velocity, l);
     }
-    for (p, &s) in m.params.iter().zip(&m.param_syms) {
+    for p in &m.parameters {
+        let name = &p.name;
         let l = d.leaf_param(
-            quote!(self.#p),
-            &format!("p_{}", syn::ext::IdentExt::unraw(p)),
+            quote!(self.#name),
+            &format!("p_{}", syn::ext::IdentExt::unraw(name)),
         );
-        d.bind(s, l);
+        d.bind(p.sym, l);
     }
-    for (j, &s) in m.input_syms.iter().enumerate() {
+    for (j, u) in m.inputs.iter().enumerate() {
         let l = d.leaf_named(
             quote!(u[#j]),
-            &format!("u_{}", syn::ext::IdentExt::unraw(&m.inputs[j])),
+            &format!("u_{}", syn::ext::IdentExt::unraw(&u.name)),
         );
-        d.bind(s, l);
+        d.bind(u.sym, l);
     }
     let t = d.leaf_named(quote!(t), "time");
-    d.bind(m.t_sym, t);
+    d.bind(m.time, t);
     let pi = d.pi();
-    d.bind(m.pi_sym, pi);
+    d.bind(m.pi, pi);
     // dependent velocities: computed from the constraints (5.3)
-    for (a, &s) in m.dependent.iter().enumerate() {
-        let v = d.expr(&m.engine, m.dependent_velocity[a]);
-        d.label(
-            v,
-            format!(
-                "dot({}): dependent velocity from the constraint (5.3)",
-                m.coords[s]
-            ),
-        );
-        d.bind(m.vel_syms[s], v);
+    for c in &m.constraints {
+        let s = &m.coordinates[c.dependent];
+        let v = d.expr(&m.engine, c.velocity);
+        d.label(v, format!("dot({}): {}", s.name, c.kind.velocity_source()));
+        d.bind(s.velocity, v);
     }
     d
 }
@@ -199,60 +212,41 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
     }
     // q̇ = C ṙ with C = [I; −A] (rows in coordinate order)
     let mut c = vec![vec![ZERO_NODE; k]; n];
-    for (j, &i) in m.independent.iter().enumerate() {
+    for (j, &i) in m.independent().iter().enumerate() {
         c[i][j] = ONE_NODE;
     }
-    for (a, &s) in m.dependent.iter().enumerate() {
+    for con in &m.constraints {
         for b in 0..k {
-            let x = d.expr(&m.engine, m.a_matrix[a][b]);
-            c[s][b] = d.neg(x);
+            let x = d.expr(&m.engine, con.coefficients[b]);
+            c[con.dependent][b] = d.neg(x);
         }
     }
     // q̈ = C r̈ + acc_bias, acc_bias_s = −Ȧ ṙ
     let mut acc_bias = vec![ZERO_NODE; n];
-    for (a, &s) in m.dependent.iter().enumerate() {
+    for (a, &s) in m.dependent().iter().enumerate() {
         acc_bias[s] = d.expr(&m.engine, r.dependent_bias[a]);
     }
     // Cᵀ M C r̈ = −Cᵀ (M acc_bias + h)   (5.9)
     let mut mc = vec![vec![ZERO_NODE; k]; n];
     for i in 0..n {
         for b in 0..k {
-            let mut acc = ZERO_NODE;
-            for j in 0..n {
-                let t = d.mul(mass[i][j], c[j][b]);
-                acc = d.add(acc, t);
-            }
-            mc[i][b] = acc;
+            mc[i][b] = dot(d, ZERO_NODE, (0..n).map(|j| (mass[i][j], c[j][b])));
         }
     }
     let mut mr = vec![vec![ZERO_NODE; k]; k];
     for a in 0..k {
         for b in a..k {
-            let mut acc = ZERO_NODE;
-            for i in 0..n {
-                let t = d.mul(c[i][a], mc[i][b]);
-                acc = d.add(acc, t);
-            }
+            let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], mc[i][b])));
             mr[a][b] = acc;
             mr[b][a] = acc;
         }
     }
-    let mut g = Vec::with_capacity(n);
-    for i in 0..n {
-        let mut acc = bias[i];
-        for j in 0..n {
-            let t = d.mul(mass[i][j], acc_bias[j]);
-            acc = d.add(acc, t);
-        }
-        g.push(acc);
-    }
+    let g: Vec<Node> = (0..n)
+        .map(|i| dot(d, bias[i], (0..n).map(|j| (mass[i][j], acc_bias[j]))))
+        .collect();
     let mut f = Vec::with_capacity(k);
     for a in 0..k {
-        let mut acc = ZERO_NODE;
-        for i in 0..n {
-            let t = d.mul(c[i][a], g[i]);
-            acc = d.add(acc, t);
-        }
+        let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], g[i])));
         f.push(d.neg(acc));
     }
     for (a, row) in mr.iter().enumerate() {
@@ -277,6 +271,34 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
         pivots: fac.d.clone(),
         fac,
     }
+}
+
+impl MultiplierNodes {
+    /// q̈ = C r̈ + acc_bias at these nodes' r̈.
+    fn qdd(&self, d: &mut Dag) -> Vec<Node> {
+        (0..self.c.len())
+            .map(|i| {
+                let pairs = self.c[i].iter().copied().zip(self.rdd.iter().copied());
+                dot(d, self.acc_bias[i], pairs)
+            })
+            .collect()
+    }
+
+    /// The Euler–Lagrange term E_i = (M q̈ + h)_i (3.9) at accelerations `qdd`.
+    fn euler_lagrange(&self, d: &mut Dag, i: usize, qdd: &[Node]) -> Node {
+        let pairs = self.mass[i].iter().copied().zip(qdd.iter().copied());
+        dot(d, self.bias[i], pairs)
+    }
+}
+
+/// `init + Σ x·y` over `pairs`, added up in order.
+fn dot(d: &mut Dag, init: Node, pairs: impl IntoIterator<Item = (Node, Node)>) -> Node {
+    let mut acc = init;
+    for (x, y) in pairs {
+        let t = d.mul(x, y);
+        acc = d.add(acc, t);
+    }
+    acc
 }
 
 fn curvature_nodes(d: &mut Dag, m: &Model, r: &CurvatureRoute) -> (Vec<Node>, Vec<Node>) {
@@ -314,14 +336,43 @@ fn vector_expr(k: usize, items: &[TokenStream]) -> TokenStream {
     quote!(__nh_private::nalgebra::SVector::<T, #k>::from([#(#items),*]))
 }
 
-/// The route descriptions used in the generated docs.
-fn route_doc(route: Route) -> &'static str {
-    match route {
-        Route::Multiplier => {
-            "the multiplier route: the Euler–Lagrange terms (3.9) projected onto the constraint distribution, (5.9)"
+impl Route {
+    /// The method computing r̈ by this route alone.
+    fn method(self) -> GeneratedMethod {
+        match self {
+            Route::Multiplier => GeneratedMethod::AccelerationsMultiplierRoute,
+            Route::Curvature => GeneratedMethod::AccelerationsCurvatureRoute,
         }
-        Route::Curvature => {
-            "the curvature route: the constrained Lagrangian Lc (5.12) with the curvature term of (5.20)–(5.21)"
+    }
+
+    /// The route's description in the generated docs.
+    fn doc(self) -> &'static str {
+        self.method().spec().doc
+    }
+
+    /// The other route.
+    fn other(self) -> Route {
+        match self {
+            Route::Multiplier => Route::Curvature,
+            Route::Curvature => Route::Multiplier,
+        }
+    }
+}
+
+/// The graph of r̈ by each route, from the comparison of the routes, until
+/// a method emits it: the chosen route's for `accelerations`, the other's
+/// for its own method with `outputs { routes }`.
+#[derive(Default)]
+struct RouteGraphs {
+    multiplier: Option<(Dag, Vec<Node>)>,
+    curvature: Option<(Dag, Vec<Node>)>,
+}
+
+impl RouteGraphs {
+    fn slot(&mut self, route: Route) -> &mut Option<(Dag, Vec<Node>)> {
+        match route {
+            Route::Multiplier => &mut self.multiplier,
+            Route::Curvature => &mut self.curvature,
         }
     }
 }
@@ -330,20 +381,16 @@ fn route_doc(route: Route) -> &'static str {
 /// not requested is never emitted.
 struct Derived<'a> {
     m: &'a mut Model,
-    mult: MultiplierRoute,
-    curv: Vec<Vec<Vec<ExprId>>>,
-    croute: CurvatureRoute,
+    dv: Derivation,
     route: Route,
     stats: &'a mut Stats,
-    energy: Option<ExprId>,
     /// Parameter-only values hoisted out of the methods: the code computing
     /// each method's share of the cache, and the cache length so far.
     hoist_blocks: Vec<TokenStream>,
     hoist_len: usize,
     hoist_seen: rustc_hash::FxHashMap<String, usize>,
-    /// The graph of r̈ by the chosen route (from the comparison of routes),
-    /// until `accelerations` emits it.
-    chosen: Option<(Dag, Vec<Node>)>,
+    /// The graphs of r̈ built when the routes were compared.
+    graphs: RouteGraphs,
 }
 
 impl Derived<'_> {
@@ -353,7 +400,7 @@ impl Derived<'_> {
     fn emit_hoisted(&mut self, d: &Dag, outs: &[Node]) -> (TokenStream, Vec<TokenStream>) {
         // `NH_HOIST=0` while compiling turns hoisting off (to measure it)
         let enabled = std::env::var_os("NH_HOIST").is_none_or(|v| v != "0");
-        let hoisted = if self.m.params.is_empty() || !enabled {
+        let hoisted = if self.m.parameters.is_empty() || !enabled {
             Vec::new()
         } else {
             d.hoistable(outs)
@@ -393,18 +440,18 @@ impl Derived<'_> {
 
     fn acc_nodes(&self, d: &mut Dag, route: Route) -> Vec<Node> {
         match route {
-            Route::Multiplier => multiplier_nodes(d, self.m, &self.mult).rdd,
-            Route::Curvature => curvature_nodes(d, self.m, &self.croute).0,
+            Route::Multiplier => multiplier_nodes(d, self.m, &self.dv.multiplier_route).rdd,
+            Route::Curvature => curvature_nodes(d, self.m, &self.dv.curvature_route).0,
         }
     }
 
-    fn accelerations(&mut self, route: Route, doc: String) -> Method {
+    /// r̈ by `route`, from the route's graph.
+    fn accelerations(&mut self, route: Route) -> TokenStream {
         let (n, k) = (self.m.n(), self.m.k());
-        // the chosen route's graph, built once when the routes were compared
-        let (d, rdd) = match self.chosen.take() {
-            Some(g) if route == self.route => g,
-            other => {
-                self.chosen = other;
+        // the route's graph, built once when the routes were compared
+        let (d, rdd) = match self.graphs.slot(route).take() {
+            Some(g) => g,
+            None => {
                 let mut d = bound_dag(self.m, &Args::vectors(n, k));
                 let rdd = self.acc_nodes(&mut d, route);
                 (d, rdd)
@@ -412,10 +459,44 @@ impl Derived<'_> {
         };
         let (stmts, o) = self.emit_hoisted(&d, &rdd);
         let ret = vector_expr(k, &o);
-        Method {
-            doc,
-            body: quote! { let _ = (t, q, rdot); #stmts #ret },
-        }
+        quote! { let _ = (t, q, rdot); #stmts #ret }
+    }
+
+    /// Operations of r̈ by `route`, after CSE.
+    fn ops(&self, route: Route) -> usize {
+        self.stats.ops(route)
+    }
+
+    /// The documentation of `accelerations`: what it computes, and by which
+    /// route at what cost.
+    fn accelerations_doc(&self) -> String {
+        let u_doc = if self.m.inputs.is_empty() {
+            ""
+        } else {
+            "\n\n`u` holds the inputs in declared order."
+        };
+        let used = self.ops(self.route);
+        let other = match self.ops(self.route.other()) {
+            0 => {
+                "the curvature route is derived for k ≤ 6 or with `outputs { routes }`".to_string()
+            }
+            other => format!("the other route needs {other}"),
+        };
+        format!(
+            "{}{u_doc}\n\nDerived by {}; {used} operations after common-subexpression elimination ({other}). The k × k reduced mass matrix is factorised as LDLᵀ, unrolled, with its structural zeros pruned.",
+            GeneratedMethod::Accelerations.spec().doc,
+            self.route.doc(),
+        )
+    }
+
+    /// The documentation of the method of `route` when `accelerations` uses
+    /// the other.
+    fn other_route_doc(&self, route: Route) -> String {
+        format!(
+            "r̈ by {} ({} operations). Agrees with [`Self::accelerations`] to rounding.",
+            route.doc(),
+            self.ops(route)
+        )
     }
 }
 
@@ -424,11 +505,7 @@ impl Derived<'_> {
     /// [`accelerations`] instead of repeating its code? (Small systems keep
     /// one fused body per method: their shared work is a few operations.)
     fn is_large(&self) -> bool {
-        let ops = match self.route {
-            Route::Multiplier => self.stats.ops_multiplier,
-            Route::Curvature => self.stats.ops_curvature,
-        };
-        ops > LARGE_OPS
+        self.stats.is_large(self.route)
     }
 
     /// `, u` when the system has inputs (to forward them to another method).
@@ -441,19 +518,10 @@ impl Derived<'_> {
     }
 
     /// r̈ by the curvature route of a large system: `reduced_system`'s Mc and
-    /// f (when it is emitted, else the same code inline) solved by an
-    /// unrolled LDLᵀ.
-    fn curvature_route_from_reduced(&mut self) -> Method {
+    /// f solved by an unrolled LDLᵀ.
+    fn curvature_route_from_reduced(&mut self) -> TokenStream {
         let k = self.m.k();
         let (n, u) = (self.m.n(), self.u_forward());
-        let doc = format!(
-            "r̈ by {} ({} operations). Agrees with [`Self::accelerations`] to rounding.",
-            route_doc(Route::Curvature),
-            self.stats.ops_curvature
-        );
-        if !self.m.outputs.routes {
-            return self.accelerations(Route::Curvature, doc);
-        }
         let mut d = bound_dag(self.m, &Args::vectors(n, k));
         let mass: Vec<Vec<Node>> = (0..k)
             .map(|a| (0..k).map(|b| d.leaf(quote!(__nh_mc[(#a, #b)]))).collect())
@@ -462,22 +530,17 @@ impl Derived<'_> {
         let (x, _) = d.solve_symmetric(&mass, &rhs);
         let (stmts, o) = d.emit(&x);
         let ret = vector_expr(k, &o);
-        Method {
-            doc,
-            body: quote! {
-                let (__nh_mc, __nh_f) = self.reduced_system(t, q, rdot #u);
-                #stmts #ret
-            },
+        quote! {
+            let (__nh_mc, __nh_f) = self.reduced_system(t, q, rdot #u);
+            #stmts #ret
         }
     }
 
     /// The state variables in order: q, then ṙ.
     fn state_vars(&self) -> Vec<SymId> {
         self.m
-            .coord_syms
-            .iter()
-            .copied()
-            .chain(self.m.independent.iter().map(|&i| self.m.vel_syms[i]))
+            .positions()
+            .chain(self.m.independent_velocities())
             .collect()
     }
 
@@ -487,7 +550,7 @@ impl Derived<'_> {
     /// (∂Mc/∂z) r̈), with one factorisation for every column.
     fn derivative_columns(&mut self, d: &mut Dag, vars: &[SymId]) -> Vec<Vec<Node>> {
         let (n, k) = (self.m.n(), self.m.k());
-        if let Some(sol) = self.croute.solution.clone() {
+        if let Some(sol) = self.dv.curvature_route.solution.clone() {
             // r̈ in closed form: differentiate it directly (factors that cancel
             // in r̈, such as the mass, then cancel in its derivatives too)
             let mut out = self.velocity_rows(d, vars);
@@ -502,18 +565,18 @@ impl Derived<'_> {
         if self.route == Route::Multiplier {
             return self.multiplier_columns(d, vars);
         }
-        let mass = matrix(d, self.m, &self.croute.mass);
-        let rhs = exprs(d, self.m, &self.croute.rhs);
+        let mass = matrix(d, self.m, &self.dv.curvature_route.mass);
+        let rhs = exprs(d, self.m, &self.dv.curvature_route.rhs);
         let fac = d.factor_symmetric(&mass);
         let rdd = d.solve_factored(&fac, &rhs);
         let mut out = self.velocity_rows(d, vars);
         for (c, &z) in vars.iter().enumerate() {
             let mut col_rhs = Vec::with_capacity(k);
             for al in 0..k {
-                let df = self.m.engine.diff(self.croute.rhs[al], z);
+                let df = self.m.engine.diff(self.dv.curvature_route.rhs[al], z);
                 let mut v = d.expr(&self.m.engine, df);
                 for be in 0..k {
-                    let dm = self.m.engine.diff(self.croute.mass[al][be], z);
+                    let dm = self.m.engine.diff(self.dv.curvature_route.mass[al][be], z);
                     if dm != ZERO {
                         let dmn = d.expr(&self.m.engine, dm);
                         let t = d.mul(dmn, rdd[be]);
@@ -537,56 +600,38 @@ impl Derived<'_> {
     /// M, h and b are differentiated through the constraints (5.3).
     fn multiplier_columns(&mut self, d: &mut Dag, vars: &[SymId]) -> Vec<Vec<Node>> {
         let (n, k) = (self.m.n(), self.m.k());
-        let mn = multiplier_nodes(d, self.m, &self.mult);
-        let mut qdd = mn.acc_bias.clone();
-        for i in 0..n {
-            for b in 0..k {
-                let t = d.mul(mn.c[i][b], mn.rdd[b]);
-                qdd[i] = d.add(qdd[i], t);
-            }
-        }
-        let mut e_nodes = Vec::with_capacity(n);
-        for i in 0..n {
-            let mut acc = mn.bias[i];
-            for j in 0..n {
-                let t = d.mul(mn.mass[i][j], qdd[j]);
-                acc = d.add(acc, t);
-            }
-            e_nodes.push(acc);
-        }
+        let mn = multiplier_nodes(d, self.m, &self.dv.multiplier_route);
+        let qdd = mn.qdd(d);
+        let e_nodes: Vec<Node> = (0..n).map(|i| mn.euler_lagrange(d, i, &qdd)).collect();
         let mut out = self.velocity_rows(d, vars);
         for (col, &z) in vars.iter().enumerate() {
             let dsdot: Vec<Node> = (0..self.m.p())
                 .map(|a| {
-                    let e = self.m.engine.diff(self.m.dependent_velocity[a], z);
+                    let e = self.m.engine.diff(self.m.constraints[a].velocity, z);
                     d.expr(&self.m.engine, e)
                 })
                 .collect();
             // ∂C/∂z: only the rows of the dependent coordinates, −∂A/∂z
             let mut dc = vec![vec![ZERO_NODE; k]; n];
-            let dependent = self.m.dependent.clone();
+            let dependent = self.m.dependent().to_vec();
             for (a, &s) in dependent.iter().enumerate() {
                 for b in 0..k {
-                    let e = self.total_diff(d, self.m.a_matrix[a][b], z, &dsdot);
+                    let e = self.total_diff(d, self.m.constraints[a].coefficients[b], z, &dsdot);
                     dc[s][b] = d.neg(e);
                 }
             }
             // ∂q̈/∂z at fixed r̈
             let mut dqdd = vec![ZERO_NODE; n];
             for (a, &s) in dependent.iter().enumerate() {
-                let mut acc = self.total_diff(d, self.mult.dependent_bias[a], z, &dsdot);
-                for b in 0..k {
-                    let t = d.mul(dc[s][b], mn.rdd[b]);
-                    acc = d.add(acc, t);
-                }
-                dqdd[s] = acc;
+                let acc = self.total_diff(d, self.dv.multiplier_route.dependent_bias[a], z, &dsdot);
+                dqdd[s] = dot(d, acc, (0..k).map(|b| (dc[s][b], mn.rdd[b])));
             }
             // ∂E/∂z = ∂M/∂z q̈ + M ∂q̈/∂z + ∂h/∂z
             let mut de = Vec::with_capacity(n);
             for i in 0..n {
-                let mut acc = self.total_diff(d, self.mult.bias[i], z, &dsdot);
+                let mut acc = self.total_diff(d, self.dv.multiplier_route.bias[i], z, &dsdot);
                 for j in 0..n {
-                    let dm = self.total_diff(d, self.mult.mass[i][j], z, &dsdot);
+                    let dm = self.total_diff(d, self.dv.multiplier_route.mass[i][j], z, &dsdot);
                     let t = d.mul(dm, qdd[j]);
                     acc = d.add(acc, t);
                     let t = d.mul(mn.mass[i][j], dqdd[j]);
@@ -597,13 +642,8 @@ impl Derived<'_> {
             // −∂R/∂z = −Σ_i (∂C_iα/∂z E_i + C_iα ∂E_i/∂z)
             let mut rhs = Vec::with_capacity(k);
             for al in 0..k {
-                let mut acc = ZERO_NODE;
-                for i in 0..n {
-                    let t = d.mul(dc[i][al], e_nodes[i]);
-                    acc = d.add(acc, t);
-                    let t = d.mul(mn.c[i][al], de[i]);
-                    acc = d.add(acc, t);
-                }
+                let pairs = (0..n).flat_map(|i| [(dc[i][al], e_nodes[i]), (mn.c[i][al], de[i])]);
+                let acc = dot(d, ZERO_NODE, pairs);
                 rhs.push(d.neg(acc));
             }
             let x = d.solve_factored(&mn.fac, &rhs);
@@ -620,11 +660,14 @@ impl Derived<'_> {
     fn total_diff(&mut self, d: &mut Dag, e: ExprId, z: SymId, dsdot: &[Node]) -> Node {
         let direct = self.m.engine.diff(e, z);
         let mut acc = d.expr(&self.m.engine, direct);
-        for (a, &s) in self.m.dependent.iter().enumerate() {
+        for (a, c) in self.m.constraints.iter().enumerate() {
             if dsdot[a] == ZERO_NODE {
                 continue;
             }
-            let de = self.m.engine.diff(e, self.m.vel_syms[s]);
+            let de = self
+                .m
+                .engine
+                .diff(e, self.m.coordinates[c.dependent].velocity);
             if de != ZERO {
                 let x = d.expr(&self.m.engine, de);
                 let t = d.mul(x, dsdot[a]);
@@ -639,19 +682,17 @@ impl Derived<'_> {
         let (n, k) = (self.m.n(), self.m.k());
         let mut out = vec![vec![ZERO_NODE; vars.len()]; n + k];
         for i in 0..n {
-            match self.m.independent.iter().position(|&r| r == i) {
-                Some(j) => {
-                    if let Some(c) = vars
-                        .iter()
-                        .position(|&z| z == self.m.vel_syms[self.m.independent[j]])
-                    {
+            match self.m.constraints.iter().find(|c| c.dependent == i) {
+                None => {
+                    let velocity = self.m.coordinates[i].velocity;
+                    if let Some(c) = vars.iter().position(|&z| z == velocity) {
                         out[i][c] = ONE_NODE;
                     }
                 }
-                None => {
-                    let a = self.m.dependent.iter().position(|&s| s == i).unwrap_or(0);
+                Some(con) => {
+                    let sdot = con.velocity;
                     for (c, &z) in vars.iter().enumerate() {
-                        let e = self.m.engine.diff(self.m.dependent_velocity[a], z);
+                        let e = self.m.engine.diff(sdot, z);
                         out[i][c] = d.expr(&self.m.engine, e);
                     }
                 }
@@ -663,44 +704,39 @@ impl Derived<'_> {
 
 impl Derived<'_> {
     /// `dependent_velocities`: ṡ = −A ṙ (5.3).
-    fn dependent_velocities_method(&mut self) -> Method {
+    fn dependent_velocities_body(&mut self) -> TokenStream {
         let p = self.m.p();
         let args = Args::vectors(self.m.n(), self.m.k());
         let mut d = bound_dag(self.m, &args);
-        let outs = exprs(&mut d, self.m, &self.m.dependent_velocity);
+        let sdot: Vec<ExprId> = self.m.constraints.iter().map(|c| c.velocity).collect();
+        let outs = exprs(&mut d, self.m, &sdot);
         let (stmts, o) = self.emit_hoisted(&d, &outs);
         let ret = vector_expr(p, &o);
-        Method {
-            doc: "The dependent velocities ṡ = −A(q) ṙ of the constraints (5.3), in the order of [`Self::DEPENDENT`].".into(),
-            body: quote! { let _ = (q, rdot); #stmts #ret },
-        }
+        quote! { let _ = (q, rdot); #stmts #ret }
     }
 
     /// `reduced_system`: Mc and f of the curvature route (5.20).
-    fn reduced_system_method(&mut self) -> Method {
+    fn reduced_system_body(&mut self) -> TokenStream {
         let k = self.m.k();
         let args = Args::vectors(self.m.n(), self.m.k());
         let mut d = bound_dag(self.m, &args);
-        let mass = matrix(&mut d, self.m, &self.croute.mass);
-        let rhs = exprs(&mut d, self.m, &self.croute.rhs);
+        let mass = matrix(&mut d, self.m, &self.dv.curvature_route.mass);
+        let rhs = exprs(&mut d, self.m, &self.dv.curvature_route.rhs);
         let mut outs: Vec<Node> = mass.iter().flatten().copied().collect();
         outs.extend(&rhs);
         let (stmts, o) = self.emit_hoisted(&d, &outs);
         let (mo, fo) = o.split_at(k * k);
         let kk = quote!(__nh_private::nalgebra::SMatrix::<T, #k, #k>);
         let f = vector_expr(k, fo);
-        Method {
-            doc: "The reduced equations Mc r̈ = f of the curvature route as a matrix and a vector: Mc = ∂²Lc/∂ṙ∂ṙ (5.12) and f the right side of (5.20). [`Self::accelerations`] solves them by an unrolled LDLᵀ factorisation.".into(),
-            body: quote! { let _ = (t, q, rdot); #stmts (#kk::from_row_slice(&[#(#mo),*]), #f) },
-        }
+        quote! { let _ = (t, q, rdot); #stmts (#kk::from_row_slice(&[#(#mo),*]), #f) }
     }
 
     /// `multipliers`: λ = E_s along the motion (5.10).
-    fn multipliers_method(&mut self) -> Method {
-        let (n, k, p) = (self.m.n(), self.m.k(), self.m.p());
+    fn multipliers_body(&mut self) -> TokenStream {
+        let (k, p) = (self.m.k(), self.m.p());
         let args = Args::vectors(self.m.n(), self.m.k());
         let mut d = bound_dag(self.m, &args);
-        let mut mn = multiplier_nodes(&mut d, self.m, &self.mult);
+        let mut mn = multiplier_nodes(&mut d, self.m, &self.dv.multiplier_route);
         let large = self.is_large();
         let u = self.u_forward();
         let prologue = if large {
@@ -711,40 +747,26 @@ impl Derived<'_> {
             quote!()
         };
         // q̈ = C r̈ + acc_bias; λ_a = E_{s_a} = (M q̈ + h)_{s_a}   (5.10)
-        let mut qdd = mn.acc_bias.clone();
-        for (i, row) in mn.c.iter().enumerate() {
-            for (b, &cib) in row.iter().enumerate() {
-                let t = d.mul(cib, mn.rdd[b]);
-                qdd[i] = d.add(qdd[i], t);
-            }
-        }
+        let qdd = mn.qdd(&mut d);
         let mut lam = Vec::with_capacity(p);
-        for (a, &s) in self.m.dependent.iter().enumerate() {
-            let mut acc = mn.bias[s];
-            for j in 0..n {
-                let t = d.mul(mn.mass[s][j], qdd[j]);
-                acc = d.add(acc, t);
-            }
+        for (a, &s) in self.m.dependent().iter().enumerate() {
+            let acc = mn.euler_lagrange(&mut d, s, &qdd);
             d.label(acc, format!("λ{a} = E_(s{a}) (5.10)"));
             lam.push(acc);
         }
         let (stmts, o) = self.emit_hoisted(&d, &lam);
         let ret = vector_expr(p, &o);
-        self.stats.derived.push("multipliers");
-        Method {
-            doc: "The Lagrange multipliers λ_a = d/dt ∂L/∂ṡ_a − ∂L/∂s_a − Q_{s_a} along the motion (5.10), one per dependent coordinate: the generalized constraint forces, with the sign convention E(L) = Cᵀλ, C = [A | I].".into(),
-            body: quote! { let _ = (t, q, rdot); #prologue #stmts #ret },
-        }
+        quote! { let _ = (t, q, rdot); #prologue #stmts #ret }
     }
 
     /// `curvature`: the coefficients B of (5.21).
-    fn curvature_method(&mut self) -> Method {
+    fn curvature_body(&mut self) -> TokenStream {
         let (k, p) = (self.m.k(), self.m.p());
         let args = Args::vectors(self.m.n(), self.m.k());
         let mut d = bound_dag(self.m, &args);
         let mut nodes = Vec::new();
         let mut places = Vec::new();
-        for (b, mat) in self.curv.iter().enumerate() {
+        for (b, mat) in self.dv.curvature.iter().enumerate() {
             for al in 0..k {
                 for be in (al + 1)..k {
                     if mat[al][be] != ZERO {
@@ -771,68 +793,59 @@ impl Derived<'_> {
         } else {
             quote!(mut)
         };
-        self.stats.derived.push("curvature");
-        Method {
-            doc: "The curvature of the constraint connection, (5.21): `B[b][(α, β)]` = B^b_{αβ}, antisymmetric in (α, β); entries that are identically zero are not computed.".into(),
-            body: quote! {
-                let _ = q;
-                #stmts
-                let #mutable __nh_b: [#kk; #p] = [#kk_expr::zeros(); #p];
-                #sets
-                __nh_b
-            },
+        quote! {
+            let _ = q;
+            #stmts
+            let #mutable __nh_b: [#kk; #p] = [#kk_expr::zeros(); #p];
+            #sets
+            __nh_b
         }
     }
 
     /// `energy`: E = Σ q̇ ∂L/∂q̇ − L.
-    fn energy_method(&mut self) -> Method {
+    fn energy_body(&mut self) -> TokenStream {
         let args = Args::vectors(self.m.n(), self.m.k());
-        let en = self.energy.unwrap_or(ZERO);
+        let en = self.dv.energy.unwrap_or(ZERO);
         let mut d = bound_dag(self.m, &args);
         let node = d.expr(&self.m.engine, en);
         let (stmts, o) = self.emit_hoisted(&d, &[node]);
         let v = &o[0];
-        self.stats.derived.push("energy");
-        Method {
-            doc: "The energy E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities.".into(),
-            body: quote! { let _ = (q, rdot); #stmts #v },
-        }
+        quote! { let _ = (q, rdot); #stmts #v }
     }
 
     /// `constraint_matrix`: A of (5.3).
-    fn constraint_matrix_method(&mut self) -> Method {
+    fn constraint_matrix_body(&mut self) -> TokenStream {
         let (k, p) = (self.m.k(), self.m.p());
-        let args = Args::vectors(self.m.n(), self.m.k());
-        let mut d = bound_dag(self.m, &args);
-        let flat: Vec<ExprId> = self.m.a_matrix.iter().flatten().copied().collect();
-        let nodes = exprs(&mut d, self.m, &flat);
-        let (stmts, o) = self.emit_hoisted(&d, &nodes);
-        let pk = quote!(__nh_private::nalgebra::SMatrix::<T, #p, #k>);
-        self.stats.derived.push("constraint_matrix");
-        Method {
-            doc: "The constraint matrix A^a_α of ṡ_a = −Σ_α A^a_α ṙ_α (5.3): rows follow [`Self::DEPENDENT`], columns [`Self::INDEPENDENT`].".into(),
-            body: quote! { let _ = q; #stmts #pk::from_row_slice(&[#(#o),*]) },
-        }
+        let flat: Vec<ExprId> = self
+            .m
+            .constraints
+            .iter()
+            .flat_map(|c| c.coefficients.iter().copied())
+            .collect();
+        self.matrix_of_q(p, k, &flat)
     }
 
     /// `mass_matrix`: ∂²L/∂q̇∂q̇.
-    fn mass_matrix_method(&mut self) -> Method {
+    fn mass_matrix_body(&mut self) -> TokenStream {
         let n = self.m.n();
+        let mass = &self.dv.multiplier_route.mass;
+        let flat: Vec<ExprId> = mass.iter().flatten().copied().collect();
+        self.matrix_of_q(n, n, &flat)
+    }
+
+    /// A method of `q` returning the `rows` × `cols` matrix of the entries
+    /// `flat`, row by row.
+    fn matrix_of_q(&mut self, rows: usize, cols: usize, flat: &[ExprId]) -> TokenStream {
         let args = Args::vectors(self.m.n(), self.m.k());
         let mut d = bound_dag(self.m, &args);
-        let flat: Vec<ExprId> = self.mult.mass.iter().flatten().copied().collect();
-        let nodes = exprs(&mut d, self.m, &flat);
+        let nodes = exprs(&mut d, self.m, flat);
         let (stmts, o) = self.emit_hoisted(&d, &nodes);
-        let nn = quote!(__nh_private::nalgebra::SMatrix::<T, #n, #n>);
-        self.stats.derived.push("mass_matrix");
-        Method {
-            doc: "The mass matrix ∂²L/∂q̇_i∂q̇_j in coordinate order.".into(),
-            body: quote! { let _ = q; #stmts #nn::from_row_slice(&[#(#o),*]) },
-        }
+        let ty = quote!(__nh_private::nalgebra::SMatrix::<T, #rows, #cols>);
+        quote! { let _ = q; #stmts #ty::from_row_slice(&[#(#o),*]) }
     }
 
     /// `jacobian`: ∂f/∂x of the first-order system.
-    fn jacobian_method(&mut self) -> Method {
+    fn jacobian_body(&mut self) -> TokenStream {
         let (n, k) = (self.m.n(), self.m.k());
         let dim = n + k;
         let args_x = Args::state(n, k);
@@ -847,21 +860,17 @@ impl Derived<'_> {
         } else {
             quote!(let _ = u;)
         };
-        self.stats.derived.push("jacobian");
-        Method {
-            doc: "The Jacobian ∂f/∂x of the first-order system x = [q, ṙ] ↦ [q̇, r̈], derived symbolically through the reduced solve: ∂r̈/∂z = Mc⁻¹ (∂f/∂z − (∂Mc/∂z) r̈) with the curvature route's Mc and f (5.20), reusing one LDLᵀ factorisation for every column.".into(),
-            body: quote! { let _ = (t, x); #u #stmts #dd::from_row_slice(&[#(#o),*]) },
-        }
+        quote! { let _ = (t, x); #u #stmts #dd::from_row_slice(&[#(#o),*]) }
     }
 
     /// `linearization`: A = ∂f/∂x and B = ∂f/∂u.
-    fn linearization_method(&mut self) -> Method {
+    fn linearization_body(&mut self) -> TokenStream {
         let (n, k) = (self.m.n(), self.m.k());
         let (dim, m_in) = (n + k, self.m.inputs.len());
         let args_x = Args::state(n, k);
         let mut d = bound_dag(self.m, &args_x);
         let mut vars = self.state_vars();
-        vars.extend(self.m.input_syms.iter().copied());
+        vars.extend(self.m.inputs.iter().map(|u| u.sym));
         let cols = self.derivative_columns(&mut d, &vars);
         let a: Vec<Node> = cols
             .iter()
@@ -882,22 +891,18 @@ impl Derived<'_> {
         } else {
             quote!(let _ = u;)
         };
-        self.stats.derived.push("linearization");
-        Method {
-            doc: "The linearisation of the first-order system ẋ = f(t, x, u) at (t, x, u): A = ∂f/∂x and B = ∂f/∂u, derived symbolically through the reduced solve (as for the Jacobian): ∂r̈/∂z = Mc⁻¹ (∂f/∂z − (∂Mc/∂z) r̈) (5.20). For controller design: δẋ ≈ A δx + B δu.".into(),
-            body: quote! { let _ = (t, x); #u #stmts (#dd::from_row_slice(&[#(#ao),*]), #du::from_row_slice(&[#(#bo),*])) },
-        }
+        quote! { let _ = (t, x); #u #stmts (#dd::from_row_slice(&[#(#ao),*]), #du::from_row_slice(&[#(#bo),*])) }
     }
 
     /// The runtime's `rhs`: q̇ and r̈ from their inlined methods.
-    fn rhs_method(&mut self) -> Method {
+    fn rhs_body(&mut self) -> TokenStream {
         let (n, k) = (self.m.n(), self.m.k());
         let u = self.u_forward();
         let ret = vector_expr(n + k, &{
             let mut v: Vec<TokenStream> = Vec::with_capacity(n + k);
             let (mut j, mut a) = (0usize, 0usize);
             for i in 0..n {
-                if self.m.independent.contains(&i) {
+                if self.m.independent().contains(&i) {
                     v.push(quote!(__nh_rdot[#j]));
                     j += 1;
                 } else {
@@ -908,106 +913,84 @@ impl Derived<'_> {
             v.extend((0..k).map(|b| quote!(__nh_rdd[#b])));
             v
         });
-        Method {
-            doc: "ẋ for the state x = [q, ṙ]: ẋ = [q̇(q, ṙ), r̈], with the dependent velocities from the constraints.".into(),
-            body: quote! {
-                let __nh_q = x.fixed_rows::<#n>(0).into_owned();
-                let __nh_rdot = x.fixed_rows::<#k>(#n).into_owned();
-                let __nh_sdot = self.dependent_velocities(&__nh_q, &__nh_rdot);
-                let __nh_rdd = self.accelerations(t, &__nh_q, &__nh_rdot #u);
-                #ret
-            },
+        quote! {
+            let __nh_q = x.fixed_rows::<#n>(0).into_owned();
+            let __nh_rdot = x.fixed_rows::<#k>(#n).into_owned();
+            let __nh_sdot = self.dependent_velocities(&__nh_q, &__nh_rdot);
+            let __nh_rdd = self.accelerations(t, &__nh_q, &__nh_rdot #u);
+            #ret
         }
     }
 }
 
 impl Bodies for Derived<'_> {
-    fn method(&mut self, name: &str) -> Method {
-        let u_doc = if self.m.inputs.is_empty() {
-            ""
-        } else {
-            "\n\n`u` holds the inputs in declared order."
-        };
-        match name {
-            "dependent_velocities" => self.dependent_velocities_method(),
-            "accelerations" => {
-                let (used, other) = match self.route {
-                    Route::Curvature => (self.stats.ops_curvature, self.stats.ops_multiplier),
-                    Route::Multiplier => (self.stats.ops_multiplier, self.stats.ops_curvature),
-                };
-                let other = if other == 0 {
-                    "the curvature route is derived for k ≤ 6 or with `outputs { routes }`"
-                        .to_string()
-                } else {
-                    format!("the other route needs {other}")
-                };
-                let doc = format!(
-                    "The reduced equations of motion: r̈, the accelerations of the independent coordinates (in the order of [`Self::INDEPENDENT`]) at time `t`, coordinates `q` and independent velocities `rdot`.{u_doc}\n\nDerived by {}; {used} operations after common-subexpression elimination ({other}). The k × k reduced mass matrix is factorised as LDLᵀ, unrolled, with its structural zeros pruned.",
-                    route_doc(self.route),
-                );
-                self.accelerations(self.route, doc)
+    fn method(&mut self, method: GeneratedMethod) -> Method {
+        let spec = method.spec();
+        if let Some(output) = spec.requested_by
+            && output != Output::Routes
+        {
+            self.stats.derived.push(spec.name);
+        }
+        let static_doc = || spec.doc.to_string();
+        let (doc, body) = match method {
+            GeneratedMethod::DependentVelocities => {
+                (static_doc(), self.dependent_velocities_body())
             }
-            "accelerations_multiplier_route" | "accelerations_curvature_route"
-                if (name == "accelerations_multiplier_route")
-                    == (self.route == Route::Multiplier) =>
+            GeneratedMethod::Accelerations => {
+                (self.accelerations_doc(), self.accelerations(self.route))
+            }
+            GeneratedMethod::AccelerationsMultiplierRoute
+            | GeneratedMethod::AccelerationsCurvatureRoute
+                if method == self.route.method() =>
             {
                 let u = self.u_forward();
-                Method {
-                    doc: format!(
-                        "r̈ by {}, the route [`Self::accelerations`] uses ({} operations).",
-                        route_doc(self.route),
-                        match self.route {
-                            Route::Multiplier => self.stats.ops_multiplier,
-                            Route::Curvature => self.stats.ops_curvature,
-                        }
-                    ),
-                    body: quote! { self.accelerations(t, q, rdot #u) },
-                }
-            }
-            "accelerations_curvature_route" if self.is_large() => {
-                self.curvature_route_from_reduced()
-            }
-            "accelerations_multiplier_route" => {
                 let doc = format!(
-                    "r̈ by {} ({} operations). Agrees with [`Self::accelerations`] to rounding.",
-                    route_doc(Route::Multiplier),
-                    self.stats.ops_multiplier
+                    "r̈ by {}, the route [`Self::accelerations`] uses ({} operations).",
+                    self.route.doc(),
+                    self.ops(self.route)
                 );
-                self.accelerations(Route::Multiplier, doc)
+                (doc, quote! { self.accelerations(t, q, rdot #u) })
             }
-            "accelerations_curvature_route" => {
-                let doc = format!(
-                    "r̈ by {} ({} operations). Agrees with [`Self::accelerations`] to rounding.",
-                    route_doc(Route::Curvature),
-                    self.stats.ops_curvature
-                );
-                self.accelerations(Route::Curvature, doc)
-            }
-            "reduced_system" => self.reduced_system_method(),
-            "multipliers" => self.multipliers_method(),
-            "curvature" => self.curvature_method(),
-            "energy" => self.energy_method(),
-            "constraint_matrix" => self.constraint_matrix_method(),
-            "mass_matrix" => self.mass_matrix_method(),
-            "jacobian" if self.m.outputs.linearization => {
+            GeneratedMethod::AccelerationsCurvatureRoute if self.is_large() => (
+                self.other_route_doc(Route::Curvature),
+                self.curvature_route_from_reduced(),
+            ),
+            GeneratedMethod::AccelerationsMultiplierRoute => (
+                self.other_route_doc(Route::Multiplier),
+                self.accelerations(Route::Multiplier),
+            ),
+            GeneratedMethod::AccelerationsCurvatureRoute => (
+                self.other_route_doc(Route::Curvature),
+                self.accelerations(Route::Curvature),
+            ),
+            GeneratedMethod::ReducedSystem => (static_doc(), self.reduced_system_body()),
+            GeneratedMethod::Multipliers => (static_doc(), self.multipliers_body()),
+            GeneratedMethod::Curvature => (static_doc(), self.curvature_body()),
+            GeneratedMethod::Energy => (static_doc(), self.energy_body()),
+            GeneratedMethod::ConstraintMatrix => (static_doc(), self.constraint_matrix_body()),
+            GeneratedMethod::MassMatrix => (static_doc(), self.mass_matrix_body()),
+            GeneratedMethod::Linearization => (static_doc(), self.linearization_body()),
+            GeneratedMethod::Jacobian if self.m.outputs.contains(Output::Linearization) => {
                 // the linearisation's A is this Jacobian: one copy of the code
-                let u = if self.m.inputs.is_empty() {
-                    quote!()
-                } else {
-                    quote!(, u)
-                };
-                self.stats.derived.push("jacobian");
-                Method {
-                    doc: "The Jacobian ∂f/∂x of the first-order system x = [q, ṙ] ↦ [q̇, r̈]: the matrix A of [`Self::linearization`], derived symbolically through the reduced solve.".into(),
-                    body: quote! { self.linearization(t, x #u).0 },
-                }
+                let u = self.u_forward();
+                let doc = format!(
+                    "{}: the matrix A of [`Self::linearization`], derived symbolically through the reduced solve.",
+                    spec.doc
+                );
+                (doc, quote! { self.linearization(t, x #u).0 })
             }
-            "jacobian" => self.jacobian_method(),
-            "linearization" => self.linearization_method(),
-            // "rhs": q̇ and r̈ from their methods, inlined (one copy of the
-            // code; measured as fast as a fused body)
-            _ => self.rhs_method(),
-        }
+            GeneratedMethod::Jacobian => {
+                let doc = format!(
+                    "{}, derived symbolically through the reduced solve: ∂r̈/∂z = Mc⁻¹ (∂f/∂z − (∂Mc/∂z) r̈) with the curvature route's Mc and f (5.20), reusing one LDLᵀ factorisation for every column.",
+                    spec.doc
+                );
+                (doc, self.jacobian_body())
+            }
+            // q̇ and r̈ from their methods, inlined (one copy of the code;
+            // measured as fast as a fused body)
+            GeneratedMethod::Rhs => (static_doc(), self.rhs_body()),
+        };
+        Method { doc, body }
     }
 
     fn hoisting(&mut self) -> (usize, TokenStream) {
@@ -1058,7 +1041,7 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
     let independent = (0..coords.len())
         .filter(|i| !dependent.contains(i))
         .collect();
-    let mut outputs = crate::lower::Outputs::default();
+    let mut outputs = crate::model::Outputs::default();
     if let Some((_, list)) = &def.outputs {
         for o in list {
             outputs.set(&o.to_string());
@@ -1095,33 +1078,20 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
     }
 }
 
-/// Builds the whole expansion for a lowered model.
+/// Builds the whole expansion for a lowered model: derives the mechanics,
+/// checks them, builds each route's graph of r̈ to choose one, and emits
+/// the API from the derivation and those graphs.
 pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, Stats) {
-    let (n, k) = (m.n(), m.k());
     let mut stats = Stats {
         name: def.name.to_string(),
         ..Stats::default()
     };
-    let name = &def.name;
     let _ = crate::emit::take_unrepresentable();
-    let outputs_span = def
-        .outputs
-        .as_ref()
-        .map(|o| o.0.span())
-        .unwrap_or(name.span());
-
-    // ---- derivations: both routes (to choose), and the requested outputs
-    let mult = m.multiplier_route();
-    let curv = m.curvature();
     // the curvature route pays for small systems (its closed forms); beyond
     // CURVATURE_ROUTE_MAX_K independent coordinates it is derived only when
     // `routes` asks for it, and `accelerations` takes the multiplier route
-    let both_routes = m.outputs.routes || m.k() <= CURVATURE_ROUTE_MAX_K;
-    let mut croute = if both_routes {
-        m.curvature_route(&curv)
-    } else {
-        m.reduced_mass_only(&curv)
-    };
+    let both_routes = m.outputs.contains(Output::Routes) || m.k() <= CURVATURE_ROUTE_MAX_K;
+    let mut dv = m.derive(both_routes);
     stats.derived.extend([
         if both_routes {
             "accelerations (both routes)"
@@ -1130,190 +1100,135 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         },
         "curvature terms",
     ]);
-    let (integrable, proved) = integrability(&m, &curv);
-    stats.integrable = integrable;
-    stats.integrable_proved = proved;
-
-    if m.engine.overflowed() {
-        cx.error_at(
-            name.span(),
-            "the derivation grew beyond the engine's limits (expression swell): simplify the Lagrangian or the constraints, or split the system",
-        );
+    stats.integrable = dv.integrable;
+    stats.integrable_proved = dv.integrable_proved;
+    if !check::within_limits(def, &m, cx) {
         return (TokenStream::new(), stats);
     }
-    // a coordinate whose velocity is absent from the constrained Lagrangian
-    for (a, &i) in m.independent.iter().enumerate() {
-        if croute.mass[a][a] == ZERO {
-            cx.error_at(
-                m.coords[i].span(),
-                format!(
-                    "the velocity of `{}` appears nowhere in the Lagrangian (after the constraints are substituted), so the reduced mass matrix is singular and its acceleration is undetermined; give `{}` a kinetic energy term or make it dependent through a constraint",
-                    m.coords[i], m.coords[i]
-                ),
-            );
-        }
+    if m.outputs.contains(Output::Energy) {
+        dv.energy = Some(m.energy());
     }
-    let energy = if m.outputs.energy {
-        let en = m.energy();
-        if m.engine.depends_on(en, m.t_sym) {
-            cx.error_at(outputs_span, "output `energy` needs a Lagrangian that does not depend on time `t` explicitly: remove `energy` from `outputs`");
-        }
-        Some(en)
-    } else {
-        None
-    };
-    if m.outputs.mass_matrix {
-        let varying = mult.mass.iter().flatten().any(|&e| {
-            m.vel_syms.iter().any(|&v| m.engine.depends_on(e, v)) || m.engine.depends_on(e, m.t_sym)
-        });
-        if varying {
-            cx.error_at(outputs_span, "output `mass_matrix` needs a Lagrangian quadratic in the velocities with time-independent coefficients (the method takes only `q`)");
-        }
-    }
-    if !cx.is_empty() {
+    if !check::derivation(def, &m, &dv, cx) {
         return (TokenStream::new(), stats);
     }
-
-    // ---- the two routes for accelerations, measured by estimated cost
-    let args_v = Args::vectors(n, k);
-    let mut d1 = bound_dag(&m, &args_v);
-    let mn = multiplier_nodes(&mut d1, &m, &mult);
-    let mut d2 = bound_dag(&m, &args_v);
-    let (mut rdd2, piv2) = if both_routes {
-        curvature_nodes(&mut d2, &m, &croute)
-    } else {
-        (Vec::new(), Vec::new())
-    };
-    // the same route with the reduced system solved symbolically, if cheaper
-    let (cmass, crhs) = (croute.mass.clone(), croute.rhs.clone());
-    if both_routes
-        && piv2.iter().all(|&p| p != ZERO_NODE)
-        && let Some(sol) = m.solve_symbolic(&cmass, &crhs)
-    {
-        let mut d3 = bound_dag(&m, &args_v);
-        let x3 = exprs(&mut d3, &m, &sol);
-        if d3.cost_estimate(&x3) < d2.cost_estimate(&rdd2) {
-            croute.solution = Some(sol);
-            d2 = d3;
-            rdd2 = x3;
-        }
-    }
-    if mn.pivots.iter().chain(&piv2).any(|&x| x == ZERO_NODE) {
-        cx.error_at(
-            name.span(),
-            "the reduced mass matrix is structurally singular: some combination of independent velocities carries no kinetic energy; check the Lagrangian and the choice of dependent coordinates",
-        );
+    let compared = compare_routes(&mut m, &mut dv, both_routes);
+    if !check::regular(def, &compared.pivots, cx) {
         return (TokenStream::new(), stats);
     }
-    stats.ops_multiplier = d1.op_count(&mn.rdd);
-    stats.ops_curvature = d2.op_count(&rdd2);
-    stats.cost_multiplier = d1.cost_estimate(&mn.rdd);
-    stats.cost_curvature = d2.cost_estimate(&rdd2);
-    let route = if both_routes && stats.cost_curvature <= stats.cost_multiplier {
-        Route::Curvature
-    } else {
-        Route::Multiplier
-    };
-    stats.route = Some(route);
-    let chosen = match route {
-        Route::Multiplier => (d1, mn.rdd),
-        Route::Curvature => (d2, rdd2),
-    };
-
+    let route = compared.choose(&mut stats);
+    let graphs = compared.keep(route, &m, &dv, &stats);
+    let (integrable, proved) = (dv.integrable, dv.integrable_proved);
     let mut shape = shape_of(def);
     shape.integrable = integrable;
-    shape.outputs = m.outputs.clone();
+    shape.outputs = m.outputs;
     let mut bodies = Derived {
         m: &mut m,
-        mult,
-        curv,
-        croute,
+        dv,
         route,
         stats: &mut stats,
-        energy,
         hoist_blocks: Vec::new(),
         hoist_len: 0,
         hoist_seen: rustc_hash::FxHashMap::default(),
-        chosen: Some(chosen),
+        graphs,
     };
     let mut tokens = crate::api::expand(&shape, &mut bodies);
     if integrable && m.p() > 0 {
         tokens.extend(integrability_warning(
             def,
-            m.constraints_span.unwrap_or(name.span()),
+            m.constraints_span.unwrap_or(def.name.span()),
             proved,
         ));
     }
-    if let Some(c) = crate::emit::take_unrepresentable() {
-        let msg = format!(
-            "the generated code needs the constant {} (after exact simplification), which is beyond the range of `f64` (about ±1.8e308): rescale the units or the parameters",
-            c.sci()
-        );
-        match m.huge_constant {
-            Some(r) => cx.error(r, msg),
-            None => cx.error_at(name.span(), msg),
-        }
+    if !check::representable(def, &m, cx) {
         return (TokenStream::new(), stats);
     }
     stats.graph_size = m.engine.num_exprs();
     stats.derivatives = m.engine.counters.derivatives;
-
     (tokens, stats)
 }
 
-/// Whether the constraints are integrable (all B^b_αβ ≡ 0), and whether that
-/// was proved symbolically. An entry whose canonical form is not zero is
-/// evaluated at 16 random points in double-double arithmetic (about 32
-/// digits): any point where it exceeds 1e-24 of the sum of its terms' sizes
-/// proves it nonzero; an entry below that at every point is taken as zero (an
-/// identity the canonical form does not know, such as an angle-addition
-/// formula). A genuinely nonholonomic system would have to cancel to 24
-/// digits at 16 random points to be called integrable.
-fn integrability(m: &Model, curv: &[Vec<Vec<ExprId>>]) -> (bool, bool) {
-    use crate::sym::dd::Dd;
-    let entries: Vec<ExprId> = curv
-        .iter()
-        .flatten()
-        .flatten()
-        .copied()
-        .filter(|&b| b != ZERO)
-        .collect();
-    if entries.is_empty() {
-        return (true, true);
-    }
-    let mut state = 0x243F_6A88_85A3_08D3u64; // deterministic: the same verdict every build
-    let mut next = move || {
-        state ^= state >> 12;
-        state ^= state << 25;
-        state ^= state >> 27;
-        ((state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64) / (1u64 << 53) as f64
+/// The graphs of r̈ by both routes, built to compare their costs.
+struct ComparedRoutes {
+    multiplier: (Dag, Vec<Node>),
+    /// Empty when the curvature route is not derived.
+    curvature: (Dag, Vec<Node>),
+    both_routes: bool,
+    /// The pivots of both routes' factorisations of the reduced mass matrix.
+    pivots: Vec<Node>,
+}
+
+/// Builds the graph of r̈ by each route (the curvature route's with the
+/// reduced system solved symbolically, if that is cheaper).
+fn compare_routes(m: &mut Model, dv: &mut Derivation, both_routes: bool) -> ComparedRoutes {
+    let args_v = Args::vectors(m.n(), m.k());
+    let mut d1 = bound_dag(m, &args_v);
+    let mn = multiplier_nodes(&mut d1, m, &dv.multiplier_route);
+    let mut d2 = bound_dag(m, &args_v);
+    let (mut rdd2, piv2) = if both_routes {
+        curvature_nodes(&mut d2, m, &dv.curvature_route)
+    } else {
+        (Vec::new(), Vec::new())
     };
-    let mut vals = vec![Dd::ZERO; m.engine.num_symbols()];
-    let mut points = 0;
-    for _ in 0..64 {
-        if points == 16 {
-            break;
-        }
-        for v in vals.iter_mut() {
-            *v = Dd::from_f64(0.3 + 1.1 * next()); // positive: keeps sqrt and ln arguments valid
-        }
-        vals[m.pi_sym as usize] = Dd::PI;
-        let mut usable = true;
-        for &b in &entries {
-            let (v, scale) = m.engine.eval_with_scale_dd(b, &vals);
-            if !v.is_finite() || !scale.is_finite() {
-                usable = false;
-                break;
-            }
-            if v.abs().to_f64() > 1e-24 * scale.to_f64() {
-                return (false, false);
-            }
-        }
-        if usable {
-            points += 1;
+    // the same route with the reduced system solved symbolically, if cheaper
+    let (cmass, crhs) = (
+        dv.curvature_route.mass.clone(),
+        dv.curvature_route.rhs.clone(),
+    );
+    if both_routes
+        && piv2.iter().all(|&p| p != ZERO_NODE)
+        && let Some(sol) = m.solve_symbolic(&cmass, &crhs)
+    {
+        let mut d3 = bound_dag(m, &args_v);
+        let x3 = exprs(&mut d3, m, &sol);
+        if d3.cost_estimate(&x3) < d2.cost_estimate(&rdd2) {
+            dv.curvature_route.solution = Some(sol);
+            d2 = d3;
+            rdd2 = x3;
         }
     }
-    (points == 16, false)
+    ComparedRoutes {
+        multiplier: (d1, mn.rdd),
+        curvature: (d2, rdd2),
+        both_routes,
+        pivots: mn.pivots.into_iter().chain(piv2).collect(),
+    }
+}
+
+impl ComparedRoutes {
+    /// Records both routes' figures and chooses the cheaper.
+    fn choose(&self, stats: &mut Stats) -> Route {
+        let ((d1, rdd1), (d2, rdd2)) = (&self.multiplier, &self.curvature);
+        stats.ops_multiplier = d1.op_count(rdd1);
+        stats.ops_curvature = d2.op_count(rdd2);
+        stats.cost_multiplier = d1.cost_estimate(rdd1);
+        stats.cost_curvature = d2.cost_estimate(rdd2);
+        let route = if self.both_routes && stats.cost_curvature <= stats.cost_multiplier {
+            Route::Curvature
+        } else {
+            Route::Multiplier
+        };
+        stats.route = Some(route);
+        route
+    }
+
+    /// The graphs a method will emit: the chosen route's, and with `routes`
+    /// the other's, unless its method emits another graph (the curvature
+    /// route of a large system is solved from `reduced_system`; solved
+    /// symbolically, it is emitted with its steps labelled).
+    fn keep(self, route: Route, m: &Model, dv: &Derivation, stats: &Stats) -> RouteGraphs {
+        let other_kept = m.outputs.contains(Output::Routes)
+            && (route == Route::Curvature
+                || (dv.curvature_route.solution.is_none() && !stats.is_large(route)));
+        let mut graphs = RouteGraphs::default();
+        let (multiplier, curvature) = (self.multiplier, self.curvature);
+        if route == Route::Multiplier || other_kept {
+            graphs.multiplier = Some(multiplier);
+        }
+        if route == Route::Curvature || other_kept {
+            graphs.curvature = Some(curvature);
+        }
+        graphs
+    }
 }
 
 /// A compile-time warning on stable Rust (the deprecation-note technique):

@@ -1,5 +1,10 @@
-//! The engine behind `nonholonomic_system!`: parsing, symbolic algebra,
-//! mechanics and code emission, each in its own module.
+//! The engine behind `nonholonomic_system!`, in stages that each build
+//! their result once: `parse` (the surface syntax) → `lower` (names
+//! resolved, the typed `model`) → `mechanics` (the symbolic derivation) →
+//! `generate` (each route's graph, the method bodies) with `api` (the
+//! generated API, from one table of methods) → `emit` (straight-line code).
+//! `check` holds the consistency checks each stage calls on what it built;
+//! `sym` is the symbolic algebra.
 //!
 //! [`expand`] is the whole macro: it never panics, collects every error it
 //! finds and reports them together, pointing at the tokens at fault.
@@ -7,16 +12,21 @@
 // Index loops over matrices read like the formulas they implement.
 #![allow(clippy::needless_range_loop)]
 
-pub mod api;
-pub mod attrs;
-pub mod ctxt;
-pub mod emit;
-pub mod generate;
-pub mod lower;
-pub mod mechanics;
-pub mod names;
-pub mod parse;
+mod api;
+mod attrs;
+mod check;
+mod ctxt;
+mod emit;
+mod generate;
+mod lower;
+mod mechanics;
+mod model;
+mod names;
+mod parse;
 pub mod sym;
+
+pub use emit::with_text_parser;
+pub use generate::{Route, Stats};
 
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -28,17 +38,17 @@ pub fn expand(input: TokenStream) -> TokenStream {
 
 /// Expands and reports figures about the expansion (operation counts, the
 /// route chosen, what was derived, the lines generated).
-pub fn expand_with_stats(input: TokenStream) -> (TokenStream, generate::Stats) {
+pub fn expand_with_stats(input: TokenStream) -> (TokenStream, Stats) {
     let (out, mut stats) = expand_derivation(input);
     stats.lines = generate::count_lines(&out);
     (out, stats)
 }
 
-fn expand_derivation(input: TokenStream) -> (TokenStream, generate::Stats) {
+fn expand_derivation(input: TokenStream) -> (TokenStream, Stats) {
     let mut cx = ctxt::Ctxt::new();
     let def = parse::parse_system(input, &mut cx);
     let mut out = TokenStream::new();
-    let mut stats = generate::Stats::default();
+    let mut stats = Stats::default();
     if let Some(def) = &def
         && let Some(model) = lower::lower(def, &mut cx)
     {

@@ -3,10 +3,12 @@
 //! coordinates, velocities, parameters, inputs and time, and every misuse of
 //! a name is reported at its token.
 
+use crate::check;
 use crate::ctxt::{Ctxt, SpanRange};
+use crate::model::{Constraint, ConstraintKind, Coordinate, Input, Model, Parameter, Partition};
 use crate::names;
 use crate::parse::{BinOp, Expr, SystemDef};
-use crate::sym::{Engine, ExprId, Fun, ONE, Rational, SymId, ZERO};
+use crate::sym::{Engine, ExprId, Fun, Rational, SymId, ZERO};
 use proc_macro2::{Ident, Span};
 use rustc_hash::FxHashMap as HashMap;
 
@@ -15,102 +17,6 @@ pub const FUNCTIONS: [&str; 6] = ["sin", "cos", "tan", "exp", "ln", "sqrt"];
 
 /// Names that cannot be declared: the language's own words.
 const RESERVED: [&str; 9] = ["t", "pi", "dot", "sin", "cos", "tan", "exp", "ln", "sqrt"];
-
-/// The opt-in outputs (DESIGN §3) plus `routes`.
-pub const OUTPUTS: [&str; 8] = [
-    "multipliers",
-    "curvature",
-    "energy",
-    "constraint_matrix",
-    "mass_matrix",
-    "jacobian",
-    "linearization",
-    "routes",
-];
-
-/// Which opt-in outputs a system asked for.
-#[derive(Clone, Debug, Default)]
-pub struct Outputs {
-    /// `multipliers`
-    pub multipliers: bool,
-    /// `curvature`
-    pub curvature: bool,
-    /// `energy`
-    pub energy: bool,
-    /// `constraint_matrix`
-    pub constraint_matrix: bool,
-    /// `mass_matrix`
-    pub mass_matrix: bool,
-    /// `jacobian`
-    pub jacobian: bool,
-    /// `linearization`: A = ∂f/∂x and B = ∂f/∂u
-    pub linearization: bool,
-    /// `routes`: both derivation routes as separate methods
-    pub routes: bool,
-}
-
-impl Outputs {
-    /// Sets the flag of output `name`; `Some(previous)` if the name is known.
-    pub fn set(&mut self, name: &str) -> Option<bool> {
-        let flag = match name {
-            "multipliers" => &mut self.multipliers,
-            "curvature" => &mut self.curvature,
-            "energy" => &mut self.energy,
-            "constraint_matrix" => &mut self.constraint_matrix,
-            "mass_matrix" => &mut self.mass_matrix,
-            "jacobian" => &mut self.jacobian,
-            "linearization" => &mut self.linearization,
-            "routes" => &mut self.routes,
-            _ => return None,
-        };
-        Some(std::mem::replace(flag, true))
-    }
-}
-
-/// A system after lowering: everything the mechanics needs, as symbols and
-/// expressions of one engine.
-pub struct Model {
-    /// The engine holding every expression below.
-    pub engine: Engine,
-    /// Parameter names in declared order.
-    pub params: Vec<Ident>,
-    /// Coordinate names in declared order (THE coordinate order).
-    pub coords: Vec<Ident>,
-    /// Input names.
-    pub inputs: Vec<Ident>,
-    /// Symbols of the parameters.
-    pub param_syms: Vec<SymId>,
-    /// Symbols of the coordinates.
-    pub coord_syms: Vec<SymId>,
-    /// Symbols of the velocities (same order).
-    pub vel_syms: Vec<SymId>,
-    /// Symbols of the inputs.
-    pub input_syms: Vec<SymId>,
-    /// Time.
-    pub t_sym: SymId,
-    /// π.
-    pub pi_sym: SymId,
-    /// L(q, q̇, t).
-    pub lagrangian: ExprId,
-    /// Q_j per coordinate (zero where none is given).
-    pub forces: Vec<ExprId>,
-    /// Indices of the independent coordinates r, ascending.
-    pub independent: Vec<usize>,
-    /// Indices of the dependent coordinates s, ascending.
-    pub dependent: Vec<usize>,
-    /// ṡ_a as written (a linear form in ṙ), per dependent coordinate in `dependent` order.
-    pub dependent_velocity: Vec<ExprId>,
-    /// A^a_α (p × k): minus the coefficient of ṙ_α in the constraint of s_a.
-    pub a_matrix: Vec<Vec<ExprId>>,
-    /// Requested outputs.
-    pub outputs: Outputs,
-    /// Span of the `constraints` keyword, if any (for diagnostics).
-    pub constraints_span: Option<Span>,
-    /// The first subexpression of the input whose value is a constant beyond
-    /// the range of `f64` (where an error about such a constant in the
-    /// generated code points).
-    pub huge_constant: Option<SpanRange>,
-}
 
 #[derive(Clone, Copy, Debug)]
 enum Binding {
@@ -137,10 +43,9 @@ struct Lowerer<'a> {
     cx: &'a mut Ctxt,
     e: Engine,
     scope: HashMap<String, Binding>,
-    param_syms: Vec<SymId>,
-    coord_syms: Vec<SymId>,
-    vel_syms: Vec<SymId>,
-    input_syms: Vec<SymId>,
+    params: Vec<Parameter>,
+    coords: Vec<Coordinate>,
+    inputs: Vec<Input>,
     lets: Vec<LetInfo>,
     t_sym: SymId,
     pi_sym: SymId,
@@ -153,43 +58,17 @@ struct Lowerer<'a> {
     huge_constant: Option<SpanRange>,
 }
 
-/// Lowers a parsed system. Returns `None` when errors make a model
-/// meaningless; all errors are in `cx`.
-pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
-    let mut e = Engine::new();
-    let t_sym = e.symbol("t");
-    let pi_sym = e.symbol("pi");
-    let params: Vec<Ident> = def
-        .parameters
-        .as_ref()
-        .map(|p| p.1.clone())
-        .unwrap_or_default();
-    let coords: Vec<Ident> = def
-        .coordinates
-        .as_ref()
-        .map(|p| p.1.clone())
-        .unwrap_or_default();
-    let inputs: Vec<Ident> = def.inputs.as_ref().map(|p| p.1.clone()).unwrap_or_default();
-    if def.coordinates.is_none() {
-        cx.error_at(
-            def.name.span(),
-            "missing `coordinates { .. }`: list the generalized coordinates, e.g. `coordinates { x, y, theta }`",
-        );
-    } else if coords.is_empty() {
-        cx.error_at(
-            def.coordinates
-                .as_ref()
-                .map(|c| c.0.span())
-                .unwrap_or(def.name.span()),
-            "`coordinates` is empty: a system needs at least one coordinate",
-        );
-    }
+/// The names declared so far, each with what it was declared as.
+struct Declarations {
+    scope: HashMap<String, Binding>,
+    declared: HashMap<String, (&'static str, Span)>,
+    poisoned: Vec<String>,
+}
 
-    // declarations: duplicates, shadowing and reserved words
-    let mut scope: HashMap<String, Binding> = HashMap::default();
-    let mut declared: HashMap<String, (&'static str, Span)> = HashMap::default();
-    let mut poisoned: Vec<String> = def.poisoned.iter().map(|p| p.to_string()).collect();
-    let mut declare = |cx: &mut Ctxt, id: &Ident, kind: &'static str| -> bool {
+impl Declarations {
+    /// Declares `id` as `binding` (a `kind` for messages); false, after an
+    /// error, for a reserved word or a name declared before.
+    fn declare(&mut self, cx: &mut Ctxt, id: &Ident, kind: &'static str) -> bool {
         let s = id.to_string();
         if RESERVED.contains(&s.as_str()) {
             let what = match s.as_str() {
@@ -204,7 +83,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
             );
             return false;
         }
-        if let Some((prev_kind, prev_span)) = declared.get(&s) {
+        if let Some((prev_kind, prev_span)) = self.declared.get(&s) {
             // names are canonical (`r#x` is `x`); say so if one was written raw
             let raw = !s.starts_with("r#")
                 && [id.span(), *prev_span]
@@ -220,199 +99,36 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
                 format!("`{s}` is already declared as {prev_kind}{same}; every parameter, coordinate, input and `let` needs its own name"),
             );
             // uses of an ambiguous name are not reported again
-            poisoned.push(s);
+            self.poisoned.push(s);
             return false;
         }
-        declared.insert(s, (kind, id.span()));
+        self.declared.insert(s, (kind, id.span()));
         true
-    };
-    let mut param_syms = Vec::new();
-    for (i, p) in params.iter().enumerate() {
-        if declare(cx, p, "a parameter") {
-            scope.insert(p.to_string(), Binding::Param(i));
-        }
-        param_syms.push(e.symbol(&p.to_string()));
-    }
-    let mut coord_syms = Vec::new();
-    let mut vel_syms = Vec::new();
-    for (i, c) in coords.iter().enumerate() {
-        if declare(cx, c, "a coordinate") {
-            scope.insert(c.to_string(), Binding::Coord(i));
-        }
-        coord_syms.push(e.symbol(&c.to_string()));
-    }
-    for c in &coords {
-        vel_syms.push(e.symbol(&format!("dot({c})")));
-    }
-    let mut input_syms = Vec::new();
-    for (i, u) in inputs.iter().enumerate() {
-        if declare(cx, u, "an input") {
-            scope.insert(u.to_string(), Binding::Input(i));
-        }
-        input_syms.push(e.symbol(&u.to_string()));
-    }
-    let let_names: Vec<Ident> = def.lets.iter().map(|l| l.name.clone()).collect();
-    let mut let_ok = Vec::new();
-    for l in &let_names {
-        let_ok.push(declare(cx, l, "a `let`"));
     }
 
-    for p in &poisoned {
-        scope.remove(p);
-    }
-    let mut lw = Lowerer {
-        cx,
-        e,
-        scope,
-        param_syms,
-        coord_syms,
-        vel_syms,
-        input_syms,
-        lets: Vec::new(),
-        t_sym,
-        pi_sym,
-        place: Place::Let,
-        all_lets: let_names.iter().map(|l| l.to_string()).collect(),
-        poisoned,
-        huge_constant: None,
-    };
-
-    // lets, in order: later ones may use earlier ones
-    for (i, l) in def.lets.iter().enumerate() {
-        lw.place = Place::Let;
-        let v = lw.lower(&l.value, 0);
-        lw.lets.push(LetInfo {
-            value: v,
-            name: l.name.clone(),
-        });
-        if let_ok[i] {
-            lw.scope.insert(l.name.to_string(), Binding::Let(i));
+    /// Declares `id` and binds it in scope if that succeeded.
+    fn bind(&mut self, cx: &mut Ctxt, id: &Ident, kind: &'static str, binding: Binding) {
+        if self.declare(cx, id, kind) {
+            self.scope.insert(id.to_string(), binding);
         }
     }
+}
 
-    // the Lagrangian: exactly one
-    let mut lagrangian = None;
-    match def.lagrangians.as_slice() {
-        [] if def.lagrangian_written => {} // it failed to parse: already reported
-        [] => lw.cx.error_at(
-            def.name.span(),
-            "missing `lagrangian = ..;`: give the Lagrangian L = T - V in terms of the coordinates and `dot(q)` velocities",
-        ),
-        [(_, expr), rest @ ..] => {
-            for (kw, _) in rest {
-                lw.cx.error_at(kw.span(), "duplicate `lagrangian`: a system has exactly one Lagrangian; combine the terms into one expression");
-            }
-            lw.place = Place::Lagrangian;
-            lagrangian = lw.lower(expr, 0);
-        }
-    }
+/// The names of one declaration list (`parameters`, `coordinates`, ..).
+fn declared_names(list: &Option<(Ident, Vec<Ident>)>) -> Vec<Ident> {
+    list.as_ref().map(|p| p.1.clone()).unwrap_or_default()
+}
 
-    // forces
-    let n = coords.len();
-    let mut forces = vec![ZERO; n];
-    let mut force_seen: Vec<Option<Span>> = vec![None; n];
-    if let Some((_, list)) = &def.forces {
-        for f in list {
-            lw.place = Place::Force;
-            let v = lw.lower(&f.value, 0);
-            match lw.scope.get(&f.coordinate.to_string()) {
-                _ if lw.poisoned.contains(&f.coordinate.to_string()) => {}
-                Some(Binding::Coord(i)) => {
-                    let i = *i;
-                    if force_seen[i].is_some() {
-                        lw.cx.error_at(f.coordinate.span(), format!("a second force on `{}`: write the sum of the forces on one coordinate as one expression", f.coordinate));
-                    } else if let Some(v) = v {
-                        forces[i] = v;
-                        force_seen[i] = Some(f.coordinate.span());
-                    }
-                }
-                _ => {
-                    let cands: Vec<String> = coords.iter().map(|c| c.to_string()).collect();
-                    let refs: Vec<&str> = cands.iter().map(|s| s.as_str()).collect();
-                    let hint = names::suggest(&f.coordinate.to_string(), &refs);
-                    lw.cx.error_at(
-                        f.coordinate.span(),
-                        format!("`{}` is not a coordinate{hint}: a force is given as `coordinate: Q;` for one of {}", f.coordinate, list_names(&coords)),
-                    );
-                }
-            }
-        }
-    }
-
-    // constraints
-    let mut dep_of: Vec<Option<usize>> = vec![None; n]; // coordinate -> constraint index
-    let mut constraint_rhs: Vec<(usize, ExprId, &crate::parse::Constraint)> = Vec::new();
-    let constraints_span = def.constraints.as_ref().map(|c| c.0.span());
-    if let Some((_, list)) = &def.constraints {
-        for (ci, c) in list.iter().enumerate() {
-            let Some(s) = lw.constraint_lhs(&c.lhs, &coords) else {
-                continue;
-            };
-            if let Some(prev) = dep_of[s] {
-                let _ = prev;
-                lw.cx.error(
-                    c.lhs.range(),
-                    format!("`{}` is constrained twice: each dependent coordinate has exactly one constraint `dot({}) = ..`; merge them or choose another dependent coordinate", coords[s], coords[s]),
-                );
-                continue;
-            }
-            dep_of[s] = Some(ci);
-            lw.place = Place::Constraint;
-            if let Some(v) = lw.lower(&c.rhs, 0) {
-                constraint_rhs.push((s, v, c));
-            }
-        }
-    }
-    let dependent: Vec<usize> = (0..n).filter(|&i| dep_of[i].is_some()).collect();
-    let independent: Vec<usize> = (0..n).filter(|&i| dep_of[i].is_none()).collect();
-    if n > 0 && independent.is_empty() {
-        lw.cx.error_at(
-            constraints_span.unwrap_or(def.name.span()),
-            "every coordinate is constrained: no independent coordinate is left; a system needs at least one coordinate that is not on the left side of a constraint",
-        );
-    }
-
-    // constraint right sides: linear and homogeneous in the independent velocities
-    let mut a_matrix = vec![vec![ZERO; independent.len()]; dependent.len()];
-    let mut dependent_velocity = vec![ZERO; dependent.len()];
-    let analysable = if independent.is_empty() {
-        &[][..]
-    } else {
-        &constraint_rhs[..]
-    };
-    for (s, rhs, c) in analysable {
-        let a = dependent.iter().position(|d| d == s).unwrap_or(0);
-        if let Some(row) = lw.analyse_constraint(*s, *rhs, c, &coords, &dependent, &independent) {
-            a_matrix[a] = row;
-            dependent_velocity[a] = *rhs;
-        }
-    }
-
-    // outputs
-    let mut outputs = Outputs::default();
-    if let Some((_, list)) = &def.outputs {
-        for o in list {
-            let name = o.to_string();
-            match outputs.set(&name) {
-                Some(true) => lw.cx.error_at(
-                    o.span(),
-                    format!("output `{name}` is listed twice: remove one"),
-                ),
-                Some(false) => {}
-                None => {
-                    let hint = names::suggest(&name, &OUTPUTS);
-                    lw.cx.error_at(
-                        o.span(),
-                        format!(
-                            "unknown output `{name}`{hint}; the outputs are {}",
-                            OUTPUTS.map(|s| format!("`{s}`")).join(", ")
-                        ),
-                    );
-                }
-            }
-        }
-    }
-
+/// Lowers a parsed system. Returns `None` when errors make a model
+/// meaningless; all errors are in `cx`.
+pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
+    check::coordinates_declared(def, cx);
+    let (mut lw, let_ok) = Lowerer::declare(def, cx);
+    lw.lower_lets(def, &let_ok);
+    let lagrangian = lw.lower_lagrangian(def);
+    lw.lower_forces(def);
+    let constraints = lw.lower_constraints(def);
+    let outputs = check::outputs(def, lw.cx);
     if lw.e.overflowed() {
         lw.cx.error_at(
             def.name.span(),
@@ -423,29 +139,220 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     if !lw.cx.is_empty() {
         return None;
     }
+    let mut constraints = constraints;
+    let partition = Partition::of(lw.coords.len(), &mut constraints);
     Some(Model {
         engine: lw.e,
-        params,
-        coords,
-        inputs,
-        param_syms: lw.param_syms,
-        coord_syms: lw.coord_syms,
-        vel_syms: lw.vel_syms,
-        input_syms: lw.input_syms,
-        t_sym: lw.t_sym,
-        pi_sym: lw.pi_sym,
+        parameters: lw.params,
+        coordinates: lw.coords,
+        inputs: lw.inputs,
+        time: lw.t_sym,
+        pi: lw.pi_sym,
         lagrangian,
-        forces,
-        independent,
-        dependent,
-        dependent_velocity,
-        a_matrix,
+        constraints,
+        partition,
         outputs,
-        constraints_span,
+        constraints_span: def.constraints.as_ref().map(|c| c.0.span()),
         huge_constant: lw.huge_constant,
     })
 }
 
+impl<'a> Lowerer<'a> {
+    /// Declares every name of the system (reporting duplicates, shadowing
+    /// and reserved words) and creates their symbols; with, per `let`,
+    /// whether its declaration succeeded.
+    fn declare(def: &SystemDef, cx: &'a mut Ctxt) -> (Lowerer<'a>, Vec<bool>) {
+        let mut e = Engine::new();
+        let t_sym = e.symbol("t");
+        let pi_sym = e.symbol("pi");
+        let mut names = Declarations {
+            scope: HashMap::default(),
+            declared: HashMap::default(),
+            poisoned: def.poisoned.iter().map(|p| p.to_string()).collect(),
+        };
+        let mut params = Vec::new();
+        for (i, p) in declared_names(&def.parameters).into_iter().enumerate() {
+            names.bind(cx, &p, "a parameter", Binding::Param(i));
+            let sym = e.symbol(&p.to_string());
+            params.push(Parameter { name: p, sym });
+        }
+        let coord_names = declared_names(&def.coordinates);
+        let mut positions = Vec::new();
+        for (i, c) in coord_names.iter().enumerate() {
+            names.bind(cx, c, "a coordinate", Binding::Coord(i));
+            positions.push(e.symbol(&c.to_string()));
+        }
+        let coords = coord_names
+            .into_iter()
+            .zip(positions)
+            .map(|(name, position)| Coordinate {
+                velocity: e.symbol(&format!("dot({name})")),
+                name,
+                position,
+                force: ZERO,
+            })
+            .collect();
+        let mut inputs = Vec::new();
+        for (i, u) in declared_names(&def.inputs).into_iter().enumerate() {
+            names.bind(cx, &u, "an input", Binding::Input(i));
+            let sym = e.symbol(&u.to_string());
+            inputs.push(Input { name: u, sym });
+        }
+        let let_ok = def
+            .lets
+            .iter()
+            .map(|l| names.declare(cx, &l.name, "a `let`"))
+            .collect();
+        let Declarations {
+            mut scope,
+            poisoned,
+            ..
+        } = names;
+        for p in &poisoned {
+            scope.remove(p);
+        }
+        let lw = Lowerer {
+            cx,
+            e,
+            scope,
+            params,
+            coords,
+            inputs,
+            lets: Vec::new(),
+            t_sym,
+            pi_sym,
+            place: Place::Let,
+            all_lets: def.lets.iter().map(|l| l.name.to_string()).collect(),
+            poisoned,
+            huge_constant: None,
+        };
+        (lw, let_ok)
+    }
+
+    /// The `let`s, in order: later ones may use earlier ones.
+    fn lower_lets(&mut self, def: &SystemDef, let_ok: &[bool]) {
+        for (i, l) in def.lets.iter().enumerate() {
+            self.place = Place::Let;
+            let v = self.lower(&l.value, 0);
+            self.lets.push(LetInfo {
+                value: v,
+                name: l.name.clone(),
+            });
+            if let_ok[i] {
+                self.scope.insert(l.name.to_string(), Binding::Let(i));
+            }
+        }
+    }
+
+    /// The Lagrangian: exactly one.
+    fn lower_lagrangian(&mut self, def: &SystemDef) -> Option<ExprId> {
+        match def.lagrangians.as_slice() {
+            [] if def.lagrangian_written => None, // it failed to parse: already reported
+            [] => {
+                self.cx.error_at(
+                    def.name.span(),
+                    "missing `lagrangian = ..;`: give the Lagrangian L = T - V in terms of the coordinates and `dot(q)` velocities",
+                );
+                None
+            }
+            [(_, expr), rest @ ..] => {
+                for (kw, _) in rest {
+                    self.cx.error_at(kw.span(), "duplicate `lagrangian`: a system has exactly one Lagrangian; combine the terms into one expression");
+                }
+                self.place = Place::Lagrangian;
+                self.lower(expr, 0)
+            }
+        }
+    }
+
+    /// The generalized forces, into the coordinates they act on.
+    fn lower_forces(&mut self, def: &SystemDef) {
+        let Some((_, list)) = &def.forces else {
+            return;
+        };
+        let mut seen = vec![false; self.coords.len()];
+        for f in list {
+            self.place = Place::Force;
+            let v = self.lower(&f.value, 0);
+            match self.scope.get(&f.coordinate.to_string()) {
+                _ if self.poisoned.contains(&f.coordinate.to_string()) => {}
+                Some(Binding::Coord(i)) => {
+                    let i = *i;
+                    if seen[i] {
+                        self.cx.error_at(f.coordinate.span(), format!("a second force on `{}`: write the sum of the forces on one coordinate as one expression", f.coordinate));
+                    } else if let Some(v) = v {
+                        self.coords[i].force = v;
+                        seen[i] = true;
+                    }
+                }
+                _ => {
+                    let hint = self.coordinate_hint(&f.coordinate);
+                    let all = list_names(self.coords.iter().map(|c| &c.name));
+                    self.cx.error_at(
+                        f.coordinate.span(),
+                        format!("`{}` is not a coordinate{hint}: a force is given as `coordinate: Q;` for one of {all}", f.coordinate),
+                    );
+                }
+            }
+        }
+    }
+
+    /// The constraints: each left side names its dependent coordinate, each
+    /// right side is checked for the form of (5.3) and gives a row of A.
+    fn lower_constraints(&mut self, def: &SystemDef) -> Vec<Constraint> {
+        let n = self.coords.len();
+        let mut constrained = vec![false; n];
+        let mut written: Vec<(usize, ExprId, &crate::parse::Constraint)> = Vec::new();
+        if let Some((_, list)) = &def.constraints {
+            for c in list {
+                let Some(s) = self.constraint_lhs(&c.lhs) else {
+                    continue;
+                };
+                if constrained[s] {
+                    let name = &self.coords[s].name;
+                    self.cx.error(
+                        c.lhs.range(),
+                        format!("`{name}` is constrained twice: each dependent coordinate has exactly one constraint `dot({name}) = ..`; merge them or choose another dependent coordinate"),
+                    );
+                    continue;
+                }
+                constrained[s] = true;
+                self.place = Place::Constraint;
+                if let Some(v) = self.lower(&c.rhs, 0) {
+                    written.push((s, v, c));
+                }
+            }
+        }
+        let dependent: Vec<usize> = (0..n).filter(|&i| constrained[i]).collect();
+        let independent: Vec<usize> = (0..n).filter(|&i| !constrained[i]).collect();
+        let constraints_span = def.constraints.as_ref().map(|c| c.0.span());
+        check::independent_left(def, n, &independent, constraints_span, self.cx);
+        if independent.is_empty() {
+            return Vec::new();
+        }
+        // right sides: linear and homogeneous in the independent velocities
+        let mut constraints = Vec::new();
+        for (s, rhs, c) in written {
+            if let Some(coefficients) = self.analyse_constraint(s, rhs, c, &dependent, &independent)
+            {
+                constraints.push(Constraint {
+                    kind: ConstraintKind::ExplicitVelocity,
+                    dependent: s,
+                    velocity: rhs,
+                    coefficients,
+                });
+            }
+        }
+        constraints
+    }
+
+    /// " (did you mean ..?)" for a name that should be a coordinate.
+    fn coordinate_hint(&self, id: &Ident) -> String {
+        let cands: Vec<String> = self.coords.iter().map(|c| c.name.to_string()).collect();
+        let refs: Vec<&str> = cands.iter().map(|s| s.as_str()).collect();
+        names::suggest(&id.to_string(), &refs)
+    }
+}
 /// A text for a message, shortened past 60 characters.
 fn short(s: String) -> String {
     if s.chars().count() <= 60 {
@@ -465,11 +372,8 @@ fn show(c: Rational) -> String {
     }
 }
 
-fn list_names(ids: &[Ident]) -> String {
-    ids.iter()
-        .map(|i| format!("`{i}`"))
-        .collect::<Vec<_>>()
-        .join(", ")
+fn list_names<'i>(ids: impl Iterator<Item = &'i Ident>) -> String {
+    ids.map(|i| format!("`{i}`")).collect::<Vec<_>>().join(", ")
 }
 
 impl Lowerer<'_> {
@@ -548,102 +452,110 @@ impl Lowerer<'_> {
                 let v = self.lower(inner, depth + 1)?;
                 Some(self.e.neg(v))
             }
-            Expr::Chain { first, rest } => {
-                // every operand is lowered, so that all their errors are reported
-                let mut acc = self.lower(first, depth + 1);
-                for (op, op_span, operand) in rest {
-                    let v = self.lower(operand, depth + 1);
-                    acc = match (acc, v) {
-                        (Some(a), Some(v)) => match op {
-                            BinOp::Add => Some(self.e.add(a, v)),
-                            BinOp::Sub => Some(self.e.sub(a, v)),
-                            BinOp::Mul => Some(self.e.mul(a, v)),
-                            BinOp::Div if v == ZERO => {
-                                let at = SpanRange {
-                                    first: *op_span,
-                                    last: operand.range().last,
-                                };
-                                let msg = if matches!(operand, Expr::Num(..)) {
-                                    "division by zero".to_string()
-                                } else {
-                                    format!(
-                                        "division by zero: `{}` is 0",
-                                        short(operand.to_source())
-                                    )
-                                };
-                                self.cx.error(at, msg);
-                                None
-                            }
-                            BinOp::Div => Some(self.e.div(a, v)),
-                            BinOp::Pow => None,
-                        },
-                        _ => None,
-                    };
-                }
-                acc
-            }
-            Expr::Pow { base, exp, .. } => {
-                let l = self.lower(base, depth + 1);
-                let r = self.lower(exp, depth + 1);
-                let (l, r) = (l?, r?);
-                let base_const = self.e.as_constant(l);
-                Some(match self.e.as_constant(r) {
-                    Some(q) => {
-                        if l == ZERO && q.is_zero() {
-                            self.cx.error(x.range(), "`0^0` is undefined");
-                            return None;
-                        }
-                        if l == ZERO && q.is_negative() {
-                            self.cx.error(
-                                x.range(),
-                                format!("division by zero: 0 to the negative power {q}"),
-                            );
-                            return None;
-                        }
-                        if let Some(c) = base_const {
-                            if c.is_negative() && !q.is_integer() {
-                                self.cx.error(x.range(), format!("a negative constant to a fractional power is not a real number: ({})^({})", show(c), show(q)));
-                                return None;
-                            }
-                            let digits = c.pow_digits(q.floor());
-                            if digits > f64::from(Rational::MAX_DIGITS) {
-                                self.cx.error(x.range(), format!("this power is too large to compute exactly: it has about {} digits, and the limit is {}", if digits < 1e12 { format!("{digits:.0}") } else { format!("{digits:.1e}") }, Rational::MAX_DIGITS));
-                                return None;
-                            }
-                        }
-                        if q.abs() > Rational::int(64) && base_const.is_none() {
-                            self.cx.error(
-                                exp.range(),
-                                "exponent too large: powers up to 64 are supported",
-                            );
-                            return None;
-                        }
-                        self.e.pow(l, q)
-                    }
-                    // a^b = exp(b ln a) for a symbolic exponent
-                    None => {
-                        if let Some(c) = base_const
-                            && c <= Rational::ZERO
-                        {
-                            let what = if c.is_zero() {
-                                "0 to a symbolic power is undefined here (it is exp(b·ln 0), and ln 0 = −∞)".to_string()
-                            } else {
-                                format!(
-                                    "a negative constant to a symbolic power is not a real number: ({})^(..)",
-                                    show(c)
-                                )
-                            };
-                            self.cx.error(x.range(), what);
-                            return None;
-                        }
-                        let ln = self.e.func(Fun::Ln, l);
-                        let p = self.e.mul(r, ln);
-                        self.e.func(Fun::Exp, p)
-                    }
-                })
-            }
+            Expr::Chain { first, rest } => self.lower_chain(first, rest, depth),
+            Expr::Pow { base, exp, .. } => self.lower_pow(x, base, exp, depth),
             Expr::Call { func, arg, range } => self.lower_call(func, arg, *range, depth),
         }
+    }
+
+    /// A chain of binary operations of one precedence, left to right.
+    fn lower_chain(
+        &mut self,
+        first: &Expr,
+        rest: &[(BinOp, Span, Expr)],
+        depth: usize,
+    ) -> Option<ExprId> {
+        // every operand is lowered, so that all their errors are reported
+        let mut acc = self.lower(first, depth + 1);
+        for (op, op_span, operand) in rest {
+            let v = self.lower(operand, depth + 1);
+            acc = match (acc, v) {
+                (Some(a), Some(v)) => match op {
+                    BinOp::Add => Some(self.e.add(a, v)),
+                    BinOp::Sub => Some(self.e.sub(a, v)),
+                    BinOp::Mul => Some(self.e.mul(a, v)),
+                    BinOp::Div if v == ZERO => {
+                        let at = SpanRange {
+                            first: *op_span,
+                            last: operand.range().last,
+                        };
+                        let msg = if matches!(operand, Expr::Num(..)) {
+                            "division by zero".to_string()
+                        } else {
+                            format!("division by zero: `{}` is 0", short(operand.to_source()))
+                        };
+                        self.cx.error(at, msg);
+                        None
+                    }
+                    BinOp::Div => Some(self.e.div(a, v)),
+                },
+                _ => None,
+            };
+        }
+        acc
+    }
+
+    /// `base ^ exp`.
+    fn lower_pow(&mut self, x: &Expr, base: &Expr, exp: &Expr, depth: usize) -> Option<ExprId> {
+        let l = self.lower(base, depth + 1);
+        let r = self.lower(exp, depth + 1);
+        let (l, r) = (l?, r?);
+        let base_const = self.e.as_constant(l);
+        Some(match self.e.as_constant(r) {
+            Some(q) => {
+                if l == ZERO && q.is_zero() {
+                    self.cx.error(x.range(), "`0^0` is undefined");
+                    return None;
+                }
+                if l == ZERO && q.is_negative() {
+                    self.cx.error(
+                        x.range(),
+                        format!("division by zero: 0 to the negative power {q}"),
+                    );
+                    return None;
+                }
+                if let Some(c) = base_const {
+                    if c.is_negative() && !q.is_integer() {
+                        self.cx.error(x.range(), format!("a negative constant to a fractional power is not a real number: ({})^({})", show(c), show(q)));
+                        return None;
+                    }
+                    let digits = c.pow_digits(q.floor());
+                    if digits > f64::from(Rational::MAX_DIGITS) {
+                        self.cx.error(x.range(), format!("this power is too large to compute exactly: it has about {} digits, and the limit is {}", if digits < 1e12 { format!("{digits:.0}") } else { format!("{digits:.1e}") }, Rational::MAX_DIGITS));
+                        return None;
+                    }
+                }
+                if q.abs() > Rational::int(64) && base_const.is_none() {
+                    self.cx.error(
+                        exp.range(),
+                        "exponent too large: powers up to 64 are supported",
+                    );
+                    return None;
+                }
+                self.e.pow(l, q)
+            }
+            // a^b = exp(b ln a) for a symbolic exponent
+            None => {
+                if let Some(c) = base_const
+                    && c <= Rational::ZERO
+                {
+                    let what = if c.is_zero() {
+                        "0 to a symbolic power is undefined here (it is exp(b·ln 0), and ln 0 = −∞)"
+                            .to_string()
+                    } else {
+                        format!(
+                            "a negative constant to a symbolic power is not a real number: ({})^(..)",
+                            show(c)
+                        )
+                    };
+                    self.cx.error(x.range(), what);
+                    return None;
+                }
+                let ln = self.e.func(Fun::Ln, l);
+                let p = self.e.mul(r, ln);
+                self.e.func(Fun::Exp, p)
+            }
+        })
     }
 
     fn lower_name(&mut self, id: &Ident) -> Option<ExprId> {
@@ -652,8 +564,8 @@ impl Lowerer<'_> {
             return None;
         }
         match self.scope.get(&s).copied() {
-            Some(Binding::Param(i)) => Some(self.e.sym(self.param_syms[i])),
-            Some(Binding::Coord(i)) => Some(self.e.sym(self.coord_syms[i])),
+            Some(Binding::Param(i)) => Some(self.e.sym(self.params[i].sym)),
+            Some(Binding::Coord(i)) => Some(self.e.sym(self.coords[i].position)),
             Some(Binding::Input(i)) => {
                 match self.place {
                     Place::Lagrangian => {
@@ -666,12 +578,12 @@ impl Lowerer<'_> {
                     }
                     _ => {}
                 }
-                Some(self.e.sym(self.input_syms[i]))
+                Some(self.e.sym(self.inputs[i].sym))
             }
             Some(Binding::Let(i)) => {
                 let v = self.lets[i].value?;
                 if self.place == Place::Lagrangian
-                    && self.input_syms.iter().any(|&u| self.e.depends_on(v, u))
+                    && self.inputs.iter().any(|u| self.e.depends_on(v, u.sym))
                 {
                     self.cx.error_at(id.span(), format!("`{s}` depends on an input, and inputs cannot appear in the Lagrangian: put actuation in `forces`"));
                     return None;
@@ -802,25 +714,25 @@ impl Lowerer<'_> {
             return None;
         }
         match self.scope.get(&s).copied() {
-            Some(Binding::Coord(i)) => Some(self.e.sym(self.vel_syms[i])),
+            Some(Binding::Coord(i)) => Some(self.e.sym(self.coords[i].velocity)),
             Some(Binding::Let(i)) => {
                 let v = self.lets[i].value?;
                 let name = self.lets[i].name.clone();
                 let fs = self.e.free_symbols(v).to_vec();
-                if self.vel_syms.iter().any(|vs| fs.contains(vs)) {
+                if self.coords.iter().any(|c| fs.contains(&c.velocity)) {
                     self.cx.error(range, format!("`dot({name})`: `{name}` contains velocities, and its time derivative would need accelerations; `dot` applies to velocity-free `let`s only"));
                     return None;
                 }
-                if self.input_syms.iter().any(|u| fs.contains(u)) {
+                if self.inputs.iter().any(|u| fs.contains(&u.sym)) {
                     self.cx.error(range, format!("`dot({name})`: `{name}` depends on an input, whose time derivative is unknown"));
                     return None;
                 }
                 // total derivative by the chain rule: Σ ∂/∂q_i q̇_i + ∂/∂t
                 let mut parts = Vec::new();
-                for i in 0..self.coord_syms.len() {
-                    let d = self.e.diff(v, self.coord_syms[i]);
+                for i in 0..self.coords.len() {
+                    let d = self.e.diff(v, self.coords[i].position);
                     if d != ZERO {
-                        let vel = self.e.sym(self.vel_syms[i]);
+                        let vel = self.e.sym(self.coords[i].velocity);
                         parts.push(self.e.mul(d, vel));
                     }
                 }
@@ -854,7 +766,7 @@ impl Lowerer<'_> {
     }
 
     /// The dependent coordinate of a constraint's left side `dot(s)`.
-    fn constraint_lhs(&mut self, lhs: &Expr, coords: &[Ident]) -> Option<usize> {
+    fn constraint_lhs(&mut self, lhs: &Expr) -> Option<usize> {
         let msg = "the left side of a constraint must be `dot(s)` for a coordinate `s`, which becomes dependent: write `dot(s) = a1(q)*dot(r1) + ..`";
         match lhs {
             Expr::Call { func, arg, .. } if func == "dot" => match &**arg {
@@ -862,9 +774,7 @@ impl Lowerer<'_> {
                 Expr::Name(id) => match self.scope.get(&id.to_string()) {
                     Some(Binding::Coord(i)) => Some(*i),
                     _ => {
-                        let cands: Vec<String> = coords.iter().map(|c| c.to_string()).collect();
-                        let refs: Vec<&str> = cands.iter().map(|s| s.as_str()).collect();
-                        let hint = names::suggest(&id.to_string(), &refs);
+                        let hint = self.coordinate_hint(id);
                         self.cx.error_at(
                             id.span(),
                             format!("`{id}` is not a coordinate{hint}: {msg}"),
@@ -890,20 +800,19 @@ impl Lowerer<'_> {
         s: usize,
         rhs: ExprId,
         c: &crate::parse::Constraint,
-        coords: &[Ident],
         dependent: &[usize],
         independent: &[usize],
     ) -> Option<Vec<ExprId>> {
-        let sname = &coords[s];
+        let sname = self.coords[s].name.clone();
         let form = "a constraint must have the form `dot(s) = a1(q)*dot(r1) + a2(q)*dot(r2) + ..`, linear and homogeneous in the velocities of the independent coordinates";
         // dependent velocities on the right side
         for &d in dependent {
-            if self.e.depends_on(rhs, self.vel_syms[d]) {
+            if self.e.depends_on(rhs, self.coords[d].velocity) {
                 let culprit = self.find_velocity_use(&c.rhs, d).unwrap_or(c.rhs.range());
                 if d == s {
                     self.cx.error(culprit, format!("`dot({sname})` appears on both sides of its own constraint, so the constraint cannot be solved for it at a generic point; move the term to the left and divide by its coefficient"));
                 } else {
-                    self.cx.error(culprit, format!("the constraint for `{sname}` uses `dot({})`, the velocity of a dependent coordinate; substitute its constraint so that the right side has only independent velocities", coords[d]));
+                    self.cx.error(culprit, format!("the constraint for `{sname}` uses `dot({})`, the velocity of a dependent coordinate; substitute its constraint so that the right side has only independent velocities", self.coords[d].name));
                 }
                 return None;
             }
@@ -919,7 +828,7 @@ impl Lowerer<'_> {
                 let syms = self.e.atom_symbols(*a).to_vec();
                 let has_vel = independent
                     .iter()
-                    .any(|&i| syms.contains(&self.vel_syms[i]));
+                    .any(|&i| syms.contains(&self.coords[i].velocity));
                 if !has_vel {
                     continue;
                 }
@@ -970,10 +879,9 @@ impl Lowerer<'_> {
         }
         let mut row = Vec::with_capacity(independent.len());
         for &i in independent {
-            let coef = self.e.diff(rhs, self.vel_syms[i]);
+            let coef = self.e.diff(rhs, self.coords[i].velocity);
             row.push(self.e.neg(coef));
         }
-        let _ = ONE;
         Some(row)
     }
 
@@ -989,7 +897,7 @@ impl Lowerer<'_> {
                 let syms = self.e.atom_symbols(a).to_vec();
                 if !independent
                     .iter()
-                    .any(|&i| syms.contains(&self.vel_syms[i]))
+                    .any(|&i| syms.contains(&self.coords[i].velocity))
                 {
                     continue;
                 }
@@ -1012,7 +920,7 @@ impl Lowerer<'_> {
         match self.lower(x, 0) {
             Some(v) => independent
                 .iter()
-                .any(|&i| self.e.depends_on(v, self.vel_syms[i])),
+                .any(|&i| self.e.depends_on(v, self.coords[i].velocity)),
             None => false,
         }
     }

@@ -3,7 +3,7 @@
 //! the constrained Lagrangian and the curvature route (5.12)–(5.21), and the
 //! energy. Every function derives only what it is asked for.
 
-use crate::lower::Model;
+use crate::model::Model;
 use crate::sym::{ExprId, SymId, ZERO};
 use rustc_hash::FxHashMap as HashMap;
 
@@ -18,6 +18,24 @@ pub struct MultiplierRoute {
     pub dependent_bias: Vec<ExprId>,
 }
 
+/// Everything derived symbolically for one system, each piece once.
+pub struct Derivation {
+    /// The multiplier route's pieces.
+    pub multiplier_route: MultiplierRoute,
+    /// B^b_{αβ} of (5.21), p × k × k.
+    pub curvature: Vec<Vec<Vec<ExprId>>>,
+    /// The curvature route (its reduced mass matrix alone when only the
+    /// multiplier route is derived).
+    pub curvature_route: CurvatureRoute,
+    /// The energy, when `outputs { energy }` asks for it (derived once the
+    /// rest is known to be within the engine's limits).
+    pub energy: Option<ExprId>,
+    /// Whether every curvature entry is identically zero.
+    pub integrable: bool,
+    /// Whether that was proved symbolically (otherwise numerically).
+    pub integrable_proved: bool,
+}
+
 /// The curvature route: the reduced equations Mc r̈ = f in closed form.
 pub struct CurvatureRoute {
     /// ∂²Lc/∂ṙ_α∂ṙ_β, k × k.
@@ -26,32 +44,91 @@ pub struct CurvatureRoute {
     pub rhs: Vec<ExprId>,
     /// r̈ solved symbolically, when that is cheaper than solving numerically.
     pub solution: Option<Vec<ExprId>>,
-    /// Whether `rhs` was derived (see [`Model::reduced_mass_only`]).
-    pub rhs_derived: bool,
 }
 
 impl Model {
-    /// Number of coordinates n.
-    pub fn n(&self) -> usize {
-        self.coords.len()
+    /// The multiplier route, the curvature and the curvature route (only its
+    /// reduced mass matrix unless `both_routes`), and whether the
+    /// constraints are integrable.
+    pub fn derive(&mut self, both_routes: bool) -> Derivation {
+        let multiplier_route = self.multiplier_route();
+        let curvature = self.curvature();
+        let curvature_route = if both_routes {
+            self.curvature_route(&curvature)
+        } else {
+            self.reduced_mass_only(&curvature)
+        };
+        let (integrable, integrable_proved) = self.integrability(&curvature);
+        Derivation {
+            multiplier_route,
+            curvature,
+            curvature_route,
+            energy: None,
+            integrable,
+            integrable_proved,
+        }
     }
 
-    /// Number of independent coordinates k.
-    pub fn k(&self) -> usize {
-        self.independent.len()
-    }
-
-    /// Number of constraints p.
-    pub fn p(&self) -> usize {
-        self.dependent.len()
+    /// Whether the constraints are integrable (all B^b_αβ ≡ 0), and whether that
+    /// was proved symbolically. An entry whose canonical form is not zero is
+    /// evaluated at 16 random points in double-double arithmetic (about 32
+    /// digits): any point where it exceeds 1e-24 of the sum of its terms' sizes
+    /// proves it nonzero; an entry below that at every point is taken as zero (an
+    /// identity the canonical form does not know, such as an angle-addition
+    /// formula). A genuinely nonholonomic system would have to cancel to 24
+    /// digits at 16 random points to be called integrable.
+    fn integrability(&self, curv: &[Vec<Vec<ExprId>>]) -> (bool, bool) {
+        use crate::sym::dd::Dd;
+        let entries: Vec<ExprId> = curv
+            .iter()
+            .flatten()
+            .flatten()
+            .copied()
+            .filter(|&b| b != ZERO)
+            .collect();
+        if entries.is_empty() {
+            return (true, true);
+        }
+        let mut state = 0x243F_6A88_85A3_08D3u64; // deterministic: the same verdict every build
+        let mut next = move || {
+            state ^= state >> 12;
+            state ^= state << 25;
+            state ^= state >> 27;
+            ((state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64) / (1u64 << 53) as f64
+        };
+        let mut vals = vec![Dd::ZERO; self.engine.num_symbols()];
+        let mut points = 0;
+        for _ in 0..64 {
+            if points == 16 {
+                break;
+            }
+            for v in vals.iter_mut() {
+                *v = Dd::from_f64(0.3 + 1.1 * next()); // positive: keeps sqrt and ln arguments valid
+            }
+            vals[self.pi as usize] = Dd::PI;
+            let mut usable = true;
+            for &b in &entries {
+                let (v, scale) = self.engine.eval_with_scale_dd(b, &vals);
+                if !v.is_finite() || !scale.is_finite() {
+                    usable = false;
+                    break;
+                }
+                if v.abs().to_f64() > 1e-24 * scale.to_f64() {
+                    return (false, false);
+                }
+            }
+            if usable {
+                points += 1;
+            }
+        }
+        (points == 16, false)
     }
 
     /// The substitution ṡ_a ↦ −Σ_α A^a_α ṙ_α of (5.11).
     pub fn constrained_velocities(&self) -> HashMap<SymId, ExprId> {
-        self.dependent
+        self.constraints
             .iter()
-            .zip(&self.dependent_velocity)
-            .map(|(&s, &v)| (self.vel_syms[s], v))
+            .map(|c| (self.coordinates[c.dependent].velocity, c.velocity))
             .collect()
     }
 
@@ -59,9 +136,9 @@ impl Model {
     fn constrained_qdot(&mut self) -> Vec<ExprId> {
         let mut out = Vec::with_capacity(self.n());
         for i in 0..self.n() {
-            match self.dependent.iter().position(|&d| d == i) {
-                Some(a) => out.push(self.dependent_velocity[a]),
-                None => out.push(self.engine.sym(self.vel_syms[i])),
+            match self.constraints.iter().find(|c| c.dependent == i) {
+                Some(c) => out.push(c.velocity),
+                None => out.push(self.engine.sym(self.coordinates[i].velocity)),
             }
         }
         out
@@ -72,11 +149,12 @@ impl Model {
         let n = self.n();
         let l = self.lagrangian;
         let e = &mut self.engine;
-        let momenta: Vec<ExprId> = (0..n).map(|j| e.diff(l, self.vel_syms[j])).collect();
+        let q = &self.coordinates;
+        let momenta: Vec<ExprId> = (0..n).map(|j| e.diff(l, q[j].velocity)).collect();
         let mut mass = vec![vec![ZERO; n]; n];
         for i in 0..n {
             for j in i..n {
-                let m = e.diff(momenta[i], self.vel_syms[j]);
+                let m = e.diff(momenta[i], q[j].velocity);
                 mass[i][j] = m;
                 mass[j][i] = m;
             }
@@ -85,26 +163,26 @@ impl Model {
         for j in 0..n {
             let mut parts = Vec::new();
             for i in 0..n {
-                let d = e.diff(momenta[j], self.coord_syms[i]);
+                let d = e.diff(momenta[j], q[i].position);
                 if d != ZERO {
-                    let v = e.sym(self.vel_syms[i]);
+                    let v = e.sym(q[i].velocity);
                     parts.push(e.mul(d, v));
                 }
             }
-            parts.push(e.diff(momenta[j], self.t_sym));
-            let dl = e.diff(l, self.coord_syms[j]);
+            parts.push(e.diff(momenta[j], self.time));
+            let dl = e.diff(l, q[j].position);
             parts.push(e.neg(dl));
-            parts.push(e.neg(self.forces[j]));
+            parts.push(e.neg(q[j].force));
             bias.push(e.sum(&parts));
         }
-        let mut dependent_bias = Vec::with_capacity(self.dependent.len());
-        for a in 0..self.dependent.len() {
-            let sdot = self.dependent_velocity[a];
+        let mut dependent_bias = Vec::with_capacity(self.constraints.len());
+        for c in &self.constraints {
+            let sdot = c.velocity;
             let mut parts = Vec::new();
             for i in 0..n {
-                let d = e.diff(sdot, self.coord_syms[i]);
+                let d = e.diff(sdot, q[i].position);
                 if d != ZERO {
-                    let v = e.sym(self.vel_syms[i]);
+                    let v = e.sym(q[i].velocity);
                     parts.push(e.mul(d, v));
                 }
             }
@@ -121,18 +199,26 @@ impl Model {
     pub fn curvature(&mut self) -> Vec<Vec<Vec<ExprId>>> {
         let (k, p) = (self.k(), self.p());
         let mut b = vec![vec![vec![ZERO; k]; k]; p];
+        let r = self.of_independent(|c| c.position);
+        let s_syms: Vec<SymId> = self
+            .constraints
+            .iter()
+            .map(|c| self.coordinates[c.dependent].position)
+            .collect();
+        let a: Vec<&[ExprId]> = self
+            .constraints
+            .iter()
+            .map(|c| &c.coefficients[..])
+            .collect();
         for bb in 0..p {
             for al in 0..k {
                 for be in (al + 1)..k {
                     let e = &mut self.engine;
-                    let a = &self.a_matrix;
-                    let r_al = self.coord_syms[self.independent[al]];
-                    let r_be = self.coord_syms[self.independent[be]];
+                    let (r_al, r_be) = (r[al], r[be]);
                     let d1 = e.diff(a[bb][al], r_be);
                     let d2 = e.diff(a[bb][be], r_al);
                     let mut parts = vec![d1, e.neg(d2)];
-                    for (aa, &s) in self.dependent.iter().enumerate() {
-                        let s_sym = self.coord_syms[s];
+                    for (aa, &s_sym) in s_syms.iter().enumerate() {
                         let x = e.diff(a[bb][be], s_sym);
                         let x = e.mul(a[aa][al], x);
                         let y = e.diff(a[bb][al], s_sym);
@@ -156,7 +242,7 @@ impl Model {
     }
 
     /// The curvature route's reduced mass matrix alone (the right side left
-    /// zero, `rhs_derived` false): what the singularity check needs when the
+    /// zero): what the singularity check needs when the
     /// route itself is not derived.
     pub fn reduced_mass_only(&mut self, curvature: &[Vec<Vec<ExprId>>]) -> CurvatureRoute {
         self.curvature_route_parts(curvature, false)
@@ -171,10 +257,13 @@ impl Model {
         let map = self.constrained_velocities();
         let qdot_c = self.constrained_qdot();
         let l = self.lagrangian;
+        let r_vel = self.independent_velocities();
+        let r_pos = self.of_independent(|c| c.position);
+        let r_force = self.of_independent(|c| c.force);
+        let q = &self.coordinates;
         let e = &mut self.engine;
         let mut memo = HashMap::default();
         let lc = e.subst(l, &map, &mut memo); // (5.12)
-        let r_vel: Vec<SymId> = self.independent.iter().map(|&i| self.vel_syms[i]).collect();
         let pc: Vec<ExprId> = r_vel.iter().map(|&v| e.diff(lc, v)).collect();
         let mut mass = vec![vec![ZERO; k]; k];
         for al in 0..k {
@@ -186,10 +275,10 @@ impl Model {
         }
         // ∂L/∂ṡ_b at the constrained velocities
         let p_dep: Vec<ExprId> = self
-            .dependent
+            .constraints
             .iter()
-            .map(|&s| {
-                let d = e.diff(l, self.vel_syms[s]);
+            .map(|c| {
+                let d = e.diff(l, q[c.dependent].velocity);
                 e.subst(d, &map, &mut memo)
             })
             .collect();
@@ -199,27 +288,26 @@ impl Model {
                 mass,
                 rhs: vec![ZERO; k],
                 solution: None,
-                rhs_derived: false,
             };
         }
         for al in 0..k {
             let mut lhs = Vec::new();
             // velocity part of d/dt ∂Lc/∂ṙ_α
             for i in 0..n {
-                let d = e.diff(pc[al], self.coord_syms[i]);
+                let d = e.diff(pc[al], q[i].position);
                 if d != ZERO {
                     lhs.push(e.mul(d, qdot_c[i]));
                 }
             }
-            lhs.push(e.diff(pc[al], self.t_sym));
+            lhs.push(e.diff(pc[al], self.time));
             // − ∂Lc/∂r_α
-            let d = e.diff(lc, self.coord_syms[self.independent[al]]);
+            let d = e.diff(lc, r_pos[al]);
             lhs.push(e.neg(d));
             // + Σ_a A^a_α ∂Lc/∂s_a
-            for (a, &s) in self.dependent.iter().enumerate() {
-                let d = e.diff(lc, self.coord_syms[s]);
+            for c in &self.constraints {
+                let d = e.diff(lc, q[c.dependent].position);
                 if d != ZERO {
-                    lhs.push(e.mul(self.a_matrix[a][al], d));
+                    lhs.push(e.mul(c.coefficients[al], d));
                 }
             }
             // + Σ_b Σ_β B^b_αβ ṙ_β ∂L/∂ṡ_b   (moved from the right side of (5.20))
@@ -234,23 +322,23 @@ impl Model {
                 }
             }
             // projected forces Q_r − Σ_a A^a_α Q_s at the constrained velocities
-            let mut q = vec![self.forces[self.independent[al]]];
-            for (a, &s) in self.dependent.iter().enumerate() {
-                if self.forces[s] != ZERO {
-                    let t = e.mul(self.a_matrix[a][al], self.forces[s]);
-                    q.push(e.neg(t));
+            let mut force = vec![r_force[al]];
+            for c in &self.constraints {
+                let qs = q[c.dependent].force;
+                if qs != ZERO {
+                    let t = e.mul(c.coefficients[al], qs);
+                    force.push(e.neg(t));
                 }
             }
-            let q = e.sum(&q);
-            let q = e.subst(q, &map, &mut memo);
+            let force = e.sum(&force);
+            let force = e.subst(force, &map, &mut memo);
             let lhs = e.sum(&lhs);
-            rhs.push(e.sub(q, lhs));
+            rhs.push(e.sub(force, lhs));
         }
         CurvatureRoute {
             mass,
             rhs,
             solution: None,
-            rhs_derived: true,
         }
     }
 
@@ -324,7 +412,7 @@ impl Model {
         let l = self.lagrangian;
         let e = &mut self.engine;
         let mut parts = Vec::new();
-        for &v in &self.vel_syms {
+        for v in self.coordinates.iter().map(|c| c.velocity) {
             let p = e.diff(l, v);
             let vs = e.sym(v);
             parts.push(e.mul(vs, p));

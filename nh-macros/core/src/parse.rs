@@ -28,8 +28,6 @@ pub enum BinOp {
     Mul,
     /// `/`
     Div,
-    /// `^`
-    Pow,
 }
 
 /// A surface expression. Chains of `+ -` and of `* /` are flat lists, so a
@@ -64,8 +62,6 @@ pub enum Expr {
         base: Box<Expr>,
         /// the exponent
         exp: Box<Expr>,
-        /// span of `^`
-        op_span: Span,
     },
 }
 
@@ -111,7 +107,6 @@ impl Expr {
                         BinOp::Sub => " - ",
                         BinOp::Mul => "*",
                         BinOp::Div => "/",
-                        BinOp::Pow => "^",
                     };
                     out.push_str(sym);
                     let need = if sum {
@@ -156,8 +151,6 @@ pub struct Constraint {
     pub lhs: Expr,
     /// right side
     pub rhs: Expr,
-    /// the whole statement
-    pub range: SpanRange,
 }
 
 /// One `q: expr;` generalized force.
@@ -179,8 +172,6 @@ pub struct SystemDef {
     pub vis: Visibility,
     /// struct name
     pub name: Ident,
-    /// span of the brace group of the body
-    pub body_span: Span,
     /// `parameters { .. }` (keyword span, names)
     pub parameters: Option<(Ident, Vec<Ident>)>,
     /// `coordinates { .. }`
@@ -297,7 +288,6 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         attrs,
         vis,
         name,
-        body_span: body.span(),
         parameters: None,
         coordinates: None,
         inputs: None,
@@ -348,7 +338,7 @@ fn too_large(input: &TokenStream) -> Option<syn::Error> {
 /// One top-level item of the body: either `keyword { .. }` or tokens up to `;`.
 enum Item {
     Block(Ident, proc_macro2::Group),
-    Statement(Vec<TokenTree>, Span),
+    Statement(Vec<TokenTree>),
 }
 
 fn split_items(stream: TokenStream, cx: &mut Ctxt) -> Vec<Item> {
@@ -376,12 +366,11 @@ fn split_items(stream: TokenStream, cx: &mut Ctxt) -> Vec<Item> {
         }
         match &tt {
             TokenTree::Punct(p) if p.as_char() == ';' => {
-                let span = p.span();
                 if !cur.is_empty() {
                     // the `;` stays in the statement: an error at its end points at it
                     cur.push(tt.clone());
                 }
-                items.push(Item::Statement(std::mem::take(&mut cur), span));
+                items.push(Item::Statement(std::mem::take(&mut cur)));
             }
             _ => cur.push(tt),
         }
@@ -399,138 +388,152 @@ fn split_items(stream: TokenStream, cx: &mut Ctxt) -> Vec<Item> {
         let mut semi = proc_macro2::Punct::new(';', proc_macro2::Spacing::Alone);
         semi.set_span(span);
         cur.push(TokenTree::Punct(semi));
-        items.push(Item::Statement(cur, span));
+        items.push(Item::Statement(cur));
     }
     items
 }
 
 fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
     match item {
-        Item::Block(kw, group) => {
-            let which = kw.to_string();
-            match which.as_str() {
-                "parameters" | "coordinates" | "inputs" | "outputs" => {
-                    let list = match parse_name_list.parse2(group.stream()) {
-                        Ok(n) => n,
-                        Err(e) => {
-                            cx.syn_error(e);
-                            // the names it meant to declare must not cause follow-up errors
-                            for tt in group.stream() {
-                                if let TokenTree::Ident(id) = tt {
-                                    def.poisoned.push(names::canonical(id));
-                                }
-                            }
-                            return;
-                        }
-                    };
-                    // a keyword is reported here, once, at the name; it stays
-                    // declared, so its uses raise no follow-up errors
-                    let kind = match which.as_str() {
-                        "parameters" => Some("a parameter"),
-                        "coordinates" => Some("a coordinate"),
-                        "inputs" => Some("an input"),
-                        _ => None,
-                    };
-                    for id in &list {
-                        if let Some(msg) = kind.and_then(|k| names::keyword_problem(id, k)) {
-                            cx.error_at(id.span(), msg);
-                        }
-                    }
-                    let slot = match which.as_str() {
-                        "parameters" => &mut def.parameters,
-                        "coordinates" => &mut def.coordinates,
-                        "inputs" => &mut def.inputs,
-                        _ => &mut def.outputs,
-                    };
-                    if let Some((prev, _)) = slot {
-                        cx.error_at(
-                            kw.span(),
-                            format!("duplicate `{which}` block: list all names in the first `{prev}` block"),
-                        );
-                    } else {
-                        *slot = Some((kw, list));
-                    }
-                }
-                "constraints" => {
-                    let mut list = Vec::new();
-                    for (toks, _) in split_statements(&group) {
-                        match parse_constraint.parse2(toks.into_iter().collect()) {
-                            Ok(c) => list.push(c),
-                            Err(e) => cx.syn_error(e),
-                        }
-                    }
-                    if def.constraints.is_some() {
-                        cx.error_at(
-                            kw.span(),
-                            "duplicate `constraints` block: write all constraints in one block",
-                        );
-                    } else {
-                        def.constraints = Some((kw, list));
-                    }
-                }
-                "forces" => {
-                    let mut list = Vec::new();
-                    for (toks, _) in split_statements(&group) {
-                        match parse_force.parse2(toks.into_iter().collect()) {
-                            Ok(c) => list.push(c),
-                            Err(e) => cx.syn_error(e),
-                        }
-                    }
-                    if def.forces.is_some() {
-                        cx.error_at(
-                            kw.span(),
-                            "duplicate `forces` block: write all forces in one block",
-                        );
-                    } else {
-                        def.forces = Some((kw, list));
-                    }
-                }
-                _ => {
-                    let hint = crate::names::suggest(
-                        &which,
-                        &[
-                            "parameters",
-                            "coordinates",
-                            "inputs",
-                            "forces",
-                            "constraints",
-                            "outputs",
-                        ],
-                    );
-                    cx.error_at(
-                        kw.span(),
-                        format!(
-                            "unknown block `{which}`{hint}; the blocks are `parameters`, `coordinates`, `inputs`, `forces`, `constraints` and `outputs`"
-                        ),
-                    );
-                }
-            }
+        Item::Block(kw, group) => parse_block(kw, &group, def, cx),
+        Item::Statement(toks) => parse_statement_item(toks, def, cx),
+    }
+}
+
+/// The blocks of a definition, in the order messages list them.
+const BLOCKS: [&str; 6] = [
+    "parameters",
+    "coordinates",
+    "inputs",
+    "forces",
+    "constraints",
+    "outputs",
+];
+
+/// A block `kw { .. }`.
+fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &mut Ctxt) {
+    let which = kw.to_string();
+    match which.as_str() {
+        "parameters" | "coordinates" | "inputs" | "outputs" => parse_name_block(kw, group, def, cx),
+        "constraints" => {
+            let list = parse_each(group, parse_constraint, cx);
+            set_once(&mut def.constraints, kw, list, cx, |_| {
+                "duplicate `constraints` block: write all constraints in one block".to_string()
+            });
         }
-        Item::Statement(toks, semi) => {
-            if toks.is_empty() {
-                return;
-            }
-            match (&toks[0], toks.get(1)) {
-                (TokenTree::Ident(kw), _) if kw == "lagrangian" => def.lagrangian_written = true,
-                (TokenTree::Ident(kw), Some(TokenTree::Ident(name))) if kw == "let" => {
-                    def.poisoned.push(names::canonical(name.clone()))
-                }
-                _ => {}
-            }
-            let stream: TokenStream = toks.into_iter().collect();
-            match parse_statement.parse2(stream) {
-                Ok(Statement::Let(l)) => {
-                    if let Some(msg) = names::keyword_problem(&l.name, "a `let`") {
-                        cx.error_at(l.name.span(), msg);
-                    }
-                    def.poisoned.retain(|p| p != &l.name);
-                    def.lets.push(l)
-                }
-                Ok(Statement::Lagrangian(kw, e)) => def.lagrangians.push((kw, e)),
-                Err(e) => cx.syn_error(e),
-            }
-            let _ = semi;
+        "forces" => {
+            let list = parse_each(group, parse_force, cx);
+            set_once(&mut def.forces, kw, list, cx, |_| {
+                "duplicate `forces` block: write all forces in one block".to_string()
+            });
         }
+        _ => {
+            let hint = crate::names::suggest(&which, &BLOCKS);
+            cx.error_at(
+                kw.span(),
+                format!(
+                    "unknown block `{which}`{hint}; the blocks are `parameters`, `coordinates`, `inputs`, `forces`, `constraints` and `outputs`"
+                ),
+            );
+        }
+    }
+}
+
+/// A block of names: `parameters`, `coordinates`, `inputs` or `outputs`.
+fn parse_name_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &mut Ctxt) {
+    let which = kw.to_string();
+    let list = match parse_name_list.parse2(group.stream()) {
+        Ok(n) => n,
+        Err(e) => {
+            cx.syn_error(e);
+            // the names it meant to declare must not cause follow-up errors
+            for tt in group.stream() {
+                if let TokenTree::Ident(id) = tt {
+                    def.poisoned.push(names::canonical(id));
+                }
+            }
+            return;
+        }
+    };
+    // a keyword is reported here, once, at the name; it stays
+    // declared, so its uses raise no follow-up errors
+    let kind = match which.as_str() {
+        "parameters" => Some("a parameter"),
+        "coordinates" => Some("a coordinate"),
+        "inputs" => Some("an input"),
+        _ => None,
+    };
+    for id in &list {
+        if let Some(msg) = kind.and_then(|k| names::keyword_problem(id, k)) {
+            cx.error_at(id.span(), msg);
+        }
+    }
+    let slot = match which.as_str() {
+        "parameters" => &mut def.parameters,
+        "coordinates" => &mut def.coordinates,
+        "inputs" => &mut def.inputs,
+        _ => &mut def.outputs,
+    };
+    set_once(slot, kw, list, cx, |prev| {
+        format!("duplicate `{which}` block: list all names in the first `{prev}` block")
+    });
+}
+
+/// Each `;`-separated statement of a block parsed by `parser`; the errors
+/// into `cx`.
+fn parse_each<T>(
+    group: &proc_macro2::Group,
+    parser: fn(ParseStream) -> syn::Result<T>,
+    cx: &mut Ctxt,
+) -> Vec<T> {
+    let mut list = Vec::new();
+    for (toks, _) in split_statements(group) {
+        match parser.parse2(toks.into_iter().collect()) {
+            Ok(c) => list.push(c),
+            Err(e) => cx.syn_error(e),
+        }
+    }
+    list
+}
+
+/// Fills the slot of a block, or reports a second block of its kind at its
+/// keyword with `duplicate(first keyword)`.
+fn set_once<T>(
+    slot: &mut Option<(Ident, Vec<T>)>,
+    kw: Ident,
+    list: Vec<T>,
+    cx: &mut Ctxt,
+    duplicate: impl FnOnce(&Ident) -> String,
+) {
+    match slot {
+        Some((prev, _)) => cx.error_at(kw.span(), duplicate(prev)),
+        None => *slot = Some((kw, list)),
+    }
+}
+
+/// A statement: `lagrangian = ..;` or `let name = ..;`.
+fn parse_statement_item(toks: Vec<TokenTree>, def: &mut SystemDef, cx: &mut Ctxt) {
+    if toks.is_empty() {
+        return;
+    }
+    match (&toks[0], toks.get(1)) {
+        (TokenTree::Ident(kw), _) if kw == "lagrangian" => def.lagrangian_written = true,
+        (TokenTree::Ident(kw), Some(TokenTree::Ident(name))) if kw == "let" => {
+            def.poisoned.push(names::canonical(name.clone()))
+        }
+        _ => {}
+    }
+    let stream: TokenStream = toks.into_iter().collect();
+    match parse_statement.parse2(stream) {
+        Ok(Statement::Let(l)) => {
+            if let Some(msg) = names::keyword_problem(&l.name, "a `let`") {
+                cx.error_at(l.name.span(), msg);
+            }
+            def.poisoned.retain(|p| p != &l.name);
+            def.lets.push(l)
+        }
+        Ok(Statement::Lagrangian(kw, e)) => def.lagrangians.push((kw, e)),
+        Err(e) => cx.syn_error(e),
     }
 }
 
@@ -632,8 +635,7 @@ fn parse_constraint(input: ParseStream) -> syn::Result<Constraint> {
     }
     let _: Token![=] = input.parse()?;
     let rhs = parse_expr_all(input)?;
-    let range = lhs.range().to(rhs.range());
-    Ok(Constraint { lhs, rhs, range })
+    Ok(Constraint { lhs, rhs })
 }
 
 fn parse_force(input: ParseStream) -> syn::Result<Force> {
@@ -676,30 +678,73 @@ fn parse_expr_all(input: ParseStream) -> syn::Result<Expr> {
     Ok(e)
 }
 
-/// expr := term (('+' | '-') term)*
-fn parse_expr(input: ParseStream, depth: usize) -> syn::Result<Expr> {
+/// An error past [`MAX_DEPTH`] levels of nesting (`why`: a guess at the
+/// cause, for the message).
+fn not_too_deep(input: ParseStream, depth: usize, why: &str) -> syn::Result<()> {
     if depth > MAX_DEPTH {
         return Err(input.error(format!(
-            "expression nested more than {MAX_DEPTH} levels deep: split it into `let` items"
+            "expression nested more than {MAX_DEPTH} levels deep{why}: split it into `let` items"
         )));
     }
-    let first = parse_term(input, depth)?;
+    Ok(())
+}
+
+/// expr := term (('+' | '-') term)*
+fn parse_expr(input: ParseStream, depth: usize) -> syn::Result<Expr> {
+    not_too_deep(input, depth, "")?;
+    parse_chain(input, depth, parse_term, additive_op)
+}
+
+/// A binary operator with its span.
+type Operator = (BinOp, Span);
+
+/// `operand (op operand)*` as one chain, with `op` parsed by `next_op`.
+fn parse_chain(
+    input: ParseStream,
+    depth: usize,
+    operand: fn(ParseStream, usize) -> syn::Result<Expr>,
+    next_op: fn(ParseStream) -> syn::Result<Option<Operator>>,
+) -> syn::Result<Expr> {
+    let first = operand(input, depth)?;
     let mut rest = Vec::new();
-    loop {
-        let op = if input.peek(Token![+]) {
-            let t: Token![+] = input.parse()?;
-            (BinOp::Add, t.span)
-        } else if input.peek(Token![-]) && !input.peek(Token![-=]) {
-            let t: Token![-] = input.parse()?;
-            (BinOp::Sub, t.span)
-        } else {
-            break;
-        };
-        check_chain_length(&rest, op.1)?;
-        let rhs = parse_term(input, depth)?;
-        rest.push((op.0, op.1, rhs));
+    while let Some((op, span)) = next_op(input)? {
+        check_chain_length(&rest, span)?;
+        let rhs = operand(input, depth)?;
+        rest.push((op, span, rhs));
     }
     Ok(chain(first, rest))
+}
+
+/// `+` or `-` (not `-=`), if next.
+fn additive_op(input: ParseStream) -> syn::Result<Option<Operator>> {
+    Ok(if input.peek(Token![+]) {
+        let t: Token![+] = input.parse()?;
+        Some((BinOp::Add, t.span))
+    } else if input.peek(Token![-]) && !input.peek(Token![-=]) {
+        let t: Token![-] = input.parse()?;
+        Some((BinOp::Sub, t.span))
+    } else {
+        None
+    })
+}
+
+/// `*` (not `*=` or `**`) or `/` (not `/=`), if next.
+fn multiplicative_op(input: ParseStream) -> syn::Result<Option<Operator>> {
+    Ok(if input.peek(Token![*]) && !input.peek(Token![*=]) {
+        let t: Token![*] = input.parse()?;
+        if input.peek(Token![*]) {
+            return Err(syn::Error::new(
+                t.span,
+                "`**` is not an operator here: write powers with `^`, as in `x^2`",
+            ));
+        }
+        Some((BinOp::Mul, t.span))
+    } else if input.peek(Token![/]) && !input.peek(Token![/=]) {
+        let t: Token![/] = input.parse()?;
+        Some((BinOp::Div, t.span))
+    } else {
+        None
+    })
 }
 
 /// Longest chain of operands accepted in one sum or product.
@@ -730,29 +775,7 @@ fn chain(first: Expr, rest: Vec<(BinOp, Span, Expr)>) -> Expr {
 
 /// term := unary (('*' | '/') unary)*
 fn parse_term(input: ParseStream, depth: usize) -> syn::Result<Expr> {
-    let first = parse_unary(input, depth)?;
-    let mut rest = Vec::new();
-    loop {
-        let op = if input.peek(Token![*]) && !input.peek(Token![*=]) {
-            let t: Token![*] = input.parse()?;
-            if input.peek(Token![*]) {
-                return Err(syn::Error::new(
-                    t.span,
-                    "`**` is not an operator here: write powers with `^`, as in `x^2`",
-                ));
-            }
-            (BinOp::Mul, t.span)
-        } else if input.peek(Token![/]) && !input.peek(Token![/=]) {
-            let t: Token![/] = input.parse()?;
-            (BinOp::Div, t.span)
-        } else {
-            break;
-        };
-        check_chain_length(&rest, op.1)?;
-        let rhs = parse_unary(input, depth)?;
-        rest.push((op.0, op.1, rhs));
-    }
-    Ok(chain(first, rest))
+    parse_chain(input, depth, parse_unary, multiplicative_op)
 }
 
 /// unary := '-' unary | power
@@ -782,19 +805,14 @@ fn parse_unary(input: ParseStream, depth: usize) -> syn::Result<Expr> {
 
 /// power := primary ('^' unary)?
 fn parse_power(input: ParseStream, depth: usize) -> syn::Result<Expr> {
-    if depth > MAX_DEPTH {
-        return Err(input.error(format!(
-            "expression nested more than {MAX_DEPTH} levels deep (a tower of powers?): split it into `let` items"
-        )));
-    }
+    not_too_deep(input, depth, " (a tower of powers?)")?;
     let base = parse_primary(input, depth)?;
     if input.peek(Token![^]) && !input.peek(Token![^=]) {
-        let t: Token![^] = input.parse()?;
+        let _: Token![^] = input.parse()?;
         let exp = parse_unary(input, depth + 1)?;
         return Ok(Expr::Pow {
             base: Box::new(base),
             exp: Box::new(exp),
-            op_span: t.span,
         });
     }
     Ok(base)
@@ -807,114 +825,10 @@ fn parse_primary(input: ParseStream, depth: usize) -> syn::Result<Expr> {
     }
     let tt: TokenTree = input.fork().parse()?;
     match tt {
-        TokenTree::Literal(_) => {
-            let lit: syn::Lit = input.parse()?;
-            let span = lit.span();
-            let text = match &lit {
-                syn::Lit::Int(i) => {
-                    if !i.suffix().is_empty() {
-                        return Err(syn::Error::new(
-                            span,
-                            format!(
-                                "remove the type suffix `{}`: numbers are exact rationals here",
-                                i.suffix()
-                            ),
-                        ));
-                    }
-                    i.base10_digits().to_string()
-                }
-                syn::Lit::Float(f) => {
-                    if !f.suffix().is_empty() {
-                        return Err(syn::Error::new(
-                            span,
-                            format!(
-                                "remove the type suffix `{}`: numbers are exact rationals here",
-                                f.suffix()
-                            ),
-                        ));
-                    }
-                    f.base10_digits().to_string()
-                }
-                _ => {
-                    return Err(syn::Error::new(
-                        span,
-                        "expected a number; string and character literals have no meaning here",
-                    ));
-                }
-            };
-            match decimal_to_rational(&text) {
-                Some(q) => Ok(Expr::Num(q, SpanRange::single(span))),
-                None => Err(syn::Error::new(
-                    span,
-                    format!(
-                        "this number's decimal exponent is out of range: exponents up to ±{} are supported",
-                        Rational::MAX_DIGITS
-                    ),
-                )),
-            }
-        }
-        TokenTree::Ident(_) => {
-            let id: Ident = names::canonical(input.call(IdentExt::parse_any)?);
-            if input.peek(syn::token::Paren) {
-                let content;
-                let paren = syn::parenthesized!(content in input);
-                let arg = if content.is_empty() {
-                    return Err(syn::Error::new(
-                        paren.span.join(),
-                        format!("`{id}()` needs an argument"),
-                    ));
-                } else {
-                    parse_expr(&content, depth + 1)?
-                };
-                if !content.is_empty() {
-                    let t: TokenTree = content.parse()?;
-                    let msg = if matches!(&t, TokenTree::Punct(p) if p.as_char() == ',') {
-                        format!("`{id}` takes one argument")
-                    } else {
-                        format!("unexpected `{t}` in the argument of `{id}`")
-                    };
-                    return Err(syn::Error::new(t.span(), msg));
-                }
-                let range = SpanRange {
-                    first: id.span(),
-                    last: paren.span.close(),
-                };
-                return Ok(Expr::Call {
-                    func: id,
-                    arg: Box::new(arg),
-                    range,
-                });
-            }
-            Ok(Expr::Name(id))
-        }
+        TokenTree::Literal(_) => parse_number(input),
+        TokenTree::Ident(_) => parse_name_or_call(input, depth),
         TokenTree::Group(g) if g.delimiter() == Delimiter::Parenthesis => {
-            let content;
-            let paren = syn::parenthesized!(content in input);
-            if content.is_empty() {
-                return Err(syn::Error::new(
-                    paren.span.join(),
-                    "empty parentheses: expected an expression inside",
-                ));
-            }
-            let e = parse_expr(&content, depth + 1)?;
-            if !content.is_empty() {
-                let t: TokenTree = content.parse()?;
-                return Err(syn::Error::new(
-                    t.span(),
-                    format!("unexpected `{t}` inside parentheses"),
-                ));
-            }
-            // keep the parentheses in the range so errors cover them
-            Ok(match e {
-                Expr::Num(q, _) => Expr::Num(
-                    q,
-                    SpanRange {
-                        first: paren.span.open(),
-                        last: paren.span.close(),
-                    },
-                ),
-                other => other,
-            })
+            parse_parenthesised(input, depth)
         }
         TokenTree::Group(g) => {
             let what = match g.delimiter() {
@@ -937,6 +851,104 @@ fn parse_primary(input: ParseStream, depth: usize) -> syn::Result<Expr> {
             Err(syn::Error::new(p.span(), msg))
         }
     }
+}
+
+/// number := an integer or decimal literal without a type suffix
+fn parse_number(input: ParseStream) -> syn::Result<Expr> {
+    let lit: syn::Lit = input.parse()?;
+    let span = lit.span();
+    let (suffix, digits) = match &lit {
+        syn::Lit::Int(i) => (i.suffix(), i.base10_digits()),
+        syn::Lit::Float(f) => (f.suffix(), f.base10_digits()),
+        _ => {
+            return Err(syn::Error::new(
+                span,
+                "expected a number; string and character literals have no meaning here",
+            ));
+        }
+    };
+    if !suffix.is_empty() {
+        return Err(syn::Error::new(
+            span,
+            format!("remove the type suffix `{suffix}`: numbers are exact rationals here"),
+        ));
+    }
+    match decimal_to_rational(digits) {
+        Some(q) => Ok(Expr::Num(q, SpanRange::single(span))),
+        None => Err(syn::Error::new(
+            span,
+            format!(
+                "this number's decimal exponent is out of range: exponents up to ±{} are supported",
+                Rational::MAX_DIGITS
+            ),
+        )),
+    }
+}
+
+/// name | name '(' expr ')'
+fn parse_name_or_call(input: ParseStream, depth: usize) -> syn::Result<Expr> {
+    let id: Ident = names::canonical(input.call(IdentExt::parse_any)?);
+    if !input.peek(syn::token::Paren) {
+        return Ok(Expr::Name(id));
+    }
+    let content;
+    let paren = syn::parenthesized!(content in input);
+    if content.is_empty() {
+        return Err(syn::Error::new(
+            paren.span.join(),
+            format!("`{id}()` needs an argument"),
+        ));
+    }
+    let arg = parse_expr(&content, depth + 1)?;
+    if !content.is_empty() {
+        let t: TokenTree = content.parse()?;
+        let msg = if matches!(&t, TokenTree::Punct(p) if p.as_char() == ',') {
+            format!("`{id}` takes one argument")
+        } else {
+            format!("unexpected `{t}` in the argument of `{id}`")
+        };
+        return Err(syn::Error::new(t.span(), msg));
+    }
+    let range = SpanRange {
+        first: id.span(),
+        last: paren.span.close(),
+    };
+    Ok(Expr::Call {
+        func: id,
+        arg: Box::new(arg),
+        range,
+    })
+}
+
+/// '(' expr ')'
+fn parse_parenthesised(input: ParseStream, depth: usize) -> syn::Result<Expr> {
+    let content;
+    let paren = syn::parenthesized!(content in input);
+    if content.is_empty() {
+        return Err(syn::Error::new(
+            paren.span.join(),
+            "empty parentheses: expected an expression inside",
+        ));
+    }
+    let e = parse_expr(&content, depth + 1)?;
+    if !content.is_empty() {
+        let t: TokenTree = content.parse()?;
+        return Err(syn::Error::new(
+            t.span(),
+            format!("unexpected `{t}` inside parentheses"),
+        ));
+    }
+    // keep the parentheses in the range so errors cover them
+    Ok(match e {
+        Expr::Num(q, _) => Expr::Num(
+            q,
+            SpanRange {
+                first: paren.span.open(),
+                last: paren.span.close(),
+            },
+        ),
+        other => other,
+    })
 }
 
 /// Converts decimal literal digits (`12`, `0.25`, `1e-3`, `6.62607015e-34`,

@@ -3,7 +3,7 @@
 //! nonholonomic system.
 use quote::quote;
 
-fn stats(body: proc_macro2::TokenStream) -> nh_core::generate::Stats {
+fn stats(body: proc_macro2::TokenStream) -> nh_core::Stats {
     let (out, stats) = nh_core::expand_with_stats(body);
     assert!(!out.to_string().contains("compile_error"), "{out}");
     stats

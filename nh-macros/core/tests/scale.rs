@@ -41,7 +41,7 @@ fn expand(body: String) -> Expansion {
             let tokens: proc_macro2::TokenStream = body.parse().expect("the test body lexes");
             let (out, s) = nh_core::expand_with_stats(tokens);
             let ops = match s.route {
-                Some(nh_core::generate::Route::Curvature) => s.ops_curvature,
+                Some(nh_core::Route::Curvature) => s.ops_curvature,
                 _ => s.ops_multiplier,
             };
             let _ = tx.send(Expansion {

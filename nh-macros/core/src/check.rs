@@ -1,0 +1,158 @@
+//! The checks of a system's consistency, in one place: that it has
+//! coordinates and an independent one, that the outputs it asks for exist
+//! and can be derived for it, and that the derivation is well posed (a
+//! regular reduced mass matrix, constants `f64` can hold). Each stage calls
+//! the checks of what it has just built, so every error is reported where
+//! it was found, in the order of the input.
+
+use crate::ctxt::Ctxt;
+use crate::emit::{Node, ZERO_NODE};
+use crate::mechanics::Derivation;
+use crate::model::{Model, Output, Outputs};
+use crate::names;
+use crate::parse::SystemDef;
+use crate::sym::ZERO;
+use proc_macro2::Span;
+
+/// A system declares at least one coordinate.
+pub fn coordinates_declared(def: &SystemDef, cx: &mut Ctxt) {
+    match &def.coordinates {
+        None => cx.error_at(
+            def.name.span(),
+            "missing `coordinates { .. }`: list the generalized coordinates, e.g. `coordinates { x, y, theta }`",
+        ),
+        Some((kw, list)) if list.is_empty() => cx.error_at(
+            kw.span(),
+            "`coordinates` is empty: a system needs at least one coordinate",
+        ),
+        Some(_) => {}
+    }
+}
+
+/// The constraints leave at least one coordinate independent.
+pub fn independent_left(
+    def: &SystemDef,
+    n: usize,
+    independent: &[usize],
+    constraints_span: Option<Span>,
+    cx: &mut Ctxt,
+) {
+    if n > 0 && independent.is_empty() {
+        cx.error_at(
+            constraints_span.unwrap_or(def.name.span()),
+            "every coordinate is constrained: no independent coordinate is left; a system needs at least one coordinate that is not on the left side of a constraint",
+        );
+    }
+}
+
+/// The outputs requested: each known, and listed once.
+pub fn outputs(def: &SystemDef, cx: &mut Ctxt) -> Outputs {
+    let mut outputs = Outputs::default();
+    let Some((_, list)) = &def.outputs else {
+        return outputs;
+    };
+    for o in list {
+        let name = o.to_string();
+        match outputs.set(&name) {
+            Some(true) => cx.error_at(
+                o.span(),
+                format!("output `{name}` is listed twice: remove one"),
+            ),
+            Some(false) => {}
+            None => {
+                let all = Output::ALL.map(Output::name);
+                let hint = names::suggest(&name, &all);
+                cx.error_at(
+                    o.span(),
+                    format!(
+                        "unknown output `{name}`{hint}; the outputs are {}",
+                        all.map(|s| format!("`{s}`")).join(", ")
+                    ),
+                );
+            }
+        }
+    }
+    outputs
+}
+
+/// The derivation stayed within the engine's limits. False after an error.
+pub fn within_limits(def: &SystemDef, m: &Model, cx: &mut Ctxt) -> bool {
+    if m.engine.overflowed() {
+        cx.error_at(
+            def.name.span(),
+            "the derivation grew beyond the engine's limits (expression swell): simplify the Lagrangian or the constraints, or split the system",
+        );
+        return false;
+    }
+    true
+}
+
+/// Every independent velocity carries kinetic energy, and the outputs
+/// requested can be generated for this Lagrangian. False after an error.
+pub fn derivation(def: &SystemDef, m: &Model, dv: &Derivation, cx: &mut Ctxt) -> bool {
+    let name = &def.name;
+    let outputs_span = def
+        .outputs
+        .as_ref()
+        .map(|o| o.0.span())
+        .unwrap_or(name.span());
+    // a coordinate whose velocity is absent from the constrained Lagrangian
+    for (a, &i) in m.independent().iter().enumerate() {
+        if dv.curvature_route.mass[a][a] == ZERO {
+            let c = &m.coordinates[i].name;
+            cx.error_at(
+                c.span(),
+                format!(
+                    "the velocity of `{c}` appears nowhere in the Lagrangian (after the constraints are substituted), so the reduced mass matrix is singular and its acceleration is undetermined; give `{c}` a kinetic energy term or make it dependent through a constraint"
+                ),
+            );
+        }
+    }
+    if let Some(en) = dv.energy
+        && m.engine.depends_on(en, m.time)
+    {
+        cx.error_at(outputs_span, "output `energy` needs a Lagrangian that does not depend on time `t` explicitly: remove `energy` from `outputs`");
+    }
+    if m.outputs.contains(Output::MassMatrix) {
+        let varying = dv.multiplier_route.mass.iter().flatten().any(|&e| {
+            m.coordinates
+                .iter()
+                .any(|c| m.engine.depends_on(e, c.velocity))
+                || m.engine.depends_on(e, m.time)
+        });
+        if varying {
+            cx.error_at(outputs_span, "output `mass_matrix` needs a Lagrangian quadratic in the velocities with time-independent coefficients (the method takes only `q`)");
+        }
+    }
+    cx.is_empty()
+}
+
+/// The reduced mass matrix is regular: no pivot of its factorisation, by
+/// either route, is structurally zero. False after an error.
+pub fn regular(def: &SystemDef, pivots: &[Node], cx: &mut Ctxt) -> bool {
+    let structurally_singular = pivots.contains(&ZERO_NODE);
+    if structurally_singular {
+        cx.error_at(
+            def.name.span(),
+            "the reduced mass matrix is structurally singular: some combination of independent velocities carries no kinetic energy; check the Lagrangian and the choice of dependent coordinates",
+        );
+    }
+    !structurally_singular
+}
+
+/// Every constant of the generated code is within the range of `f64`.
+/// False after an error.
+pub fn representable(def: &SystemDef, m: &Model, cx: &mut Ctxt) -> bool {
+    let Some(c) = crate::emit::take_unrepresentable() else {
+        return true;
+    };
+    let msg = format!(
+        "the generated code needs the constant {} (after exact simplification), which is beyond the range of `f64` (about ±1.8e308): rescale the units or the parameters",
+        c.sci()
+    );
+    match m.huge_constant {
+        Some(r) => cx.error(r, msg),
+        None => cx.error_at(def.name.span(), msg),
+    }
+    false
+}

@@ -1,0 +1,256 @@
+//! The typed model of a system after lowering: what the mechanics derives
+//! from. Coordinates, parameters and inputs carry their symbols; each
+//! constraint says which coordinate it makes dependent and how.
+
+use crate::ctxt::SpanRange;
+use crate::sym::{Engine, ExprId, SymId};
+use proc_macro2::{Ident, Span};
+
+/// An opt-in output (DESIGN §3), or `routes`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Output {
+    /// `multipliers`
+    Multipliers,
+    /// `curvature`
+    Curvature,
+    /// `energy`
+    Energy,
+    /// `constraint_matrix`
+    ConstraintMatrix,
+    /// `mass_matrix`
+    MassMatrix,
+    /// `jacobian`
+    Jacobian,
+    /// `linearization`: A = ∂f/∂x and B = ∂f/∂u
+    Linearization,
+    /// `routes`: both derivation routes as separate methods
+    Routes,
+}
+
+impl Output {
+    /// Every output, in the order the messages list them.
+    pub const ALL: [Output; 8] = [
+        Output::Multipliers,
+        Output::Curvature,
+        Output::Energy,
+        Output::ConstraintMatrix,
+        Output::MassMatrix,
+        Output::Jacobian,
+        Output::Linearization,
+        Output::Routes,
+    ];
+
+    /// The name written in `outputs { .. }`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Output::Multipliers => "multipliers",
+            Output::Curvature => "curvature",
+            Output::Energy => "energy",
+            Output::ConstraintMatrix => "constraint_matrix",
+            Output::MassMatrix => "mass_matrix",
+            Output::Jacobian => "jacobian",
+            Output::Linearization => "linearization",
+            Output::Routes => "routes",
+        }
+    }
+}
+
+/// Which opt-in outputs a system asked for.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Outputs {
+    /// Whether each output of [`Output::ALL`] was asked for, in that order.
+    requested: [bool; Output::ALL.len()],
+}
+
+impl Outputs {
+    /// Whether `output` was asked for.
+    pub fn contains(&self, output: Output) -> bool {
+        self.requested[output as usize]
+    }
+
+    /// Sets the flag of output `name`; `Some(previous)` if the name is known.
+    pub fn set(&mut self, name: &str) -> Option<bool> {
+        let output = Output::ALL.into_iter().find(|o| o.name() == name)?;
+        Some(std::mem::replace(
+            &mut self.requested[output as usize],
+            true,
+        ))
+    }
+}
+
+/// A constant of the system, a field of the generated struct.
+pub struct Parameter {
+    /// The name as declared.
+    pub name: Ident,
+    /// Its symbol.
+    pub sym: SymId,
+}
+
+/// A generalized coordinate q_i.
+pub struct Coordinate {
+    /// The name as declared.
+    pub name: Ident,
+    /// The symbol of q_i.
+    pub position: SymId,
+    /// The symbol of q̇_i.
+    pub velocity: SymId,
+    /// The generalized force Q_i on it (zero where none is given).
+    pub force: ExprId,
+}
+
+/// An input u_j: a value given at every call, which acts through the forces.
+pub struct Input {
+    /// The name as declared.
+    pub name: Ident,
+    /// Its symbol.
+    pub sym: SymId,
+}
+
+/// How a constraint was given.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ConstraintKind {
+    /// `dot(s) = Σ a_α(q) dot(r_α)`: the dependent velocity written as a
+    /// linear, homogeneous form in the independent velocities (5.3).
+    ExplicitVelocity,
+}
+
+impl ConstraintKind {
+    /// Where the dependent velocity comes from, for the generated code's
+    /// labels.
+    pub fn velocity_source(self) -> &'static str {
+        match self {
+            ConstraintKind::ExplicitVelocity => "dependent velocity from the constraint (5.3)",
+        }
+    }
+}
+
+/// One nonholonomic constraint, solved for the velocity of its dependent
+/// coordinate s_a: ṡ_a = −Σ_α A^a_α ṙ_α (5.3).
+pub struct Constraint {
+    /// How it was given.
+    pub kind: ConstraintKind,
+    /// The index of the dependent coordinate s_a.
+    pub dependent: usize,
+    /// ṡ_a as a function of the coordinates and the independent velocities
+    /// (as written, for [`ConstraintKind::ExplicitVelocity`]).
+    pub velocity: ExprId,
+    /// The row A^a_· of the constraint matrix: minus the coefficient of each
+    /// independent velocity ṙ_α, in the order of [`Model::independent`].
+    pub coefficients: Vec<ExprId>,
+}
+
+/// Which coordinates are independent and which dependent: the partition
+/// the constraints make.
+pub struct Partition {
+    independent: Vec<usize>,
+    dependent: Vec<usize>,
+}
+
+impl Partition {
+    /// The partition of `n` coordinates by `constraints` (at most one per
+    /// coordinate), which it sorts into coordinate order.
+    pub fn of(n: usize, constraints: &mut [Constraint]) -> Partition {
+        constraints.sort_by_key(|c| c.dependent);
+        let dependent: Vec<usize> = constraints.iter().map(|c| c.dependent).collect();
+        let independent = (0..n).filter(|i| !dependent.contains(i)).collect();
+        Partition {
+            independent,
+            dependent,
+        }
+    }
+}
+
+/// A system after lowering: everything the mechanics needs, as symbols and
+/// expressions of one engine.
+pub struct Model {
+    /// The engine holding every expression below.
+    pub engine: Engine,
+    /// Parameters in declared order.
+    pub parameters: Vec<Parameter>,
+    /// Coordinates in declared order (THE coordinate order).
+    pub coordinates: Vec<Coordinate>,
+    /// Inputs in declared order.
+    pub inputs: Vec<Input>,
+    /// Time t.
+    pub time: SymId,
+    /// π.
+    pub pi: SymId,
+    /// L(q, q̇, t).
+    pub lagrangian: ExprId,
+    /// The constraints, one per dependent coordinate, in coordinate order
+    /// (the order of [`Model::dependent`]).
+    pub constraints: Vec<Constraint>,
+    /// The partition of the coordinates by the constraints.
+    pub partition: Partition,
+    /// Requested outputs.
+    pub outputs: Outputs,
+    /// Span of the `constraints` keyword, if any (for diagnostics).
+    pub constraints_span: Option<Span>,
+    /// The first subexpression of the input whose value is a constant beyond
+    /// the range of `f64` (where an error about such a constant in the
+    /// generated code points).
+    pub huge_constant: Option<SpanRange>,
+}
+
+impl Model {
+    /// Indices of the independent coordinates r, ascending.
+    pub fn independent(&self) -> &[usize] {
+        &self.partition.independent
+    }
+
+    /// Indices of the dependent coordinates s, ascending (the order of
+    /// [`Model::constraints`]).
+    pub fn dependent(&self) -> &[usize] {
+        &self.partition.dependent
+    }
+
+    /// Number of coordinates n.
+    pub fn n(&self) -> usize {
+        self.coordinates.len()
+    }
+
+    /// Number of independent coordinates k.
+    pub fn k(&self) -> usize {
+        self.independent().len()
+    }
+
+    /// Number of constraints p.
+    pub fn p(&self) -> usize {
+        self.dependent().len()
+    }
+
+    /// The symbols of the coordinates, in coordinate order.
+    pub fn positions(&self) -> impl Iterator<Item = SymId> + '_ {
+        self.coordinates.iter().map(|c| c.position)
+    }
+
+    /// `f` of each independent coordinate, in their order.
+    pub fn of_independent<T>(&self, f: impl Fn(&Coordinate) -> T) -> Vec<T> {
+        self.independent()
+            .iter()
+            .map(|&i| f(&self.coordinates[i]))
+            .collect()
+    }
+
+    /// The symbols of the velocities of the independent coordinates ṙ.
+    pub fn independent_velocities(&self) -> Vec<SymId> {
+        self.of_independent(|c| c.velocity)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Output, Outputs};
+
+    #[test]
+    fn outputs_are_indexed_by_their_place_in_all() {
+        for (i, o) in Output::ALL.into_iter().enumerate() {
+            assert_eq!(o as usize, i);
+            let mut outputs = Outputs::default();
+            assert_eq!(outputs.set(o.name()), Some(false));
+            assert!(outputs.contains(o));
+            assert_eq!(outputs.set(o.name()), Some(true));
+        }
+        assert_eq!(Outputs::default().set("unknown"), None);
+    }
+}
