@@ -15,8 +15,10 @@ use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
-/// A node of the dataflow graph.
-pub type Node = u32;
+crate::sym::id_type! {
+    /// A node of the dataflow graph.
+    Node
+}
 
 /// One scalar operation.
 #[derive(Clone, PartialEq, Eq, Hash, Debug)]
@@ -86,9 +88,9 @@ pub struct Ldlt {
 }
 
 /// The zero node (always node 0).
-pub const ZERO_NODE: Node = 0;
+pub const ZERO_NODE: Node = Node::from_index(0);
 /// The one node (always node 1).
-pub const ONE_NODE: Node = 1;
+pub const ONE_NODE: Node = Node::from_index(1);
 
 impl Default for Dag {
     fn default() -> Self {
@@ -119,7 +121,7 @@ impl Dag {
         if let Some(&n) = self.ix.get(&op) {
             return n;
         }
-        let n = self.ops.len() as Node;
+        let n = Node::from_index(self.ops.len());
         self.ops.push(op.clone());
         self.ix.insert(op, n);
         n
@@ -146,7 +148,7 @@ impl Dag {
     }
 
     fn children(&self, n: Node) -> [Option<Node>; 2] {
-        match &self.ops[n as usize] {
+        match &self.ops[n.index()] {
             Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) | Op::Powf(a, b) => {
                 [Some(*a), Some(*b)]
             }
@@ -162,32 +164,30 @@ impl Dag {
         let live = self.live_until(outputs, &HashMap::default());
         let mut param_only = vec![false; self.ops.len()];
         for &n in &live {
-            param_only[n as usize] = match &self.ops[n as usize] {
+            param_only[n.index()] = match &self.ops[n.index()] {
                 Op::Leaf(_) => self.param_leaves.contains(&n),
                 Op::Const(_) | Op::Pi => true,
                 _ => self
                     .children(n)
                     .iter()
                     .flatten()
-                    .all(|c| param_only[*c as usize]),
+                    .all(|c| param_only[c.index()]),
             };
         }
         let mut used_outside = vec![false; self.ops.len()];
         for &o in outputs {
-            used_outside[o as usize] = true;
+            used_outside[o.index()] = true;
         }
         for &n in &live {
-            if !param_only[n as usize] {
+            if !param_only[n.index()] {
                 for c in self.children(n).into_iter().flatten() {
-                    used_outside[c as usize] = true;
+                    used_outside[c.index()] = true;
                 }
             }
         }
         live.into_iter()
             .filter(|&n| {
-                param_only[n as usize]
-                    && used_outside[n as usize]
-                    && cost(&self.ops[n as usize]) > 0
+                param_only[n.index()] && used_outside[n.index()] && cost(&self.ops[n.index()]) > 0
             })
             .collect()
     }
@@ -210,7 +210,7 @@ impl Dag {
     /// Attaches a comment to a node; emitted as a doc comment on its `let`
     /// (shown by `cargo expand`). The first label of a node wins.
     pub fn label(&mut self, n: Node, text: impl Into<String>) {
-        if !matches!(self.ops[n as usize], Op::Const(_) | Op::Pi) {
+        if !matches!(self.ops[n.index()], Op::Const(_) | Op::Pi) {
             self.labels.entry(n).or_insert_with(|| text.into());
         }
     }
@@ -232,7 +232,7 @@ impl Dag {
     }
 
     fn as_const(&self, n: Node) -> Option<Rational> {
-        match self.ops[n as usize] {
+        match self.ops[n.index()] {
             Op::Const(q) => Some(q),
             _ => None,
         }
@@ -251,10 +251,10 @@ impl Dag {
         {
             return self.constant(s);
         }
-        if let Op::Neg(bb) = self.ops[b as usize] {
+        if let Op::Neg(bb) = self.ops[b.index()] {
             return self.sub(a, bb);
         }
-        if let Op::Neg(aa) = self.ops[a as usize] {
+        if let Op::Neg(aa) = self.ops[a.index()] {
             return self.sub(b, aa);
         }
         let (x, y) = if a <= b { (a, b) } else { (b, a) };
@@ -277,7 +277,7 @@ impl Dag {
         {
             return self.constant(s);
         }
-        if let Op::Neg(bb) = self.ops[b as usize] {
+        if let Op::Neg(bb) = self.ops[b.index()] {
             return self.add(a, bb);
         }
         self.intern(Op::Sub(a, b))
@@ -293,7 +293,7 @@ impl Dag {
         {
             return self.constant(s);
         }
-        match self.ops[a as usize] {
+        match self.ops[a.index()] {
             Op::Neg(x) => x,
             Op::Sub(x, y) => self.sub(y, x),
             _ => self.intern(Op::Neg(a)),
@@ -322,11 +322,11 @@ impl Dag {
             _ => {}
         }
         // pull negations out so they can become subtractions
-        if let Op::Neg(x) = self.ops[a as usize] {
+        if let Op::Neg(x) = self.ops[a.index()] {
             let p = self.mul(x, b);
             return self.neg(p);
         }
-        if let Op::Neg(y) = self.ops[b as usize] {
+        if let Op::Neg(y) = self.ops[b.index()] {
             let p = self.mul(a, y);
             return self.neg(p);
         }
@@ -351,7 +351,7 @@ impl Dag {
             let c = self.constant(r);
             return self.mul(a, c);
         }
-        if let Op::Neg(x) = self.ops[a as usize] {
+        if let Op::Neg(x) = self.ops[a.index()] {
             let p = self.div(x, b);
             return self.neg(p);
         }
@@ -418,7 +418,7 @@ impl Dag {
             Atom::Sym(s) => match self.sym_nodes.get(&s) {
                 Some(&n) => n,
                 None => {
-                    let name = format_ident!("__unbound_{}", s);
+                    let name = format_ident!("__unbound_{}", s.index());
                     self.leaf(quote!(#name))
                 }
             },
@@ -647,7 +647,7 @@ impl Dag {
     /// Number of operations needed to compute `outputs` (each shared node once).
     pub fn op_count(&self, outputs: &[Node]) -> usize {
         let live = self.live(outputs);
-        live.iter().map(|&n| cost(&self.ops[n as usize])).sum()
+        live.iter().map(|&n| cost(&self.ops[n.index()])).sum()
     }
 
     /// Estimated run time of computing `outputs`, in units of one addition:
@@ -660,7 +660,7 @@ impl Dag {
         let live_set: HashSet<Node> = live.iter().copied().collect();
         let mut total = 0;
         for &n in &live {
-            total += match &self.ops[n as usize] {
+            total += match &self.ops[n.index()] {
                 Op::Div(..) | Op::Sqrt(_) => 4,
                 Op::Powf(..) => 40,
                 Op::Call(Fun::Cos, a) => {
@@ -669,7 +669,7 @@ impl Dag {
                             .ix
                             .get(&Op::Call(Fun::Sin, *a))
                             .copied()
-                            .unwrap_or(u32::MAX),
+                            .unwrap_or(Node::from_index(u32::MAX as usize)),
                     ) {
                         5
                     } else {
@@ -693,13 +693,14 @@ impl Dag {
         let mut seen = vec![false; self.ops.len()];
         let mut stack: Vec<Node> = outputs.to_vec();
         while let Some(n) = stack.pop() {
-            if std::mem::replace(&mut seen[n as usize], true) || stop.contains_key(&n) {
+            if std::mem::replace(&mut seen[n.index()], true) || stop.contains_key(&n) {
                 continue;
             }
             stack.extend(self.children(n).into_iter().flatten());
         }
-        (0..self.ops.len() as Node)
-            .filter(|&n| seen[n as usize])
+        (0..self.ops.len())
+            .filter(|&i| seen[i])
+            .map(Node::from_index)
             .collect()
     }
 
@@ -748,7 +749,7 @@ impl Dag {
                 continue;
             }
             if let Some(&(s, c)) = pair_of.get(&n) {
-                let Op::Call(_, a) = self.ops[s as usize] else {
+                let Op::Call(_, a) = self.ops[s.index()] else {
                     continue;
                 };
                 let mut text = String::new();
@@ -766,7 +767,7 @@ impl Dag {
             };
             if inline.contains(&n) {
                 let atomic = matches!(
-                    self.ops[n as usize],
+                    self.ops[n.index()],
                     Op::Const(_) | Op::Pi | Op::Call(..) | Op::Sqrt(_) | Op::Powf(..)
                 ) && !rhs.starts_with('-');
                 inline_text.insert(n, if atomic { rhs } else { format!("({rhs})") });
@@ -793,11 +794,11 @@ impl Dag {
     /// user's constants (a `let` pattern naming a constant would match it
     /// instead of binding).
     fn name(&self, n: Node) -> String {
-        match &self.ops[n as usize] {
+        match &self.ops[n.index()] {
             Op::Leaf(i) if self.leaves[*i].1.is_some() => {
                 format!("__nh_{}", self.leaves[*i].1.as_deref().unwrap_or("leaf"))
             }
-            _ => format!("__nh_v{n}"),
+            _ => format!("__nh_v{}", n.index()),
         }
     }
 
@@ -825,21 +826,21 @@ impl Dag {
         for (c, chunk) in chunks.iter().enumerate() {
             for (ns, _) in chunk.iter() {
                 for &n in ns {
-                    chunk_of[n as usize] = c;
+                    chunk_of[n.index()] = c;
                 }
             }
         }
         // a value is handed out if a later block or an output reads it
         let mut exported = vec![false; self.ops.len()];
         for &o in outputs {
-            exported[o as usize] = true;
+            exported[o.index()] = true;
         }
         for (c, chunk) in chunks.iter().enumerate() {
             for (ns, _) in chunk.iter() {
                 for &n in ns {
                     self.each_bound_read(n, inline, &mut |r| {
-                        if chunk_of[r as usize] != usize::MAX && chunk_of[r as usize] < c {
-                            exported[r as usize] = true;
+                        if chunk_of[r.index()] != usize::MAX && chunk_of[r.index()] < c {
+                            exported[r.index()] = true;
                         }
                     });
                 }
@@ -850,7 +851,7 @@ impl Dag {
             let out: Vec<String> = chunk
                 .iter()
                 .flat_map(|(ns, _)| ns.iter())
-                .filter(|&&n| exported[n as usize])
+                .filter(|&&n| exported[n.index()])
                 .map(|&n| self.name(n))
                 .collect();
             let body: String = chunk.iter().map(|(_, t)| t.as_str()).collect();
@@ -893,22 +894,22 @@ impl Dag {
                 continue;
             }
             // a power is written as repeated products of its base
-            let times = if matches!(self.ops[n as usize], Op::Powi(..)) {
+            let times = if matches!(self.ops[n.index()], Op::Powi(..)) {
                 2
             } else {
                 1
             };
             for c in self.children(n).into_iter().flatten() {
-                uses[c as usize] += times;
+                uses[c.index()] += times;
             }
         }
         for &o in outputs {
-            uses[o as usize] += 2;
+            uses[o.index()] += 2;
         }
         let mut size = vec![0usize; self.ops.len()];
         let mut inline = HashSet::default();
         for &n in live {
-            let op = &self.ops[n as usize];
+            let op = &self.ops[n.index()];
             if given.contains_key(&n) || pair_of.contains_key(&n) || matches!(op, Op::Leaf(_)) {
                 continue;
             }
@@ -917,11 +918,11 @@ impl Dag {
                     .children(n)
                     .into_iter()
                     .flatten()
-                    .map(|c| size[c as usize])
+                    .map(|c| size[c.index()])
                     .sum::<usize>();
-            if uses[n as usize] == 1 && !self.labels.contains_key(&n) && own <= MAX_INLINE_OPS {
+            if uses[n.index()] == 1 && !self.labels.contains_key(&n) && own <= MAX_INLINE_OPS {
                 inline.insert(n);
-                size[n as usize] = own;
+                size[n.index()] = own;
             }
         }
         inline
@@ -936,7 +937,7 @@ impl Dag {
         let live_set: HashSet<Node> = live.iter().copied().collect();
         let mut pair_of: HashMap<Node, (Node, Node)> = HashMap::default();
         for &n in live {
-            if let Op::Call(Fun::Sin, a) = self.ops[n as usize]
+            if let Op::Call(Fun::Sin, a) = self.ops[n.index()]
                 && let Some(&c) = self.ix.get(&Op::Call(Fun::Cos, a))
                 && live_set.contains(&c)
                 && !given.contains_key(&n)
@@ -960,7 +961,7 @@ impl Dag {
 
     /// The right side computing node `n`, as text.
     fn op_text(&self, n: Node, name: &dyn Fn(Node) -> String) -> String {
-        match &self.ops[n as usize] {
+        match &self.ops[n.index()] {
             Op::Const(q) => const_text(*q),
             Op::Pi => "T::pi()".into(),
             Op::Leaf(i) => self.leaves[*i].0.to_string(),

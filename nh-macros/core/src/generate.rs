@@ -1297,7 +1297,7 @@ fn integrability(m: &Model, curv: &[Vec<Vec<ExprId>>]) -> (bool, bool) {
         for v in vals.iter_mut() {
             *v = Dd::from_f64(0.3 + 1.1 * next()); // positive: keeps sqrt and ln arguments valid
         }
-        vals[m.pi_sym as usize] = Dd::PI;
+        vals[m.pi_sym.index()] = Dd::PI;
         let mut usable = true;
         for &b in &entries {
             let (v, scale) = m.engine.eval_with_scale_dd(b, &vals);

@@ -30,14 +30,47 @@ use rustc_hash::FxHashMap as HashMap;
 
 pub use rational::Rational;
 
-/// Index of a symbol (parameter, coordinate, velocity, input, time, π).
-pub type SymId = u32;
-/// Index of an interned atom.
-pub type AtomId = u32;
-/// Index of an interned monomial.
-pub type MonoId = u32;
-/// Index of an interned expression.
-pub type ExprId = u32;
+/// Defines an id type: a `u32` index into one table, distinct from the ids
+/// of every other table, so that mixing them up is a type error.
+macro_rules! id_type {
+    ($(#[$doc:meta])* $name:ident) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord, Debug)]
+        pub struct $name(u32);
+
+        impl $name {
+            /// The position in the table this id indexes.
+            #[inline(always)]
+            pub fn index(self) -> usize {
+                self.0 as usize
+            }
+
+            /// The id of position `i` of its table.
+            #[inline(always)]
+            pub(crate) const fn from_index(i: usize) -> Self {
+                Self(i as u32)
+            }
+        }
+    };
+}
+pub(crate) use id_type;
+
+id_type! {
+    /// Index of a symbol (parameter, coordinate, velocity, input, time, π).
+    SymId
+}
+id_type! {
+    /// Index of an interned atom.
+    AtomId
+}
+id_type! {
+    /// Index of an interned monomial.
+    MonoId
+}
+id_type! {
+    /// Index of an interned expression.
+    ExprId
+}
 
 /// The elementary functions the input language supports (`sqrt` is a power).
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, PartialOrd, Ord)]
@@ -128,11 +161,11 @@ pub struct Counters {
 }
 
 /// The empty monomial, i.e. the constant 1.
-pub const MONO_ONE: MonoId = 0;
+pub const MONO_ONE: MonoId = MonoId::from_index(0);
 /// The expression 0.
-pub const ZERO: ExprId = 0;
+pub const ZERO: ExprId = ExprId::from_index(0);
 /// The expression 1.
-pub const ONE: ExprId = 1;
+pub const ONE: ExprId = ExprId::from_index(1);
 
 /// Largest number of terms a single expression may have before the engine
 /// reports expression swell instead of growing without bound.
@@ -196,12 +229,12 @@ impl Engine {
     /// Declares a new symbol.
     pub fn symbol(&mut self, name: &str) -> SymId {
         self.sym_names.push(name.to_string());
-        (self.sym_names.len() - 1) as SymId
+        SymId::from_index(self.sym_names.len() - 1)
     }
 
     /// Name of a symbol.
     pub fn sym_name(&self, s: SymId) -> &str {
-        &self.sym_names[s as usize]
+        &self.sym_names[s.index()]
     }
 
     /// Number of declared symbols.
@@ -222,9 +255,9 @@ impl Engine {
         }
         let syms = match &a {
             Atom::Sym(s) => vec![*s],
-            Atom::Func(_, e) | Atom::Base(e) => self.expr_syms[*e as usize].clone(),
+            Atom::Func(_, e) | Atom::Base(e) => self.expr_syms[e.index()].clone(),
         };
-        let id = self.atoms.len() as AtomId;
+        let id = AtomId::from_index(self.atoms.len());
         self.atoms.push(a.clone());
         self.atom_syms.push(syms);
         self.atom_ix.insert(a, id);
@@ -235,7 +268,7 @@ impl Engine {
         if let Some(&id) = self.mono_ix.get(&f) {
             return id;
         }
-        let id = self.monos.len() as MonoId;
+        let id = MonoId::from_index(self.monos.len());
         self.monos.push(f.clone());
         self.mono_ix.insert(f, id);
         id
@@ -251,13 +284,13 @@ impl Engine {
         }
         let mut syms: Vec<SymId> = Vec::new();
         for (m, _) in &t {
-            for (a, _) in &self.monos[*m as usize] {
-                syms.extend_from_slice(&self.atom_syms[*a as usize]);
+            for (a, _) in &self.monos[m.index()] {
+                syms.extend_from_slice(&self.atom_syms[a.index()]);
             }
         }
         syms.sort_unstable();
         syms.dedup();
-        let id = self.exprs.len() as ExprId;
+        let id = ExprId::from_index(self.exprs.len());
         self.exprs.push(t.clone());
         self.expr_syms.push(syms);
         self.expr_ix.insert(t, id);
@@ -268,32 +301,32 @@ impl Engine {
 
     /// The terms `(monomial, coefficient)` of an expression, sorted.
     pub fn terms(&self, e: ExprId) -> &[(MonoId, Rational)] {
-        &self.exprs[e as usize]
+        &self.exprs[e.index()]
     }
 
     /// The factors `(atom, exponent)` of a monomial, sorted.
     pub fn factors(&self, m: MonoId) -> &[(AtomId, Rational)] {
-        &self.monos[m as usize]
+        &self.monos[m.index()]
     }
 
     /// An atom.
     pub fn atom(&self, a: AtomId) -> &Atom {
-        &self.atoms[a as usize]
+        &self.atoms[a.index()]
     }
 
     /// Free symbols of an expression, sorted.
     pub fn free_symbols(&self, e: ExprId) -> &[SymId] {
-        &self.expr_syms[e as usize]
+        &self.expr_syms[e.index()]
     }
 
     /// Free symbols of an atom, sorted.
     pub fn atom_symbols(&self, a: AtomId) -> &[SymId] {
-        &self.atom_syms[a as usize]
+        &self.atom_syms[a.index()]
     }
 
     /// Does `e` depend on symbol `s`?
     pub fn depends_on(&self, e: ExprId, s: SymId) -> bool {
-        self.expr_syms[e as usize].binary_search(&s).is_ok()
+        self.expr_syms[e.index()].binary_search(&s).is_ok()
     }
 
     /// The constant value if `e` is a rational constant.
@@ -307,7 +340,7 @@ impl Engine {
 
     /// Number of terms of an expression.
     pub fn num_terms(&self, e: ExprId) -> usize {
-        self.exprs[e as usize].len()
+        self.exprs[e.index()].len()
     }
 
     // ------------------------------------------------------------ rational helpers
@@ -400,8 +433,8 @@ impl Engine {
         if b == ZERO {
             return a;
         }
-        let mut acc = self.exprs[a as usize].clone();
-        acc.extend_from_slice(&self.exprs[b as usize]);
+        let mut acc = self.exprs[a.index()].clone();
+        acc.extend_from_slice(&self.exprs[b.index()]);
         self.collect(acc)
     }
 
@@ -409,7 +442,7 @@ impl Engine {
     pub fn sum(&mut self, items: &[ExprId]) -> ExprId {
         let mut acc = Vec::new();
         for &i in items {
-            acc.extend_from_slice(&self.exprs[i as usize]);
+            acc.extend_from_slice(&self.exprs[i.index()]);
         }
         self.collect(acc)
     }
@@ -422,7 +455,7 @@ impl Engine {
         if c.is_one() {
             return a;
         }
-        let t: Terms = self.exprs[a as usize].clone();
+        let t: Terms = self.exprs[a.index()].clone();
         let t = t.into_iter().map(|(m, k)| (m, self.qmul(k, c))).collect();
         self.collect(t)
     }
@@ -456,7 +489,7 @@ impl Engine {
         if self.overflow {
             return ZERO;
         }
-        let (la, lb) = (self.exprs[a as usize].len(), self.exprs[b as usize].len());
+        let (la, lb) = (self.exprs[a.index()].len(), self.exprs[b.index()].len());
         // kept: at least one factor becomes an atom (longer than `atom_min`), so
         // the product of the parts is a monomial times a sum
         let keep = la >= 2
@@ -486,8 +519,8 @@ impl Engine {
     /// `a · b` distributed over the terms of both factors and normalised.
     fn expanded_product(&mut self, a: ExprId, b: ExprId) -> ExprId {
         self.counters.products += 1;
-        let ta = self.exprs[a as usize].clone();
-        let tb = self.exprs[b as usize].clone();
+        let ta = self.exprs[a.index()].clone();
+        let tb = self.exprs[b.index()].clone();
         self.work = self.work.saturating_add(ta.len().saturating_mul(tb.len()));
         if self.work > MAX_WORK {
             self.overflow = true;
@@ -498,7 +531,7 @@ impl Engine {
         for &(ma, ca) in &ta {
             for &(mb, cb) in &tb {
                 let c = self.qmul(ca, cb);
-                let f = merge_factors(&self.monos[ma as usize], &self.monos[mb as usize]);
+                let f = merge_factors(&self.monos[ma.index()], &self.monos[mb.index()]);
                 match self.normal_mono(f) {
                     Normal::Mono(m, k) => {
                         let c2 = self.qmul(c, k);
@@ -516,7 +549,7 @@ impl Engine {
             }
         }
         for e in extra {
-            acc.extend_from_slice(&self.exprs[e as usize]);
+            acc.extend_from_slice(&self.exprs[e.index()]);
         }
         self.collect(acc)
     }
@@ -542,7 +575,7 @@ impl Engine {
     /// longer than [`ATOM_MIN`] terms, else the sum itself (distributed over
     /// the other factor, which is then an atom).
     fn kept_factor(&mut self, s: ExprId) -> ExprId {
-        if self.exprs[s as usize].len() <= self.atom_min {
+        if self.exprs[s.index()].len() <= self.atom_min {
             return s;
         }
         let x = self.intern_atom(Atom::Base(s));
@@ -553,7 +586,7 @@ impl Engine {
     /// of more than [`ATOM_MIN`] terms always is; a shorter one when the
     /// expansion would exceed [`EXPAND_LIMIT`] products of terms.
     fn power_is_kept(&self, s: ExprId, k: i64) -> bool {
-        let len = self.exprs[s as usize].len();
+        let len = self.exprs[s.index()].len();
         if len > self.atom_min {
             return true;
         }
@@ -607,7 +640,7 @@ impl Engine {
             if e.is_zero() {
                 continue;
             }
-            match self.atoms[a as usize].clone() {
+            match self.atoms[a.index()].clone() {
                 Atom::Func(Fun::Cos, u) if e.is_integer() && e >= Rational::int(2) => {
                     let k = e.to_integer().unwrap_or(0);
                     if k % 2 == 1 {
@@ -633,7 +666,7 @@ impl Engine {
                         if !frac.is_zero() {
                             kept.push((a, frac));
                         }
-                    } else if self.exprs[b as usize].len() == 1 {
+                    } else if self.exprs[b.index()].len() == 1 {
                         // a monomial base: integer part distributes
                         let k = floor(e);
                         let frac = e
@@ -686,7 +719,7 @@ impl Engine {
     /// has a negative exponent, and `u`.
     fn sin_over_cos(&self, f: &[(AtomId, Rational)]) -> Option<(usize, ExprId)> {
         for (i, &(a, e)) in f.iter().enumerate() {
-            if let Atom::Func(Fun::Sin, u) = self.atoms[a as usize]
+            if let Atom::Func(Fun::Sin, u) = self.atoms[a.index()]
                 && e.is_integer()
                 && e >= Rational::int(2)
                 && let Some(&c) = self.atom_ix.get(&Atom::Func(Fun::Cos, u))
@@ -702,13 +735,13 @@ impl Engine {
         if e.is_zero() {
             return true;
         }
-        match &self.atoms[a as usize] {
+        match &self.atoms[a.index()] {
             Atom::Func(Fun::Cos, _) => e.is_integer() && e >= Rational::int(2),
             Atom::Base(b) => {
                 // normal exponents: in (0, 1) for constant and monomial bases,
                 // below 1 for sums, except a sum whose power is kept
                 // unexpanded (see `kept_product`)
-                if self.exprs[*b as usize].len() <= 1 {
+                if self.exprs[b.index()].len() <= 1 {
                     !(e > Rational::ZERO && e < Rational::ONE)
                 } else {
                     e >= Rational::ONE && !self.power_is_kept(*b, floor(e))
@@ -802,9 +835,9 @@ impl Engine {
             let b = self.intern_atom(Atom::Base(ZERO));
             return self.atom_power(b, q);
         }
-        let terms = self.exprs[a as usize].clone();
+        let terms = self.exprs[a.index()].clone();
         if let [(m, c)] = terms.as_slice() {
-            let factors = self.monos[*m as usize].clone();
+            let factors = self.monos[m.index()].clone();
             let distributable = q.is_integer()
                 || (!c.is_negative()
                     && factors
@@ -867,7 +900,7 @@ impl Engine {
     /// leading coefficient of the rest) and the primitive rest with `e = g·rest`
     /// — or `None` if the content is 1.
     fn content(&mut self, e: ExprId) -> Option<(ExprId, ExprId)> {
-        let terms = self.exprs[e as usize].clone();
+        let terms = self.exprs[e.index()].clone();
         if terms.len() < 2 {
             return None;
         }
@@ -880,9 +913,9 @@ impl Engine {
             c = c.checked_neg()?;
         }
         // monomial part: atoms in every term, at their least exponent
-        let mut common: Factors = self.monos[terms[0].0 as usize].clone();
+        let mut common: Factors = self.monos[terms[0].0.index()].clone();
         for (m, _) in &terms[1..] {
-            let f = &self.monos[*m as usize];
+            let f = &self.monos[m.index()];
             common.retain_mut(|(a, e)| match f.iter().find(|(b, _)| b == a) {
                 Some((_, e2)) => {
                     if *e2 < *e {
@@ -894,7 +927,7 @@ impl Engine {
             });
         }
         // only whole powers of plain atoms are taken out (exact division)
-        common.retain(|(a, e)| e.is_integer() && !matches!(self.atoms[*a as usize], Atom::Base(_)));
+        common.retain(|(a, e)| e.is_integer() && !matches!(self.atoms[a.index()], Atom::Base(_)));
         if c.is_one() && common.is_empty() {
             return None;
         }
@@ -921,7 +954,7 @@ impl Engine {
 
     /// `(c, u)` if `e` is `c − c·sin(u)²` for a rational `c ≠ 0`.
     fn scaled_one_minus_sin2(&mut self, e: ExprId) -> Option<(ExprId, ExprId)> {
-        let terms = self.exprs[e as usize].clone();
+        let terms = self.exprs[e.index()].clone();
         let [(m0, c0), (m1, c1)] = terms.as_slice() else {
             return None;
         };
@@ -935,10 +968,10 @@ impl Engine {
         if c_other.checked_neg() != Some(konst) {
             return None;
         }
-        let [(at, ex)] = self.monos[other as usize].as_slice() else {
+        let [(at, ex)] = self.monos[other.index()].as_slice() else {
             return None;
         };
-        match self.atoms[*at as usize] {
+        match self.atoms[at.index()] {
             Atom::Func(Fun::Sin, u) if *ex == Rational::int(2) => Some((self.constant(konst), u)),
             _ => None,
         }
@@ -946,8 +979,8 @@ impl Engine {
 
     /// `x^k` for an expression `x` that is a single atom to the first power.
     fn atom_power_normal_of(&mut self, x: ExprId, k: Rational) -> ExprId {
-        match self.exprs[x as usize].as_slice() {
-            [(m, c)] if c.is_one() => match self.monos[*m as usize].as_slice() {
+        match self.exprs[x.index()].as_slice() {
+            [(m, c)] if c.is_one() => match self.monos[m.index()].as_slice() {
                 [(at, e)] if e.is_one() => {
                     let at = *at;
                     self.atom_power_normal(at, k)
@@ -989,7 +1022,7 @@ impl Engine {
         if f == Fun::Ln && a == ONE {
             return ZERO;
         }
-        let leading_negative = self.exprs[a as usize]
+        let leading_negative = self.exprs[a.index()]
             .first()
             .is_some_and(|(_, c)| c.is_negative());
         if leading_negative && matches!(f, Fun::Sin | Fun::Tan | Fun::Cos) {
@@ -1005,10 +1038,10 @@ impl Engine {
             return self.exp(a);
         }
         if f == Fun::Ln
-            && let [(m, c)] = self.exprs[a as usize].as_slice()
+            && let [(m, c)] = self.exprs[a.index()].as_slice()
             && c.is_one()
-            && let [(at, e)] = self.monos[*m as usize].as_slice()
-            && let Atom::Func(Fun::Exp, u) = self.atoms[*at as usize]
+            && let [(at, e)] = self.monos[m.index()].as_slice()
+            && let Atom::Func(Fun::Exp, u) = self.atoms[at.index()]
         {
             // ln(exp(u)^e) = e·u
             let e = *e;
@@ -1028,12 +1061,12 @@ impl Engine {
     /// `exp(a)` in canonical form: exp(Σ c_i m_i) = Π exp(m_i)^c_i, so that
     /// exp(x)·exp(y) and exp(x + y) are one expression; exp(c·ln u) = u^c.
     fn exp(&mut self, a: ExprId) -> ExprId {
-        let terms = self.exprs[a as usize].clone();
+        let terms = self.exprs[a.index()].clone();
         let mut r = ONE;
         for (m, c) in terms {
-            if let [(at, e)] = self.monos[m as usize].as_slice()
+            if let [(at, e)] = self.monos[m.index()].as_slice()
                 && e.is_one()
-                && let Atom::Func(Fun::Ln, u) = self.atoms[*at as usize]
+                && let Atom::Func(Fun::Ln, u) = self.atoms[at.index()]
             {
                 let p = self.pow(u, c);
                 r = self.mul(r, p);
@@ -1061,7 +1094,7 @@ impl Engine {
             return ZERO;
         }
         self.counters.derivatives += 1;
-        let terms = self.exprs[e as usize].clone();
+        let terms = self.exprs[e.index()].clone();
         let mut parts = Vec::new();
         for (m, c) in terms {
             let dm = self.diff_mono(m, s);
@@ -1074,10 +1107,10 @@ impl Engine {
     }
 
     fn diff_mono(&mut self, m: MonoId, s: SymId) -> ExprId {
-        let factors = self.monos[m as usize].clone();
+        let factors = self.monos[m.index()].clone();
         let mut parts = Vec::new();
         for (i, &(a, e)) in factors.iter().enumerate() {
-            if self.atom_syms[a as usize].binary_search(&s).is_err() {
+            if self.atom_syms[a.index()].binary_search(&s).is_err() {
                 continue;
             }
             let da = self.diff_atom(a, s);
@@ -1110,7 +1143,7 @@ impl Engine {
     /// grow additively: d/dx of a_(n+1) = a_n + sin(a_n)/2 is then
     /// a_n' + cos(a_n)/2 · [a_n'] with [a_n'] one atom, not 2ⁿ terms.
     fn chain_rule_product(&mut self, outer: ExprId, inner: ExprId) -> ExprId {
-        if self.exprs[inner as usize].len() <= self.atom_min || self.as_constant(outer).is_some() {
+        if self.exprs[inner.index()].len() <= self.atom_min || self.as_constant(outer).is_some() {
             return self.mul(outer, inner);
         }
         let (g, rest) = self.content(inner).unwrap_or((ONE, inner));
@@ -1121,7 +1154,7 @@ impl Engine {
 
     /// Derivative of an atom with respect to `s` (for `Base(b)`, the derivative of `b`).
     fn diff_atom(&mut self, a: AtomId, s: SymId) -> ExprId {
-        match self.atoms[a as usize].clone() {
+        match self.atoms[a.index()].clone() {
             Atom::Sym(x) => {
                 if x == s {
                     ONE
@@ -1161,7 +1194,7 @@ impl Engine {
         map: &HashMap<SymId, ExprId>,
         memo: &mut HashMap<ExprId, ExprId>,
     ) -> ExprId {
-        if self.expr_syms[e as usize]
+        if self.expr_syms[e.index()]
             .iter()
             .all(|s| !map.contains_key(s))
         {
@@ -1170,12 +1203,12 @@ impl Engine {
         if let Some(&r) = memo.get(&e) {
             return r;
         }
-        let terms = self.exprs[e as usize].clone();
+        let terms = self.exprs[e.index()].clone();
         let mut parts = Vec::with_capacity(terms.len());
         for (m, c) in terms {
             let mut t = self.constant(c);
-            for (a, ex) in self.monos[m as usize].clone() {
-                let base = match self.atoms[a as usize].clone() {
+            for (a, ex) in self.monos[m.index()].clone() {
+                let base = match self.atoms[a.index()].clone() {
                     Atom::Sym(s) => match map.get(&s) {
                         Some(&v) => v,
                         None => self.sym(s),
@@ -1210,7 +1243,7 @@ impl Engine {
             return v;
         }
         let mut acc = 0.0;
-        for &(m, c) in &self.exprs[e as usize] {
+        for &(m, c) in &self.exprs[e.index()] {
             acc += self.eval_term(m, c, vals, memo);
         }
         memo.insert(e, acc);
@@ -1225,9 +1258,9 @@ impl Engine {
         memo: &mut HashMap<ExprId, f64>,
     ) -> f64 {
         let mut t = c.to_f64();
-        for &(a, ex) in &self.monos[m as usize] {
-            let b = match &self.atoms[a as usize] {
-                Atom::Sym(s) => vals[*s as usize],
+        for &(a, ex) in &self.monos[m.index()] {
+            let b = match &self.atoms[a.index()] {
+                Atom::Sym(s) => vals[s.index()],
                 Atom::Func(f, u) => f.eval(self.eval_memo(*u, vals, memo)),
                 Atom::Base(b) => self.eval_memo(*b, vals, memo),
             };
@@ -1245,7 +1278,7 @@ impl Engine {
         let mut memo = HashMap::default();
         let mut value = 0.0;
         let mut scale = 0.0;
-        for &(m, c) in &self.exprs[e as usize] {
+        for &(m, c) in &self.exprs[e.index()] {
             let t = self.eval_term(m, c, vals, &mut memo);
             value += t;
             scale += t.abs();
@@ -1260,7 +1293,7 @@ impl Engine {
         let mut memo = HashMap::default();
         let mut value = dd::Dd::ZERO;
         let mut scale = dd::Dd::ZERO;
-        for &(m, c) in &self.exprs[e as usize] {
+        for &(m, c) in &self.exprs[e.index()] {
             let t = self.eval_term_dd(m, c, vals, &mut memo);
             value = value + t;
             scale = scale + t.abs();
@@ -1273,7 +1306,7 @@ impl Engine {
             return v;
         }
         let mut acc = dd::Dd::ZERO;
-        for &(m, c) in &self.exprs[e as usize] {
+        for &(m, c) in &self.exprs[e.index()] {
             acc = acc + self.eval_term_dd(m, c, vals, memo);
         }
         memo.insert(e, acc);
@@ -1288,9 +1321,9 @@ impl Engine {
         memo: &mut HashMap<ExprId, dd::Dd>,
     ) -> dd::Dd {
         let mut t = dd::Dd::from_rational(c);
-        for &(a, ex) in &self.monos[m as usize] {
-            let b = match &self.atoms[a as usize] {
-                Atom::Sym(s) => vals[*s as usize],
+        for &(a, ex) in &self.monos[m.index()] {
+            let b = match &self.atoms[a.index()] {
+                Atom::Sym(s) => vals[s.index()],
                 Atom::Func(f, u) => {
                     let x = self.eval_dd(*u, vals, memo);
                     match f {
@@ -1318,7 +1351,7 @@ impl Engine {
 
     /// Human-readable form, for messages and debugging.
     pub fn display(&self, e: ExprId) -> String {
-        let terms = &self.exprs[e as usize];
+        let terms = &self.exprs[e.index()];
         if terms.is_empty() {
             return "0".to_string();
         }
@@ -1349,9 +1382,9 @@ impl Engine {
 
     fn display_mono(&self, m: MonoId) -> String {
         let mut parts = Vec::new();
-        for &(a, e) in &self.monos[m as usize] {
-            let base = match &self.atoms[a as usize] {
-                Atom::Sym(s) => self.sym_names[*s as usize].clone(),
+        for &(a, e) in &self.monos[m.index()] {
+            let base = match &self.atoms[a.index()] {
+                Atom::Sym(s) => self.sym_names[s.index()].clone(),
                 Atom::Func(f, u) => format!("{}({})", f.name(), self.display(*u)),
                 Atom::Base(b) => format!("({})", self.display(*b)),
             };
