@@ -1300,7 +1300,7 @@ fn integrability(m: &Model, curv: &[Vec<Vec<ExprId>>]) -> (bool, bool) {
         vals[m.pi_sym.index()] = Dd::PI;
         let mut usable = true;
         for &b in &entries {
-            let (v, scale) = m.engine.eval_with_scale_dd(b, &vals);
+            let (v, scale) = m.engine.eval_with_scale(b, &vals);
             if !v.is_finite() || !scale.is_finite() {
                 usable = false;
                 break;
