@@ -54,9 +54,9 @@ impl Engine {
     }
 
     /// `outer · inner` in a chain rule: an inner derivative longer than
-    /// [`ATOM_MIN`] terms is kept as one atom instead of being distributed,
-    /// so that nested derivatives (`let` chains, functions of functions)
-    /// grow additively: d/dx of a_(n+1) = a_n + sin(a_n)/2 is then
+    /// [`ATOM_MIN`](super::ATOM_MIN) terms is kept as one atom instead of being
+    /// distributed, so that nested derivatives (`let` chains, functions of
+    /// functions) grow additively: d/dx of a_(n+1) = a_n + sin(a_n)/2 is then
     /// a_n' + cos(a_n)/2 · [a_n'] with [a_n'] one atom, not 2ⁿ terms.
     fn chain_rule_product(&mut self, outer: ExprId, inner: ExprId) -> ExprId {
         if self.exprs[inner.index()].len() <= self.atom_min || self.as_constant(outer).is_some() {

@@ -6,12 +6,12 @@ use super::{Atom, Engine, ExprId, Factors, ONE, Rational};
 
 impl Engine {
     /// `a · b` for two sums whose expansion would not pay (more than
-    /// [`EXPAND_LIMIT`] products of terms): each sum is split into its
-    /// content (a rational times a monomial) and its primitive rest, and the
-    /// rests stay unexpanded, as atoms of one monomial. The rest of a sum is
-    /// one atom wherever it occurs, so shared factors stay shared (in the
-    /// graph and in the emitted code), and a `let` chain or a product of
-    /// long sums grows additively instead of multiplicatively.
+    /// [`EXPAND_LIMIT`](super::EXPAND_LIMIT) products of terms): each sum is
+    /// split into its content (a rational times a monomial) and its primitive
+    /// rest, and the rests stay unexpanded, as atoms of one monomial. The rest
+    /// of a sum is one atom wherever it occurs, so shared factors stay shared
+    /// (in the graph and in the emitted code), and a `let` chain or a product
+    /// of long sums grows additively instead of multiplicatively.
     pub(super) fn kept_product(&mut self, a: ExprId, b: ExprId) -> ExprId {
         let (ga, ra) = self.content(a).unwrap_or((ONE, a));
         let (gb, rb) = self.content(b).unwrap_or((ONE, b));
@@ -22,9 +22,9 @@ impl Engine {
         self.mul(g, x)
     }
 
-    /// A primitive sum as a factor of a kept product: one atom if it is
-    /// longer than [`ATOM_MIN`] terms, else the sum itself (distributed over
-    /// the other factor, which is then an atom).
+    /// A primitive sum as a factor of a kept product: one atom if it is longer
+    /// than [`ATOM_MIN`](super::ATOM_MIN) terms, else the sum itself
+    /// (distributed over the other factor, which is then an atom).
     pub(super) fn kept_factor(&mut self, s: ExprId) -> ExprId {
         if self.exprs[s.index()].len() <= self.atom_min {
             return s;
@@ -33,9 +33,10 @@ impl Engine {
         self.atom_power(x, Rational::ONE)
     }
 
-    /// Is `s^k` (a sum to a positive integer power) kept unexpanded? A sum
-    /// of more than [`ATOM_MIN`] terms always is; a shorter one when the
-    /// expansion would exceed [`EXPAND_LIMIT`] products of terms.
+    /// Is `s^k` (a sum to a positive integer power) kept unexpanded? A sum of
+    /// more than [`ATOM_MIN`](super::ATOM_MIN) terms always is; a shorter one
+    /// when the expansion would exceed [`EXPAND_LIMIT`](super::EXPAND_LIMIT)
+    /// products of terms.
     pub(super) fn power_is_kept(&self, s: ExprId, k: i64) -> bool {
         let len = self.exprs[s.index()].len();
         if len > self.atom_min {
