@@ -452,39 +452,9 @@ fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
                     }
                 }
                 "constraints" => {
-                    let mut list = Vec::new();
-                    for (toks, _) in split_statements(&group) {
-                        match parse_constraint.parse2(toks.into_iter().collect()) {
-                            Ok(c) => list.push(c),
-                            Err(e) => cx.syn_error(e),
-                        }
-                    }
-                    if def.constraints.is_some() {
-                        cx.error_at(
-                            kw.span(),
-                            "duplicate `constraints` block: write all constraints in one block",
-                        );
-                    } else {
-                        def.constraints = Some((kw, list));
-                    }
+                    statement_block(kw, &group, parse_constraint, &mut def.constraints, cx)
                 }
-                "forces" => {
-                    let mut list = Vec::new();
-                    for (toks, _) in split_statements(&group) {
-                        match parse_force.parse2(toks.into_iter().collect()) {
-                            Ok(c) => list.push(c),
-                            Err(e) => cx.syn_error(e),
-                        }
-                    }
-                    if def.forces.is_some() {
-                        cx.error_at(
-                            kw.span(),
-                            "duplicate `forces` block: write all forces in one block",
-                        );
-                    } else {
-                        def.forces = Some((kw, list));
-                    }
-                }
+                "forces" => statement_block(kw, &group, parse_force, &mut def.forces, cx),
                 _ => {
                     let hint = crate::names::suggest(
                         &which,
@@ -531,6 +501,34 @@ fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
             }
             let _ = semi;
         }
+    }
+}
+
+/// A block of statements (`constraints`, `forces`): each statement parsed
+/// by `parse` (the errors reported, the rest kept), stored in `slot` unless
+/// a block of its kind came before.
+fn statement_block<T>(
+    kw: Ident,
+    group: &proc_macro2::Group,
+    parse: fn(ParseStream) -> syn::Result<T>,
+    slot: &mut Option<(Ident, Vec<T>)>,
+    cx: &mut Ctxt,
+) {
+    let mut list = Vec::new();
+    for (toks, _) in split_statements(group) {
+        match parse.parse2(toks.into_iter().collect()) {
+            Ok(c) => list.push(c),
+            Err(e) => cx.syn_error(e),
+        }
+    }
+    if slot.is_some() {
+        let which = kw.to_string();
+        cx.error_at(
+            kw.span(),
+            format!("duplicate `{which}` block: write all {which} in one block"),
+        );
+    } else {
+        *slot = Some((kw, list));
     }
 }
 

@@ -5,6 +5,18 @@ use super::{Dag, Node, ONE_NODE, Op, ZERO_NODE};
 use crate::sym::{Fun, Rational};
 
 impl Dag {
+    /// The constant `op(a, b)` if `a` and `b` are constants and `op` gives a
+    /// value.
+    fn folded(
+        &mut self,
+        a: Node,
+        b: Node,
+        op: fn(Rational, Rational) -> Option<Rational>,
+    ) -> Option<Node> {
+        let v = op(self.as_const(a)?, self.as_const(b)?)?;
+        Some(self.constant(v))
+    }
+
     /// a + b, folded.
     pub fn add(&mut self, a: Node, b: Node) -> Node {
         if a == ZERO_NODE {
@@ -13,10 +25,8 @@ impl Dag {
         if b == ZERO_NODE {
             return a;
         }
-        if let (Some(x), Some(y)) = (self.as_const(a), self.as_const(b))
-            && let Some(s) = x.checked_add(y)
-        {
-            return self.constant(s);
+        if let Some(s) = self.folded(a, b, Rational::checked_add) {
+            return s;
         }
         if let Op::Neg(bb) = self.ops[b.index()] {
             return self.sub(a, bb);
@@ -39,10 +49,8 @@ impl Dag {
         if a == b {
             return ZERO_NODE;
         }
-        if let (Some(x), Some(y)) = (self.as_const(a), self.as_const(b))
-            && let Some(s) = x.checked_sub(y)
-        {
-            return self.constant(s);
+        if let Some(s) = self.folded(a, b, Rational::checked_sub) {
+            return s;
         }
         if let Op::Neg(bb) = self.ops[b.index()] {
             return self.add(a, bb);
@@ -78,12 +86,10 @@ impl Dag {
         if b == ONE_NODE {
             return a;
         }
+        if let Some(p) = self.folded(a, b, Rational::checked_mul) {
+            return p;
+        }
         match (self.as_const(a), self.as_const(b)) {
-            (Some(x), Some(y)) => {
-                if let Some(p) = x.checked_mul(y) {
-                    return self.constant(p);
-                }
-            }
             (Some(x), None) if x == Rational::MINUS_ONE => return self.neg(b),
             (None, Some(y)) if y == Rational::MINUS_ONE => return self.neg(a),
             _ => {}
