@@ -50,37 +50,13 @@ impl Dag {
     /// the degree of the monomials, not by the number of terms.
     fn poly(&mut self, eng: &Engine, terms: Vec<(Vec<(AtomId, Rational)>, Rational)>) -> Node {
         let mut terms: Vec<_> = terms.into_iter().filter(|t| !t.1.is_zero()).collect();
-        if terms.len() >= 2 {
-            // content: factor out the common rational factor
-            // all or nothing: a content that cannot be taken out exactly
-            // is left in (a partial division would recurse forever)
-            let mut g = Some(terms[0].1.abs());
-            for t in &terms[1..] {
-                g = g.and_then(|g| g.gcd(t.1));
-                if g.is_some_and(|g| g.to_i128_parts().is_none()) {
-                    // a content past 128 bits (many distinct big denominators)
-                    // only makes every quotient bigger: leave it in the terms
-                    g = None;
-                    break;
-                }
+        if let Some((g, divided)) = content(&terms) {
+            for (t, c) in terms.iter_mut().zip(divided) {
+                t.1 = c;
             }
-            let mut g = g.unwrap_or(Rational::ONE);
-            if terms.iter().all(|t| t.1.is_negative()) {
-                g = g.checked_neg().unwrap_or(g);
-            }
-            let divided: Option<Vec<Rational>> = if !g.is_one() && !g.is_zero() {
-                terms.iter().map(|t| t.1.checked_div(g)).collect()
-            } else {
-                None
-            };
-            if let Some(divided) = divided {
-                for (t, c) in terms.iter_mut().zip(divided) {
-                    t.1 = c;
-                }
-                let inner = self.poly(eng, terms);
-                let gc = self.constant(g);
-                return self.mul(gc, inner);
-            }
+            let inner = self.poly(eng, terms);
+            let gc = self.constant(g);
+            return self.mul(gc, inner);
         }
         let mut acc = ZERO_NODE;
         loop {
@@ -186,4 +162,33 @@ impl Dag {
         }
         v
     }
+}
+
+/// The common rational factor of the coefficients of a sum of at least two
+/// terms (negative if all are) with the coefficients divided by it, or
+/// `None` if it is 1. All or nothing: a content that cannot be taken out
+/// exactly is left in (a partial division would recurse forever).
+fn content(terms: &[(Vec<(AtomId, Rational)>, Rational)]) -> Option<(Rational, Vec<Rational>)> {
+    if terms.len() < 2 {
+        return None;
+    }
+    let mut g = Some(terms[0].1.abs());
+    for t in &terms[1..] {
+        g = g.and_then(|g| g.gcd(t.1));
+        if g.is_some_and(|g| g.to_i128_parts().is_none()) {
+            // a content past 128 bits (many distinct big denominators)
+            // only makes every quotient bigger: leave it in the terms
+            g = None;
+            break;
+        }
+    }
+    let mut g = g.unwrap_or(Rational::ONE);
+    if terms.iter().all(|t| t.1.is_negative()) {
+        g = g.checked_neg().unwrap_or(g);
+    }
+    if g.is_one() || g.is_zero() {
+        return None;
+    }
+    let divided: Option<Vec<Rational>> = terms.iter().map(|t| t.1.checked_div(g)).collect();
+    Some((g, divided?))
 }

@@ -12,6 +12,14 @@ pub(super) enum Normal {
     Expr(ExprId),
 }
 
+/// A monomial under normalisation: the factors it keeps, its coefficient and
+/// the expressions it is multiplied by.
+struct Parts {
+    kept: Factors,
+    coef: Rational,
+    multiplicands: Vec<ExprId>,
+}
+
 impl Engine {
     /// Normalises a merged factor list: folds constant bases into the
     /// coefficient, expands integer powers of sums, distributes integer powers
@@ -23,32 +31,14 @@ impl Engine {
             let m = self.intern_mono(f);
             return Normal::Mono(m, Rational::ONE);
         }
-        let mut kept: Factors = Vec::new();
-        let mut coef = Rational::ONE;
-        let mut multiplicands: Vec<ExprId> = Vec::new();
-        // sin(u)^a cos(u)^b with a ≥ 2 and b < 0: sin² = 1 − cos² (this keeps
-        // the Laurent part in the basis {cos^b, sin·cos^b}, so that, e.g.,
-        // tan² + 1 becomes cos⁻²). Split into the two monomials directly:
-        // multiplying by 1 − cos² would canonicalise back to sin².
         if let Some((si, u)) = self.sin_over_cos(&f) {
-            let mut f1 = f.clone();
-            f1[si].1 = f1[si]
-                .1
-                .checked_sub(Rational::int(2))
-                .unwrap_or(Rational::ZERO);
-            let mut f2 = f1.clone();
-            if let Some(&c) = self.atom_ix.get(&Atom::Func(Fun::Cos, u))
-                && let Some(slot) = f2.iter_mut().find(|x| x.0 == c)
-            {
-                slot.1 = slot
-                    .1
-                    .checked_add(Rational::int(2))
-                    .unwrap_or(Rational::ZERO);
-            }
-            let e1 = self.normal_expr(f1);
-            let e2 = self.normal_expr(f2);
-            return Normal::Expr(self.sub(e1, e2));
+            return Normal::Expr(self.split_sin_over_cos(f, si, u));
         }
+        let mut parts = Parts {
+            kept: Vec::new(),
+            coef: Rational::ONE,
+            multiplicands: Vec::new(),
+        };
         for (a, e) in f {
             if e.is_zero() {
                 continue;
@@ -57,7 +47,7 @@ impl Engine {
                 Atom::Func(Fun::Cos, u) if e.is_integer() && e >= Rational::int(2) => {
                     let k = e.to_integer().unwrap_or(0);
                     if k % 2 == 1 {
-                        kept.push((a, Rational::ONE));
+                        parts.kept.push((a, Rational::ONE));
                     }
                     // (1 - sin(u)^2)^(k div 2)
                     let s = self.func(Fun::Sin, u);
@@ -65,56 +55,74 @@ impl Engine {
                     let one_minus = self.sub(ONE, s2);
                     let half = self.exponent_count(k / 2);
                     let p = self.pow_int(one_minus, half);
-                    multiplicands.push(p);
+                    parts.multiplicands.push(p);
                 }
-                Atom::Base(b) => {
-                    if let Some(c) = self.as_constant(b) {
-                        // c^e = c^floor(e) * c^(e - floor(e))
-                        let k = floor(e);
-                        let ck = self.qpowi(c, k);
-                        coef = self.qmul(coef, ck);
-                        let frac = e
-                            .checked_sub(Rational::int(k as i128))
-                            .unwrap_or(Rational::ZERO);
-                        if !frac.is_zero() {
-                            kept.push((a, frac));
-                        }
-                    } else if self.exprs[b.index()].len() == 1 {
-                        // a monomial base: integer part distributes
-                        let k = floor(e);
-                        let frac = e
-                            .checked_sub(Rational::int(k as i128))
-                            .unwrap_or(Rational::ZERO);
-                        let p = self.pow_signed(b, k);
-                        multiplicands.push(p);
-                        if !frac.is_zero() {
-                            kept.push((a, frac));
-                        }
-                    } else if e >= Rational::ONE && !self.power_is_kept(b, floor(e)) {
-                        let k = floor(e);
-                        let frac = e
-                            .checked_sub(Rational::int(k as i128))
-                            .unwrap_or(Rational::ZERO);
-                        let kk = self.exponent_count(k);
-                        let p = self.pow_int(b, kk);
-                        multiplicands.push(p);
-                        if !frac.is_zero() {
-                            kept.push((a, frac));
-                        }
-                    } else {
-                        kept.push((a, e));
-                    }
-                }
-                _ => kept.push((a, e)),
+                Atom::Base(b) => self.normal_base_power(a, b, e, &mut parts),
+                _ => parts.kept.push((a, e)),
             }
         }
-        let m = self.intern_mono(kept);
+        let m = self.intern_mono(parts.kept);
         let base = self.intern_expr(vec![(m, Rational::ONE)]);
-        let mut r = self.scale(base, coef);
-        for p in multiplicands {
+        let mut r = self.scale(base, parts.coef);
+        for p in parts.multiplicands {
             r = self.mul(r, p);
         }
         Normal::Expr(r)
+    }
+
+    /// `sin(u)^a cos(u)^b` with `a ≥ 2` and `b < 0` (the `sin(u)` at `si` of
+    /// `f`): sin² = 1 − cos² (this keeps the Laurent part in the basis
+    /// {cos^b, sin·cos^b}, so that, e.g., tan² + 1 becomes cos⁻²). Split into
+    /// the two monomials directly: multiplying by 1 − cos² would
+    /// canonicalise back to sin².
+    fn split_sin_over_cos(&mut self, f: Factors, si: usize, u: ExprId) -> ExprId {
+        let mut f1 = f;
+        f1[si].1 = f1[si]
+            .1
+            .checked_sub(Rational::int(2))
+            .unwrap_or(Rational::ZERO);
+        let mut f2 = f1.clone();
+        if let Some(&c) = self.atom_ix.get(&Atom::Func(Fun::Cos, u))
+            && let Some(slot) = f2.iter_mut().find(|x| x.0 == c)
+        {
+            slot.1 = slot
+                .1
+                .checked_add(Rational::int(2))
+                .unwrap_or(Rational::ZERO);
+        }
+        let e1 = self.normal_expr(f1);
+        let e2 = self.normal_expr(f2);
+        self.sub(e1, e2)
+    }
+
+    /// The factor `b^e` (atom `a`) of a monomial being normalised: a constant
+    /// base folds its integer power into the coefficient, a monomial base
+    /// distributes it, a sum expands it unless the power is kept; the
+    /// fractional rest of the exponent stays on the atom.
+    fn normal_base_power(&mut self, a: AtomId, b: ExprId, e: Rational, parts: &mut Parts) {
+        let k = floor(e);
+        let frac = e
+            .checked_sub(Rational::int(k as i128))
+            .unwrap_or(Rational::ZERO);
+        if let Some(c) = self.as_constant(b) {
+            // c^e = c^floor(e) * c^(e - floor(e))
+            let ck = self.qpowi(c, k);
+            parts.coef = self.qmul(parts.coef, ck);
+        } else if self.exprs[b.index()].len() == 1 {
+            // a monomial base: integer part distributes
+            let p = self.pow_signed(b, k);
+            parts.multiplicands.push(p);
+        } else if e >= Rational::ONE && !self.power_is_kept(b, k) {
+            let kk = self.exponent_count(k);
+            let p = self.pow_int(b, kk);
+            parts.multiplicands.push(p);
+        } else {
+            parts.kept.push((a, e));
+            return;
+        }
+        if !frac.is_zero() {
+            parts.kept.push((a, frac));
+        }
     }
 
     /// A factor list as a normalised expression.

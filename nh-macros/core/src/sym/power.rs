@@ -55,25 +55,7 @@ impl Engine {
             && a != ZERO
             && let Some(c) = self.as_constant(a)
         {
-            // a constant to an integer power: exact, bounded in size
-            let v = match q.to_integer() {
-                Some(k) => self.qpowi(c, k),
-                None if c.is_one() => Rational::ONE,
-                None if c == Rational::MINUS_ONE => {
-                    let even = q
-                        .checked_div(Rational::int(2))
-                        .is_some_and(|h| h.is_integer());
-                    if even {
-                        Rational::ONE
-                    } else {
-                        Rational::MINUS_ONE
-                    }
-                }
-                None => {
-                    self.overflow = true;
-                    Rational::ZERO
-                }
-            };
+            let v = self.constant_power(c, q);
             return self.constant(v);
         }
         if q.is_integer() && !q.is_negative() {
@@ -90,34 +72,8 @@ impl Engine {
             let b = self.intern_atom(Atom::Base(ZERO));
             return self.atom_power(b, q);
         }
-        let terms = self.exprs[a.index()].clone();
-        if let [(m, c)] = terms.as_slice() {
-            let factors = self.monos[m.index()].clone();
-            let distributable = q.is_integer()
-                || (!c.is_negative()
-                    && factors
-                        .iter()
-                        .all(|&(_, e)| !e.is_integer() || e.abs().is_one()));
-            if distributable {
-                // coefficient part
-                let cpart = if c.is_one() {
-                    ONE
-                } else if q.is_integer() {
-                    let v = self.qpowi(*c, q.to_integer().unwrap_or(0));
-                    self.constant(v)
-                } else {
-                    let cc = self.constant(*c);
-                    let b = self.intern_atom(Atom::Base(cc));
-                    self.atom_power_normal(b, q)
-                };
-                let mut prod: Factors = Vec::with_capacity(factors.len());
-                for (at, e) in factors {
-                    let ne = self.qmul(e, q);
-                    prod.push((at, ne));
-                }
-                let mono = self.normal_expr(prod);
-                return self.mul(cpart, mono);
-            }
+        if let Some(p) = self.distributed_power(a, q) {
+            return p;
         }
         // an integer power of a sum: take its content (the rational gcd and the
         // monomial common to all terms) out first, so that a factor such as
@@ -143,6 +99,66 @@ impl Engine {
         }
         let b = self.intern_atom(Atom::Base(a));
         self.atom_power_normal(b, q)
+    }
+
+    /// A constant to an integer power: exact, bounded in size (beyond
+    /// [`Rational::MAX_DIGITS`] digits flagged as overflow).
+    fn constant_power(&mut self, c: Rational, q: Rational) -> Rational {
+        match q.to_integer() {
+            Some(k) => self.qpowi(c, k),
+            None if c.is_one() => Rational::ONE,
+            None if c == Rational::MINUS_ONE => {
+                let even = q
+                    .checked_div(Rational::int(2))
+                    .is_some_and(|h| h.is_integer());
+                if even {
+                    Rational::ONE
+                } else {
+                    Rational::MINUS_ONE
+                }
+            }
+            None => {
+                self.overflow = true;
+                Rational::ZERO
+            }
+        }
+    }
+
+    /// `a^q` for a monomial `a` whose power distributes over its factors
+    /// (an integer power, or a positive coefficient with no integer
+    /// exponents other than ±1), else `None`.
+    fn distributed_power(&mut self, a: ExprId, q: Rational) -> Option<ExprId> {
+        let terms = self.exprs[a.index()].clone();
+        let [(m, c)] = terms.as_slice() else {
+            return None;
+        };
+        let factors = self.monos[m.index()].clone();
+        let distributable = q.is_integer()
+            || (!c.is_negative()
+                && factors
+                    .iter()
+                    .all(|&(_, e)| !e.is_integer() || e.abs().is_one()));
+        if !distributable {
+            return None;
+        }
+        // coefficient part
+        let cpart = if c.is_one() {
+            ONE
+        } else if q.is_integer() {
+            let v = self.qpowi(*c, q.to_integer().unwrap_or(0));
+            self.constant(v)
+        } else {
+            let cc = self.constant(*c);
+            let b = self.intern_atom(Atom::Base(cc));
+            self.atom_power_normal(b, q)
+        };
+        let mut prod: Factors = Vec::with_capacity(factors.len());
+        for (at, e) in factors {
+            let ne = self.qmul(e, q);
+            prod.push((at, ne));
+        }
+        let mono = self.normal_expr(prod);
+        Some(self.mul(cpart, mono))
     }
 
     /// `(c, u)` if `e` is `c − c·sin(u)²` for a rational `c ≠ 0`.
