@@ -9,6 +9,11 @@
 //! structural zeros of the matrices remove operations rather than multiply by
 //! zero. The graph is emitted as `let` statements in topological order; `sin`
 //! and `cos` of one angle become one `sin_cos` call.
+//!
+//! The graph and its nodes are defined here; `fold` holds the folded
+//! arithmetic on nodes, `from_sym` the nodes of engine expressions, `ldlt`
+//! the linear solves, `live` what outputs need and cost, `text` the
+//! emission as text and `chunk` the blocks of large functions.
 
 mod chunk;
 mod fold;

@@ -22,6 +22,15 @@
 //! expression swell or a constant power beyond [`Rational::MAX_DIGITS`] digits
 //! sets a flag ([`Engine::overflowed`]) that the caller turns into a compile
 //! error.
+//!
+//! # Layout
+//!
+//! [`Engine`] is defined here with its limits; its operations are in one
+//! file each: `graph` (the ids, node types and interners), `arith` (sums,
+//! products, functions, constant folding), `power` (integer and rational
+//! powers), `normal` (the normal form of a monomial), `kept` (products kept
+//! unexpanded), `diff` (derivatives), `subst` (substitution), `eval`
+//! (numeric evaluation in any [`Scalar`]) and `display` (text).
 
 mod arith;
 pub mod dd;
