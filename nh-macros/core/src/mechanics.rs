@@ -105,10 +105,10 @@ impl Model {
             for v in vals.iter_mut() {
                 *v = Dd::from_f64(0.3 + 1.1 * next()); // positive: keeps sqrt and ln arguments valid
             }
-            vals[self.pi as usize] = Dd::PI;
+            vals[self.pi.index()] = Dd::PI;
             let mut usable = true;
             for &b in &entries {
-                let (v, scale) = self.engine.eval_with_scale_dd(b, &vals);
+                let (v, scale) = self.engine.eval_with_scale(b, &vals);
                 if !v.is_finite() || !scale.is_finite() {
                     usable = false;
                     break;

@@ -1,7 +1,7 @@
 //! Property tests of the symbolic engine on random expressions: the
 //! canonical form evaluates like the expression it came from, derivatives
 //! match central differences, and canonicalisation is idempotent.
-use nh_core::sym::{Atom, Engine, ExprId, Fun, Rational};
+use nh_core::sym::{Atom, Engine, ExprId, Fun, Rational, SymId};
 
 struct Rng(u64);
 impl Rng {
@@ -87,7 +87,7 @@ fn eval_tree(t: &Tree, v: &[f64]) -> f64 {
     }
 }
 
-fn build(e: &mut Engine, t: &Tree, vars: &[u32]) -> ExprId {
+fn build(e: &mut Engine, t: &Tree, vars: &[SymId]) -> ExprId {
     let one = e.int(1);
     match t {
         Tree::Var(i) => e.sym(vars[*i]),

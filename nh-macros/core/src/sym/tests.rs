@@ -4,11 +4,17 @@ fn q(n: i128, d: i128) -> Rational {
     Rational::new(n, d).unwrap()
 }
 
-#[test]
-fn pythagorean_identity_is_zero() {
+/// An engine with one symbol `x`: the symbol and its expression.
+fn engine_with_x() -> (Engine, SymId, ExprId) {
     let mut e = Engine::new();
     let x = e.symbol("x");
     let xs = e.sym(x);
+    (e, x, xs)
+}
+
+#[test]
+fn pythagorean_identity_is_zero() {
+    let (mut e, _, xs) = engine_with_x();
     let s = e.func(Fun::Sin, xs);
     let c = e.func(Fun::Cos, xs);
     let s2 = e.mul(s, s);
@@ -19,10 +25,9 @@ fn pythagorean_identity_is_zero() {
 
 #[test]
 fn hash_consing_shares() {
-    let mut e = Engine::new();
-    let x = e.symbol("x");
+    let (mut e, _, xs) = engine_with_x();
     let y = e.symbol("y");
-    let (xs, ys) = (e.sym(x), e.sym(y));
+    let ys = e.sym(y);
     let a = e.add(xs, ys);
     let b = e.add(ys, xs);
     assert_eq!(a, b);
@@ -39,9 +44,7 @@ fn hash_consing_shares() {
 
 #[test]
 fn derivative_rules() {
-    let mut e = Engine::new();
-    let x = e.symbol("x");
-    let xs = e.sym(x);
+    let (mut e, x, xs) = engine_with_x();
     let t = e.func(Fun::Tan, xs);
     let dt = e.diff(t, x);
     let t2 = e.mul(t, t);
@@ -56,9 +59,7 @@ fn derivative_rules() {
 
 #[test]
 fn powers_follow_real_semantics() {
-    let mut e = Engine::new();
-    let x = e.symbol("x");
-    let xs = e.sym(x);
+    let (mut e, _, xs) = engine_with_x();
     let x2 = e.mul(xs, xs);
     let r = e.pow(x2, q(1, 2));
     assert_ne!(r, xs, "(x^2)^(1/2) is |x|, not x");
@@ -74,10 +75,9 @@ fn powers_follow_real_semantics() {
 
 #[test]
 fn exponentials_are_canonical() {
-    let mut e = Engine::new();
-    let x = e.symbol("x");
+    let (mut e, x, xs) = engine_with_x();
     let y = e.symbol("y");
-    let (xs, ys) = (e.sym(x), e.sym(y));
+    let ys = e.sym(y);
     let s = e.add(xs, ys);
     let exy = e.func(Fun::Exp, s);
     let ex = e.func(Fun::Exp, xs);
@@ -102,9 +102,7 @@ fn exponentials_are_canonical() {
 
 #[test]
 fn one_minus_sin_squared_to_a_power_is_a_power_of_cos() {
-    let mut e = Engine::new();
-    let x = e.symbol("x");
-    let xs = e.sym(x);
+    let (mut e, _, xs) = engine_with_x();
     let s = e.func(Fun::Sin, xs);
     let c = e.func(Fun::Cos, xs);
     let s2 = e.mul(s, s);

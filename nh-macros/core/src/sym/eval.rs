@@ -1,0 +1,166 @@
+//! Numeric evaluation of expressions, in any [`Scalar`] number type: `f64`
+//! for the numeric checks of the derivation, double-double ([`Dd`]) where
+//! cancellation to zero has to be judged beyond `f64` precision.
+
+use super::dd::Dd;
+use super::{Atom, Engine, ExprId, Fun, MonoId, Rational};
+use rustc_hash::FxHashMap as HashMap;
+use std::ops::{Add, Div, Mul, Sub};
+
+/// A number type expressions can be evaluated in.
+pub trait Scalar:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self>
+{
+    /// Zero.
+    const ZERO: Self;
+    /// The nearest value to an exact rational.
+    fn from_rational(q: Rational) -> Self;
+    /// The absolute value.
+    fn abs(self) -> Self;
+    /// `self^k` for an integer `k` with `|k| < i32::MAX`.
+    fn powi(self, k: i64) -> Self;
+    /// `self^q` for a rational exponent that is not a small integer.
+    fn powq(self, q: Rational) -> Self;
+    /// The sine.
+    fn sin(self) -> Self;
+    /// The cosine.
+    fn cos(self) -> Self;
+    /// The tangent.
+    fn tan(self) -> Self;
+    /// The exponential.
+    fn exp(self) -> Self;
+    /// The natural logarithm.
+    fn ln(self) -> Self;
+}
+
+impl Scalar for f64 {
+    const ZERO: f64 = 0.0;
+    fn from_rational(q: Rational) -> f64 {
+        q.to_f64()
+    }
+    fn abs(self) -> f64 {
+        f64::abs(self)
+    }
+    fn powi(self, k: i64) -> f64 {
+        f64::powi(self, k as i32)
+    }
+    fn powq(self, q: Rational) -> f64 {
+        f64::powf(self, q.to_f64())
+    }
+    fn sin(self) -> f64 {
+        f64::sin(self)
+    }
+    fn cos(self) -> f64 {
+        f64::cos(self)
+    }
+    fn tan(self) -> f64 {
+        f64::tan(self)
+    }
+    fn exp(self) -> f64 {
+        f64::exp(self)
+    }
+    fn ln(self) -> f64 {
+        f64::ln(self)
+    }
+}
+
+impl Scalar for Dd {
+    const ZERO: Dd = Dd::ZERO;
+    fn from_rational(q: Rational) -> Dd {
+        Dd::from_rational(q)
+    }
+    fn abs(self) -> Dd {
+        Dd::abs(self)
+    }
+    fn powi(self, k: i64) -> Dd {
+        Dd::powi(self, k)
+    }
+    fn powq(self, q: Rational) -> Dd {
+        (Dd::ln(self) * Dd::from_rational(q)).exp()
+    }
+    fn sin(self) -> Dd {
+        self.sin_cos().0
+    }
+    fn cos(self) -> Dd {
+        self.sin_cos().1
+    }
+    fn tan(self) -> Dd {
+        let (s, c) = self.sin_cos();
+        s / c
+    }
+    fn exp(self) -> Dd {
+        Dd::exp(self)
+    }
+    fn ln(self) -> Dd {
+        Dd::ln(self)
+    }
+}
+
+/// `f(x)`.
+fn call<S: Scalar>(f: Fun, x: S) -> S {
+    match f {
+        Fun::Sin => x.sin(),
+        Fun::Cos => x.cos(),
+        Fun::Tan => x.tan(),
+        Fun::Exp => x.exp(),
+        Fun::Ln => x.ln(),
+    }
+}
+
+impl Engine {
+    /// Evaluates `e` with `vals[s]` the value of symbol `s`.
+    pub fn eval<S: Scalar>(&self, e: ExprId, vals: &[S]) -> S {
+        let mut memo = HashMap::default();
+        self.eval_memo(e, vals, &mut memo)
+    }
+
+    /// Evaluates with a caller-held memo (for many expressions at one point).
+    pub fn eval_memo<S: Scalar>(&self, e: ExprId, vals: &[S], memo: &mut HashMap<ExprId, S>) -> S {
+        if let Some(&v) = memo.get(&e) {
+            return v;
+        }
+        let mut acc = S::ZERO;
+        for &(m, c) in &self.exprs[e.index()] {
+            acc = acc + self.eval_term(m, c, vals, memo);
+        }
+        memo.insert(e, acc);
+        acc
+    }
+
+    /// Evaluates `e` and the sum of the absolute values of its terms (the
+    /// scale against which cancellation to zero is judged).
+    pub fn eval_with_scale<S: Scalar>(&self, e: ExprId, vals: &[S]) -> (S, S) {
+        let mut memo = HashMap::default();
+        let mut value = S::ZERO;
+        let mut scale = S::ZERO;
+        for &(m, c) in &self.exprs[e.index()] {
+            let t = self.eval_term(m, c, vals, &mut memo);
+            value = value + t;
+            scale = scale + t.abs();
+        }
+        (value, scale)
+    }
+
+    /// The value of the term `c·m`.
+    fn eval_term<S: Scalar>(
+        &self,
+        m: MonoId,
+        c: Rational,
+        vals: &[S],
+        memo: &mut HashMap<ExprId, S>,
+    ) -> S {
+        let mut t = S::from_rational(c);
+        for &(a, ex) in &self.monos[m.index()] {
+            let b = match &self.atoms[a.index()] {
+                Atom::Sym(s) => vals[s.index()],
+                Atom::Func(f, u) => call(*f, self.eval_memo(*u, vals, memo)),
+                Atom::Base(b) => self.eval_memo(*b, vals, memo),
+            };
+            t = t * match ex.to_integer() {
+                Some(k) if k.abs() < i32::MAX as i64 => b.powi(k),
+                _ => b.powq(ex),
+            };
+        }
+        t
+    }
+}

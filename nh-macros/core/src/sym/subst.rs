@@ -1,0 +1,48 @@
+//! Substitution of expressions for symbols.
+
+use super::{Atom, Engine, ExprId, SymId};
+use rustc_hash::FxHashMap as HashMap;
+
+impl Engine {
+    /// Substitutes expressions for symbols everywhere in `e`.
+    pub fn subst(
+        &mut self,
+        e: ExprId,
+        map: &HashMap<SymId, ExprId>,
+        memo: &mut HashMap<ExprId, ExprId>,
+    ) -> ExprId {
+        if self.expr_syms[e.index()]
+            .iter()
+            .all(|s| !map.contains_key(s))
+        {
+            return e;
+        }
+        if let Some(&r) = memo.get(&e) {
+            return r;
+        }
+        let terms = self.exprs[e.index()].clone();
+        let mut parts = Vec::with_capacity(terms.len());
+        for (m, c) in terms {
+            let mut t = self.constant(c);
+            for (a, ex) in self.monos[m.index()].clone() {
+                let base = match self.atoms[a.index()].clone() {
+                    Atom::Sym(s) => match map.get(&s) {
+                        Some(&v) => v,
+                        None => self.sym(s),
+                    },
+                    Atom::Func(f, u) => {
+                        let u2 = self.subst(u, map, memo);
+                        self.func(f, u2)
+                    }
+                    Atom::Base(b) => self.subst(b, map, memo),
+                };
+                let p = self.pow(base, ex);
+                t = self.mul(t, p);
+            }
+            parts.push(t);
+        }
+        let r = self.sum(&parts);
+        memo.insert(e, r);
+        r
+    }
+}
