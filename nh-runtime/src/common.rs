@@ -197,6 +197,7 @@ pub(crate) struct Adaptive<T> {
     pub(crate) initial_step: Option<T>,
     pub(crate) max_step: Option<T>,
     pub(crate) fixed_step: Option<T>,
+    pub(crate) project: bool,
     pub(crate) record: Record<T>,
 }
 
@@ -210,6 +211,7 @@ impl<T: RealField + Copy> Adaptive<T> {
             initial_step: None,
             max_step: None,
             fixed_step: None,
+            project: true,
             record: Record::default(),
         }
     }
@@ -218,14 +220,16 @@ impl<T: RealField + Copy> Adaptive<T> {
     /// (or the fixed step of `with_fixed_step`). A positive `rtol`
     /// below `10·eps` is raised to `10·eps`, the smallest relative error the
     /// scalar can resolve in a step.
-    pub(crate) fn run<M, K, const D: usize>(
+    pub(crate) fn run<M, H, K, const D: usize>(
         &mut self,
         method: &mut M,
+        sys: &H,
         span: (T, SVector<T, D>, T),
         sink: &mut K,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
     where
         M: Method<T, D>,
+        H: OdeSystem<T, D> + ?Sized,
         K: Sink<T, D> + ?Sized,
     {
         let floor = c::<T>(10.0) * machine_epsilon::<T>();
@@ -246,8 +250,9 @@ impl<T: RealField + Copy> Adaptive<T> {
             initial_step: self.initial_step,
             max_step: self.max_step,
             max_steps: self.max_steps,
+            project: self.project,
         };
-        drive(method, &settings, span, sink, &mut self.record)
+        drive(method, sys, &settings, span, sink, &mut self.record)
     }
 }
 
@@ -256,6 +261,7 @@ impl<T: RealField + Copy> Adaptive<T> {
 pub(crate) struct Fixed<T> {
     pub(crate) h: T,
     pub(crate) max_steps: usize,
+    pub(crate) project: bool,
     pub(crate) record: Record<T>,
 }
 
@@ -265,19 +271,22 @@ impl<T: RealField + Copy> Fixed<T> {
         Fixed {
             h,
             max_steps: FIXED_MAX_STEPS,
+            project: true,
             record: Record::default(),
         }
     }
 
     /// Runs `method` with the fixed step.
-    pub(crate) fn run<M, K, const D: usize>(
+    pub(crate) fn run<M, H, K, const D: usize>(
         &mut self,
         method: &mut M,
+        sys: &H,
         span: (T, SVector<T, D>, T),
         sink: &mut K,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
     where
         M: Method<T, D>,
+        H: OdeSystem<T, D> + ?Sized,
         K: Sink<T, D> + ?Sized,
     {
         let settings = Settings {
@@ -289,8 +298,9 @@ impl<T: RealField + Copy> Fixed<T> {
             initial_step: None,
             max_step: None,
             max_steps: self.max_steps,
+            project: self.project,
         };
-        drive(method, &settings, span, sink, &mut self.record)
+        drive(method, sys, &settings, span, sink, &mut self.record)
     }
 }
 
@@ -341,6 +351,16 @@ macro_rules! adaptive_builders {
                 self
             }
 
+            /// Turns the projection of accepted states onto the system's
+            /// holonomic constraints ([`OdeSystem::project`](crate::OdeSystem::project))
+            /// on or off (default on; systems without holonomic constraints
+            /// are unaffected). The largest residual is reported in
+            /// [`Outcome::max_residual`](crate::Outcome::max_residual) either way.
+            pub fn with_projection(mut self, on: bool) -> Self {
+                self.a.project = on;
+                self
+            }
+
             /// Work counters of the most recent call to `integrate*`, whether
             /// it succeeded or failed (useful to read
             /// [`Stats::stiffness_detected`](crate::Stats::stiffness_detected)
@@ -380,6 +400,16 @@ macro_rules! fixed_builders {
                 self
             }
 
+            /// Turns the projection of accepted states onto the system's
+            /// holonomic constraints ([`OdeSystem::project`](crate::OdeSystem::project))
+            /// on or off (default on; systems without holonomic constraints
+            /// are unaffected). The largest residual is reported in
+            /// [`Outcome::max_residual`](crate::Outcome::max_residual) either way.
+            pub fn with_projection(mut self, on: bool) -> Self {
+                self.f.project = on;
+                self
+            }
+
             /// The step size.
             pub fn step_size(&self) -> T {
                 self.f.h
@@ -415,7 +445,7 @@ macro_rules! integrator_impl {
                 S: crate::OdeSystem<T, D> + ?Sized,
                 K: crate::sink::Sink<T, D> + ?Sized,
             {
-                self.$field.run(&mut $method, (t0, x0, t1), sink)
+                self.$field.run(&mut $method, $sys, (t0, x0, t1), sink)
             }
         }
 
@@ -503,7 +533,7 @@ macro_rules! jacobian_entry_points {
                 S: crate::OdeJacobian<T, D> + ?Sized,
             {
                 self.$field
-                    .run(&mut $method, (t0, x0, t1), &mut crate::sink::Discard)
+                    .run(&mut $method, $sys, (t0, x0, t1), &mut crate::sink::Discard)
             }
 
             $(#[$steps])*
@@ -520,7 +550,7 @@ macro_rules! jacobian_entry_points {
                 F: FnMut(&crate::Step<'_, T, D>),
             {
                 let mut sink = crate::sink::Steps(on_step);
-                self.$field.run(&mut $method, (t0, x0, t1), &mut sink)
+                self.$field.run(&mut $method, $sys, (t0, x0, t1), &mut sink)
             }
         }
     };

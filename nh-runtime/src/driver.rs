@@ -12,7 +12,7 @@ use nalgebra::{RealField, SVector};
 use crate::common::{all_finite, c, check_arguments, check_positive, initial_step, min_step};
 use crate::sink::Sink;
 use crate::step::Poly;
-use crate::{Outcome, SimError, Stats, Step};
+use crate::{OdeSystem, Outcome, SimError, Singularity, Stats, Step};
 
 /// Why a trial step could not be computed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -31,7 +31,11 @@ impl Failure {
     fn at<T, const D: usize>(self, t: T, x: SVector<T, D>, h: T) -> SimError<T, D> {
         match self {
             Failure::NonFinite => SimError::NonFinite { t, x },
-            Failure::Singular => SimError::Singular { t, x },
+            Failure::Singular => SimError::Singular {
+                t,
+                x,
+                cause: Singularity::IterationMatrix,
+            },
             Failure::NoConvergence => SimError::NoConvergence { t, x, h },
         }
     }
@@ -185,6 +189,9 @@ pub(crate) struct Settings<T> {
     pub(crate) max_step: Option<T>,
     /// Step attempts allowed (accepted plus rejected).
     pub(crate) max_steps: usize,
+    /// Whether accepted states are projected onto the system's holonomic
+    /// constraints ([`OdeSystem::project`]).
+    pub(crate) project: bool,
 }
 
 /// The bookkeeping of one run, kept also when it fails.
@@ -193,6 +200,8 @@ pub(crate) struct Record<T> {
     pub(crate) stats: Stats,
     /// The step size proposed after the last accepted step.
     pub(crate) last_step: Option<T>,
+    /// The largest holonomic-constraint residual seen so far.
+    pub(crate) max_residual: Option<T>,
 }
 
 impl<T> Default for Record<T> {
@@ -200,6 +209,7 @@ impl<T> Default for Record<T> {
         Record {
             stats: Stats::default(),
             last_step: None,
+            max_residual: None,
         }
     }
 }
@@ -213,20 +223,27 @@ const NONSTIFF_RESET: usize = 6;
 /// Consecutive singular iteration matrices tolerated (step halved each time).
 const MAX_SINGULAR: usize = 5;
 
-/// The state of one run: the accepted point and the counters.
-struct Run<'r, T, const D: usize> {
+/// The state of one run: the accepted point, the system's chart and
+/// manifold hooks, and the counters.
+struct Run<'r, T, H: ?Sized, const D: usize> {
     t: T,
     x: SVector<T, D>,
     t1: T,
     dir: T,
     eps: T,
+    sys: &'r H,
+    project: bool,
+    /// The chart regularity at the accepted point (`None`: no chart test).
+    chart: Option<T>,
     rec: &'r mut Record<T>,
 }
 
-/// Integrates from `(t0, x0)` to `t1` with `method`, reporting every
-/// accepted step to `sink`; the work counters end up in `rec`.
-pub(crate) fn drive<T, M, K, const D: usize>(
+/// Integrates `sys` from `(t0, x0)` to `t1` with `method` (which evaluates
+/// `sys`), reporting every accepted step to `sink`; the work counters end up
+/// in `rec`.
+pub(crate) fn drive<T, M, H, K, const D: usize>(
     method: &mut M,
+    sys: &H,
     settings: &Settings<T>,
     (t0, x0, t1): (T, SVector<T, D>, T),
     sink: &mut K,
@@ -235,6 +252,7 @@ pub(crate) fn drive<T, M, K, const D: usize>(
 where
     T: RealField + Copy,
     M: Method<T, D>,
+    H: OdeSystem<T, D> + ?Sized,
     K: Sink<T, D> + ?Sized,
 {
     *rec = Record::default();
@@ -247,21 +265,27 @@ where
         t1,
         dir,
         eps,
+        sys,
+        project: settings.project,
+        chart: None,
         rec,
     };
+    run.chart = run.regular_chart(t0, &x0)?;
+    run.rec.max_residual = sys.constraint_residual(t0, &x0);
     if dir == T::zero() {
         return Ok(run.outcome());
     }
     if (t1 - t0).abs() < min_step(eps, t0, t1) {
         return run.tiny_span(method, sink);
     }
-    method
+    let result = method
         .start(t0, &x0, &mut run.rec.stats)
-        .map_err(|f| f.at(t0, x0, t1 - t0))?;
-    match settings.control {
-        Control::Fixed(h) => run.fixed(method, settings, h, sink),
-        Control::Adaptive => run.adaptive(method, settings, sink),
-    }
+        .map_err(|f| f.at(t0, x0, t1 - t0))
+        .and_then(|()| match settings.control {
+            Control::Fixed(h) => run.fixed(method, settings, h, sink),
+            Control::Adaptive => run.adaptive(method, settings, sink),
+        });
+    result.map_err(|e| run.explain(e))
 }
 
 /// `InvalidInput` unless the tolerances and step settings are usable.
@@ -373,13 +397,83 @@ impl<T: RealField + Copy> Stiffness<T> {
     }
 }
 
-impl<T: RealField + Copy, const D: usize> Run<'_, T, D> {
+impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T, H, D> {
     fn outcome(&self) -> Outcome<T, D> {
         Outcome {
             t: self.t,
             x: self.x,
             stats: self.rec.stats,
+            max_residual: self.rec.max_residual,
         }
+    }
+
+    /// The chart regularity at `(t, x)` if the chart is regular there and
+    /// on the same side of its singularities as the accepted point;
+    /// otherwise `Singular` at the accepted point.
+    fn regular_chart(&self, t: T, x: &SVector<T, D>) -> Result<Option<T>, SimError<T, D>> {
+        let Some(rho) = self.sys.chart_regularity(t, x) else {
+            return Ok(None);
+        };
+        let floor = self.eps.sqrt();
+        let flipped = self.chart.is_some_and(|prev| prev * rho < T::zero());
+        if rho.abs() > floor && !flipped {
+            Ok(Some(rho))
+        } else {
+            Err(self.chart_singular())
+        }
+    }
+
+    fn chart_singular(&self) -> SimError<T, D> {
+        SimError::Singular {
+            t: self.t,
+            x: self.x,
+            cause: Singularity::Chart,
+        }
+    }
+
+    /// A failure within `eps^(1/4)` of a chart singularity is reported as
+    /// the singularity that caused it.
+    fn explain(&self, e: SimError<T, D>) -> SimError<T, D> {
+        let near = |rho: T| rho.abs() <= self.eps.sqrt().sqrt();
+        match e {
+            SimError::NonFinite { .. }
+            | SimError::StepSizeTooSmall { .. }
+            | SimError::NoConvergence { .. }
+                if self.sys.chart_regularity(self.t, &self.x).is_some_and(near) =>
+            {
+                self.chart_singular()
+            }
+            e => e,
+        }
+    }
+
+    /// The end `x_new` of an accepted step at `t_new`, projected onto the
+    /// holonomic constraints when projection is on, its chart checked and
+    /// its residual recorded; `true` if the projection moved it.
+    fn settle(&mut self, t_new: T, x_new: &mut SVector<T, D>) -> Result<bool, SimError<T, D>> {
+        let moved = if self.project {
+            self.sys
+                .project(t_new, x_new)
+                .map_err(|f| SimError::ProjectionFailed {
+                    t: self.t,
+                    x: self.x,
+                    residual: f.residual,
+                })?
+        } else {
+            false
+        };
+        if moved && !all_finite(x_new) {
+            return Err(SimError::NonFinite {
+                t: self.t,
+                x: self.x,
+            });
+        }
+        self.chart = self.regular_chart(t_new, x_new)?;
+        if let Some(r) = self.sys.constraint_residual(t_new, x_new) {
+            let worst = self.rec.max_residual.map_or(r, |m| m.max(r));
+            self.rec.max_residual = Some(worst);
+        }
+        Ok(moved)
     }
 
     /// A span below the resolution of `t`: one explicit Euler step to `t1`.
@@ -391,10 +485,11 @@ impl<T: RealField + Copy, const D: usize> Run<'_, T, D> {
         let (t, x) = (self.t, self.x);
         let f = m.rhs(t, &x);
         self.rec.stats.rhs_evals += 1;
-        let x_new = x + f * (self.t1 - t);
+        let mut x_new = x + f * (self.t1 - t);
         if !(all_finite(&f) && all_finite(&x_new)) {
             return Err(SimError::NonFinite { t, x });
         }
+        self.settle(self.t1, &mut x_new)?;
         self.rec.stats.steps += 1;
         let line = Poly::from_monomial(&[x, x_new - x]);
         sink.step(&Step::new(t, &x, self.t1, &x_new, Some(&line)));
@@ -419,7 +514,9 @@ impl<T: RealField + Copy, const D: usize> Run<'_, T, D> {
         Ok(dense)
     }
 
-    /// Hands the accepted step to the sink and moves to its end.
+    /// Settles the end of the accepted step (projection, chart, residual),
+    /// hands the step to the sink and moves to its end; the method restarts
+    /// there if the projection moved the state.
     fn accept<M, K>(
         &mut self,
         m: &mut M,
@@ -432,12 +529,19 @@ impl<T: RealField + Copy, const D: usize> Run<'_, T, D> {
         M: Method<T, D>,
         K: Sink<T, D> + ?Sized,
     {
+        let mut x_new = *m.x_new();
+        let moved = self.settle(t_new, &mut x_new)?;
         let poly = if dense { Some(m.dense()) } else { None };
-        sink.step(&Step::new(self.t, &self.x, t_new, m.x_new(), poly));
+        sink.step(&Step::new(self.t, &self.x, t_new, &x_new, poly));
         self.t = t_new;
-        self.x = *m.x_new();
-        m.advance(t_new, &self.x, last, &mut self.rec.stats)
-            .map_err(|f| f.at(t_new, self.x, T::zero()))
+        self.x = x_new;
+        let stats = &mut self.rec.stats;
+        let next = match (moved, last) {
+            (true, true) => Ok(()),
+            (true, false) => m.start(t_new, &self.x, stats),
+            (false, _) => m.advance(t_new, &self.x, last, stats),
+        };
+        next.map_err(|f| f.at(t_new, self.x, T::zero()))
     }
 
     /// The fixed-step loop: step `k` ends at `t0 + k·h`, a remainder below a

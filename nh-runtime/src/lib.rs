@@ -93,8 +93,8 @@ pub use dop853::Dop853;
 pub use dopri5::DormandPrince;
 #[cfg(feature = "alloc")]
 pub use gauss::GaussLegendre4;
-pub use outcome::{Outcome, SimError, Stats};
+pub use outcome::{Outcome, SimError, Singularity, Stats};
 pub use rk4::Rk4;
 pub use rosenbrock::Rosenbrock;
 pub use step::Step;
-pub use system::{ControlledSystem, Driven, Integrator, OdeJacobian, OdeSystem};
+pub use system::{ControlledSystem, Driven, Integrator, OdeJacobian, OdeSystem, ProjectionFailure};

@@ -71,6 +71,24 @@ pub struct Outcome<T, const D: usize> {
     pub x: SVector<T, D>,
     /// Work counters.
     pub stats: Stats,
+    /// The largest holonomic-constraint residual
+    /// ([`OdeSystem::constraint_residual`](crate::OdeSystem::constraint_residual))
+    /// over the initial state and every accepted state (after projection,
+    /// when it is on); `None` for a system without holonomic constraints.
+    pub max_residual: Option<T>,
+}
+
+/// What was singular when a run ended in [`SimError::Singular`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Singularity {
+    /// The iteration matrix of an implicit method (Newton or Rosenbrock)
+    /// is singular to working precision.
+    IterationMatrix,
+    /// The chart of the equations is singular: the system's
+    /// [`chart_regularity`](crate::OdeSystem::chart_regularity) vanished or
+    /// changed sign (a dependent-velocity block or a reduced mass matrix
+    /// lost rank). Choose other dependent coordinates or other speeds.
+    Chart,
 }
 
 /// Why an integration failed.
@@ -134,13 +152,26 @@ pub enum SimError<T, const D: usize> {
         /// The step whose stage equations could not be solved.
         h: T,
     },
-    /// A linear system of an implicit method could not be solved: its
-    /// iteration matrix is singular to working precision.
+    /// A linear system could not be solved: an implicit method's iteration
+    /// matrix, or the system's own equations at a singularity of their
+    /// chart (see `cause`).
     Singular {
         /// Time of the last good state.
         t: T,
         /// Last good state.
         x: SVector<T, D>,
+        /// What was singular.
+        cause: Singularity,
+    },
+    /// Projecting an accepted state onto the holonomic constraints
+    /// ([`OdeSystem::project`](crate::OdeSystem::project)) did not converge.
+    ProjectionFailed {
+        /// Time of the last good state.
+        t: T,
+        /// Last good state (before the step whose end could not be projected).
+        x: SVector<T, D>,
+        /// The constraint residual the projection reached.
+        residual: T,
     },
     /// The arguments or the integrator's settings are invalid; nothing was
     /// integrated. `what` names the offending value.
@@ -158,7 +189,8 @@ impl<T: Copy, const D: usize> SimError<T, D> {
             | Self::StepSizeTooSmall { t, .. }
             | Self::MaxSteps { t, .. }
             | Self::NoConvergence { t, .. }
-            | Self::Singular { t, .. } => Some(*t),
+            | Self::Singular { t, .. }
+            | Self::ProjectionFailed { t, .. } => Some(*t),
             Self::InvalidInput { .. } => None,
         }
     }
@@ -170,7 +202,8 @@ impl<T: Copy, const D: usize> SimError<T, D> {
             | Self::StepSizeTooSmall { x, .. }
             | Self::MaxSteps { x, .. }
             | Self::NoConvergence { x, .. }
-            | Self::Singular { x, .. } => Some(x),
+            | Self::Singular { x, .. }
+            | Self::ProjectionFailed { x, .. } => Some(x),
             Self::InvalidInput { .. } => None,
         }
     }
@@ -193,7 +226,26 @@ impl<T: fmt::Display, const D: usize> fmt::Display for SimError<T, D> {
                 "the Newton iteration for the implicit stages did not converge at t = {t}: \
                  the step h = {h} is too large for this problem; reduce h"
             ),
-            Self::Singular { t, .. } => write!(f, "singular linear system at t = {t}"),
+            Self::Singular {
+                t,
+                cause: Singularity::IterationMatrix,
+                ..
+            } => write!(f, "singular iteration matrix at t = {t}"),
+            Self::Singular {
+                t,
+                cause: Singularity::Chart,
+                ..
+            } => write!(
+                f,
+                "the equations' chart is singular after t = {t}: the dependent velocities \
+                 or the reduced mass matrix lose rank there; choose other dependent \
+                 coordinates or other speeds"
+            ),
+            Self::ProjectionFailed { t, residual, .. } => write!(
+                f,
+                "projection onto the holonomic constraints did not converge after t = {t} \
+                 (residual {residual})"
+            ),
             Self::InvalidInput { what } => write!(f, "invalid input: {what}"),
         }
     }

@@ -32,6 +32,50 @@ use crate::{Outcome, SimError, Step};
 pub trait OdeSystem<T, const D: usize> {
     /// The right-hand side `f(t, x)`.
     fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D>;
+
+    /// How far `(t, x)` lies from a singularity of the coordinates the
+    /// equations are written in (their *chart*): a number in `[-1, 1]`
+    /// whose sign is constant on a chart and which is 0 where the chart is
+    /// singular, or `None` (the default) for equations regular everywhere.
+    ///
+    /// For a generated system with general constraints it is the
+    /// Hadamard ratio of the dependent-velocity block, `det C_s / Π ‖row‖`.
+    /// The integrators evaluate it after every accepted step and end the
+    /// run in [`SimError::Singular`] (cause [`Singularity::Chart`](crate::Singularity::Chart)),
+    /// with the last good state, when it falls below `√eps` in magnitude or
+    /// changes sign; a run that fails otherwise (a non-finite value, a step
+    /// size too small, an unconverged Newton iteration) within `eps^(1/4)`
+    /// of a chart singularity reports the singularity instead.
+    #[inline]
+    fn chart_regularity(&self, _t: T, _x: &SVector<T, D>) -> Option<T> {
+        None
+    }
+
+    /// The largest residual `|f_i(q, t)|` of the system's holonomic
+    /// constraints at `(t, x)`, or `None` (the default) for a system without
+    /// holonomic constraints. Reported as
+    /// [`Outcome::max_residual`](crate::Outcome::max_residual).
+    #[inline]
+    fn constraint_residual(&self, _t: T, _x: &SVector<T, D>) -> Option<T> {
+        None
+    }
+
+    /// Moves `x` back onto the holonomic constraints at time `t` (for a
+    /// generated system: Newton's method on the dependent coordinates) and
+    /// returns whether it changed `x`. The default does nothing. The
+    /// integrators call it after every accepted step unless projection is
+    /// turned off (`with_projection(false)`).
+    #[inline]
+    fn project(&self, _t: T, _x: &mut SVector<T, D>) -> Result<bool, ProjectionFailure<T>> {
+        Ok(false)
+    }
+}
+
+/// A projection onto holonomic constraints that did not converge.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProjectionFailure<T> {
+    /// The largest constraint residual after the last iteration.
+    pub residual: T,
 }
 
 impl<T, const D: usize, F> OdeSystem<T, D> for F
@@ -100,6 +144,24 @@ pub trait OdeJacobian<T, const D: usize>: OdeSystem<T, D> {
 pub trait ControlledSystem<T, const D: usize, const M: usize> {
     /// The right-hand side `f(t, x, u)`.
     fn rhs_with_input(&self, t: T, x: &SVector<T, D>, u: &SVector<T, M>) -> SVector<T, D>;
+
+    /// [`OdeSystem::chart_regularity`]; the input does not enter it.
+    #[inline]
+    fn chart_regularity(&self, _t: T, _x: &SVector<T, D>) -> Option<T> {
+        None
+    }
+
+    /// [`OdeSystem::constraint_residual`].
+    #[inline]
+    fn constraint_residual(&self, _t: T, _x: &SVector<T, D>) -> Option<T> {
+        None
+    }
+
+    /// [`OdeSystem::project`].
+    #[inline]
+    fn project(&self, _t: T, _x: &mut SVector<T, D>) -> Result<bool, ProjectionFailure<T>> {
+        Ok(false)
+    }
 }
 
 /// Adapter: a [`ControlledSystem`] with a held (zero-order-hold) input `u`
@@ -169,6 +231,21 @@ where
     #[inline]
     fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
         self.system.rhs_with_input(t, x, &self.u)
+    }
+
+    #[inline]
+    fn chart_regularity(&self, t: T, x: &SVector<T, D>) -> Option<T> {
+        self.system.chart_regularity(t, x)
+    }
+
+    #[inline]
+    fn constraint_residual(&self, t: T, x: &SVector<T, D>) -> Option<T> {
+        self.system.constraint_residual(t, x)
+    }
+
+    #[inline]
+    fn project(&self, t: T, x: &mut SVector<T, D>) -> Result<bool, ProjectionFailure<T>> {
+        self.system.project(t, x)
     }
 }
 

@@ -3,7 +3,9 @@
 mod common;
 
 use nalgebra::{Matrix2, Matrix3, SVector, Vector1, Vector2, Vector3};
-use nh_runtime::{DormandPrince, Integrator, OdeJacobian, OdeSystem, Rosenbrock, SimError};
+use nh_runtime::{
+    DormandPrince, Integrator, OdeJacobian, OdeSystem, Rosenbrock, SimError, Singularity,
+};
 
 /// Van der Pol oscillator `x'' = μ(1 − x²)x' − x` with `μ = 1000`.
 struct VanDerPol {
@@ -188,7 +190,8 @@ fn singular_iteration_matrix() {
         e,
         SimError::Singular {
             t: 0.0,
-            x: Vector1::new(1.0)
+            x: Vector1::new(1.0),
+            cause: Singularity::IterationMatrix,
         }
     );
     // Adaptively, the step is halved and the integration proceeds.
