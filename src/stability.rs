@@ -247,6 +247,8 @@ pub enum Kind {
     MaxSteps,
     /// [`SimError::Singular`].
     Singular,
+    /// [`SimError::ProjectionFailed`].
+    ProjectionFailed,
     /// [`SimError::InvalidInput`].
     InvalidInput,
 }
@@ -261,6 +263,7 @@ impl Kind {
             Err(SimError::NoConvergence { .. }) => Kind::NoConvergence,
             Err(SimError::MaxSteps { .. }) => Kind::MaxSteps,
             Err(SimError::Singular { .. }) => Kind::Singular,
+            Err(SimError::ProjectionFailed { .. }) => Kind::ProjectionFailed,
             Err(SimError::InvalidInput { .. }) => Kind::InvalidInput,
         }
     }
@@ -274,6 +277,7 @@ impl Kind {
             Kind::NoConvergence => "NoConvergence",
             Kind::MaxSteps => "MaxSteps",
             Kind::Singular => "Singular",
+            Kind::ProjectionFailed => "ProjectionFailed",
             Kind::InvalidInput => "InvalidInput",
         }
     }
@@ -291,6 +295,7 @@ const ANY_ERROR: &[Kind] = &[
     Kind::NoConvergence,
     Kind::MaxSteps,
     Kind::Singular,
+    Kind::ProjectionFailed,
 ];
 
 /// The expected outcome of a row.
