@@ -1,5 +1,5 @@
 //! Per-call time of the two derivation routes of `accelerations`, measured
-//! in one run: `cargo bench --bench routes`. The macro chooses the route with
+//! in one run: `cargo bench -p nh-lab --bench routes`. The macro chooses the route with
 //! fewer operations after CSE; this bench checks that choice against the
 //! clock.
 use nonholonomic::prelude::*;

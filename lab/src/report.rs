@@ -5,7 +5,7 @@
 //! ([`markdown_table`]), a CSV file ([`write_csv`]) and one log–log SVG
 //! diagram per scene ([`svg_work_precision`]): error against seconds, one line
 //! per integrator, in the manner of DiffEqDevTools' `WorkPrecisionSet`.
-//! `cargo run --release --example work_precision` produces the project's.
+//! `cargo run --release -p nh-lab --example work_precision` produces the project's.
 
 use std::fmt::Write as _;
 use std::io::{IsTerminal, Write as _};

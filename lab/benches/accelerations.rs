@@ -5,7 +5,7 @@
 //! integration of the thesis's disc over 10 s at rtol 1e-8.
 //!
 //! ```text
-//! cargo bench --bench accelerations
+//! cargo bench -p nh-lab --bench accelerations
 //! ```
 //!
 //! The hand-written versions are written from the closed forms (the thesis's
@@ -19,8 +19,8 @@
 //! of medians, with the min–max spread of the repeats.
 #![allow(clippy::excessive_precision)]
 use nalgebra::{Matrix4, SMatrix, SVector, Vector4};
+use nh_lab::systems::{ChaplyginSled, RollingDisc, ThesisDisc};
 use nonholonomic::prelude::*;
-use nonholonomic::systems::{ChaplyginSled, RollingDisc, ThesisDisc};
 use std::hint::black_box;
 use std::time::Instant;
 

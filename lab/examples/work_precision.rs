@@ -6,7 +6,7 @@
 //! `WorkPrecisionSet`.
 //!
 //! ```text
-//! cargo run --release --example work_precision
+//! cargo run --release -p nh-lab --example work_precision
 //! ```
 //!
 //! Prints a Markdown table, writes `target/reports/work_precision.csv` and one
@@ -14,9 +14,9 @@
 //! shows a progress bar on standard error when it is a terminal.
 // The reference values are the refdata's 17-digit decimals, kept digit for digit.
 #![allow(clippy::excessive_precision)]
+use nh_lab::report::{self, Progress, Run};
+use nh_lab::systems::{ChaplyginSled, KnifeEdge, StiffDisc, ThesisDisc};
 use nonholonomic::prelude::*;
-use nonholonomic::report::{self, Progress, Run};
-use nonholonomic::systems::{ChaplyginSled, KnifeEdge, StiffDisc, ThesisDisc};
 use std::path::Path;
 
 /// Timing repeats per run (the median is reported).

@@ -2,8 +2,8 @@
 //! solutions in the reference data (the Chaplygin sled and the knife edge on
 //! an incline), and adaptive methods' errors tracking the requested tolerance.
 #![allow(clippy::excessive_precision)] // reference values as in refdata, digit for digit
+use nh_lab::systems::{ChaplyginSled, KnifeEdge};
 use nonholonomic::prelude::*;
-use nonholonomic::systems::{ChaplyginSled, KnifeEdge};
 
 /// refdata/chaplygin_sled.json, case 2: start and the state at t = 5. (On
 /// case 1 RODAS4 converges at ≈ 5.2 over every step ladder above the

@@ -1,6 +1,7 @@
 //! Ready-made systems: the scenes of the examples, tests and benchmarks,
-//! written with [`nonholonomic_system!`](crate::nonholonomic_system) exactly
-//! as a user would write them.
+//! written with [`nonholonomic_system!`] exactly as a user would write them.
+
+use nonholonomic::nonholonomic_system;
 
 nonholonomic_system! {
     /// The rolling disc of the thesis (Flygare 2012, section 6), as written

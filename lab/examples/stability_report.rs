@@ -1,16 +1,16 @@
-//! The stability suite's report: every case of `nonholonomic::stability`
+//! The stability suite's report: every case of `nh_lab::stability`
 //! at full effort (1e4 s long horizon, 100 revolutions of fast spin).
 //!
 //! ```text
-//! cargo run --release --example stability_report
+//! cargo run --release -p nh-lab --example stability_report
 //! ```
 //!
 //! Prints a Markdown table (case, expected outcome, method, outcome, error
 //! against the reference, steps, seconds, whether the expectation held,
 //! notes) and writes `target/reports/stability.csv`. Exits with status 1 if
 //! any expectation failed.
-use nonholonomic::report::Progress;
-use nonholonomic::stability::{self, Effort, Row};
+use nh_lab::report::Progress;
+use nh_lab::stability::{self, Effort, Row};
 use std::path::Path;
 
 /// A case family of the suite.

@@ -7,7 +7,7 @@
 //! family below returns [`Row`]s (case, expected outcome, method, outcome,
 //! error against a reference, steps, seconds, notes, and whether the
 //! expectation held); `tests/stability.rs` asserts every row, and
-//! `cargo run --release --example stability_report` prints the table and
+//! `cargo run --release -p nh-lab --example stability_report` prints the table and
 //! writes `target/reports/stability.csv` ([`write_csv`]).
 //!
 //! | family | what it does | expected |
