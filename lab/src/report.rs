@@ -3,14 +3,19 @@
 //! A report is a list of [`Run`]s — one integration of one scene by one
 //! integrator at one tolerance (or step size) — written as a Markdown table
 //! ([`markdown_table`]), a CSV file ([`write_csv`]) and one log–log SVG
-//! diagram per scene ([`svg_work_precision`]): error against seconds, one line
-//! per integrator, in the manner of DiffEqDevTools' `WorkPrecisionSet`.
+//! diagram per scene ([`svg_work_precision`], drawn with `plotters`): error
+//! against seconds, one line per integrator, in the manner of DiffEqDevTools'
+//! `WorkPrecisionSet`. [`progress_bar`] shows the progress of a long run.
 //! `cargo run --release -p nh-lab --example work_precision` produces the project's.
 
 use std::fmt::Write as _;
-use std::io::{IsTerminal, Write as _};
+use std::ops::Range;
 use std::path::Path;
 use std::time::Instant;
+
+use indicatif::{ProgressBar, ProgressStyle};
+use plotters::coord::Shift;
+use plotters::prelude::*;
 
 /// One integration of one scene by one integrator at one setting.
 #[derive(Clone, Debug, PartialEq)]
@@ -89,11 +94,22 @@ pub fn write_csv(path: &Path, runs: &[Run]) -> std::io::Result<()> {
     std::fs::write(path, s)
 }
 
-const COLOURS: [&str; 8] = [
-    "#1b9e77", "#d95f02", "#7570b3", "#e7298a", "#66a61e", "#e6ab02", "#a6761d", "#666666",
+/// The series colours (ColorBrewer's Dark2, then grey), in order of first
+/// appearance of an integrator.
+const COLOURS: [RGBColor; 8] = [
+    RGBColor(0x1b, 0x9e, 0x77),
+    RGBColor(0xd9, 0x5f, 0x02),
+    RGBColor(0x75, 0x70, 0xb3),
+    RGBColor(0xe7, 0x29, 0x8a),
+    RGBColor(0x66, 0xa6, 0x1e),
+    RGBColor(0xe6, 0xab, 0x02),
+    RGBColor(0xa6, 0x76, 0x1d),
+    RGBColor(0x66, 0x66, 0x66),
 ];
 
-fn log_bounds(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+/// The whole decades covering the positive finite `values`, at least one
+/// decade wide, as powers of ten; `None` if there are none.
+fn log_bounds(values: impl Iterator<Item = f64>) -> Option<Range<f64>> {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for v in values.filter(|v| v.is_finite() && *v > 0.0) {
         lo = lo.min(v.log10());
@@ -102,182 +118,119 @@ fn log_bounds(values: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
     if lo > hi {
         return None;
     }
-    Some((lo.floor(), hi.ceil().max(lo.floor() + 1.0)))
+    Some(10f64.powf(lo.floor())..10f64.powf(hi.ceil().max(lo.floor() + 1.0)))
 }
 
-/// A log–log work–precision diagram of one scene's runs: error (vertical)
-/// against seconds (horizontal), one line per integrator, axes labelled, with
-/// a legend. Runs with a zero, negative or non-finite error or time are left
-/// out (they cannot be drawn on log axes).
+/// A log–log work–precision diagram of one scene's runs as an SVG document:
+/// error (vertical) against seconds (horizontal), one line with markers per
+/// integrator, axes labelled, with a legend. Runs with a zero, negative or
+/// non-finite error or time are left out (they cannot be drawn on log axes).
+///
+/// Drawn with `plotters`' SVG backend; text is left to the viewer's fonts
+/// (`<text>` elements), so no font library is needed to draw.
 pub fn svg_work_precision(scene: &str, runs: &[Run]) -> String {
     let runs: Vec<&Run> = runs
         .iter()
-        .filter(|r| r.scene == scene && r.error > 0.0 && r.error.is_finite() && r.seconds > 0.0)
+        .filter(|r| {
+            r.scene == scene
+                && r.error > 0.0
+                && r.error.is_finite()
+                && r.seconds > 0.0
+                && r.seconds.is_finite()
+        })
         .collect();
-    let (w, h) = (720.0, 480.0);
-    let (left, right, top, bottom) = (80.0, 190.0, 40.0, 60.0);
-    let (pw, ph) = (w - left - right, h - top - bottom);
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="DejaVu Sans, Arial, Helvetica, sans-serif" font-size="12">"#
-    );
-    let _ = writeln!(s, r#"<rect width="{w}" height="{h}" fill="white"/>"#);
-    let _ = writeln!(
-        s,
-        r#"<text x="{}" y="22" text-anchor="middle" font-size="15">Work–precision: {}</text>"#,
-        left + pw / 2.0,
-        xml_escape(scene)
-    );
-    let (Some((x0, x1)), Some((y0, y1))) = (
+    let mut svg = String::new();
+    {
+        let root = SVGBackend::with_string(&mut svg, (720, 480)).into_drawing_area();
+        // Drawing into a String cannot fail for want of I/O; an error here
+        // would be a plotting bug, and the partial document is still returned.
+        if let Err(e) = draw_work_precision(&root, scene, &runs) {
+            eprintln!("work–precision chart of {scene}: {e}");
+        }
+    }
+    svg
+}
+
+/// Draws the chart of [`svg_work_precision`] on `root`.
+fn draw_work_precision(
+    root: &DrawingArea<SVGBackend<'_>, Shift>,
+    scene: &str,
+    runs: &[&Run],
+) -> Result<(), DrawingAreaErrorKind<std::io::Error>> {
+    root.fill(&WHITE)?;
+    let title = format!("Work–precision: {scene}");
+    let (Some(x), Some(y)) = (
         log_bounds(runs.iter().map(|r| r.seconds)),
         log_bounds(runs.iter().map(|r| r.error)),
     ) else {
-        let _ = writeln!(
-            s,
-            r#"<text x="{}" y="{}" text-anchor="middle">no data</text></svg>"#,
-            w / 2.0,
-            h / 2.0
-        );
-        return s;
+        let root = root.titled(&title, ("sans-serif", 20))?;
+        root.draw_text("no data", &("sans-serif", 16).into(), (340, 200))?;
+        return root.present();
     };
-    let px = |v: f64| left + (v.log10() - x0) / (x1 - x0) * pw;
-    let py = |v: f64| top + (y1 - v.log10()) / (y1 - y0) * ph;
-    // grid and decade ticks
-    for d in (x0 as i32)..=(x1 as i32) {
-        let x = left + (d as f64 - x0) / (x1 - x0) * pw;
-        let _ = writeln!(
-            s,
-            r##"<line x1="{x:.1}" y1="{top}" x2="{x:.1}" y2="{}" stroke="#ddd"/>"##,
-            top + ph
-        );
-        let _ = writeln!(
-            s,
-            r#"<text x="{x:.1}" y="{}" text-anchor="middle">1e{d}</text>"#,
-            top + ph + 18.0
-        );
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(65)
+        .build_cartesian_2d(x.log_scale(), y.log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("wall time per integration [s] (median)")
+        .y_desc("error at the final time (max abs)")
+        .x_label_formatter(&|v| format!("{v:.0e}"))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .axis_desc_style(("sans-serif", 16))
+        .label_style(("sans-serif", 14))
+        .light_line_style(WHITE)
+        .draw()?;
+    for (i, name) in integrators(runs).into_iter().enumerate() {
+        let colour = COLOURS[i % COLOURS.len()];
+        let mut points: Vec<(f64, f64)> = runs
+            .iter()
+            .filter(|r| r.integrator == name)
+            .map(|r| (r.seconds, r.error))
+            .collect();
+        points.sort_by(|a, b| a.0.total_cmp(&b.0));
+        chart
+            .draw_series(LineSeries::new(
+                points.iter().copied(),
+                colour.stroke_width(2),
+            ))?
+            .label(name)
+            .legend(move |(x, y)| Rectangle::new([(x, y - 2), (x + 20, y + 2)], colour.filled()));
+        chart.draw_series(points.iter().map(|&p| Circle::new(p, 3, colour.filled())))?;
     }
-    for d in (y0 as i32)..=(y1 as i32) {
-        let y = top + (y1 - d as f64) / (y1 - y0) * ph;
-        let _ = writeln!(
-            s,
-            r##"<line x1="{left}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/>"##,
-            left + pw
-        );
-        let _ = writeln!(
-            s,
-            r#"<text x="{}" y="{:.1}" text-anchor="end">1e{d}</text>"#,
-            left - 6.0,
-            y + 4.0
-        );
-    }
-    let _ = writeln!(
-        s,
-        r#"<rect x="{left}" y="{top}" width="{pw}" height="{ph}" fill="none" stroke="black"/>"#
-    );
-    let _ = writeln!(
-        s,
-        r#"<text x="{}" y="{}" text-anchor="middle">wall time per integration [s] (median)</text>"#,
-        left + pw / 2.0,
-        h - 14.0
-    );
-    let _ = writeln!(
-        s,
-        r#"<text transform="translate(22 {}) rotate(-90)" text-anchor="middle">error at the final time (max abs)</text>"#,
-        top + ph / 2.0
-    );
-    // one line per integrator, in order of first appearance
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 14))
+        .draw()?;
+    root.present()
+}
+
+/// The integrators of `runs`, in order of first appearance.
+fn integrators<'a>(runs: &[&'a Run]) -> Vec<&'a str> {
     let mut names: Vec<&str> = Vec::new();
-    for r in &runs {
+    for r in runs {
         if !names.contains(&r.integrator.as_str()) {
             names.push(&r.integrator);
         }
     }
-    for (i, name) in names.iter().enumerate() {
-        let colour = COLOURS[i % COLOURS.len()];
-        let mut pts: Vec<(f64, f64)> = runs
-            .iter()
-            .filter(|r| r.integrator == *name)
-            .map(|r| (px(r.seconds), py(r.error)))
-            .collect();
-        pts.sort_by(|a, b| a.0.total_cmp(&b.0));
-        let path: Vec<String> = pts.iter().map(|(x, y)| format!("{x:.1},{y:.1}")).collect();
-        let _ = writeln!(
-            s,
-            r#"<polyline points="{}" fill="none" stroke="{colour}" stroke-width="2"/>"#,
-            path.join(" ")
-        );
-        for (x, y) in &pts {
-            let _ = writeln!(
-                s,
-                r#"<circle cx="{x:.1}" cy="{y:.1}" r="3" fill="{colour}"/>"#
-            );
-        }
-        let ly = top + 10.0 + 20.0 * i as f64;
-        let lx = left + pw + 15.0;
-        let _ = writeln!(
-            s,
-            r#"<line x1="{lx}" y1="{ly}" x2="{}" y2="{ly}" stroke="{colour}" stroke-width="2"/><text x="{}" y="{}">{}</text>"#,
-            lx + 24.0,
-            lx + 30.0,
-            ly + 4.0,
-            xml_escape(name)
-        );
-    }
-    s.push_str("</svg>\n");
-    s
+    names
 }
 
-fn xml_escape(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-}
-
-/// A progress bar on standard error, drawn only when standard error is a
-/// terminal (so logs and CI output stay clean).
-pub struct Progress {
-    total: usize,
-    done: usize,
-    enabled: bool,
-}
-
-impl Progress {
-    /// A bar for `total` units of work.
-    pub fn new(total: usize) -> Progress {
-        Progress {
-            total: total.max(1),
-            done: 0,
-            enabled: std::io::stderr().is_terminal(),
-        }
+/// A progress bar on standard error for `total` units of work, showing the
+/// current unit's label as its message (`bar.set_message(..)`, then
+/// `bar.inc(1)`). `indicatif` draws it only when standard error is a
+/// terminal, so logs and CI output stay clean.
+pub fn progress_bar(total: usize) -> ProgressBar {
+    let bar = ProgressBar::new(total as u64);
+    if let Ok(style) = ProgressStyle::with_template("[{bar:30}] {pos}/{len} {elapsed} {msg}") {
+        bar.set_style(style.progress_chars("#>-"));
     }
-
-    /// Advances by one unit, labelled `what`.
-    pub fn tick(&mut self, what: &str) {
-        self.done += 1;
-        if self.enabled {
-            let width = 30;
-            let filled = width * self.done.min(self.total) / self.total;
-            let mut err = std::io::stderr();
-            let _ = write!(
-                err,
-                "\r[{}{}] {}/{} {:<40}",
-                "#".repeat(filled),
-                " ".repeat(width - filled),
-                self.done,
-                self.total,
-                what
-            );
-            let _ = err.flush();
-        }
-    }
-
-    /// Ends the bar (a newline, if drawn).
-    pub fn finish(&mut self) {
-        if self.enabled {
-            let _ = writeln!(std::io::stderr());
-        }
-    }
+    bar
 }
 
 #[cfg(test)]
@@ -307,9 +260,14 @@ mod tests {
             run("B", 1e-8, 5e-5, 0.0), // not drawable on log axes
         ];
         let svg = svg_work_precision("s", &runs);
-        assert_eq!(svg.matches("<polyline").count(), 2);
+        // the series are the lines of width 2 (the axes and ticks are of width 1)
+        assert_eq!(svg.matches(r#"stroke-width="2""#).count(), 2);
         assert_eq!(svg.matches("<circle").count(), 4);
         assert!(svg.contains("wall time") && svg.contains("error at the final time"));
+        assert!(
+            svg.contains("\nA\n</text>") && svg.contains("\nB\n</text>"),
+            "legend"
+        );
         assert!(svg.starts_with("<svg") && svg.trim_end().ends_with("</svg>"));
     }
 
