@@ -1,10 +1,14 @@
 //! Per-call time of the two derivation routes of `accelerations`, measured
-//! in one run: `cargo bench -p nh-lab --bench routes`. The macro chooses the route with
-//! fewer operations after CSE; this bench checks that choice against the
-//! clock.
+//! by criterion: `cargo bench -p nh-lab --bench routes`. The macro chooses
+//! the route with fewer operations after CSE; this bench checks that choice
+//! against the clock. For each system it times the multiplier route, the
+//! curvature route (the reduced system solved by the generated unrolled
+//! LDLᵀ), and the reduced system built and handed to nalgebra's static
+//! Cholesky and LU. The operation counts and the chosen route are printed
+//! first. Criterion's reports go to `target/criterion/`.
+use criterion::{Criterion, criterion_group, criterion_main};
 use nonholonomic::prelude::*;
 use std::hint::black_box;
-use std::time::Instant;
 
 nonholonomic_system! {
     /// The thesis's rolling disc (DESIGN §2).
@@ -50,112 +54,81 @@ nonholonomic_system! {
     }
 }
 
-/// Median nanoseconds per call of `f` over `reps` repeats of `calls` calls.
-fn time_per_call(calls: usize, reps: usize, mut f: impl FnMut(usize) -> f64) -> (f64, f64, f64) {
-    let mut samples = Vec::with_capacity(reps);
-    let mut sink = 0.0;
-    for _ in 0..reps {
-        let start = Instant::now();
-        for i in 0..calls {
-            sink += f(i);
-        }
-        samples.push(start.elapsed().as_secs_f64() * 1e9 / calls as f64);
-    }
-    black_box(sink);
-    samples.sort_by(f64::total_cmp);
-    (samples[0], samples[reps / 2], samples[reps - 1])
+/// A ring of 64 states so the branch predictor and constant folding see
+/// varied input.
+fn states<const N: usize, const K: usize>() -> Vec<(SVector<f64, N>, SVector<f64, K>)> {
+    (0..64)
+        .map(|j| {
+            let s = j as f64 * 0.1;
+            (
+                SVector::<f64, N>::from_fn(|i, _| 0.3 + 0.1 * (s + i as f64).sin()),
+                SVector::<f64, K>::from_fn(|i, _| 1.0 + 0.5 * (s * 1.3 + i as f64).cos()),
+            )
+        })
+        .collect()
 }
 
+/// Benchmarks one system's routes and solvers in a criterion group named
+/// after it, each call on the next state of the ring.
 macro_rules! bench_system {
-    ($solves:ident, $ty:ty, $sys:expr, $n:literal, $k:literal) => {{
-        let solves = &mut $solves;
-        let sys = $sys;
-        // a ring of states so the branch predictor and constant folding see varied input
-        let states: Vec<(SVector<f64, $n>, SVector<f64, $k>)> = (0..64)
-            .map(|j| {
-                let s = j as f64 * 0.1;
-                (
-                    SVector::<f64, $n>::from_fn(|i, _| 0.3 + 0.1 * (s + i as f64).sin()),
-                    SVector::<f64, $k>::from_fn(|i, _| 1.0 + 0.5 * (s * 1.3 + i as f64).cos()),
-                )
-            })
-            .collect();
-        let calls = 2_000_000;
-        let reps = 9;
-        let m = time_per_call(calls, reps, |i| {
-            let (q, r) = &states[i & 63];
-            black_box(&sys).accelerations_multiplier_route(0.0, black_box(q), black_box(r))[0]
-        });
-        let c = time_per_call(calls, reps, |i| {
-            let (q, r) = &states[i & 63];
-            black_box(&sys).accelerations_curvature_route(0.0, black_box(q), black_box(r))[0]
-        });
-        let chol = time_per_call(calls, reps, |i| {
-            let (q, r) = &states[i & 63];
-            let (mm, f) = black_box(&sys).reduced_system(0.0, black_box(q), black_box(r));
-            mm.cholesky().map(|c| c.solve(&f)[0]).unwrap_or(f64::NAN)
-        });
-        let lu = time_per_call(calls, reps, |i| {
-            let (q, r) = &states[i & 63];
-            let (mm, f) = black_box(&sys).reduced_system(0.0, black_box(q), black_box(r));
-            mm.lu().solve(&f).map(|x| x[0]).unwrap_or(f64::NAN)
-        });
-        let ldl = time_per_call(calls, reps, |i| {
-            let (q, r) = &states[i & 63];
-            black_box(&sys).accelerations_curvature_route(0.0, black_box(q), black_box(r))[0]
-        });
-        solves.push(format!(
-            "| {:<18} | {:>10.2} ({:.2}–{:.2}) | {:>10.2} ({:.2}–{:.2}) | {:>10.2} ({:.2}–{:.2}) |",
-            stringify!($ty),
-            ldl.1, ldl.0, ldl.2,
-            chol.1, chol.0, chol.2,
-            lu.1, lu.0, lu.2
-        ));
+    ($c:expr, $ty:ty, $sys:expr, $n:literal, $k:literal) => {{
+        let sys: $ty = $sys;
+        let states = states::<$n, $k>();
         println!(
-            "| {:<13} | {:>4} | {:>16.2} ({:.2}–{:.2}) | {:>4} | {:>16.2} ({:.2}–{:.2}) | {:>10} | {:>6.2}x |",
+            "{}: {} operations on the multiplier route, {} on the curvature route; chosen: {}",
             stringify!($ty),
             <$ty>::OPS_MULTIPLIER_ROUTE,
-            m.1, m.0, m.2,
             <$ty>::OPS_CURVATURE_ROUTE,
-            c.1, c.0, c.2,
-            <$ty>::ROUTE,
-            m.1 / c.1
+            <$ty>::ROUTE
         );
+        let mut group = $c.benchmark_group(stringify!($ty));
+        let mut i = 0;
+        let mut next = || {
+            i = (i + 1) & 63;
+            let (q, r) = &states[i];
+            (black_box(q), black_box(r))
+        };
+        group.bench_function("multiplier route", |b| {
+            b.iter(|| {
+                let (q, r) = next();
+                black_box(&sys).accelerations_multiplier_route(0.0, q, r)
+            })
+        });
+        group.bench_function("curvature route (generated LDLt)", |b| {
+            b.iter(|| {
+                let (q, r) = next();
+                black_box(&sys).accelerations_curvature_route(0.0, q, r)
+            })
+        });
+        group.bench_function("reduced system + nalgebra Cholesky", |b| {
+            b.iter(|| {
+                let (q, r) = next();
+                let (mm, f) = black_box(&sys).reduced_system(0.0, q, r);
+                mm.cholesky().map(|c| c.solve(&f))
+            })
+        });
+        group.bench_function("reduced system + nalgebra LU", |b| {
+            b.iter(|| {
+                let (q, r) = next();
+                let (mm, f) = black_box(&sys).reduced_system(0.0, q, r);
+                mm.lu().solve(&f)
+            })
+        });
+        group.finish();
     }};
 }
 
-fn main() {
-    // `cargo test --benches` runs this with --test-like flags; keep it quick then.
-    if std::env::args().any(|a| a == "--test" || a == "--list") {
-        return;
-    }
-    println!(
-        "| system        | ops (multiplier) | ns/call median (min–max) | ops (curvature) | ns/call median (min–max) | chosen | multiplier/curvature time |"
-    );
-    println!("|---|---|---|---|---|---|---|");
-    let mut solves: Vec<String> = Vec::new();
+fn routes(c: &mut Criterion) {
+    bench_system!(c, ThesisDisc<f64>, ThesisDisc::new(1.7, 0.35, 9.81), 5, 3);
     bench_system!(
-        solves,
-        ThesisDisc<f64>,
-        ThesisDisc::new(1.7, 0.35, 9.81),
-        5,
-        3
-    );
-    bench_system!(
-        solves,
+        c,
         ChaplyginSled<f64>,
         ChaplyginSled::new(2.0, 0.3, 0.5),
         3,
         2
     );
-    bench_system!(solves, Random03<f64>, Random03::new(1.495, 0.319), 6, 4);
-    println!();
-    println!(
-        "Curvature route, ns/call median (min–max): the reduced system solved by the generated unrolled LDLᵀ, or built and handed to nalgebra's static Cholesky / LU:"
-    );
-    println!("| system | generated LDLᵀ | nalgebra Cholesky | nalgebra LU |");
-    println!("|---|---|---|---|");
-    for line in solves {
-        println!("{line}");
-    }
+    bench_system!(c, Random03<f64>, Random03::new(1.495, 0.319), 6, 4);
 }
+
+criterion_group!(benches, routes);
+criterion_main!(benches);
