@@ -26,23 +26,10 @@
 //! are the criterion bench `routes`.)
 #![allow(clippy::excessive_precision)]
 use nalgebra::{Matrix4, SMatrix, SVector, Vector4};
-use nh_lab::systems::{ChaplyginSled, RollingDisc, ThesisDisc};
+use nh_lab::systems::{ChaplyginSled, Random03, RollingDisc, ThesisDisc};
 use nonholonomic::prelude::*;
 use std::hint::black_box;
 use std::time::Instant;
-
-nonholonomic_system! {
-    /// refdata/random_03.json, as a user writes it.
-    pub struct Random03 {
-        parameters { k1, k2 }
-        coordinates { xi, eta, q_1, q_2, r1, s1 }
-        lagrangian = dot(eta)^2*(q_2^2/2 + 9/4) - dot(eta)*dot(q_1)/4 - dot(eta)*dot(q_2)*sin(r1)/3 - dot(eta)*dot(r1)/3 - dot(eta)*dot(s1)*cos(eta)*cos(s1)/3 - k2*cos(xi) + dot(q_1)^2*(sin(q_2)*cos(xi)/4 + 5/2) - 2*dot(q_1)*dot(q_2)/5 - 2*dot(q_1)*dot(s1)*cos(s1)*cos(xi)/5 - 2*q_2/5 + 7*dot(q_2)^2/4 - 2*dot(q_2)*dot(r1)*cos(eta)/5 + dot(q_2)*dot(xi)*sin(s1)*cos(eta)/4 + dot(r1)^2*(sin(q_1)^2/2 + 11/4) + 2*dot(r1)*dot(s1)/5 + 7*dot(s1)^2/4 + dot(s1)*dot(xi)*sin(eta)*cos(r1)/4 + dot(xi)^2*(q_2^2/2 + 7/4);
-        constraints {
-            dot(r1) = 3*s1^2/2*dot(xi) - 2*xi*cos(q_1)*dot(eta) - 1/3*dot(q_1);
-            dot(s1) = -1/2*dot(xi) + 2*cos(r1)/3*dot(eta) + (q_2^2 + 1)*dot(q_2);
-        }
-    }
-}
 
 // ---------------------------------------------------------------- hand-written
 

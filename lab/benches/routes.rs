@@ -7,52 +7,9 @@
 //! Cholesky and LU. The operation counts and the chosen route are printed
 //! first. Criterion's reports go to `target/criterion/`.
 use criterion::{Criterion, criterion_group, criterion_main};
+use nh_lab::systems::{ChaplyginSled, Random03, ThesisDisc};
 use nonholonomic::prelude::*;
 use std::hint::black_box;
-
-nonholonomic_system! {
-    /// The thesis's rolling disc (DESIGN §2).
-    pub struct ThesisDisc {
-        parameters { m, R, g }
-        coordinates { theta, phi, psi, x, y }
-        let X = x - R*sin(phi)*sin(psi);
-        let Y = y + R*cos(phi)*sin(psi);
-        let Z = R*cos(psi);
-        lagrangian = m/2*(dot(X)^2 + dot(Y)^2 + dot(Z)^2)
-                   + m*R^2/2*(dot(theta)^2/2 + dot(phi)^2/4 + dot(psi)^2/4)
-                   - m*g*Z;
-        constraints {
-            dot(x) = R*cos(phi)*dot(theta);
-            dot(y) = R*sin(phi)*dot(theta);
-        }
-        outputs { routes }
-    }
-}
-
-nonholonomic_system! {
-    /// Chaplygin sled (refdata/chaplygin_sled.json).
-    pub struct ChaplyginSled {
-        parameters { m, J, a }
-        coordinates { x, theta, y }
-        lagrangian = J*dot(theta)^2/2 + m*((-a*dot(theta)*sin(theta) + dot(x))^2 + (a*dot(theta)*cos(theta) + dot(y))^2)/2;
-        constraints { dot(y) = tan(theta)*dot(x); }
-        outputs { routes }
-    }
-}
-
-nonholonomic_system! {
-    /// refdata/random_03.json: six coupled coordinates, two constraints.
-    pub struct Random03 {
-        parameters { k1, k2 }
-        coordinates { xi, eta, q_1, q_2, r1, s1 }
-        lagrangian = dot(eta)^2*(q_2^2/2 + 9/4) - dot(eta)*dot(q_1)/4 - dot(eta)*dot(q_2)*sin(r1)/3 - dot(eta)*dot(r1)/3 - dot(eta)*dot(s1)*cos(eta)*cos(s1)/3 - k2*cos(xi) + dot(q_1)^2*(sin(q_2)*cos(xi)/4 + 5/2) - 2*dot(q_1)*dot(q_2)/5 - 2*dot(q_1)*dot(s1)*cos(s1)*cos(xi)/5 - 2*q_2/5 + 7*dot(q_2)^2/4 - 2*dot(q_2)*dot(r1)*cos(eta)/5 + dot(q_2)*dot(xi)*sin(s1)*cos(eta)/4 + dot(r1)^2*(sin(q_1)^2/2 + 11/4) + 2*dot(r1)*dot(s1)/5 + 7*dot(s1)^2/4 + dot(s1)*dot(xi)*sin(eta)*cos(r1)/4 + dot(xi)^2*(q_2^2/2 + 7/4);
-        constraints {
-            dot(r1) = 3*s1^2/2*dot(xi) - 2*xi*cos(q_1)*dot(eta) - 1/3*dot(q_1);
-            dot(s1) = -1/2*dot(xi) + 2*cos(r1)/3*dot(eta) + (q_2^2 + 1)*dot(q_2);
-        }
-        outputs { routes }
-    }
-}
 
 /// A ring of 64 states so the branch predictor and constant folding see
 /// varied input.
