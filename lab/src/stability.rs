@@ -1006,6 +1006,9 @@ pub fn near_singular(_effort: Effort) -> Vec<Row> {
 
 // --------------------------------------------------------------- bad input
 
+/// An integration's span: start time, start state and end time.
+type Span = (f64, State<f64>, f64);
+
 /// Runs every method on one input and summarises: the row passes when every
 /// method's outcome satisfies `ok`.
 fn all_methods<S: OdeJacobian<f64, 8>>(
@@ -1013,7 +1016,7 @@ fn all_methods<S: OdeJacobian<f64, 8>>(
     case: &str,
     expected: &str,
     sys: &S,
-    (t0, x0, t1): (f64, State<f64>, f64),
+    (t0, x0, t1): Span,
     methods: &[Method],
     ok: impl Fn(&Method, &Run<f64, 8>) -> bool,
 ) -> Row {
@@ -1098,7 +1101,7 @@ fn with_tol(rtol: f64, atol: f64) -> [Method; 3] {
 /// NaN or infinite initial states, a NaN start time, an infinite end time.
 fn bad_states_and_times(c: &BadInput) -> Vec<Row> {
     let x0 = c.x0;
-    let mut spans: Vec<(String, (f64, State<f64>, f64))> = Vec::new();
+    let mut spans: Vec<(String, Span)> = Vec::new();
     for (name, v) in [
         ("NaN", f64::NAN),
         ("+Inf", f64::INFINITY),
