@@ -18,6 +18,7 @@
 //! derivation routes) and `accelerations` (generated against hand-written
 //! code, interleaved in one run).
 #![forbid(unsafe_code)]
+#![warn(missing_docs)]
 
 pub mod report;
 pub mod stability;
