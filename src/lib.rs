@@ -361,12 +361,6 @@ macro_rules! nonholonomic_system {
     };
 }
 
-pub mod systems;
-
-#[cfg(feature = "std")]
-pub mod report;
-#[cfg(feature = "std")]
-pub mod stability;
 pub use nh_runtime as runtime;
 
 /// Everything a scene needs: the macro, the runtime traits and integrators,

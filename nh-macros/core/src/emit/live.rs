@@ -18,7 +18,7 @@ impl Dag {
     /// divisions and square roots about 4, elementary functions about 15
     /// (sin and cos of one angle together about 20, as one `sin_cos`). Used to
     /// choose between the derivation routes; the figures are rough latencies
-    /// of current x86-64 cores, confirmed by `cargo bench --bench routes`.
+    /// of current x86-64 cores, confirmed by `cargo bench -p nh-lab --bench routes`.
     pub fn cost_estimate(&self, outputs: &[Node]) -> usize {
         let live = self.live(outputs);
         let live_set: HashSet<Node> = live.iter().copied().collect();

@@ -4,9 +4,9 @@
 //! The one exception is `GaussLegendre4`, which allocates its Newton
 //! workspace once per call: its allocations must not depend on the number
 //! of steps.
+use nh_lab::systems::{RollingDisc, StiffDisc, ThesisDisc};
 use nonholonomic::prelude::*;
-use nonholonomic::systems::{RollingDisc, StiffDisc, ThesisDisc};
-#[path = "common/counting_alloc.rs"]
+#[path = "../../tests/common/counting_alloc.rs"]
 mod counting_alloc;
 
 use counting_alloc::allocations_during;

@@ -1,10 +1,10 @@
-//! The stability suite (`nonholonomic::stability`) at test effort: every
+//! The stability suite (`nh_lab::stability`) at test effort: every
 //! case's expected outcome is asserted, plus direct checks of the error
 //! variants a controller would match on. The full-span version is
-//! `cargo run --release --example stability_report`.
+//! `cargo run --release -p nh-lab --example stability_report`.
+use nh_lab::stability::{self, Effort, Kind, Method, Row};
+use nh_lab::systems::{RollingDisc, StiffDisc, ThesisDisc};
 use nonholonomic::prelude::*;
-use nonholonomic::stability::{self, Effort, Kind, Method, Row};
-use nonholonomic::systems::{RollingDisc, StiffDisc, ThesisDisc};
 
 fn assert_rows(family: &str, rows: &[Row]) {
     println!("{}", stability::markdown_table(rows));

@@ -5,7 +5,7 @@
 //! integration of the thesis's disc over 10 s at rtol 1e-8.
 //!
 //! ```text
-//! cargo bench --bench accelerations
+//! cargo bench -p nh-lab --bench accelerations
 //! ```
 //!
 //! The hand-written versions are written from the closed forms (the thesis's
@@ -17,25 +17,19 @@
 //! Cholesky. Each pair is timed interleaved (generated, hand, generated,
 //! hand, ...) so that drift of the machine affects both alike; the ratio is
 //! of medians, with the min–max spread of the repeats.
+//!
+//! This is deliberately a small paired harness of its own (`harness = false`)
+//! rather than a criterion bench: criterion measures one function at a time,
+//! so the generated and the hand-written side of a pair would run minutes
+//! apart and see different machine noise, which is what the interleaving is
+//! there to avoid. (The per-call route timings, where that does not matter,
+//! are the criterion bench `routes`.)
 #![allow(clippy::excessive_precision)]
 use nalgebra::{Matrix4, SMatrix, SVector, Vector4};
+use nh_lab::systems::{ChaplyginSled, Random03, RollingDisc, ThesisDisc};
 use nonholonomic::prelude::*;
-use nonholonomic::systems::{ChaplyginSled, RollingDisc, ThesisDisc};
 use std::hint::black_box;
 use std::time::Instant;
-
-nonholonomic_system! {
-    /// refdata/random_03.json, as a user writes it.
-    pub struct Random03 {
-        parameters { k1, k2 }
-        coordinates { xi, eta, q_1, q_2, r1, s1 }
-        lagrangian = dot(eta)^2*(q_2^2/2 + 9/4) - dot(eta)*dot(q_1)/4 - dot(eta)*dot(q_2)*sin(r1)/3 - dot(eta)*dot(r1)/3 - dot(eta)*dot(s1)*cos(eta)*cos(s1)/3 - k2*cos(xi) + dot(q_1)^2*(sin(q_2)*cos(xi)/4 + 5/2) - 2*dot(q_1)*dot(q_2)/5 - 2*dot(q_1)*dot(s1)*cos(s1)*cos(xi)/5 - 2*q_2/5 + 7*dot(q_2)^2/4 - 2*dot(q_2)*dot(r1)*cos(eta)/5 + dot(q_2)*dot(xi)*sin(s1)*cos(eta)/4 + dot(r1)^2*(sin(q_1)^2/2 + 11/4) + 2*dot(r1)*dot(s1)/5 + 7*dot(s1)^2/4 + dot(s1)*dot(xi)*sin(eta)*cos(r1)/4 + dot(xi)^2*(q_2^2/2 + 7/4);
-        constraints {
-            dot(r1) = 3*s1^2/2*dot(xi) - 2*xi*cos(q_1)*dot(eta) - 1/3*dot(q_1);
-            dot(s1) = -1/2*dot(xi) + 2*cos(r1)/3*dot(eta) + (q_2^2 + 1)*dot(q_2);
-        }
-    }
-}
 
 // ---------------------------------------------------------------- hand-written
 
@@ -261,133 +255,38 @@ fn states<const N: usize, const K: usize>(
         .collect()
 }
 
-fn main() {
-    if std::env::args().any(|a| a == "--test" || a == "--list") {
-        return;
-    }
-    let (calls, reps) = (2_000_000, 11);
-    println!("| system | generated | hand-written | generated / hand-written |\n|---|---|---|---|");
-
-    let disc: ThesisDisc = ThesisDisc::new(1.7, 0.35, 9.81);
-    let st = states::<5, 3>(1.0, 2.0);
-    for (q, v) in &st {
-        let (a, b) = (
-            disc.accelerations(0.0, q, v),
-            thesis_hand(disc.R, disc.g, q, v),
-        );
+/// One system: checks that the generated and the hand-written accelerations
+/// agree on every state (to `tol`, relative to the largest component), then
+/// times them interleaved, `calls` calls per round, and prints the row.
+fn compare<const N: usize, const K: usize>(
+    name: &str,
+    (calls, reps): (usize, usize),
+    tol: f64,
+    states: &[(SVector<f64, N>, SVector<f64, K>)],
+    generated: impl Fn(&SVector<f64, N>, &SVector<f64, K>) -> SVector<f64, K>,
+    hand: impl Fn(&SVector<f64, N>, &SVector<f64, K>) -> SVector<f64, K>,
+) {
+    for (q, v) in states {
+        let (a, b) = (generated(q, v), hand(q, v));
         assert!(
-            (a - b).amax() <= 1e-12 * b.amax().max(1.0),
-            "ThesisDisc mismatch: {a} vs {b}"
+            (a - b).amax() <= tol * b.amax().max(1.0),
+            "{name} mismatch: {a} vs {b}"
         );
     }
+    assert_eq!(states.len(), 64, "a ring of 64 states (indexed by i & 63)");
     let (g, h) = paired(
         calls,
         reps,
-        |i| {
-            black_box(&disc).accelerations(0.0, black_box(&st[i & 63].0), black_box(&st[i & 63].1))
-                [0]
-        },
-        |i| {
-            thesis_hand(
-                black_box(disc.R),
-                black_box(disc.g),
-                black_box(&st[i & 63].0),
-                black_box(&st[i & 63].1),
-            )[0]
-        },
+        |i| generated(black_box(&states[i & 63].0), black_box(&states[i & 63].1))[0],
+        |i| hand(black_box(&states[i & 63].0), black_box(&states[i & 63].1))[0],
     );
-    row("ThesisDisc `accelerations`", "ns", g, h);
+    row(&format!("{name} `accelerations`"), "ns", g, h);
+}
 
-    let sled: ChaplyginSled = ChaplyginSled::new(2.0, 0.3, 0.5);
-    let ss = states::<3, 2>(1.0, 1.0);
-    for (q, v) in &ss {
-        let (a, b) = (
-            sled.accelerations(0.0, q, v),
-            sled_hand(sled.m, sled.J, sled.a, q, v),
-        );
-        assert!(
-            (a - b).amax() <= 1e-12 * b.amax().max(1.0),
-            "sled mismatch: {a} vs {b}"
-        );
-    }
-    let (g, h) = paired(
-        calls,
-        reps,
-        |i| {
-            black_box(&sled).accelerations(0.0, black_box(&ss[i & 63].0), black_box(&ss[i & 63].1))
-                [0]
-        },
-        |i| {
-            sled_hand(
-                black_box(sled.m),
-                black_box(sled.J),
-                black_box(sled.a),
-                black_box(&ss[i & 63].0),
-                black_box(&ss[i & 63].1),
-            )[0]
-        },
-    );
-    row("Chaplygin sled `accelerations`", "ns", g, h);
-
-    let rolling: RollingDisc = RollingDisc::new(1.7, 0.35, 9.81);
-    for (q, v) in &st {
-        let (a, b) = (
-            rolling.accelerations(0.0, q, v),
-            rolling_hand(rolling.R, rolling.g, q, v),
-        );
-        assert!(
-            (a - b).amax() <= 1e-12 * b.amax().max(1.0),
-            "RollingDisc mismatch: {a} vs {b}"
-        );
-    }
-    let (g, h) = paired(
-        calls,
-        reps,
-        |i| {
-            black_box(&rolling).accelerations(
-                0.0,
-                black_box(&st[i & 63].0),
-                black_box(&st[i & 63].1),
-            )[0]
-        },
-        |i| {
-            rolling_hand(
-                black_box(rolling.R),
-                black_box(rolling.g),
-                black_box(&st[i & 63].0),
-                black_box(&st[i & 63].1),
-            )[0]
-        },
-    );
-    row("RollingDisc `accelerations`", "ns", g, h);
-
-    let r03: Random03 = Random03::new(1.495, 0.319);
-    let sr = states::<6, 4>(1.0, 1.0);
-    for (q, v) in &sr {
-        let (a, b) = (r03.accelerations(0.0, q, v), random03_hand(r03.k2, q, v));
-        assert!(
-            (a - b).amax() <= 1e-10 * b.amax().max(1.0),
-            "random_03 mismatch: {a} vs {b}"
-        );
-    }
-    let (g, h) = paired(
-        calls / 4,
-        reps,
-        |i| {
-            black_box(&r03).accelerations(0.0, black_box(&sr[i & 63].0), black_box(&sr[i & 63].1))
-                [0]
-        },
-        |i| {
-            random03_hand(
-                black_box(r03.k2),
-                black_box(&sr[i & 63].0),
-                black_box(&sr[i & 63].1),
-            )[0]
-        },
-    );
-    row("random_03 `accelerations`", "ns", g, h);
-
-    // a whole integration: generated system against a hand-written right side
+/// A whole Dormand–Prince integration of the thesis's disc over 10 s at rtol
+/// 1e-8: the generated system against a hand-written right side (which must
+/// take the same steps).
+fn whole_integration(disc: &ThesisDisc) {
     let x0 = SVector::<f64, 8>::from([0.0, 0.0, 0.3, 0.0, 0.0, 6.0, 20.0, 0.5]);
     let hand_rhs = |_t: f64, x: &SVector<f64, 8>| {
         let q = x.fixed_rows::<5>(0).into_owned();
@@ -398,7 +297,7 @@ fn main() {
         SVector::<f64, 8>::from([v[0], v[1], v[2], c * cp, c * sp, a[0], a[1], a[2]])
     };
     let gen_out = DormandPrince::new(1e-8, 1e-10)
-        .integrate(&disc, 0.0, x0, 10.0)
+        .integrate(disc, 0.0, x0, 10.0)
         .expect("generated integration");
     let hand_out = DormandPrince::new(1e-8, 1e-10)
         .integrate(&hand_rhs, 0.0, x0, 10.0)
@@ -412,15 +311,13 @@ fn main() {
         31,
         |_| {
             DormandPrince::new(1e-8, 1e-10)
-                .integrate(black_box(&disc), 0.0, x0, 10.0)
-                .map(|o| o.x[0])
-                .unwrap_or(f64::NAN)
+                .integrate(black_box(disc), 0.0, x0, 10.0)
+                .map_or(f64::NAN, |o| o.x[0])
         },
         |_| {
             DormandPrince::new(1e-8, 1e-10)
                 .integrate(black_box(&hand_rhs), 0.0, x0, 10.0)
-                .map(|o| o.x[0])
-                .unwrap_or(f64::NAN)
+                .map_or(f64::NAN, |o| o.x[0])
         },
     );
     row(
@@ -432,4 +329,63 @@ fn main() {
         g.map(|x| x / 1e3),
         h.map(|x| x / 1e3),
     );
+}
+
+fn main() {
+    if std::env::args().any(|a| a == "--test" || a == "--list") {
+        return;
+    }
+    let rounds = (2_000_000, 11);
+    println!("| system | generated | hand-written | generated / hand-written |\n|---|---|---|---|");
+
+    let disc: ThesisDisc = ThesisDisc::new(1.7, 0.35, 9.81);
+    let discs = states::<5, 3>(1.0, 2.0);
+    compare(
+        "ThesisDisc",
+        rounds,
+        1e-12,
+        &discs,
+        |q, v| black_box(&disc).accelerations(0.0, q, v),
+        |q, v| thesis_hand(black_box(disc.R), black_box(disc.g), q, v),
+    );
+
+    let sled: ChaplyginSled = ChaplyginSled::new(2.0, 0.3, 0.5);
+    compare(
+        "Chaplygin sled",
+        rounds,
+        1e-12,
+        &states::<3, 2>(1.0, 1.0),
+        |q, v| black_box(&sled).accelerations(0.0, q, v),
+        |q, v| {
+            sled_hand(
+                black_box(sled.m),
+                black_box(sled.J),
+                black_box(sled.a),
+                q,
+                v,
+            )
+        },
+    );
+
+    let rolling: RollingDisc = RollingDisc::new(1.7, 0.35, 9.81);
+    compare(
+        "RollingDisc",
+        rounds,
+        1e-12,
+        &discs,
+        |q, v| black_box(&rolling).accelerations(0.0, q, v),
+        |q, v| rolling_hand(black_box(rolling.R), black_box(rolling.g), q, v),
+    );
+
+    let r03: Random03 = Random03::new(1.495, 0.319);
+    compare(
+        "random_03",
+        (rounds.0 / 4, rounds.1),
+        1e-10,
+        &states::<6, 4>(1.0, 1.0),
+        |q, v| black_box(&r03).accelerations(0.0, q, v),
+        |q, v| random03_hand(black_box(r03.k2), q, v),
+    );
+
+    whole_integration(&disc);
 }

@@ -1,16 +1,15 @@
-//! The stability suite's report: every case of `nonholonomic::stability`
+//! The stability suite's report: every case of `nh_lab::stability`
 //! at full effort (1e4 s long horizon, 100 revolutions of fast spin).
 //!
 //! ```text
-//! cargo run --release --example stability_report
+//! cargo run --release -p nh-lab --example stability_report
 //! ```
 //!
 //! Prints a Markdown table (case, expected outcome, method, outcome, error
 //! against the reference, steps, seconds, whether the expectation held,
 //! notes) and writes `target/reports/stability.csv`. Exits with status 1 if
 //! any expectation failed.
-use nonholonomic::report::Progress;
-use nonholonomic::stability::{self, Effort, Row};
+use nh_lab::stability::{self, Effort, Row};
 use std::path::Path;
 
 /// A case family of the suite.
@@ -26,13 +25,14 @@ fn main() {
         ("bad input", stability::bad_input),
         ("single precision", stability::single_precision),
     ];
-    let mut progress = Progress::new(families.len());
+    let bar = nh_lab::report::progress_bar(families.len());
     let mut rows = Vec::new();
     for (name, family) in families {
+        bar.set_message(name);
         rows.extend(family(Effort::Report));
-        progress.tick(name);
+        bar.inc(1);
     }
-    progress.finish();
+    bar.finish();
     println!("# Stability suite (release, one run per row)\n");
     println!("{}", stability::markdown_table(&rows));
     let failed = rows.iter().filter(|r| !r.pass).count();

@@ -1,8 +1,8 @@
 //! The physically correct rolling disc (`systems::RollingDisc`), checked
 //! against an independent Newton–Euler computation of steady rolling on a
 //! circle at constant lean, and against the thesis's simplified model.
+use nh_lab::systems::{RollingDisc, ThesisDisc};
 use nonholonomic::prelude::*;
-use nonholonomic::systems::{RollingDisc, ThesisDisc};
 
 type V3 = [f64; 3];
 fn cross(a: V3, b: V3) -> V3 {

@@ -7,7 +7,7 @@
 //! family below returns [`Row`]s (case, expected outcome, method, outcome,
 //! error against a reference, steps, seconds, notes, and whether the
 //! expectation held); `tests/stability.rs` asserts every row, and
-//! `cargo run --release --example stability_report` prints the table and
+//! `cargo run --release -p nh-lab --example stability_report` prints the table and
 //! writes `target/reports/stability.csv` ([`write_csv`]).
 //!
 //! | family | what it does | expected |
@@ -1011,6 +1011,9 @@ pub fn near_singular(_effort: Effort) -> Vec<Row> {
 
 // --------------------------------------------------------------- bad input
 
+/// An integration's span: start time, start state and end time.
+type Span = (f64, State<f64>, f64);
+
 /// Runs every method on one input and summarises: the row passes when every
 /// method's outcome satisfies `ok`.
 fn all_methods<S: OdeJacobian<f64, 8>>(
@@ -1018,7 +1021,7 @@ fn all_methods<S: OdeJacobian<f64, 8>>(
     case: &str,
     expected: &str,
     sys: &S,
-    (t0, x0, t1): (f64, State<f64>, f64),
+    (t0, x0, t1): Span,
     methods: &[Method],
     ok: impl Fn(&Method, &Run<f64, 8>) -> bool,
 ) -> Row {
@@ -1061,16 +1064,49 @@ fn all_methods<S: OdeJacobian<f64, 8>>(
 /// them gives the documented result. The step budget is 1e4 attempts in
 /// the test, 1e5 in the report.
 pub fn bad_input(effort: Effort) -> Vec<Row> {
-    let budget = match effort {
-        Effort::Test => 10_000,
-        Effort::Report => 100_000,
+    let c = BadInput {
+        budget: match effort {
+            Effort::Test => 10_000,
+            Effort::Report => 100_000,
+        },
+        disc: ThesisDisc::new(M, R, G),
+        x0: state([0.0, 0.0, 0.3, 0.0, 0.0], [6.0, 20.0, 0.5]),
+        all: Method::all(1e-8, 1e-3),
     };
-    let disc: ThesisDisc = ThesisDisc::new(M, R, G);
-    let x0 = state([0.0, 0.0, 0.3, 0.0, 0.0], [6.0, 20.0, 0.5]);
-    let all = Method::all(1e-8, 1e-3);
-    let is = |k: Kind| move |_: &Method, r: &Run<f64, 8>| Kind::of(&r.result) == k;
-    let nonfinite_at_start = |x0: State<f64>| move |_: &Method, r: &Run<f64, 8>| matches!(r.result, Err(SimError::NonFinite { t, x }) if t == 0.0 && x == x0);
-    let mut rows = Vec::new();
+    let mut rows = bad_states_and_times(&c);
+    rows.extend(bad_parameters(&c));
+    rows.extend(odd_spans_and_steps(&c));
+    rows.extend(bad_tolerances(&c));
+    rows
+}
+
+/// What every [`bad_input`] case shares: the step budget, the disc, its
+/// start and the five methods.
+struct BadInput {
+    budget: usize,
+    disc: ThesisDisc,
+    x0: State<f64>,
+    all: [Method; 5],
+}
+
+/// The check that a run ended in an error of kind `k`.
+fn is(k: Kind) -> impl Fn(&Method, &Run<f64, 8>) -> bool {
+    move |_, r| Kind::of(&r.result) == k
+}
+
+/// The same DormandPrince, Dop853 and Rosenbrock settings at `rtol`, `atol`.
+fn with_tol(rtol: f64, atol: f64) -> [Method; 3] {
+    [
+        Method::DormandPrince { rtol, atol },
+        Method::Dop853 { rtol, atol },
+        Method::Rosenbrock { rtol, atol },
+    ]
+}
+
+/// NaN or infinite initial states, a NaN start time, an infinite end time.
+fn bad_states_and_times(c: &BadInput) -> Vec<Row> {
+    let x0 = c.x0;
+    let mut spans: Vec<(String, Span)> = Vec::new();
     for (name, v) in [
         ("NaN", f64::NAN),
         ("+Inf", f64::INFINITY),
@@ -1078,34 +1114,33 @@ pub fn bad_input(effort: Effort) -> Vec<Row> {
     ] {
         let mut x = x0;
         x[6] = v;
-        rows.push(all_methods(
-            budget,
-            &format!("bad input: {name} in x0"),
-            "InvalidInput",
-            &disc,
-            (0.0, x, 1.0),
-            &all,
-            is(Kind::InvalidInput),
-        ));
+        spans.push((format!("bad input: {name} in x0"), (0.0, x, 1.0)));
     }
-    rows.push(all_methods(
-        budget,
-        "bad input: t0 = NaN",
-        "InvalidInput",
-        &disc,
-        (f64::NAN, x0, 1.0),
-        &all,
-        is(Kind::InvalidInput),
-    ));
-    rows.push(all_methods(
-        budget,
-        "bad input: t1 = +Inf",
-        "InvalidInput",
-        &disc,
-        (0.0, x0, f64::INFINITY),
-        &all,
-        is(Kind::InvalidInput),
-    ));
+    spans.push(("bad input: t0 = NaN".into(), (f64::NAN, x0, 1.0)));
+    spans.push(("bad input: t1 = +Inf".into(), (0.0, x0, f64::INFINITY)));
+    spans
+        .into_iter()
+        .map(|(case, span)| {
+            let invalid = is(Kind::InvalidInput);
+            all_methods(
+                c.budget,
+                &case,
+                "InvalidInput",
+                &c.disc,
+                span,
+                &c.all,
+                invalid,
+            )
+        })
+        .collect()
+}
+
+/// Non-finite or zero parameters: `NonFinite` at the start, except for the
+/// mass, which cancels from the reduced equations.
+fn bad_parameters(c: &BadInput) -> Vec<Row> {
+    let (disc, x0) = (c.disc, c.x0);
+    let nonfinite_at_start = |x0: State<f64>| move |_: &Method, r: &Run<f64, 8>| matches!(r.result, Err(SimError::NonFinite { t, x }) if t == 0.0 && x == x0);
+    let mut rows = Vec::new();
     for (name, (m, r, g)) in [
         ("g = +Inf", (M, R, f64::INFINITY)),
         ("R = -Inf", (M, f64::NEG_INFINITY, G)),
@@ -1114,28 +1149,27 @@ pub fn bad_input(effort: Effort) -> Vec<Row> {
     ] {
         let bad: ThesisDisc = ThesisDisc::new(m, r, g);
         rows.push(all_methods(
-            budget,
+            c.budget,
             &format!("bad parameter: {name}"),
             "NonFinite at t0 with x0",
             &bad,
-            (0.0, x0, 1.0),
-            &all,
+            (0.0, c.x0, 1.0),
+            &c.all,
             nonfinite_at_start(x0),
         ));
     }
     // The mass cancels from the disc's reduced equations at compile time,
     // and so from the generated Jacobian (derived from the closed-form r̈):
     // every method runs as with the real mass.
-    let reference1 = reference(&disc, x0, 1.0);
     for (name, m) in [("m = NaN", f64::NAN), ("m = 0", 0.0)] {
         let bad: ThesisDisc = ThesisDisc::new(m, R, G);
         let mut row = all_methods(
-            budget,
+            c.budget,
             &format!("bad parameter: {name}"),
             "Ok as with m = 1.7 (m cancels from r̈ and its Jacobian at compile time)",
             &bad,
-            (0.0, x0, 1.0),
-            &all,
+            (0.0, c.x0, 1.0),
+            &c.all,
             |method, r| {
                 let good = integrate(*method, &disc, 0.0, x0, 1.0, 100_000, |_, _| {});
                 matches!((&r.result, &good.result), (Ok(a), Ok(b)) if a.x == b.x)
@@ -1144,6 +1178,13 @@ pub fn bad_input(effort: Effort) -> Vec<Row> {
         row.notes = "the mass is a common factor of the reduced equations".into();
         rows.push(row);
     }
+    rows
+}
+
+/// Backwards and empty spans, and steps larger than the span.
+fn odd_spans_and_steps(c: &BadInput) -> Vec<Row> {
+    let (disc, x0) = (c.disc, c.x0);
+    let mut rows = Vec::new();
     // Backwards: forward to 1, back to 0 returns x0.
     let fwd = |m: Method| {
         integrate(m, &disc, 0.0, x0, 1.0, 100_000, |_, _| {})
@@ -1151,12 +1192,12 @@ pub fn bad_input(effort: Effort) -> Vec<Row> {
             .map(|o| o.x)
     };
     rows.push(all_methods(
-        budget,
+        c.budget,
         "t1 < t0: backwards",
         "Ok, back to x0 (err ≤ 1e-5)",
         &disc,
-        (0.0, x0, 1.0),
-        &all,
+        (0.0, c.x0, 1.0),
+        &c.all,
         |&m, _| {
             let Ok(x1) = fwd(m) else { return false };
             let back = integrate(m, &disc, 1.0, x1, 0.0, 100_000, |_, _| {});
@@ -1165,12 +1206,12 @@ pub fn bad_input(effort: Effort) -> Vec<Row> {
         },
     ));
     rows.push(all_methods(
-        budget,
+        c.budget,
         "t1 == t0: empty span",
         "Ok(x0) exactly, 0 steps",
         &disc,
-        (0.5, x0, 0.5),
-        &all,
+        (0.5, c.x0, 0.5),
+        &c.all,
         |_, r| {
             r.result
                 .as_ref()
@@ -1188,11 +1229,11 @@ pub fn bad_input(effort: Effort) -> Vec<Row> {
     ];
     let short = reference(&disc, x0, 1e-3);
     rows.push(all_methods(
-        budget,
+        c.budget,
         "step > span (h = 10, span 1e-3)",
         "Ok at t1, err ≤ 1e-8 (fixed steps: 1 step)",
         &disc,
-        (0.0, x0, 1e-3),
+        (0.0, c.x0, 1e-3),
         &big,
         |m, r| {
             r.result.as_ref().is_ok_and(|o| {
@@ -1226,13 +1267,15 @@ pub fn bad_input(effort: Effort) -> Vec<Row> {
             "with_initial_step(10), with_max_step(100)",
         ));
     }
-    let with_tol = |rtol: f64, atol: f64| {
-        [
-            Method::DormandPrince { rtol, atol },
-            Method::Dop853 { rtol, atol },
-            Method::Rosenbrock { rtol, atol },
-        ]
-    };
+    rows
+}
+
+/// Invalid tolerances and steps, `atol = 0` on a state that stays zero, and
+/// a relative tolerance below machine precision.
+fn bad_tolerances(c: &BadInput) -> Vec<Row> {
+    let (disc, x0, budget) = (c.disc, c.x0, c.budget);
+    let reference1 = reference(&disc, x0, 1.0);
+    let mut rows = Vec::new();
     for (name, rtol, atol) in [
         ("rtol = 0", 0.0, 1e-9),
         ("rtol < 0", -1e-6, 1e-9),
@@ -1244,7 +1287,7 @@ pub fn bad_input(effort: Effort) -> Vec<Row> {
             &format!("bad tolerance: {name}"),
             "InvalidInput",
             &disc,
-            (0.0, x0, 1.0),
+            (0.0, c.x0, 1.0),
             &with_tol(rtol, atol),
             is(Kind::InvalidInput),
         ));
@@ -1255,7 +1298,7 @@ pub fn bad_input(effort: Effort) -> Vec<Row> {
             &format!("bad step: {name}"),
             "InvalidInput",
             &disc,
-            (0.0, x0, 1.0),
+            (0.0, c.x0, 1.0),
             &[Method::Rk4 { h }, Method::Gauss { h }],
             is(Kind::InvalidInput),
         ));
@@ -1277,7 +1320,7 @@ pub fn bad_input(effort: Effort) -> Vec<Row> {
         "rtol = 1e-20 (< eps)",
         "Ok err ≤ 1e-12 or MaxSteps within the budget",
         &disc,
-        (0.0, x0, 1.0),
+        (0.0, c.x0, 1.0),
         &with_tol(1e-20, 1e-22),
         |_, r| match &r.result {
             Ok(o) => mixed_error(&o.x, &reference1) <= 1e-12,

@@ -1,6 +1,7 @@
 //! Ready-made systems: the scenes of the examples, tests and benchmarks,
-//! written with [`nonholonomic_system!`](crate::nonholonomic_system) exactly
-//! as a user would write them.
+//! written with [`nonholonomic_system!`] exactly as a user would write them.
+
+use nonholonomic::nonholonomic_system;
 
 nonholonomic_system! {
     /// The rolling disc of the thesis (Flygare 2012, section 6), as written
@@ -21,7 +22,7 @@ nonholonomic_system! {
             dot(x) = R*cos(phi)*dot(theta);   // (6.27)
             dot(y) = R*sin(phi)*dot(theta);   // (6.28)
         }
-        outputs { energy, multipliers, curvature, constraint_matrix, jacobian }
+        outputs { energy, multipliers, curvature, constraint_matrix, jacobian, routes }
     }
 }
 
@@ -89,7 +90,7 @@ nonholonomic_system! {
         lagrangian = J*dot(theta)^2/2
                    + m*((dot(x) - a*sin(theta)*dot(theta))^2 + (dot(y) + a*cos(theta)*dot(theta))^2)/2;
         constraints { dot(y) = tan(theta)*dot(x); }
-        outputs { energy, multipliers, jacobian }
+        outputs { energy, multipliers, jacobian, routes }
     }
 }
 
@@ -103,5 +104,20 @@ nonholonomic_system! {
         lagrangian = J*dot(phi)^2/2 + g*m*x*sin(alpha) + m*(dot(x)^2 + dot(y)^2)/2;
         constraints { dot(y) = tan(phi)*dot(x); }
         outputs { energy, multipliers, jacobian }
+    }
+}
+
+nonholonomic_system! {
+    /// The largest reference system, refdata/random_03.json: six coupled
+    /// coordinates, two constraints (both derivation routes emitted).
+    pub struct Random03 {
+        parameters { k1, k2 }
+        coordinates { xi, eta, q_1, q_2, r1, s1 }
+        lagrangian = dot(eta)^2*(q_2^2/2 + 9/4) - dot(eta)*dot(q_1)/4 - dot(eta)*dot(q_2)*sin(r1)/3 - dot(eta)*dot(r1)/3 - dot(eta)*dot(s1)*cos(eta)*cos(s1)/3 - k2*cos(xi) + dot(q_1)^2*(sin(q_2)*cos(xi)/4 + 5/2) - 2*dot(q_1)*dot(q_2)/5 - 2*dot(q_1)*dot(s1)*cos(s1)*cos(xi)/5 - 2*q_2/5 + 7*dot(q_2)^2/4 - 2*dot(q_2)*dot(r1)*cos(eta)/5 + dot(q_2)*dot(xi)*sin(s1)*cos(eta)/4 + dot(r1)^2*(sin(q_1)^2/2 + 11/4) + 2*dot(r1)*dot(s1)/5 + 7*dot(s1)^2/4 + dot(s1)*dot(xi)*sin(eta)*cos(r1)/4 + dot(xi)^2*(q_2^2/2 + 7/4);
+        constraints {
+            dot(r1) = 3*s1^2/2*dot(xi) - 2*xi*cos(q_1)*dot(eta) - 1/3*dot(q_1);
+            dot(s1) = -1/2*dot(xi) + 2*cos(r1)/3*dot(eta) + (q_2^2 + 1)*dot(q_2);
+        }
+        outputs { routes }
     }
 }
