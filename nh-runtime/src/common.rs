@@ -256,51 +256,15 @@ impl<T: RealField + Copy> Adaptive<T> {
     }
 }
 
-/// The settings and bookkeeping of a fixed-step integrator.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Fixed<T> {
-    pub(crate) h: T,
-    pub(crate) max_steps: usize,
-    pub(crate) project: bool,
-    pub(crate) record: Record<T>,
-}
-
-impl<T: RealField + Copy> Fixed<T> {
-    /// Step `h`, at most [`FIXED_MAX_STEPS`] steps.
-    pub(crate) fn new(h: T) -> Self {
-        Fixed {
-            h,
+impl<T: RealField + Copy> Adaptive<T> {
+    /// The settings of a fixed-step integrator: step `h`, at most
+    /// [`FIXED_MAX_STEPS`] steps (the tolerances are not used).
+    pub(crate) fn fixed(h: T) -> Self {
+        Adaptive {
             max_steps: FIXED_MAX_STEPS,
-            project: true,
-            record: Record::default(),
+            fixed_step: Some(h),
+            ..Adaptive::new(T::one(), T::one())
         }
-    }
-
-    /// Runs `method` with the fixed step.
-    pub(crate) fn run<M, H, K, const D: usize>(
-        &mut self,
-        method: &mut M,
-        sys: &H,
-        span: (T, SVector<T, D>, T),
-        sink: &mut K,
-    ) -> Result<Outcome<T, D>, SimError<T, D>>
-    where
-        M: Method<T, D>,
-        H: OdeSystem<T, D> + ?Sized,
-        K: Sink<T, D> + ?Sized,
-    {
-        let settings = Settings {
-            control: Control::Fixed(self.h),
-            tol: Tolerance {
-                rtol: T::one(),
-                atol: T::one(),
-            },
-            initial_step: None,
-            max_step: None,
-            max_steps: self.max_steps,
-            project: self.project,
-        };
-        drive(method, sys, &settings, span, sink, &mut self.record)
     }
 }
 
@@ -351,24 +315,6 @@ macro_rules! adaptive_builders {
                 self
             }
 
-            /// Turns the projection of accepted states onto the system's
-            /// holonomic constraints ([`OdeSystem::project`](crate::OdeSystem::project))
-            /// on or off (default on; systems without holonomic constraints
-            /// are unaffected). The largest residual is reported in
-            /// [`Outcome::max_residual`](crate::Outcome::max_residual) either way.
-            pub fn with_projection(mut self, on: bool) -> Self {
-                self.a.project = on;
-                self
-            }
-
-            /// Work counters of the most recent call to `integrate*`, whether
-            /// it succeeded or failed (useful to read
-            /// [`Stats::stiffness_detected`](crate::Stats::stiffness_detected)
-            /// after [`SimError::MaxSteps`](crate::SimError::MaxSteps)).
-            pub fn last_stats(&self) -> crate::Stats {
-                self.a.record.stats
-            }
-
             /// Magnitude of the step size the controller proposed after the
             /// last accepted step of the most recent call (`None` if no step
             /// was accepted); handy as the initial step when continuing an
@@ -382,14 +328,15 @@ macro_rules! adaptive_builders {
 pub(crate) use adaptive_builders;
 
 /// The builder and query methods shared by the fixed-step integrators
-/// (their settings live in a [`Fixed`] field named `f`), written once.
+/// (their settings live in an [`Adaptive`] field named `f`, made by
+/// [`Adaptive::fixed`]), written once.
 macro_rules! fixed_builders {
     ($ty:ident) => {
         impl<T: nalgebra::RealField + Copy> $ty<T> {
             /// A fixed-step integrator with step size `h` (> 0).
             pub fn new(h: T) -> Self {
                 Self {
-                    f: crate::common::Fixed::new(h),
+                    f: crate::common::Adaptive::fixed(h),
                 }
             }
 
@@ -400,25 +347,9 @@ macro_rules! fixed_builders {
                 self
             }
 
-            /// Turns the projection of accepted states onto the system's
-            /// holonomic constraints ([`OdeSystem::project`](crate::OdeSystem::project))
-            /// on or off (default on; systems without holonomic constraints
-            /// are unaffected). The largest residual is reported in
-            /// [`Outcome::max_residual`](crate::Outcome::max_residual) either way.
-            pub fn with_projection(mut self, on: bool) -> Self {
-                self.f.project = on;
-                self
-            }
-
             /// The step size.
             pub fn step_size(&self) -> T {
-                self.f.h
-            }
-
-            /// Work counters of the most recent call to `integrate*`, whether
-            /// it succeeded or failed.
-            pub fn last_stats(&self) -> crate::Stats {
-                self.f.record.stats
+                self.f.fixed_step.unwrap_or_else(T::zero)
             }
         }
     };
@@ -426,12 +357,30 @@ macro_rules! fixed_builders {
 pub(crate) use fixed_builders;
 
 /// The [`Integrator`](crate::Integrator) implementation of an integrator
-/// whose settings live in `$field` ([`Adaptive`] or [`Fixed`]) and whose
+/// whose settings live in `$field` (an [`Adaptive`]) and whose
 /// method for a system `$sys` is `$method`: every entry point goes through
 /// the step driver with the matching [`Sink`].
 macro_rules! integrator_impl {
     ($ty:ident, $field:ident, |$sys:ident| $method:expr) => {
         impl<T: nalgebra::RealField + Copy> $ty<T> {
+            /// Turns the projection of accepted states onto the system's
+            /// holonomic constraints ([`OdeSystem::project`](crate::OdeSystem::project))
+            /// on or off (default on; systems without holonomic constraints
+            /// are unaffected). The largest residual is reported in
+            /// [`Outcome::max_residual`](crate::Outcome::max_residual) either way.
+            pub fn with_projection(mut self, on: bool) -> Self {
+                self.$field.project = on;
+                self
+            }
+
+            /// Work counters of the most recent call to `integrate*`, whether
+            /// it succeeded or failed (useful to read
+            /// [`Stats::stiffness_detected`](crate::Stats::stiffness_detected)
+            /// after [`SimError::MaxSteps`](crate::SimError::MaxSteps)).
+            pub fn last_stats(&self) -> crate::Stats {
+                self.$field.record.stats
+            }
+
             /// Integrates `sys` and reports the accepted steps to `sink`.
             fn run<S, K, const D: usize>(
                 &mut self,

@@ -7,7 +7,7 @@ use nalgebra::{RealField, SVector};
 
 use crate::Stats;
 use crate::common::{
-    Fixed, all_finite, c, fixed_builders, integrator_impl, jacobian_entry_points, machine_epsilon,
+    Adaptive, all_finite, c, fixed_builders, integrator_impl, jacobian_entry_points, machine_epsilon,
 };
 use crate::driver::{Failure, Method, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource};
@@ -102,7 +102,7 @@ const SLOW_NEWTON: usize = 10;
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GaussLegendre4<T> {
-    f: Fixed<T>,
+    f: Adaptive<T>,
 }
 
 fixed_builders!(GaussLegendre4);

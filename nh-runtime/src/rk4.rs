@@ -2,7 +2,7 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::common::{Fixed, all_finite_in, c, fixed_builders, integrator_impl};
+use crate::common::{Adaptive, all_finite_in, c, fixed_builders, integrator_impl};
 use crate::driver::{Failure, Method, Tolerance};
 use crate::step::Poly;
 use crate::{OdeSystem, Stats};
@@ -38,7 +38,7 @@ use crate::{OdeSystem, Stats};
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rk4<T> {
-    f: Fixed<T>,
+    f: Adaptive<T>,
 }
 
 fixed_builders!(Rk4);
