@@ -7,7 +7,8 @@ use nalgebra::{RealField, SVector};
 
 use crate::Stats;
 use crate::common::{
-    Adaptive, all_finite, c, fixed_builders, integrator_impl, jacobian_entry_points, machine_epsilon,
+    Adaptive, all_finite, c, fixed_builders, integrator_impl, jacobian_entry_points,
+    machine_epsilon,
 };
 use crate::driver::{Failure, Method, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource};

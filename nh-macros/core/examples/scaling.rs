@@ -22,53 +22,9 @@ use std::time::Instant;
 
 const ALL_OUTPUTS: &str = "multipliers, curvature, energy, constraint_matrix, mass_matrix, jacobian, linearization, routes";
 
-/// The dense family (as in `tests/scale.rs`).
-fn dense(n: usize, outputs: &str) -> String {
-    let p = n / 3;
-    let k = n - p;
-    let q: Vec<String> = (1..=n).map(|i| format!("q{i}")).collect();
-    let mut terms = Vec::new();
-    for i in 0..n {
-        terms.push(format!("({}/10)*dot({})^2/2", 20 + i, q[i]));
-        for j in (i + 1)..n {
-            let c = (i + j + 2) * 2;
-            terms.push(format!(
-                "cos({} - {})*dot({})*dot({})/{c}",
-                q[i], q[j], q[i], q[j]
-            ));
-        }
-        terms.push(format!("g*cos({})/{}", q[i], i + 1));
-    }
-    let mut constraints = Vec::new();
-    for a in 0..p {
-        let s = &q[k + a];
-        let rhs: Vec<String> = (0..k)
-            .map(|al| format!("sin({} + {s})/{}*dot({})", q[al], a + al + 2, q[al]))
-            .collect();
-        constraints.push(format!("dot({s}) = {};", rhs.join(" + ")));
-    }
-    let outputs = if outputs.is_empty() {
-        String::new()
-    } else {
-        format!("outputs {{ {outputs} }}")
-    };
-    format!(
-        "pub struct Synth{n} {{ parameters {{ g }} coordinates {{ {} }} lagrangian = {}; constraints {{ {} }} {outputs} }}",
-        q.join(", "),
-        terms.join(" + "),
-        constraints.join(" ")
-    )
-}
-
-/// The sin-chained lets (as in `tests/scale.rs`).
-fn chain(n: usize) -> String {
-    let lets: String = (0..n)
-        .map(|i| format!("let a{} = a{i} + sin(a{i})/2; ", i + 1))
-        .collect();
-    format!(
-        "pub struct Chain{n} {{ parameters {{ g }} coordinates {{ x, y }} let a0 = x; {lets}lagrangian = dot(a{n})^2/2 + dot(y)^2/2 - g*a{n}*y; }}"
-    )
-}
+#[path = "../tests/synthetic/mod.rs"]
+mod synthetic;
+use synthetic::{chain, dense};
 
 /// One row of the table.
 struct Row {

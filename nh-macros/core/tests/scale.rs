@@ -62,48 +62,12 @@ fn expand_ok(body: String) -> Expansion {
     e
 }
 
-/// The dense family of `examples/scaling.rs`: n coordinates, p = n/3 dense
-/// constraints sin(q_α + s_a)/c, a dense mass matrix cos(q_i − q_j)/c.
-fn dense(n: usize) -> String {
-    let (p, q) = (n / 3, (1..=n).map(|i| format!("q{i}")).collect::<Vec<_>>());
-    let k = n - p;
-    let mut terms = Vec::new();
-    for i in 0..n {
-        terms.push(format!("({}/10)*dot({})^2/2", 20 + i, q[i]));
-        for j in (i + 1)..n {
-            let c = (i + j + 2) * 2;
-            terms.push(format!(
-                "cos({} - {})*dot({})*dot({})/{c}",
-                q[i], q[j], q[i], q[j]
-            ));
-        }
-        terms.push(format!("g*cos({})/{}", q[i], i + 1));
-    }
-    let constraints: Vec<String> = (0..p)
-        .map(|a| {
-            let s = &q[k + a];
-            let rhs: Vec<String> = (0..k)
-                .map(|al| format!("sin({} + {s})/{}*dot({})", q[al], a + al + 2, q[al]))
-                .collect();
-            format!("dot({s}) = {};", rhs.join(" + "))
-        })
-        .collect();
-    format!(
-        "pub struct Synth{n} {{ parameters {{ g }} coordinates {{ {} }} lagrangian = {}; constraints {{ {} }} }}",
-        q.join(", "),
-        terms.join(" + "),
-        constraints.join(" ")
-    )
-}
+mod synthetic;
+use synthetic::chain;
 
-/// `let a{i+1} = a{i} + sin(a{i})/2;` N times; L uses only the last.
-fn chain(n: usize) -> String {
-    let lets: String = (0..n)
-        .map(|i| format!("let a{} = a{i} + sin(a{i})/2; ", i + 1))
-        .collect();
-    format!(
-        "pub struct Chain{n} {{ parameters {{ g }} coordinates {{ x, y }} let a0 = x; {lets}lagrangian = dot(a{n})^2/2 + dot(y)^2/2 - g*a{n}*y; }}"
-    )
+/// The dense family without outputs.
+fn dense(n: usize) -> String {
+    synthetic::dense(n, "")
 }
 
 /// dot(x)²/2 − g Σ_{k=46}^{89} cos(k x)/(k + 1), the Lagrangian of issue 10.
