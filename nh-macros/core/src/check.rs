@@ -85,11 +85,21 @@ pub fn outputs_for_form(def: &SystemDef, cx: &mut Ctxt) {
     let in_speeds = def.speeds.is_some();
     for o in list {
         let why = match (o.to_string().as_str(), in_speeds) {
-            ("multipliers", true) => "a system in generalized speeds has no Lagrange multipliers: the constraint forces are `reaction_forces` (E − Q, orthogonal to the columns of S)",
-            ("curvature", true) => "a system in generalized speeds has no constraint connection to take the curvature of: its kinematics q̇ = S u + σ are given directly",
-            ("constraint_matrix", true) => "a system in generalized speeds has no constraint matrix A: its kinematic matrix S is the derivative of `velocities` with respect to the speeds",
-            ("routes", true) => "a system in generalized speeds has one derivation, Maggi's equations (Sᵀ M S) u̇ = Sᵀ(Q − h − M(Ṡ u + σ̇)): there are no routes to compare",
-            ("reaction_forces", false) => "`reaction_forces` is for systems in generalized speeds (`speeds` and `kinematics`); with `constraints`, the constraint forces are the `multipliers`",
+            ("multipliers", true) => {
+                "a system in generalized speeds has no Lagrange multipliers: the constraint forces are `reaction_forces` (E − Q, orthogonal to the columns of S)"
+            }
+            ("curvature", true) => {
+                "a system in generalized speeds has no constraint connection to take the curvature of: its kinematics q̇ = S u + σ are given directly"
+            }
+            ("constraint_matrix", true) => {
+                "a system in generalized speeds has no constraint matrix A: its kinematic matrix S is the derivative of `velocities` with respect to the speeds"
+            }
+            ("routes", true) => {
+                "a system in generalized speeds has one derivation, Maggi's equations (Sᵀ M S) u̇ = Sᵀ(Q − h − M(Ṡ u + σ̇)): there are no routes to compare"
+            }
+            ("reaction_forces", false) => {
+                "`reaction_forces` is for systems in generalized speeds (`speeds` and `kinematics`); with `constraints`, the constraint forces are the `multipliers`"
+            }
             _ => continue,
         };
         cx.error_at(

@@ -214,7 +214,10 @@ fn bind_speeds(d: &mut Dag, m: &Model, sp: &crate::model::Speeds, args: &Args) {
     for (c, &w) in m.coordinates.iter().zip(&sp.velocities) {
         let v = d.expr(&m.engine, w);
         if !leaves.contains(&v) {
-            d.label(v, format!("dot({}) from the kinematics q̇ = S u + σ", c.name));
+            d.label(
+                v,
+                format!("dot({}) from the kinematics q̇ = S u + σ", c.name),
+            );
         }
         d.bind(c.velocity, v);
     }

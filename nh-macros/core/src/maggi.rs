@@ -74,7 +74,8 @@ impl Model {
             .map(|i| {
                 (0..k)
                     .map(|b| {
-                        let parts: Vec<ExprId> = (0..n).map(|j| e.mul(mass[i][j], s[j][b])).collect();
+                        let parts: Vec<ExprId> =
+                            (0..n).map(|j| e.mul(mass[i][j], s[j][b])).collect();
                         e.sum(&parts)
                     })
                     .collect()

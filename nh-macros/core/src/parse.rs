@@ -429,7 +429,8 @@ fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &
         "kinematics" => {
             let list = parse_each(group, parse_kinematics_line, cx);
             set_once(&mut def.kinematics, kw, list, cx, |_| {
-                "duplicate `kinematics` block: write one line per coordinate in one block".to_string()
+                "duplicate `kinematics` block: write one line per coordinate in one block"
+                    .to_string()
             });
         }
         "constraints" => {

@@ -74,7 +74,9 @@ impl Lowerer<'_> {
                 continue;
             };
             if let Some(j) = (0..n).find(|&j| self.e.depends_on(v, self.coords[j].velocity)) {
-                let at = self.find_velocity_use(&line.rhs, j).unwrap_or(line.rhs.range());
+                let at = self
+                    .find_velocity_use(&line.rhs, j)
+                    .unwrap_or(line.rhs.range());
                 self.cx.error(at, format!("the kinematics of `{name}` uses the velocity `dot({})`: a right side of `kinematics` is written in the coordinates, the speeds and `t` only (q̇ = S(q, t) u + σ(q, t))", self.coords[j].name));
                 ok = false;
                 continue;
@@ -96,7 +98,13 @@ impl Lowerer<'_> {
             .map(|i| format!("`dot({}) = ..;`", self.coords[i].name))
             .collect();
         if !missing.is_empty() {
-            self.cx.error_at(kw.span(), format!("`kinematics` must give the velocity of every coordinate in the speeds; add {}", missing.join(", ")));
+            self.cx.error_at(
+                kw.span(),
+                format!(
+                    "`kinematics` must give the velocity of every coordinate in the speeds; add {}",
+                    missing.join(", ")
+                ),
+            );
             return None;
         }
         if !ok {
