@@ -10,6 +10,7 @@
 //! * the snakeboard with inputs against Maggi's equations derived
 //!   independently in SymPy (`tests/data/snakeboard_speeds_sympy.py`).
 use nonholonomic::prelude::*;
+use serde_json::Value;
 
 nonholonomic_system! {
     /// Chaplygin sled in generalized speeds: v the speed of the blade along
@@ -70,6 +71,29 @@ nonholonomic_system! {
             dot(x) = w1 + w2;
             dot(y) = x*w2;
         }
+    }
+}
+
+nonholonomic_system! {
+    /// The snakeboard on a belt moving along x at velocity b t (see
+    /// tests/data/snakeboard_speeds_sympy.py): xi is the forward speed
+    /// relative to the belt, the rotor and the wheels are driven.
+    pub struct SnakeboardSpeeds {
+        parameters { m, J, Jr, Jw, l, c, b }
+        coordinates { x, y, theta, psi, phi }
+        inputs { tau_psi, tau_phi }
+        lagrangian = m*(dot(x)^2 + dot(y)^2)/2 + J*dot(theta)^2/2 + Jr*(dot(theta) + dot(psi))^2/2
+            + Jw*(dot(theta) + dot(phi))^2/2 + Jw*(dot(theta) - dot(phi))^2/2;
+        forces { x: -c*dot(x); psi: tau_psi; phi: tau_phi; }
+        speeds { xi, w_psi, w_phi }
+        kinematics {
+            dot(x) = xi*cos(theta) + b*t;
+            dot(y) = xi*sin(theta);
+            dot(theta) = xi*tan(phi)/l;
+            dot(psi) = w_psi;
+            dot(phi) = w_phi;
+        }
+        outputs { reaction_forces, linearization }
     }
 }
 
@@ -159,6 +183,7 @@ fn sled_in_speeds_crosses_a_quarter_turn_on_its_closed_form() {
         crossed |= x[1] > std::f64::consts::FRAC_PI_2 + 0.5;
         dp = DormandPrince::new(1e-12, 1e-14);
     }
+    eprintln!("sled in speeds vs closed form through θ = π/2: {worst:.1e}");
     assert!(crossed, "θ(10) = {} should be well past π/2", x[1]);
     assert!(worst < 1e-9, "max error against the closed form {worst:e}");
 }
@@ -208,6 +233,7 @@ fn sled_in_speeds_agrees_with_the_explicit_sled_away_from_a_quarter_turn() {
         .max((xu[2] - xe[2]).abs())
         .max((xu[3] * xu[1].cos() - xe[3]).abs())
         .max((xu[4] - xe[4]).abs());
+    eprintln!("sled in speeds vs explicit sled: fields {worst:.1e}, trajectory {diff:.1e}");
     assert!(diff < 1e-10, "the two forms differ by {diff:e} at t = 5");
 }
 
@@ -236,6 +262,7 @@ fn vertical_disc_in_speeds_rolls_on_a_circle() {
     let err = (0..6)
         .map(|k| (x[k] - expected[k]).abs())
         .fold(0.0, f64::max);
+    eprintln!("vertical disc in speeds vs closed form at t = 7: {err:.1e}");
     assert!(err < 1e-10, "error against the closed form {err:e}: {x}");
     let q = x.fixed_rows::<4>(0).into_owned();
     let u = x.fixed_rows::<2>(4).into_owned();
@@ -280,4 +307,89 @@ fn a_chart_that_loses_rank_ends_the_run_as_singular() {
         }
         other => panic!("expected a singular chart, got {other:?}"),
     }
+}
+
+fn numbers<const L: usize>(v: &Value) -> SVector<f64, L> {
+    let a = v.as_array().expect("an array");
+    assert_eq!(a.len(), L);
+    SVector::from_fn(|i, _| a[i].as_f64().expect("a number"))
+}
+
+#[test]
+fn snakeboard_in_speeds_agrees_with_sympy() {
+    let text = include_str!("data/snakeboard_speeds.json");
+    let data: Value = serde_json::from_str(text).expect("valid JSON");
+    let p = &data["parameters"];
+    let par = |k: &str| p[k].as_f64().expect("a parameter");
+    let sb = SnakeboardSpeeds::new(
+        par("m"),
+        par("J"),
+        par("Jr"),
+        par("Jw"),
+        par("l"),
+        par("c"),
+        par("b"),
+    );
+    let cases = data["cases"].as_array().expect("cases");
+    assert!(cases.len() >= 20);
+    let (mut worst_udot, mut worst_reaction): (f64, f64) = (0.0, 0.0);
+    for case in cases {
+        let t = case["t"].as_f64().unwrap();
+        let q: SVector<f64, 5> = numbers(&case["q"]);
+        let u: SVector<f64, 3> = numbers(&case["u"]);
+        let inputs: SVector<f64, 2> = numbers(&case["inputs"]);
+        let udot_ref: SVector<f64, 3> = numbers(&case["udot"]);
+        let reaction_ref: SVector<f64, 5> = numbers(&case["reaction_forces"]);
+        let udot = sb.accelerations(t, &q, &u, &inputs);
+        let reaction = sb.reaction_forces(t, &q, &u, &inputs);
+        let rel = |a: f64, b: f64| (a - b).abs() / (1.0 + b.abs());
+        for i in 0..3 {
+            worst_udot = worst_udot.max(rel(udot[i], udot_ref[i]));
+        }
+        for i in 0..5 {
+            worst_reaction = worst_reaction.max(rel(reaction[i], reaction_ref[i]));
+        }
+    }
+    eprintln!(
+        "snakeboard vs SymPy: u̇ {worst_udot:.1e}, reaction forces {worst_reaction:.1e} (relative)"
+    );
+    assert!(worst_udot < 1e-12, "u̇ differs from SymPy by {worst_udot:e}");
+    assert!(
+        worst_reaction < 1e-12,
+        "reaction forces differ by {worst_reaction:e}"
+    );
+}
+
+#[test]
+fn snakeboard_linearization_matches_finite_differences() {
+    let sb = SnakeboardSpeeds::new(1.5, 0.2, 0.15, 0.04, 0.4, 0.1, 0.3);
+    let x = SVector::<f64, 8>::from([0.3, -0.4, 0.9, 1.1, 0.5, 0.8, -1.2, 0.6]);
+    let u = SVector::<f64, 2>::new(0.3, -0.7);
+    let t = 1.3;
+    let (a, bm) = sb.linearization(t, &x, &u);
+    let f = |x: &SVector<f64, 8>, u: &SVector<f64, 2>| sb.rhs_with_input(t, x, u);
+    let h = 1e-6;
+    let mut worst: f64 = 0.0;
+    for j in 0..8 {
+        let (mut xp, mut xm) = (x, x);
+        xp[j] += h;
+        xm[j] -= h;
+        let col = (f(&xp, &u) - f(&xm, &u)) / (2.0 * h);
+        for i in 0..8 {
+            worst = worst.max((a[(i, j)] - col[i]).abs());
+        }
+    }
+    for j in 0..2 {
+        let (mut up, mut um) = (u, u);
+        up[j] += h;
+        um[j] -= h;
+        let col = (f(&x, &up) - f(&x, &um)) / (2.0 * h);
+        for i in 0..8 {
+            worst = worst.max((bm[(i, j)] - col[i]).abs());
+        }
+    }
+    assert!(
+        worst < 1e-7,
+        "linearization vs central differences: {worst:e}"
+    );
 }
