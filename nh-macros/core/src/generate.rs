@@ -1104,6 +1104,17 @@ impl Bodies for Derived<'_> {
     }
 }
 
+/// The names of a declaration list as written (raw identifiers unraw).
+fn names_as_written(list: &Option<(Ident, Vec<Ident>)>) -> Vec<String> {
+    list.as_ref()
+        .map(|p| {
+            p.1.iter()
+                .map(|c| syn::ext::IdentExt::unraw(c).to_string())
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
 /// The shape of the API for a definition, as far as it could be parsed
 /// (used for the stand-in of a system with errors).
 pub fn shape_of(def: &SystemDef) -> Shape<'_> {
@@ -1150,28 +1161,12 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
             .iter()
             .map(|c| syn::ext::IdentExt::unraw(c).to_string())
             .collect(),
-        inputs: def
-            .inputs
-            .as_ref()
-            .map(|p| {
-                p.1.iter()
-                    .map(|c| syn::ext::IdentExt::unraw(c).to_string())
-                    .collect()
-            })
-            .unwrap_or_default(),
+        inputs: names_as_written(&def.inputs),
         independent,
         dependent,
         outputs,
         integrable: false,
-        speeds: def
-            .speeds
-            .as_ref()
-            .map(|p| {
-                p.1.iter()
-                    .map(|c| syn::ext::IdentExt::unraw(c).to_string())
-                    .collect()
-            })
-            .unwrap_or_default(),
+        speeds: names_as_written(&def.speeds),
     }
 }
 
@@ -1202,13 +1197,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     ]);
     stats.integrable = dv.integrable;
     stats.integrable_proved = dv.integrable_proved;
-    if !check::within_limits(def, &m, cx) {
-        return (TokenStream::new(), stats);
-    }
-    if m.outputs.contains(Output::Energy) {
-        dv.energy = Some(m.energy());
-    }
-    if !check::derivation(def, &m, &dv, cx) {
+    if !derivation_checked(def, &mut m, &mut dv, cx) {
         return (TokenStream::new(), stats);
     }
     let compared = compare_routes(&mut m, &mut dv, both_routes);
@@ -1240,7 +1229,32 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
             proved,
         ));
     }
-    if !check::representable(def, &m, cx) {
+    finish(def, &m, cx, tokens, stats)
+}
+
+/// The checks of a derivation within the engine's limits, with the energy
+/// derived in between if asked for (once the rest is known to be within
+/// them). False after an error.
+fn derivation_checked(def: &SystemDef, m: &mut Model, dv: &mut Derivation, cx: &mut Ctxt) -> bool {
+    if !check::within_limits(def, m, cx) {
+        return false;
+    }
+    if m.outputs.contains(Output::Energy) {
+        dv.energy = Some(m.energy());
+    }
+    check::derivation(def, m, dv, cx)
+}
+
+/// The expansion once every method is emitted: empty if a constant of the
+/// generated code is beyond `f64`, with the engine's figures.
+fn finish(
+    def: &SystemDef,
+    m: &Model,
+    cx: &mut Ctxt,
+    tokens: TokenStream,
+    mut stats: Stats,
+) -> (TokenStream, Stats) {
+    if !check::representable(def, m, cx) {
         return (TokenStream::new(), stats);
     }
     stats.graph_size = m.engine.num_exprs();
@@ -1284,13 +1298,7 @@ fn generate_speeds(
 ) -> (TokenStream, Stats) {
     let (mut dv, terms) = m.derive_maggi();
     stats.derived.push("accelerations (Maggi's equations)");
-    if !check::within_limits(def, &m, cx) {
-        return (TokenStream::new(), stats);
-    }
-    if m.outputs.contains(Output::Energy) {
-        dv.energy = Some(m.energy());
-    }
-    if !check::derivation(def, &m, &dv, cx) {
+    if !derivation_checked(def, &mut m, &mut dv, cx) {
         return (TokenStream::new(), stats);
     }
     let mut d = bound_dag(&m, &Args::vectors(&m));
@@ -1320,12 +1328,7 @@ fn generate_speeds(
         maggi: Some(terms),
     };
     let tokens = crate::api::expand(&shape, &mut bodies);
-    if !check::representable(def, &m, cx) {
-        return (TokenStream::new(), stats);
-    }
-    stats.graph_size = m.engine.num_exprs();
-    stats.derivatives = m.engine.counters.derivatives;
-    (tokens, stats)
+    finish(def, &m, cx, tokens, stats)
 }
 
 /// The graphs of r̈ by both routes, built to compare their costs.
