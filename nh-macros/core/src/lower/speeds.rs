@@ -160,12 +160,16 @@ impl Lowerer<'_> {
 }
 
 /// The rank of a matrix by Gaussian elimination with partial pivoting,
-/// pivots below 1e-9 of the largest entry counted as zero.
+/// pivots below 1e-9 of the largest entry counted as zero (0 for a matrix
+/// with an entry that is not finite).
 fn numeric_rank(mut m: Vec<Vec<f64>>) -> usize {
     let rows = m.len();
     let cols = m.first().map_or(0, |r| r.len());
+    if m.iter().flatten().any(|x| !x.is_finite()) {
+        return 0; // a point outside the domain of S: no evidence of rank
+    }
     let scale = m.iter().flatten().fold(0.0f64, |a, x| a.max(x.abs()));
-    if !scale.is_finite() || scale == 0.0 {
+    if scale == 0.0 {
         return 0;
     }
     let mut rank = 0;
@@ -186,4 +190,29 @@ fn numeric_rank(mut m: Vec<Vec<f64>>) -> usize {
         rank += 1;
     }
     rank
+}
+
+#[cfg(test)]
+mod tests {
+    use super::numeric_rank;
+
+    #[test]
+    fn rank_by_elimination() {
+        assert_eq!(
+            numeric_rank(vec![vec![1.0, 0.0], vec![0.0, 2.0], vec![3.0, 1.0]]),
+            2
+        );
+        // the second column is twice the first
+        assert_eq!(
+            numeric_rank(vec![vec![1.0, 2.0], vec![0.5, 1.0], vec![-3.0, -6.0]]),
+            1
+        );
+        // below 1e-9 of the largest entry counts as zero
+        assert_eq!(
+            numeric_rank(vec![vec![1.0, 1.0], vec![1.0, 1.0 + 1e-12]]),
+            1
+        );
+        assert_eq!(numeric_rank(vec![vec![0.0, 0.0], vec![0.0, 0.0]]), 0);
+        assert_eq!(numeric_rank(vec![vec![f64::NAN, 1.0]]), 0);
+    }
 }
