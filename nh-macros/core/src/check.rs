@@ -153,7 +153,12 @@ pub fn derivation(def: &SystemDef, m: &Model, dv: &Derivation, cx: &mut Ctxt) ->
     if let Some(en) = dv.energy
         && m.engine.depends_on(en, m.time)
     {
-        cx.error_at(outputs_span, "output `energy` needs a Lagrangian that does not depend on time `t` explicitly: remove `energy` from `outputs`");
+        let msg = if m.speeds.is_some() {
+            "output `energy` needs a Lagrangian and kinematics that do not depend on time `t` explicitly (the method takes no `t`): remove `energy` from `outputs`"
+        } else {
+            "output `energy` needs a Lagrangian that does not depend on time `t` explicitly: remove `energy` from `outputs`"
+        };
+        cx.error_at(outputs_span, msg);
     }
     if m.outputs.contains(Output::MassMatrix) {
         let varying = dv.multiplier_route.mass.iter().flatten().any(|&e| {
@@ -169,7 +174,12 @@ pub fn derivation(def: &SystemDef, m: &Model, dv: &Derivation, cx: &mut Ctxt) ->
                 .flatten()
                 .any(|&e| m.engine.depends_on(e, m.time)));
         if varying {
-            cx.error_at(outputs_span, "output `mass_matrix` needs a Lagrangian quadratic in the velocities with time-independent coefficients (the method takes only `q`)");
+            let msg = if m.speeds.is_some() {
+                "output `mass_matrix` needs a Lagrangian quadratic in the velocities with time-independent coefficients and kinematics whose coefficients of the speeds do not depend on `t` (the method takes only `q`)"
+            } else {
+                "output `mass_matrix` needs a Lagrangian quadratic in the velocities with time-independent coefficients (the method takes only `q`)"
+            };
+            cx.error_at(outputs_span, msg);
         }
     }
     cx.is_empty()

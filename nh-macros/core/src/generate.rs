@@ -1045,6 +1045,10 @@ impl Bodies for Derived<'_> {
             GeneratedMethod::Energy => (static_doc(), self.energy_body()),
             GeneratedMethod::ConstraintMatrix => (static_doc(), self.constraint_matrix_body()),
             GeneratedMethod::MassMatrix => (static_doc(), self.mass_matrix_body()),
+            GeneratedMethod::Linearization if self.maggi.is_some() => (
+                "The linearisation of the first-order system ẋ = f(t, x, u), x = [q, u_speeds], at (t, x, u): A = ∂f/∂x and B = ∂f/∂u, derived symbolically through Maggi's equations (as for the Jacobian). For controller design: δẋ ≈ A δx + B δu.".to_string(),
+                self.linearization_body(),
+            ),
             GeneratedMethod::Linearization => (static_doc(), self.linearization_body()),
             GeneratedMethod::Jacobian if self.m.outputs.contains(Output::Linearization) => {
                 // the linearisation's A is this Jacobian: one copy of the code
