@@ -55,6 +55,8 @@
 //! | `lagrangian = expr;` | exactly one: L(q, q̇, t) |
 //! | `forces { q: expr; .. }` | optional generalized non-potential forces Q_j (damping, actuation, forcing) |
 //! | `constraints { dot(s) = expr; .. }` | linear homogeneous velocity constraints, one per dependent coordinate s |
+//! | `speeds { u1, .. }` | instead of `constraints`: generalized speeds u (Kane, Maggi); see [below](#generalized-speeds) |
+//! | `kinematics { dot(q) = expr; .. }` | with `speeds`: q̇ = S(q, t) u + σ(q, t), one line per coordinate |
 //! | `outputs { name, .. }` | optional extra generated methods (below); by default only the core API is derived |
 //!
 //! ## Expressions
@@ -174,6 +176,86 @@
 //! let x1 = Rk4::new(1e-3).integrate(&Driven::new(&p, u), 0.0, x0, 0.01).unwrap().x;
 //! assert!(x1[0] > 0.1);
 //! ```
+//!
+//! ## Generalized speeds
+//!
+//! Instead of constraints, a system can be written in generalized speeds u
+//! (Kane's and Maggi's form): `speeds { u1, .. }` names k speeds and
+//! `kinematics { dot(q) = expr; .. }` gives the velocity of every coordinate
+//! as q̇ = S(q, t) u + σ(q, t): each right side linear in the speeds, with
+//! coefficients and an optional speed-free term σ that may use the
+//! coordinates, parameters and `t`, but no velocity `dot(..)` and no input.
+//! Every coordinate has exactly one line; S must have full column rank k
+//! (checked at random points). The constraints are then built into the
+//! kinematics: every q̇ = S u + σ satisfies them, for any u. A system has
+//! either `constraints` or `speeds`, not both. The Lagrangian and the forces
+//! are written in the velocities `dot(q)` as usual (the speeds appear only in
+//! `kinematics`).
+//!
+//! The equations of motion are Maggi's: with E = M q̈ + h − Q the
+//! Euler–Lagrange terms (M = ∂²L/∂q̇∂q̇) and q̈ = S u̇ + Ṡ u + σ̇,
+//! Sᵀ(E − Q) = 0, i.e. (Sᵀ M S) u̇ = Sᵀ(Q − h − M(Ṡ u + σ̇)), solved
+//! symbolically for small systems or by an unrolled LDLᵀ factorisation. The
+//! state is x = [q_1 … q_n, u_1 … u_k]. A chart of speeds can be regular where
+//! the explicit form is not: the Chaplygin sled below crosses θ = π/2, where
+//! `dot(y) = tan(theta)*dot(x)` is singular.
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     /// The Chaplygin sled in the speed v of its blade and its yaw rate ω.
+//!     pub struct SledSpeeds {
+//!         parameters { m, J, a }
+//!         coordinates { x, y, theta }
+//!         lagrangian = J*dot(theta)^2/2
+//!             + m/2*((dot(x) - a*sin(theta)*dot(theta))^2 + (dot(y) + a*cos(theta)*dot(theta))^2);
+//!         speeds { v, omega }
+//!         kinematics {
+//!             dot(x) = v*cos(theta);
+//!             dot(y) = v*sin(theta);
+//!             dot(theta) = omega;
+//!         }
+//!         outputs { energy, mass_matrix, reaction_forces }
+//!     }
+//! }
+//!
+//! let (m, j, a) = (2.0_f64, 0.3_f64, 0.5_f64);
+//! let s = SledSpeeds::new(m, j, a);
+//! assert_eq!(SledSpeeds::<f64>::SPEEDS, ["v", "omega"]);
+//! let (q, u) = (SVector::from([0.0, 0.0, 1.5]), SVector::from([0.4, 0.9]));
+//! // v̇ = a ω², (J + m a²) ω̇ = −m a v ω
+//! let ud = s.accelerations(0.0, &q, &u);
+//! assert!((ud[0] - a * 0.81).abs() < 1e-15 && (ud[1] + m * a * 0.36 / (j + m * a * a)).abs() < 1e-15);
+//! // the mass matrix in the speeds, Sᵀ M S
+//! assert!((s.mass_matrix(&q)[(1, 1)] - (j + m * a * a)).abs() < 1e-15);
+//! // the blade's side force is orthogonal to the columns of S
+//! let r = s.reaction_forces(0.0, &q, &u);
+//! assert!((r[0] * 1.5_f64.cos() + r[1] * 1.5_f64.sin()).abs() < 1e-14 && r[2].abs() < 1e-14);
+//! // through θ = π/2 and beyond
+//! let x0 = SVector::<f64, 5>::from([0.0, 0.0, 1.5, 0.4, 0.9]);
+//! let out = DormandPrince::new(1e-10, 1e-12).integrate(&s, 0.0, x0, 3.0).unwrap();
+//! assert!(out.x[2] > 1.8);
+//! ```
+//!
+//! A system in speeds has `SPEEDS: [&str; k]` in place of `INDEPENDENT`,
+//! `DEPENDENT`, `P` and `INTEGRABLE`, and `K` = k, `STATE_DIM` = n + k; its
+//! methods take the speeds as `speeds: &SVector<T, k>`:
+//!
+//! | item | value |
+//! |---|---|
+//! | `velocities(&self, t, q, speeds) -> SVector<T, n>` | q̇ = S u + σ (in place of `dependent_velocities`) |
+//! | `accelerations(&self, t, q, speeds[, u]) -> SVector<T, k>` | u̇ from Maggi's equations |
+//! | `impl OdeSystem<T, n + k>` | ẋ = [S u + σ, u̇]; its `chart_regularity` is the Hadamard ratio det(Sᵀ M S) / Π (Sᵀ M S)_aa, in (0, 1], which tends to 0 where the speeds lose rank, so the runtime ends the run there with `SimError::Singular { cause: Singularity::Chart, .. }` |
+//! | output `energy` | `energy(&self, q, speeds)`: E at q̇ = S u + σ |
+//! | output `mass_matrix` | `mass_matrix(&self, q) -> SMatrix<T, k, k>`: the mass matrix *in the speeds*, Sᵀ M S |
+//! | output `reaction_forces` | `reaction_forces(&self, t, q, speeds[, u]) -> SVector<T, n>`: E − Q along the motion, the constraint force that keeps q̇ in the range of S (Sᵀ(E − Q) = 0) |
+//! | outputs `jacobian`, `linearization` | as below, for x = [q, u] |
+//!
+//! `multipliers`, `curvature`, `constraint_matrix` and `routes` belong to the
+//! form with constraints and are compile errors here (`reaction_forces` is the
+//! constraint force); conversely `reaction_forces` is a compile error on a
+//! system with `constraints` (use `multipliers` there).
 //!
 //! # The generated API
 //!

@@ -43,6 +43,16 @@ pub struct Shape<'a> {
     pub outputs: Outputs,
     /// Whether every curvature coefficient vanishes identically.
     pub integrable: bool,
+    /// The generalized speeds, for a system written in them (DESIGN §9);
+    /// empty otherwise.
+    pub speeds: Vec<String>,
+}
+
+impl Shape<'_> {
+    /// Whether the system is written in generalized speeds.
+    pub fn in_speeds(&self) -> bool {
+        !self.speeds.is_empty()
+    }
 }
 
 /// A method of the generated API: one variant per method, in the order of
@@ -51,6 +61,8 @@ pub struct Shape<'a> {
 pub enum GeneratedMethod {
     /// `dependent_velocities`
     DependentVelocities,
+    /// `velocities`: q̇ = S u + σ of a system in generalized speeds
+    Velocities,
     /// `accelerations`
     Accelerations,
     /// `accelerations_multiplier_route`
@@ -61,6 +73,8 @@ pub enum GeneratedMethod {
     ReducedSystem,
     /// `multipliers`
     Multipliers,
+    /// `reaction_forces`
+    ReactionForces,
     /// `curvature`
     Curvature,
     /// `energy`
@@ -88,6 +102,19 @@ pub enum Arguments {
     Motion,
     /// `t, x` and `u` for a system with inputs.
     State,
+    /// `t, q, speeds` (no inputs).
+    Kinematics,
+}
+
+/// Which systems have a generated method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Form {
+    /// Every system.
+    Any,
+    /// Systems with `constraints` (or none): coordinates r, s.
+    Coordinates,
+    /// Systems in generalized speeds.
+    Speeds,
 }
 
 /// What a generated method returns.
@@ -105,8 +132,10 @@ pub enum Returns {
     Scalar,
     /// A p × k matrix.
     ConstraintMatrix,
-    /// An n × n matrix.
+    /// An n × n matrix (k × k in generalized speeds).
     MassMatrix,
+    /// A vector of n values, one per coordinate.
+    Coordinates,
     /// An (n + k) × (n + k) matrix.
     StateMatrix,
     /// An (n + k) × (n + k) and an (n + k) × m matrix.
@@ -131,11 +160,13 @@ pub struct MethodSpec {
     pub returns: Returns,
     /// The output that asks for it; `None` for a method every system has.
     pub requested_by: Option<Output>,
+    /// Which systems have it.
+    pub form: Form,
 }
 
 /// Every generated method, in the order they are emitted and derived in
 /// (`rhs` last: the runtime trait calls the others).
-pub const METHODS: [MethodSpec; 13] = [
+pub const METHODS: [MethodSpec; 15] = [
     MethodSpec {
         method: GeneratedMethod::DependentVelocities,
         name: "dependent_velocities",
@@ -143,6 +174,16 @@ pub const METHODS: [MethodSpec; 13] = [
         takes: Arguments::Velocities,
         returns: Returns::Dependent,
         requested_by: None,
+        form: Form::Coordinates,
+    },
+    MethodSpec {
+        method: GeneratedMethod::Velocities,
+        name: "velocities",
+        doc: "The velocities q̇ = S(q, t) u + σ(q, t) of the coordinates at the speeds `speeds` (the kinematics), in coordinate order.",
+        takes: Arguments::Kinematics,
+        returns: Returns::Coordinates,
+        requested_by: None,
+        form: Form::Speeds,
     },
     MethodSpec {
         method: GeneratedMethod::Accelerations,
@@ -151,6 +192,7 @@ pub const METHODS: [MethodSpec; 13] = [
         takes: Arguments::Motion,
         returns: Returns::Independent,
         requested_by: None,
+        form: Form::Any,
     },
     MethodSpec {
         method: GeneratedMethod::AccelerationsMultiplierRoute,
@@ -159,6 +201,7 @@ pub const METHODS: [MethodSpec; 13] = [
         takes: Arguments::Motion,
         returns: Returns::Independent,
         requested_by: Some(Output::Routes),
+        form: Form::Coordinates,
     },
     MethodSpec {
         method: GeneratedMethod::AccelerationsCurvatureRoute,
@@ -167,6 +210,7 @@ pub const METHODS: [MethodSpec; 13] = [
         takes: Arguments::Motion,
         returns: Returns::Independent,
         requested_by: Some(Output::Routes),
+        form: Form::Coordinates,
     },
     MethodSpec {
         method: GeneratedMethod::ReducedSystem,
@@ -175,6 +219,7 @@ pub const METHODS: [MethodSpec; 13] = [
         takes: Arguments::Motion,
         returns: Returns::ReducedSystem,
         requested_by: Some(Output::Routes),
+        form: Form::Coordinates,
     },
     MethodSpec {
         method: GeneratedMethod::Multipliers,
@@ -183,6 +228,16 @@ pub const METHODS: [MethodSpec; 13] = [
         takes: Arguments::Motion,
         returns: Returns::Dependent,
         requested_by: Some(Output::Multipliers),
+        form: Form::Coordinates,
+    },
+    MethodSpec {
+        method: GeneratedMethod::ReactionForces,
+        name: "reaction_forces",
+        doc: "The reaction forces E − Q along the motion, one per coordinate: the Euler–Lagrange terms d/dt ∂L/∂q̇ − ∂L/∂q minus the applied forces, at q̇ = S u + σ and q̈ = S u̇ + Ṡ u + σ̇. They are the generalized constraint forces that keep q̇ in the range of S, orthogonal to its columns: Sᵀ(E − Q) = 0 (Maggi's equations).",
+        takes: Arguments::Motion,
+        returns: Returns::Coordinates,
+        requested_by: Some(Output::ReactionForces),
+        form: Form::Speeds,
     },
     MethodSpec {
         method: GeneratedMethod::Curvature,
@@ -191,6 +246,7 @@ pub const METHODS: [MethodSpec; 13] = [
         takes: Arguments::Coordinates,
         returns: Returns::Curvature,
         requested_by: Some(Output::Curvature),
+        form: Form::Coordinates,
     },
     MethodSpec {
         method: GeneratedMethod::Energy,
@@ -199,6 +255,7 @@ pub const METHODS: [MethodSpec; 13] = [
         takes: Arguments::Velocities,
         returns: Returns::Scalar,
         requested_by: Some(Output::Energy),
+        form: Form::Any,
     },
     MethodSpec {
         method: GeneratedMethod::ConstraintMatrix,
@@ -207,6 +264,7 @@ pub const METHODS: [MethodSpec; 13] = [
         takes: Arguments::Coordinates,
         returns: Returns::ConstraintMatrix,
         requested_by: Some(Output::ConstraintMatrix),
+        form: Form::Coordinates,
     },
     MethodSpec {
         method: GeneratedMethod::MassMatrix,
@@ -215,6 +273,7 @@ pub const METHODS: [MethodSpec; 13] = [
         takes: Arguments::Coordinates,
         returns: Returns::MassMatrix,
         requested_by: Some(Output::MassMatrix),
+        form: Form::Any,
     },
     MethodSpec {
         method: GeneratedMethod::Linearization,
@@ -223,6 +282,7 @@ pub const METHODS: [MethodSpec; 13] = [
         takes: Arguments::State,
         returns: Returns::StateAndInputMatrices,
         requested_by: Some(Output::Linearization),
+        form: Form::Any,
     },
     MethodSpec {
         method: GeneratedMethod::Jacobian,
@@ -231,6 +291,7 @@ pub const METHODS: [MethodSpec; 13] = [
         takes: Arguments::State,
         returns: Returns::StateMatrix,
         requested_by: Some(Output::Jacobian),
+        form: Form::Any,
     },
     MethodSpec {
         method: GeneratedMethod::Rhs,
@@ -239,6 +300,7 @@ pub const METHODS: [MethodSpec; 13] = [
         takes: Arguments::State,
         returns: Returns::State,
         requested_by: None,
+        form: Form::Any,
     },
 ];
 
@@ -250,9 +312,14 @@ impl GeneratedMethod {
 }
 
 impl MethodSpec {
-    /// Whether a system with these outputs has this method.
-    pub fn is_requested(&self, outputs: &Outputs) -> bool {
-        self.requested_by.is_none_or(|o| outputs.contains(o))
+    /// Whether a system of this shape has this method.
+    pub fn is_requested(&self, shape: &Shape) -> bool {
+        let form = match self.form {
+            Form::Any => true,
+            Form::Coordinates => !shape.in_speeds(),
+            Form::Speeds => shape.in_speeds(),
+        };
+        form && self.requested_by.is_none_or(|o| shape.outputs.contains(o))
     }
 }
 
@@ -271,6 +338,11 @@ pub trait Bodies {
     fn method(&mut self, method: GeneratedMethod) -> Method;
     /// Extra associated constants (route figures), emitted with `routes`.
     fn route_consts(&mut self) -> TokenStream;
+    /// Provided methods of the runtime trait the system overrides (its
+    /// chart's regularity, for a system in generalized speeds).
+    fn runtime_hooks(&mut self) -> TokenStream {
+        TokenStream::new()
+    }
     /// The parameter-only values hoisted out of the methods (asked for after
     /// every method): their number and the statements computing them into
     /// `c: [T; number]` from `self`'s parameters.
@@ -307,17 +379,25 @@ struct Dims {
     p: usize,
     inputs: usize,
     state: usize,
+    /// Whether the system is in generalized speeds.
+    speeds: bool,
 }
 
 impl Dims {
     fn of(shape: &Shape) -> Dims {
-        let (n, k) = (shape.coords.len(), shape.independent.len());
+        let n = shape.coords.len();
+        let k = if shape.in_speeds() {
+            shape.speeds.len()
+        } else {
+            shape.independent.len()
+        };
         Dims {
             n,
             k,
             p: shape.dependent.len(),
             inputs: shape.inputs.len(),
             state: n + k,
+            speeds: shape.in_speeds(),
         }
     }
 
@@ -339,11 +419,13 @@ impl Dims {
             svector(self.state),
             self.u_arg(),
         );
+        let vel = velocity_argument(self.speeds);
         match takes {
             Arguments::Coordinates => quote!(&self, q: &#qty),
-            Arguments::Velocities => quote!(&self, q: &#qty, rdot: &#rty),
-            Arguments::Motion => quote!(&self, t: T, q: &#qty, rdot: &#rty #u_arg),
+            Arguments::Velocities => quote!(&self, q: &#qty, #vel: &#rty),
+            Arguments::Motion => quote!(&self, t: T, q: &#qty, #vel: &#rty #u_arg),
             Arguments::State => quote!(&self, t: T, x: &#xty #u_arg),
+            Arguments::Kinematics => quote!(&self, t: T, q: &#qty, #vel: &#rty),
         }
     }
 
@@ -364,7 +446,9 @@ impl Dims {
             }
             Returns::Scalar => quote!(T),
             Returns::ConstraintMatrix => smatrix(p, k),
+            Returns::MassMatrix if self.speeds => smatrix(k, k),
             Returns::MassMatrix => smatrix(n, n),
+            Returns::Coordinates => svector(n),
             Returns::StateMatrix => smatrix(dim, dim),
             Returns::StateAndInputMatrices => {
                 let (dd, du) = (smatrix(dim, dim), smatrix(dim, self.inputs));
@@ -385,7 +469,8 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     } else {
         quote!()
     };
-    let runtime_impl = runtime_impl(shape, dims, bodies.method(GeneratedMethod::Rhs));
+    let rhs = bodies.method(GeneratedMethod::Rhs);
+    let runtime_impl = runtime_impl(shape, dims, rhs, bodies.runtime_hooks());
     let jacobian_impl = jacobian_impl(shape, dims);
     let cache = Cache::new(&params, bodies.hoisting());
     let constants = constants(shape, dims);
@@ -413,7 +498,7 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     let inherited = crate::attrs::inherited(attrs);
     let krate = shape.krate;
     let private = private();
-    let arg_names = argument_names(&params);
+    let arg_names = argument_names(&params, dims.speeds);
     let allow = allow_lints();
     // the derives of `crate::attrs::DERIVED` (a user's derive of one of
     // them is an error at its path, see `attrs::check_derives`)
@@ -481,7 +566,7 @@ fn field_names(params: &[Ident]) -> Vec<Ident> {
 fn inherent_methods(shape: &Shape, dims: Dims, bodies: &mut dyn Bodies) -> TokenStream {
     let mut methods = TokenStream::new();
     for spec in METHODS.iter().filter(|s| s.method != GeneratedMethod::Rhs) {
-        if !spec.is_requested(&shape.outputs) {
+        if !spec.is_requested(shape) {
             continue;
         }
         let Method { doc, body } = bodies.method(spec.method);
@@ -500,7 +585,7 @@ fn inherent_methods(shape: &Shape, dims: Dims, bodies: &mut dyn Bodies) -> Token
 
 /// The runtime trait implementation: `OdeSystem`, or `ControlledSystem`
 /// for a system with inputs.
-fn runtime_impl(shape: &Shape, dims: Dims, rhs: Method) -> TokenStream {
+fn runtime_impl(shape: &Shape, dims: Dims, rhs: Method, hooks: TokenStream) -> TokenStream {
     let Method { doc, body } = rhs;
     let (name, dim, n_in) = (shape.name, dims.state, dims.inputs);
     let xty = svector(dim);
@@ -527,6 +612,7 @@ fn runtime_impl(shape: &Shape, dims: Dims, rhs: Method) -> TokenStream {
             #rhs_fn {
                 #body
             }
+            #hooks
         }
     }
 }
@@ -560,6 +646,23 @@ fn constants(shape: &Shape, dims: Dims) -> TokenStream {
     let (n_in, dim) = (dims.inputs, dims.state);
     let coord_names: Vec<Literal> = shape.coords.iter().map(|c| Literal::string(c)).collect();
     let input_names: Vec<Literal> = shape.inputs.iter().map(|c| Literal::string(c)).collect();
+    if dims.speeds {
+        let speed_names: Vec<Literal> = shape.speeds.iter().map(|c| Literal::string(c)).collect();
+        return quote! {
+            /// The generalized coordinates in declared order: the coordinate order of `q` everywhere.
+            pub const COORDINATES: [&'static ::core::primitive::str; #n] = [#(#coord_names),*];
+            /// The generalized speeds u in declared order: the order of `speeds` everywhere.
+            pub const SPEEDS: [&'static ::core::primitive::str; #k] = [#(#speed_names),*];
+            /// The inputs in declared order.
+            pub const INPUTS: [&'static ::core::primitive::str; #n_in] = [#(#input_names),*];
+            /// Number of coordinates n.
+            pub const N: ::core::primitive::usize = #n;
+            /// Number of generalized speeds k.
+            pub const K: ::core::primitive::usize = #k;
+            /// Length of the runtime state x = [q, u]: n + k.
+            pub const STATE_DIM: ::core::primitive::usize = #dim;
+        };
+    }
     let indep = &shape.independent;
     let dep = &shape.dependent;
     let integrable = shape.integrable;
@@ -693,17 +796,26 @@ fn new_fn(params: &[Ident], cache: &Cache) -> TokenStream {
 /// A function for every argument name: it shadows a user's constant,
 /// static or unit struct of that name, which the argument pattern would
 /// match instead of binding (functions do not take part in patterns).
-fn argument_names(params: &[Ident]) -> Vec<Ident> {
+fn argument_names(params: &[Ident], speeds: bool) -> Vec<Ident> {
     let mut arg_names: Vec<Ident> = ["t", "q", "rdot", "x", "u"]
         .iter()
         .map(|a| format_ident!("{a}"))
         .collect();
+    if speeds {
+        arg_names.push(velocity_argument(true));
+    }
     for p in params {
         if !arg_names.contains(p) {
             arg_names.push(p.clone());
         }
     }
     arg_names
+}
+
+/// The name of the argument holding the state's velocity part: `rdot`
+/// (the independent velocities), or `speeds` in generalized speeds.
+pub fn velocity_argument(speeds: bool) -> Ident {
+    format_ident!("{}", if speeds { "speeds" } else { "rdot" })
 }
 
 /// Bodies of a system that failed to expand: each method diverges. They are

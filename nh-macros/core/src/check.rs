@@ -75,6 +75,40 @@ pub fn outputs(def: &SystemDef, cx: &mut Ctxt) -> Outputs {
     outputs
 }
 
+/// The outputs requested fit the system's form: `reaction_forces` only in
+/// generalized speeds; `multipliers`, `curvature`, `constraint_matrix` and
+/// `routes` only with constraints (DESIGN §9).
+pub fn outputs_for_form(def: &SystemDef, cx: &mut Ctxt) {
+    let Some((_, list)) = &def.outputs else {
+        return;
+    };
+    let in_speeds = def.speeds.is_some();
+    for o in list {
+        let why = match (o.to_string().as_str(), in_speeds) {
+            ("multipliers", true) => {
+                "a system in generalized speeds has no Lagrange multipliers: the constraint forces are `reaction_forces` (E − Q, orthogonal to the columns of S)"
+            }
+            ("curvature", true) => {
+                "a system in generalized speeds has no constraint connection to take the curvature of: its kinematics q̇ = S u + σ are given directly"
+            }
+            ("constraint_matrix", true) => {
+                "a system in generalized speeds has no constraint matrix A: its kinematic matrix S is the derivative of `velocities` with respect to the speeds"
+            }
+            ("routes", true) => {
+                "a system in generalized speeds has one derivation, Maggi's equations (Sᵀ M S) u̇ = Sᵀ(Q − h − M(Ṡ u + σ̇)): there are no routes to compare"
+            }
+            ("reaction_forces", false) => {
+                "`reaction_forces` is for systems in generalized speeds (`speeds` and `kinematics`); with `constraints`, the constraint forces are the `multipliers`"
+            }
+            _ => continue,
+        };
+        cx.error_at(
+            o.span(),
+            format!("output `{o}` is not available here: {why}; remove it from `outputs`"),
+        );
+    }
+}
+
 /// The derivation stayed within the engine's limits. False after an error.
 pub fn within_limits(def: &SystemDef, m: &Model, cx: &mut Ctxt) -> bool {
     if m.engine.overflowed() {
@@ -108,10 +142,23 @@ pub fn derivation(def: &SystemDef, m: &Model, dv: &Derivation, cx: &mut Ctxt) ->
             );
         }
     }
+    // a speed that carries no kinetic energy
+    if let Some(sp) = &m.speeds {
+        for (a, u) in sp.names.iter().enumerate() {
+            if dv.curvature_route.mass[a][a] == ZERO {
+                cx.error_at(u.span(), format!("the speed `{u}` carries no kinetic energy (the Lagrangian does not depend on it once q̇ = S u + σ is substituted), so the mass matrix Sᵀ M S is singular and its rate is undetermined; give the velocities it moves a kinetic energy term or remove it"));
+            }
+        }
+    }
     if let Some(en) = dv.energy
         && m.engine.depends_on(en, m.time)
     {
-        cx.error_at(outputs_span, "output `energy` needs a Lagrangian that does not depend on time `t` explicitly: remove `energy` from `outputs`");
+        let msg = if m.speeds.is_some() {
+            "output `energy` needs a Lagrangian and kinematics that do not depend on time `t` explicitly (the method takes no `t`): remove `energy` from `outputs`"
+        } else {
+            "output `energy` needs a Lagrangian that does not depend on time `t` explicitly: remove `energy` from `outputs`"
+        };
+        cx.error_at(outputs_span, msg);
     }
     if m.outputs.contains(Output::MassMatrix) {
         let varying = dv.multiplier_route.mass.iter().flatten().any(|&e| {
@@ -119,9 +166,20 @@ pub fn derivation(def: &SystemDef, m: &Model, dv: &Derivation, cx: &mut Ctxt) ->
                 .iter()
                 .any(|c| m.engine.depends_on(e, c.velocity))
                 || m.engine.depends_on(e, m.time)
-        });
+        }) || (m.speeds.is_some()
+            && dv
+                .curvature_route
+                .mass
+                .iter()
+                .flatten()
+                .any(|&e| m.engine.depends_on(e, m.time)));
         if varying {
-            cx.error_at(outputs_span, "output `mass_matrix` needs a Lagrangian quadratic in the velocities with time-independent coefficients (the method takes only `q`)");
+            let msg = if m.speeds.is_some() {
+                "output `mass_matrix` needs a Lagrangian quadratic in the velocities with time-independent coefficients and kinematics whose coefficients of the speeds do not depend on `t` (the method takes only `q`)"
+            } else {
+                "output `mass_matrix` needs a Lagrangian quadratic in the velocities with time-independent coefficients (the method takes only `q`)"
+            };
+            cx.error_at(outputs_span, msg);
         }
     }
     cx.is_empty()

@@ -12,6 +12,8 @@ use crate::sym::{ExprId, SymId, ZERO};
 use proc_macro2::{Ident, TokenStream};
 use quote::quote;
 
+mod speeds;
+
 /// Operations of r̈ beyond which other methods call `accelerations` (and
 /// `reduced_system`) instead of repeating their code.
 const LARGE_OPS: usize = 400;
@@ -58,6 +60,9 @@ pub struct Stats {
     pub derived: Vec<&'static str>,
     /// Lines of generated code (one statement or item per line, as `cargo expand` prints it).
     pub lines: usize,
+    /// Whether the system is in generalized speeds (its figures are those
+    /// of Maggi's equations, in the curvature route's slots).
+    pub maggi: bool,
 }
 
 impl Stats {
@@ -78,6 +83,16 @@ impl Stats {
 
     /// One line: operation counts, route, graph size.
     pub fn summary(&self) -> String {
+        if self.maggi {
+            return format!(
+                "accelerations: Maggi's equations (generalized speeds) {} ops (cost {}) after CSE; {} generated lines; graph {} expressions, {} derivatives",
+                self.ops_curvature,
+                self.cost_curvature,
+                self.lines,
+                self.graph_size,
+                self.derivatives
+            );
+        }
         let curvature = if self.ops_curvature == 0 {
             "not derived (k > 6)".to_string()
         } else {
@@ -107,14 +122,18 @@ struct Args {
 }
 
 impl Args {
-    fn vectors(n: usize, k: usize) -> Args {
+    /// The arguments `q` and `rdot` (`speeds`, in generalized speeds).
+    fn vectors(m: &Model) -> Args {
+        let vel = velocity_arg(m);
         Args {
-            coord: (0..n).map(|i| quote!(q[#i])).collect(),
-            rvel: (0..k).map(|j| quote!(rdot[#j])).collect(),
+            coord: (0..m.n()).map(|i| quote!(q[#i])).collect(),
+            rvel: (0..m.k()).map(|j| quote!(#vel[#j])).collect(),
         }
     }
 
-    fn state(n: usize, k: usize) -> Args {
+    /// The state `x` = [q, ṙ] (or [q, u]).
+    fn state(m: &Model) -> Args {
+        let (n, k) = (m.n(), m.k());
         Args {
             coord: (0..n).map(|i| quote!(x[#i])).collect(),
             rvel: (0..k)
@@ -125,6 +144,11 @@ impl Args {
                 .collect(),
         }
     }
+}
+
+/// The argument holding the state's velocity part: `rdot`, or `speeds`.
+fn velocity_arg(m: &Model) -> Ident {
+    crate::api::velocity_argument(m.speeds.is_some())
 }
 
 /// A graph with every symbol of the model bound to its source.
@@ -164,6 +188,9 @@ fn bound_dag(m: &Model, args: &Args) -> Dag {
     d.bind(m.time, t);
     let pi = d.pi();
     d.bind(m.pi, pi);
+    if let Some(sp) = &m.speeds {
+        bind_speeds(&mut d, m, sp, args);
+    }
     // dependent velocities: computed from the constraints (5.3)
     for c in &m.constraints {
         let s = &m.coordinates[c.dependent];
@@ -172,6 +199,28 @@ fn bound_dag(m: &Model, args: &Args) -> Dag {
         d.bind(s.velocity, v);
     }
     d
+}
+
+/// The speeds bound to the state's velocity part, and each q̇_i to its
+/// kinematics (S u + σ)_i.
+fn bind_speeds(d: &mut Dag, m: &Model, sp: &crate::model::Speeds, args: &Args) {
+    let mut leaves = Vec::with_capacity(sp.syms.len());
+    for (j, (u, &sym)) in sp.names.iter().zip(&sp.syms).enumerate() {
+        let name = format!("speed_{}", syn::ext::IdentExt::unraw(u));
+        let l = d.leaf_named(args.rvel[j].clone(), &name);
+        d.bind(sym, l);
+        leaves.push(l);
+    }
+    for (c, &w) in m.coordinates.iter().zip(&sp.velocities) {
+        let v = d.expr(&m.engine, w);
+        if !leaves.contains(&v) {
+            d.label(
+                v,
+                format!("dot({}) from the kinematics q̇ = S u + σ", c.name),
+            );
+        }
+        d.bind(c.velocity, v);
+    }
 }
 
 fn exprs(d: &mut Dag, m: &Model, v: &[ExprId]) -> Vec<Node> {
@@ -391,6 +440,8 @@ struct Derived<'a> {
     hoist_seen: rustc_hash::FxHashMap<String, usize>,
     /// The graphs of r̈ built when the routes were compared.
     graphs: RouteGraphs,
+    /// Maggi's terms, for a system in generalized speeds.
+    maggi: Option<crate::maggi::MaggiTerms>,
 }
 
 impl Derived<'_> {
@@ -447,19 +498,20 @@ impl Derived<'_> {
 
     /// r̈ by `route`, from the route's graph.
     fn accelerations(&mut self, route: Route) -> TokenStream {
-        let (n, k) = (self.m.n(), self.m.k());
+        let k = self.m.k();
         // the route's graph, built once when the routes were compared
         let (d, rdd) = match self.graphs.slot(route).take() {
             Some(g) => g,
             None => {
-                let mut d = bound_dag(self.m, &Args::vectors(n, k));
+                let mut d = bound_dag(self.m, &Args::vectors(self.m));
                 let rdd = self.acc_nodes(&mut d, route);
                 (d, rdd)
             }
         };
         let (stmts, o) = self.emit_hoisted(&d, &rdd);
         let ret = vector_expr(k, &o);
-        quote! { let _ = (t, q, rdot); #stmts #ret }
+        let vel = velocity_arg(self.m);
+        quote! { let _ = (t, q, #vel); #stmts #ret }
     }
 
     /// Operations of r̈ by `route`, after CSE.
@@ -521,8 +573,8 @@ impl Derived<'_> {
     /// f solved by an unrolled LDLᵀ.
     fn curvature_route_from_reduced(&mut self) -> TokenStream {
         let k = self.m.k();
-        let (n, u) = (self.m.n(), self.u_forward());
-        let mut d = bound_dag(self.m, &Args::vectors(n, k));
+        let u = self.u_forward();
+        let mut d = bound_dag(self.m, &Args::vectors(self.m));
         let mass: Vec<Vec<Node>> = (0..k)
             .map(|a| (0..k).map(|b| d.leaf(quote!(__nh_mc[(#a, #b)]))).collect())
             .collect();
@@ -681,6 +733,16 @@ impl Derived<'_> {
     fn velocity_rows(&mut self, d: &mut Dag, vars: &[SymId]) -> Vec<Vec<Node>> {
         let (n, k) = (self.m.n(), self.m.k());
         let mut out = vec![vec![ZERO_NODE; vars.len()]; n + k];
+        if self.m.speeds.is_some() {
+            let w = self.m.constrained_qdot();
+            for i in 0..n {
+                for (c, &z) in vars.iter().enumerate() {
+                    let e = self.m.engine.diff(w[i], z);
+                    out[i][c] = d.expr(&self.m.engine, e);
+                }
+            }
+            return out;
+        }
         for i in 0..n {
             match self.m.constraints.iter().find(|c| c.dependent == i) {
                 None => {
@@ -706,7 +768,7 @@ impl Derived<'_> {
     /// `dependent_velocities`: ṡ = −A ṙ (5.3).
     fn dependent_velocities_body(&mut self) -> TokenStream {
         let p = self.m.p();
-        let args = Args::vectors(self.m.n(), self.m.k());
+        let args = Args::vectors(self.m);
         let mut d = bound_dag(self.m, &args);
         let sdot: Vec<ExprId> = self.m.constraints.iter().map(|c| c.velocity).collect();
         let outs = exprs(&mut d, self.m, &sdot);
@@ -718,7 +780,7 @@ impl Derived<'_> {
     /// `reduced_system`: Mc and f of the curvature route (5.20).
     fn reduced_system_body(&mut self) -> TokenStream {
         let k = self.m.k();
-        let args = Args::vectors(self.m.n(), self.m.k());
+        let args = Args::vectors(self.m);
         let mut d = bound_dag(self.m, &args);
         let mass = matrix(&mut d, self.m, &self.dv.curvature_route.mass);
         let rhs = exprs(&mut d, self.m, &self.dv.curvature_route.rhs);
@@ -734,7 +796,7 @@ impl Derived<'_> {
     /// `multipliers`: λ = E_s along the motion (5.10).
     fn multipliers_body(&mut self) -> TokenStream {
         let (k, p) = (self.m.k(), self.m.p());
-        let args = Args::vectors(self.m.n(), self.m.k());
+        let args = Args::vectors(self.m);
         let mut d = bound_dag(self.m, &args);
         let mut mn = multiplier_nodes(&mut d, self.m, &self.dv.multiplier_route);
         let large = self.is_large();
@@ -762,7 +824,7 @@ impl Derived<'_> {
     /// `curvature`: the coefficients B of (5.21).
     fn curvature_body(&mut self) -> TokenStream {
         let (k, p) = (self.m.k(), self.m.p());
-        let args = Args::vectors(self.m.n(), self.m.k());
+        let args = Args::vectors(self.m);
         let mut d = bound_dag(self.m, &args);
         let mut nodes = Vec::new();
         let mut places = Vec::new();
@@ -804,13 +866,14 @@ impl Derived<'_> {
 
     /// `energy`: E = Σ q̇ ∂L/∂q̇ − L.
     fn energy_body(&mut self) -> TokenStream {
-        let args = Args::vectors(self.m.n(), self.m.k());
+        let args = Args::vectors(self.m);
         let en = self.dv.energy.unwrap_or(ZERO);
         let mut d = bound_dag(self.m, &args);
         let node = d.expr(&self.m.engine, en);
         let (stmts, o) = self.emit_hoisted(&d, &[node]);
         let v = &o[0];
-        quote! { let _ = (q, rdot); #stmts #v }
+        let vel = velocity_arg(self.m);
+        quote! { let _ = (q, #vel); #stmts #v }
     }
 
     /// `constraint_matrix`: A of (5.3).
@@ -836,7 +899,7 @@ impl Derived<'_> {
     /// A method of `q` returning the `rows` × `cols` matrix of the entries
     /// `flat`, row by row.
     fn matrix_of_q(&mut self, rows: usize, cols: usize, flat: &[ExprId]) -> TokenStream {
-        let args = Args::vectors(self.m.n(), self.m.k());
+        let args = Args::vectors(self.m);
         let mut d = bound_dag(self.m, &args);
         let nodes = exprs(&mut d, self.m, flat);
         let (stmts, o) = self.emit_hoisted(&d, &nodes);
@@ -848,7 +911,7 @@ impl Derived<'_> {
     fn jacobian_body(&mut self) -> TokenStream {
         let (n, k) = (self.m.n(), self.m.k());
         let dim = n + k;
-        let args_x = Args::state(n, k);
+        let args_x = Args::state(self.m);
         let mut d = bound_dag(self.m, &args_x);
         let vars = self.state_vars();
         let jac = self.derivative_columns(&mut d, &vars);
@@ -867,7 +930,7 @@ impl Derived<'_> {
     fn linearization_body(&mut self) -> TokenStream {
         let (n, k) = (self.m.n(), self.m.k());
         let (dim, m_in) = (n + k, self.m.inputs.len());
-        let args_x = Args::state(n, k);
+        let args_x = Args::state(self.m);
         let mut d = bound_dag(self.m, &args_x);
         let mut vars = self.state_vars();
         vars.extend(self.m.inputs.iter().map(|u| u.sym));
@@ -936,9 +999,22 @@ impl Bodies for Derived<'_> {
             GeneratedMethod::DependentVelocities => {
                 (static_doc(), self.dependent_velocities_body())
             }
+            GeneratedMethod::Accelerations if self.maggi.is_some() => {
+                (self.speeds_accelerations_doc(), self.accelerations(self.route))
+            }
             GeneratedMethod::Accelerations => {
                 (self.accelerations_doc(), self.accelerations(self.route))
             }
+            GeneratedMethod::Velocities => (static_doc(), self.velocities_body()),
+            GeneratedMethod::ReactionForces => (static_doc(), self.reaction_forces_body()),
+            GeneratedMethod::MassMatrix if self.maggi.is_some() => (
+                "The mass matrix in the speeds, Sᵀ M S (the mass matrix of Maggi's equations (Sᵀ M S) u̇ = .., with M = ∂²L/∂q̇∂q̇ and S = ∂q̇/∂u): rows and columns follow [`Self::SPEEDS`].".to_string(),
+                self.speeds_mass_matrix_body(),
+            ),
+            GeneratedMethod::Rhs if self.maggi.is_some() => (
+                "ẋ for the state x = [q, u]: ẋ = [S u + σ, u̇], with u̇ from Maggi's equations.".to_string(),
+                self.speeds_rhs_body(),
+            ),
             GeneratedMethod::AccelerationsMultiplierRoute
             | GeneratedMethod::AccelerationsCurvatureRoute
                 if method == self.route.method() =>
@@ -969,6 +1045,10 @@ impl Bodies for Derived<'_> {
             GeneratedMethod::Energy => (static_doc(), self.energy_body()),
             GeneratedMethod::ConstraintMatrix => (static_doc(), self.constraint_matrix_body()),
             GeneratedMethod::MassMatrix => (static_doc(), self.mass_matrix_body()),
+            GeneratedMethod::Linearization if self.maggi.is_some() => (
+                "The linearisation of the first-order system ẋ = f(t, x, u), x = [q, u_speeds], at (t, x, u): A = ∂f/∂x and B = ∂f/∂u, derived symbolically through Maggi's equations (as for the Jacobian). For controller design: δẋ ≈ A δx + B δu.".to_string(),
+                self.linearization_body(),
+            ),
             GeneratedMethod::Linearization => (static_doc(), self.linearization_body()),
             GeneratedMethod::Jacobian if self.m.outputs.contains(Output::Linearization) => {
                 // the linearisation's A is this Jacobian: one copy of the code
@@ -978,6 +1058,10 @@ impl Bodies for Derived<'_> {
                     spec.doc
                 );
                 (doc, quote! { self.linearization(t, x #u).0 })
+            }
+            GeneratedMethod::Jacobian if self.maggi.is_some() => {
+                let doc = "The Jacobian ∂f/∂x of the first-order system x = [q, u] ↦ [S u + σ, u̇], derived symbolically: the kinematics differentiated directly, u̇ through Maggi's equations, ∂u̇/∂z = (Sᵀ M S)⁻¹ (∂f/∂z − ∂(Sᵀ M S)/∂z u̇) with one factorisation for every column.".to_string();
+                (doc, self.jacobian_body())
             }
             GeneratedMethod::Jacobian => {
                 let doc = format!(
@@ -991,6 +1075,14 @@ impl Bodies for Derived<'_> {
             GeneratedMethod::Rhs => (static_doc(), self.rhs_body()),
         };
         Method { doc, body }
+    }
+
+    fn runtime_hooks(&mut self) -> TokenStream {
+        if self.maggi.is_some() {
+            self.chart_regularity()
+        } else {
+            TokenStream::new()
+        }
     }
 
     fn hoisting(&mut self) -> (usize, TokenStream) {
@@ -1014,6 +1106,17 @@ impl Bodies for Derived<'_> {
             pub const ROUTE: &'static str = #chosen;
         }
     }
+}
+
+/// The names of a declaration list as written (raw identifiers unraw).
+fn names_as_written(list: &Option<(Ident, Vec<Ident>)>) -> Vec<String> {
+    list.as_ref()
+        .map(|p| {
+            p.1.iter()
+                .map(|c| syn::ext::IdentExt::unraw(c).to_string())
+                .collect()
+        })
+        .unwrap_or_default()
 }
 
 /// The shape of the API for a definition, as far as it could be parsed
@@ -1062,19 +1165,12 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
             .iter()
             .map(|c| syn::ext::IdentExt::unraw(c).to_string())
             .collect(),
-        inputs: def
-            .inputs
-            .as_ref()
-            .map(|p| {
-                p.1.iter()
-                    .map(|c| syn::ext::IdentExt::unraw(c).to_string())
-                    .collect()
-            })
-            .unwrap_or_default(),
+        inputs: names_as_written(&def.inputs),
         independent,
         dependent,
         outputs,
         integrable: false,
+        speeds: names_as_written(&def.speeds),
     }
 }
 
@@ -1087,6 +1183,9 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         ..Stats::default()
     };
     let _ = crate::emit::take_unrepresentable();
+    if m.speeds.is_some() {
+        return generate_speeds(def, m, cx, stats);
+    }
     // the curvature route pays for small systems (its closed forms); beyond
     // CURVATURE_ROUTE_MAX_K independent coordinates it is derived only when
     // `routes` asks for it, and `accelerations` takes the multiplier route
@@ -1102,13 +1201,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     ]);
     stats.integrable = dv.integrable;
     stats.integrable_proved = dv.integrable_proved;
-    if !check::within_limits(def, &m, cx) {
-        return (TokenStream::new(), stats);
-    }
-    if m.outputs.contains(Output::Energy) {
-        dv.energy = Some(m.energy());
-    }
-    if !check::derivation(def, &m, &dv, cx) {
+    if !derivation_checked(def, &mut m, &mut dv, cx) {
         return (TokenStream::new(), stats);
     }
     let compared = compare_routes(&mut m, &mut dv, both_routes);
@@ -1130,6 +1223,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         hoist_len: 0,
         hoist_seen: rustc_hash::FxHashMap::default(),
         graphs,
+        maggi: None,
     };
     let mut tokens = crate::api::expand(&shape, &mut bodies);
     if integrable && m.p() > 0 {
@@ -1139,12 +1233,106 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
             proved,
         ));
     }
-    if !check::representable(def, &m, cx) {
+    finish(def, &m, cx, tokens, stats)
+}
+
+/// The checks of a derivation within the engine's limits, with the energy
+/// derived in between if asked for (once the rest is known to be within
+/// them). False after an error.
+fn derivation_checked(def: &SystemDef, m: &mut Model, dv: &mut Derivation, cx: &mut Ctxt) -> bool {
+    if !check::within_limits(def, m, cx) {
+        return false;
+    }
+    if m.outputs.contains(Output::Energy) {
+        dv.energy = Some(m.energy());
+    }
+    check::derivation(def, m, dv, cx)
+}
+
+/// The expansion once every method is emitted: empty if a constant of the
+/// generated code is beyond `f64`, with the engine's figures.
+fn finish(
+    def: &SystemDef,
+    m: &Model,
+    cx: &mut Ctxt,
+    tokens: TokenStream,
+    mut stats: Stats,
+) -> (TokenStream, Stats) {
+    if !check::representable(def, m, cx) {
         return (TokenStream::new(), stats);
     }
     stats.graph_size = m.engine.num_exprs();
     stats.derivatives = m.engine.counters.derivatives;
     (tokens, stats)
+}
+
+/// The reduced system of `dv.curvature_route` (graph `reduced`, solved
+/// numerically, with pivots `pivots`) solved symbolically instead, if that
+/// is cheaper; the solution is then kept in the derivation.
+fn solved_if_cheaper(
+    m: &mut Model,
+    dv: &mut Derivation,
+    reduced: (Dag, Vec<Node>),
+    pivots: &[Node],
+) -> (Dag, Vec<Node>) {
+    let (cmass, crhs) = (
+        dv.curvature_route.mass.clone(),
+        dv.curvature_route.rhs.clone(),
+    );
+    if pivots.iter().all(|&p| p != ZERO_NODE)
+        && let Some(sol) = m.solve_symbolic(&cmass, &crhs)
+    {
+        let mut d3 = bound_dag(m, &Args::vectors(m));
+        let x3 = exprs(&mut d3, m, &sol);
+        if d3.cost_estimate(&x3) < reduced.0.cost_estimate(&reduced.1) {
+            dv.curvature_route.solution = Some(sol);
+            return (d3, x3);
+        }
+    }
+    reduced
+}
+
+/// The expansion of a system in generalized speeds (DESIGN §9): Maggi's
+/// equations, solved like the curvature route's reduced system.
+fn generate_speeds(
+    def: &SystemDef,
+    mut m: Model,
+    cx: &mut Ctxt,
+    mut stats: Stats,
+) -> (TokenStream, Stats) {
+    let (mut dv, terms) = m.derive_maggi();
+    stats.derived.push("accelerations (Maggi's equations)");
+    if !derivation_checked(def, &mut m, &mut dv, cx) {
+        return (TokenStream::new(), stats);
+    }
+    let mut d = bound_dag(&m, &Args::vectors(&m));
+    let (udot, pivots) = curvature_nodes(&mut d, &m, &dv.curvature_route);
+    if !check::regular(def, &pivots, cx) {
+        return (TokenStream::new(), stats);
+    }
+    let (d, udot) = solved_if_cheaper(&mut m, &mut dv, (d, udot), &pivots);
+    stats.ops_curvature = d.op_count(&udot);
+    stats.cost_curvature = d.cost_estimate(&udot);
+    stats.route = Some(Route::Curvature);
+    stats.maggi = true;
+    let mut shape = shape_of(def);
+    shape.outputs = m.outputs;
+    let mut bodies = Derived {
+        m: &mut m,
+        dv,
+        route: Route::Curvature,
+        stats: &mut stats,
+        hoist_blocks: Vec::new(),
+        hoist_len: 0,
+        hoist_seen: rustc_hash::FxHashMap::default(),
+        graphs: RouteGraphs {
+            multiplier: None,
+            curvature: Some((d, udot)),
+        },
+        maggi: Some(terms),
+    };
+    let tokens = crate::api::expand(&shape, &mut bodies);
+    finish(def, &m, cx, tokens, stats)
 }
 
 /// The graphs of r̈ by both routes, built to compare their costs.
@@ -1160,7 +1348,7 @@ struct ComparedRoutes {
 /// Builds the graph of r̈ by each route (the curvature route's with the
 /// reduced system solved symbolically, if that is cheaper).
 fn compare_routes(m: &mut Model, dv: &mut Derivation, both_routes: bool) -> ComparedRoutes {
-    let args_v = Args::vectors(m.n(), m.k());
+    let args_v = Args::vectors(m);
     let mut d1 = bound_dag(m, &args_v);
     let mn = multiplier_nodes(&mut d1, m, &dv.multiplier_route);
     let mut d2 = bound_dag(m, &args_v);
@@ -1169,22 +1357,8 @@ fn compare_routes(m: &mut Model, dv: &mut Derivation, both_routes: bool) -> Comp
     } else {
         (Vec::new(), Vec::new())
     };
-    // the same route with the reduced system solved symbolically, if cheaper
-    let (cmass, crhs) = (
-        dv.curvature_route.mass.clone(),
-        dv.curvature_route.rhs.clone(),
-    );
-    if both_routes
-        && piv2.iter().all(|&p| p != ZERO_NODE)
-        && let Some(sol) = m.solve_symbolic(&cmass, &crhs)
-    {
-        let mut d3 = bound_dag(m, &args_v);
-        let x3 = exprs(&mut d3, m, &sol);
-        if d3.cost_estimate(&x3) < d2.cost_estimate(&rdd2) {
-            dv.curvature_route.solution = Some(sol);
-            d2 = d3;
-            rdd2 = x3;
-        }
+    if both_routes {
+        (d2, rdd2) = solved_if_cheaper(m, dv, (d2, rdd2), &piv2);
     }
     ComparedRoutes {
         multiplier: (d1, mn.rdd),

@@ -12,6 +12,8 @@ use crate::sym::{Engine, ExprId, Fun, Rational, SymId, ZERO};
 use proc_macro2::{Ident, Span};
 use rustc_hash::FxHashMap as HashMap;
 
+mod speeds;
+
 /// The functions of the input language.
 pub const FUNCTIONS: [&str; 6] = ["sin", "cos", "tan", "exp", "ln", "sqrt"];
 
@@ -24,6 +26,7 @@ enum Binding {
     Coord(usize),
     Input(usize),
     Let(usize),
+    Speed(usize),
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -32,6 +35,7 @@ enum Place {
     Lagrangian,
     Force,
     Constraint,
+    Kinematics,
 }
 
 struct LetInfo {
@@ -46,6 +50,8 @@ struct Lowerer<'a> {
     params: Vec<Parameter>,
     coords: Vec<Coordinate>,
     inputs: Vec<Input>,
+    /// the generalized speeds' symbols, in declared order
+    speed_syms: Vec<SymId>,
     lets: Vec<LetInfo>,
     t_sym: SymId,
     pi_sym: SymId,
@@ -128,7 +134,9 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     let lagrangian = lw.lower_lagrangian(def);
     lw.lower_forces(def);
     let constraints = lw.lower_constraints(def);
+    let speeds = lw.lower_speeds(def);
     let outputs = check::outputs(def, lw.cx);
+    check::outputs_for_form(def, lw.cx);
     if lw.e.overflowed() {
         lw.cx.error_at(
             def.name.span(),
@@ -140,7 +148,10 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         return None;
     }
     let mut constraints = constraints;
-    let partition = Partition::of(lw.coords.len(), &mut constraints);
+    let partition = match speeds {
+        Some(_) => Partition::of(0, &mut constraints),
+        None => Partition::of(lw.coords.len(), &mut constraints),
+    };
     Some(Model {
         engine: lw.e,
         parameters: lw.params,
@@ -152,6 +163,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         constraints,
         partition,
         outputs,
+        speeds,
         constraints_span: def.constraints.as_ref().map(|c| c.0.span()),
         huge_constant: lw.huge_constant,
     })
@@ -198,6 +210,11 @@ impl<'a> Lowerer<'a> {
             let sym = e.symbol(&u.to_string());
             inputs.push(Input { name: u, sym });
         }
+        let mut speed_syms = Vec::new();
+        for (i, u) in declared_names(&def.speeds).into_iter().enumerate() {
+            names.bind(cx, &u, "a speed", Binding::Speed(i));
+            speed_syms.push(e.symbol(&u.to_string()));
+        }
         let let_ok = def
             .lets
             .iter()
@@ -218,6 +235,7 @@ impl<'a> Lowerer<'a> {
             params,
             coords,
             inputs,
+            speed_syms,
             lets: Vec::new(),
             t_sym,
             pi_sym,
@@ -576,6 +594,10 @@ impl Lowerer<'_> {
                         self.cx.error_at(id.span(), format!("input `{s}` cannot appear in a constraint: constraints depend on the coordinates only"));
                         return None;
                     }
+                    Place::Kinematics => {
+                        self.cx.error_at(id.span(), format!("input `{s}` cannot appear in `kinematics`: q̇ = S(q, t) u + σ(q, t) depends on the coordinates, the speeds and time only; inputs act through `forces`"));
+                        return None;
+                    }
                     _ => {}
                 }
                 Some(self.e.sym(self.inputs[i].sym))
@@ -589,6 +611,13 @@ impl Lowerer<'_> {
                     return None;
                 }
                 Some(v)
+            }
+            Some(Binding::Speed(i)) => {
+                if self.place != Place::Kinematics {
+                    self.cx.error_at(id.span(), format!("speed `{s}` can appear only on the right sides of `kinematics`: write the Lagrangian, forces and `let`s with the velocities `dot(q)` of the coordinates (they are substituted by q̇ = S u + σ)"));
+                    return None;
+                }
+                Some(self.e.sym(self.speed_syms[i]))
             }
             None => match s.as_str() {
                 "t" => {
@@ -740,6 +769,10 @@ impl Lowerer<'_> {
                 parts.push(dt);
                 Some(self.e.sum(&parts))
             }
+            Some(Binding::Speed(_)) => {
+                self.cx.error(range, format!("`dot({s})`: `{s}` is a speed; its derivative is what the equations of motion compute, it cannot be written"));
+                None
+            }
             Some(Binding::Param(_)) => {
                 self.cx.error(range, format!("`dot({s})`: `{s}` is a parameter, constant in time, so its derivative is 0; remove the term"));
                 None
@@ -767,7 +800,11 @@ impl Lowerer<'_> {
 
     /// The dependent coordinate of a constraint's left side `dot(s)`.
     fn constraint_lhs(&mut self, lhs: &Expr) -> Option<usize> {
-        let msg = "the left side of a constraint must be `dot(s)` for a coordinate `s`, which becomes dependent: write `dot(s) = a1(q)*dot(r1) + ..`";
+        self.velocity_lhs(lhs, "the left side of a constraint must be `dot(s)` for a coordinate `s`, which becomes dependent: write `dot(s) = a1(q)*dot(r1) + ..`")
+    }
+
+    /// The coordinate of a left side `dot(q)`; `msg` says what is expected.
+    fn velocity_lhs(&mut self, lhs: &Expr, msg: &str) -> Option<usize> {
         match lhs {
             Expr::Call { func, arg, .. } if func == "dot" => match &**arg {
                 Expr::Name(id) if self.poisoned.contains(&id.to_string()) => None,

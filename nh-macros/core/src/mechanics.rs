@@ -89,13 +89,7 @@ impl Model {
         if entries.is_empty() {
             return (true, true);
         }
-        let mut state = 0x243F_6A88_85A3_08D3u64; // deterministic: the same verdict every build
-        let mut next = move || {
-            state ^= state >> 12;
-            state ^= state << 25;
-            state ^= state >> 27;
-            ((state.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64) / (1u64 << 53) as f64
-        };
+        let mut rng = crate::sym::Rng::new(0x243F_6A88_85A3_08D3);
         let mut vals = vec![Dd::ZERO; self.engine.num_symbols()];
         let mut points = 0;
         for _ in 0..64 {
@@ -103,7 +97,7 @@ impl Model {
                 break;
             }
             for v in vals.iter_mut() {
-                *v = Dd::from_f64(0.3 + 1.1 * next()); // positive: keeps sqrt and ln arguments valid
+                *v = Dd::from_f64(0.3 + 1.1 * rng.next_f64()); // positive: keeps sqrt and ln arguments valid
             }
             vals[self.pi.index()] = Dd::PI;
             let mut usable = true;
@@ -125,15 +119,24 @@ impl Model {
     }
 
     /// The substitution ṡ_a ↦ −Σ_α A^a_α ṙ_α of (5.11).
+    /// For a system in generalized speeds, every q̇_i ↦ (S u + σ)_i.
     pub fn constrained_velocities(&self) -> HashMap<SymId, ExprId> {
+        if let Some(sp) = &self.speeds {
+            let velocities = self.coordinates.iter().map(|c| c.velocity);
+            return velocities.zip(sp.velocities.iter().copied()).collect();
+        }
         self.constraints
             .iter()
             .map(|c| (self.coordinates[c.dependent].velocity, c.velocity))
             .collect()
     }
 
-    /// q̇ at the constrained velocities, per coordinate.
-    fn constrained_qdot(&mut self) -> Vec<ExprId> {
+    /// q̇ at the constrained velocities, per coordinate (S u + σ, for a
+    /// system in generalized speeds).
+    pub fn constrained_qdot(&mut self) -> Vec<ExprId> {
+        if let Some(sp) = &self.speeds {
+            return sp.velocities.clone();
+        }
         let mut out = Vec::with_capacity(self.n());
         for i in 0..self.n() {
             match self.constraints.iter().find(|c| c.dependent == i) {

@@ -25,11 +25,13 @@ pub enum Output {
     Linearization,
     /// `routes`: both derivation routes as separate methods
     Routes,
+    /// `reaction_forces`: E − Q of a system in generalized speeds (DESIGN §9)
+    ReactionForces,
 }
 
 impl Output {
     /// Every output, in the order the messages list them.
-    pub const ALL: [Output; 8] = [
+    pub const ALL: [Output; 9] = [
         Output::Multipliers,
         Output::Curvature,
         Output::Energy,
@@ -38,6 +40,7 @@ impl Output {
         Output::Jacobian,
         Output::Linearization,
         Output::Routes,
+        Output::ReactionForces,
     ];
 
     /// The name written in `outputs { .. }`.
@@ -51,6 +54,7 @@ impl Output {
             Output::Jacobian => "jacobian",
             Output::Linearization => "linearization",
             Output::Routes => "routes",
+            Output::ReactionForces => "reaction_forces",
         }
     }
 }
@@ -139,6 +143,18 @@ pub struct Constraint {
     pub coefficients: Vec<ExprId>,
 }
 
+/// A system in generalized speeds (DESIGN §9): q̇ = S(q, t) u + σ(q, t).
+pub struct Speeds {
+    /// Span of the `speeds` keyword (for diagnostics).
+    pub span: Span,
+    /// The speeds u as declared.
+    pub names: Vec<Ident>,
+    /// Their symbols.
+    pub syms: Vec<SymId>,
+    /// q̇_i = Σ_a S_ia u_a + σ_i per coordinate, in coordinate order.
+    pub velocities: Vec<ExprId>,
+}
+
 /// Which coordinates are independent and which dependent: the partition
 /// the constraints make.
 pub struct Partition {
@@ -184,6 +200,9 @@ pub struct Model {
     pub partition: Partition,
     /// Requested outputs.
     pub outputs: Outputs,
+    /// The generalized speeds and kinematics, for a system written in them
+    /// (it then has no constraints).
+    pub speeds: Option<Speeds>,
     /// Span of the `constraints` keyword, if any (for diagnostics).
     pub constraints_span: Option<Span>,
     /// The first subexpression of the input whose value is a constant beyond
@@ -209,9 +228,13 @@ impl Model {
         self.coordinates.len()
     }
 
-    /// Number of independent coordinates k.
+    /// Number of independent coordinates k (of speeds, for a system in
+    /// generalized speeds): the length of the state's velocity part.
     pub fn k(&self) -> usize {
-        self.independent().len()
+        match &self.speeds {
+            Some(s) => s.syms.len(),
+            None => self.independent().len(),
+        }
     }
 
     /// Number of constraints p.
@@ -232,9 +255,13 @@ impl Model {
             .collect()
     }
 
-    /// The symbols of the velocities of the independent coordinates ṙ.
+    /// The symbols of the velocities of the independent coordinates ṙ (the
+    /// speeds u, for a system in generalized speeds): the state's velocity part.
     pub fn independent_velocities(&self) -> Vec<SymId> {
-        self.of_independent(|c| c.velocity)
+        match &self.speeds {
+            Some(s) => s.syms.clone(),
+            None => self.of_independent(|c| c.velocity),
+        }
     }
 }
 

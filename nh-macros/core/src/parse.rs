@@ -188,6 +188,11 @@ pub struct SystemDef {
     pub constraints: Option<(Ident, Vec<Constraint>)>,
     /// `outputs { .. }`
     pub outputs: Option<(Ident, Vec<Ident>)>,
+    /// `speeds { .. }`: the generalized speeds u (DESIGN §9)
+    pub speeds: Option<(Ident, Vec<Ident>)>,
+    /// `kinematics { dot(q) = ..; }`: q̇ = S(q, t) u + σ(q, t), one line per
+    /// coordinate (parsed like constraints)
+    pub kinematics: Option<(Ident, Vec<Constraint>)>,
     /// Names declared by items that failed to parse: their uses are not
     /// reported again as unknown (no follow-up errors).
     pub poisoned: Vec<Ident>,
@@ -296,6 +301,8 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         forces: None,
         constraints: None,
         outputs: None,
+        speeds: None,
+        kinematics: None,
         poisoned: Vec::new(),
         lagrangian_written: false,
         krate,
@@ -401,12 +408,14 @@ fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
 }
 
 /// The blocks of a definition, in the order messages list them.
-const BLOCKS: [&str; 6] = [
+const BLOCKS: [&str; 8] = [
     "parameters",
     "coordinates",
     "inputs",
     "forces",
     "constraints",
+    "speeds",
+    "kinematics",
     "outputs",
 ];
 
@@ -414,7 +423,16 @@ const BLOCKS: [&str; 6] = [
 fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &mut Ctxt) {
     let which = kw.to_string();
     match which.as_str() {
-        "parameters" | "coordinates" | "inputs" | "outputs" => parse_name_block(kw, group, def, cx),
+        "parameters" | "coordinates" | "inputs" | "speeds" | "outputs" => {
+            parse_name_block(kw, group, def, cx)
+        }
+        "kinematics" => {
+            let list = parse_each(group, parse_kinematics_line, cx);
+            set_once(&mut def.kinematics, kw, list, cx, |_| {
+                "duplicate `kinematics` block: write one line per coordinate in one block"
+                    .to_string()
+            });
+        }
         "constraints" => {
             let list = parse_each(group, parse_constraint, cx);
             set_once(&mut def.constraints, kw, list, cx, |_| {
@@ -432,7 +450,7 @@ fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &
             cx.error_at(
                 kw.span(),
                 format!(
-                    "unknown block `{which}`{hint}; the blocks are `parameters`, `coordinates`, `inputs`, `forces`, `constraints` and `outputs`"
+                    "unknown block `{which}`{hint}; the blocks are `parameters`, `coordinates`, `inputs`, `forces`, `constraints`, `speeds`, `kinematics` and `outputs`"
                 ),
             );
         }
@@ -461,6 +479,7 @@ fn parse_name_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, 
         "parameters" => Some("a parameter"),
         "coordinates" => Some("a coordinate"),
         "inputs" => Some("an input"),
+        "speeds" => Some("a speed"),
         _ => None,
     };
     for id in &list {
@@ -472,6 +491,7 @@ fn parse_name_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, 
         "parameters" => &mut def.parameters,
         "coordinates" => &mut def.coordinates,
         "inputs" => &mut def.inputs,
+        "speeds" => &mut def.speeds,
         _ => &mut def.outputs,
     };
     set_once(slot, kw, list, cx, |prev| {
@@ -600,7 +620,7 @@ fn parse_statement(input: ParseStream) -> syn::Result<Statement> {
     Err(syn::Error::new(
         kw.span(),
         format!(
-            "unexpected `{kw}`{hint}: an item is `let NAME = ..;`, `lagrangian = ..;` or a block `parameters {{ .. }}`, `coordinates {{ .. }}`, `inputs {{ .. }}`, `forces {{ .. }}`, `constraints {{ .. }}`, `outputs {{ .. }}`"
+            "unexpected `{kw}`{hint}: an item is `let NAME = ..;`, `lagrangian = ..;` or a block `parameters {{ .. }}`, `coordinates {{ .. }}`, `inputs {{ .. }}`, `forces {{ .. }}`, `constraints {{ .. }}`, `speeds {{ .. }}`, `kinematics {{ .. }}`, `outputs {{ .. }}`"
         ),
     ))
 }
@@ -627,15 +647,28 @@ fn parse_name_list(input: ParseStream) -> syn::Result<Vec<Ident>> {
 }
 
 fn parse_constraint(input: ParseStream) -> syn::Result<Constraint> {
+    parse_equation(
+        input,
+        "expected `=`: a constraint is written `dot(s) = a(q)*dot(r) + ..;`",
+    )
+}
+
+/// `lhs = rhs`, with `missing_eq` as the error when there is no `=`.
+fn parse_equation(input: ParseStream, missing_eq: &str) -> syn::Result<Constraint> {
     let lhs = parse_expr(input, 0)?;
     if !input.peek(Token![=]) {
-        return Err(
-            input.error("expected `=`: a constraint is written `dot(s) = a(q)*dot(r) + ..;`")
-        );
+        return Err(input.error(missing_eq));
     }
     let _: Token![=] = input.parse()?;
     let rhs = parse_expr_all(input)?;
     Ok(Constraint { lhs, rhs })
+}
+
+fn parse_kinematics_line(input: ParseStream) -> syn::Result<Constraint> {
+    parse_equation(
+        input,
+        "expected `=`: a line of `kinematics` is written `dot(q) = s1(q)*u1 + s2(q)*u2 + ..;`",
+    )
 }
 
 fn parse_force(input: ParseStream) -> syn::Result<Force> {

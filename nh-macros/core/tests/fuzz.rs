@@ -56,6 +56,25 @@ const SEEDS: &[&str] = &[
         constraints { dot(q3) = 3*q2^2/2*dot(q1) - cos(q1)/2*dot(q2); }
         outputs { curvature, routes }
     }"#,
+    r#"
+    /// The snakeboard on a belt, in generalized speeds.
+    pub struct SnakeboardSpeeds {
+        parameters { m, J, Jr, Jw, l, c, b }
+        coordinates { x, y, theta, psi, phi }
+        inputs { tau_psi, tau_phi }
+        lagrangian = m*(dot(x)^2 + dot(y)^2)/2 + J*dot(theta)^2/2 + Jr*(dot(theta) + dot(psi))^2/2
+            + Jw*(dot(theta) + dot(phi))^2/2 + Jw*(dot(theta) - dot(phi))^2/2;
+        forces { x: -c*dot(x); psi: tau_psi; phi: tau_phi; }
+        speeds { xi, w_psi, w_phi }
+        kinematics {
+            dot(x) = xi*cos(theta) + b*t;
+            dot(y) = xi*sin(theta);
+            dot(theta) = xi*tan(phi)/l;
+            dot(psi) = w_psi;
+            dot(phi) = w_phi;
+        }
+        outputs { energy, mass_matrix, reaction_forces, jacobian, linearization }
+    }"#,
 ];
 
 const WORDS: &[&str] = &[
@@ -76,6 +95,9 @@ const WORDS: &[&str] = &[
     "let",
     "lagrangian",
     "constraints",
+    "speeds",
+    "kinematics",
+    "reaction_forces",
     "coordinates",
     "parameters",
     "inputs",

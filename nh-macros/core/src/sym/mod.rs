@@ -178,3 +178,23 @@ impl Engine {
 
 #[cfg(test)]
 mod tests;
+
+/// A deterministic pseudo-random sequence (xorshift*) for the numerical
+/// tests at random points: the same verdict on every build.
+pub struct Rng(u64);
+
+impl Rng {
+    /// The sequence from `seed` (nonzero).
+    pub fn new(seed: u64) -> Rng {
+        Rng(seed)
+    }
+
+    /// The next number, uniform in [0, 1).
+    pub fn next_f64(&mut self) -> f64 {
+        let s = &mut self.0;
+        *s ^= *s >> 12;
+        *s ^= *s << 25;
+        *s ^= *s >> 27;
+        ((s.wrapping_mul(0x2545_F491_4F6C_DD1D) >> 11) as f64) / (1u64 << 53) as f64
+    }
+}

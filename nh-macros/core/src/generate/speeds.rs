@@ -1,0 +1,151 @@
+//! The method bodies particular to a system in generalized speeds
+//! (DESIGN §9): the kinematics, the reaction forces, the mass matrix in the
+//! speeds, the runtime's right side and the chart's regularity.
+
+use super::{Args, Derived, bound_dag, dot, exprs, matrix, vector_expr};
+use crate::emit::Node;
+use crate::maggi::MaggiTerms;
+use proc_macro2::TokenStream;
+use quote::quote;
+
+impl Derived<'_> {
+    /// Maggi's terms (only called for a system in generalized speeds).
+    fn terms(&self) -> &MaggiTerms {
+        self.maggi
+            .as_ref()
+            .expect("the bodies of a system in generalized speeds have its terms")
+    }
+
+    /// The documentation of `accelerations` in generalized speeds.
+    pub(super) fn speeds_accelerations_doc(&self) -> String {
+        let u_doc = if self.m.inputs.is_empty() {
+            ""
+        } else {
+            "\n\n`u` holds the inputs in declared order."
+        };
+        let how = if self.dv.curvature_route.solution.is_some() {
+            "solved symbolically (LDLᵀ)"
+        } else {
+            "solved by an unrolled LDLᵀ factorisation with its structural zeros pruned"
+        };
+        format!(
+            "The equations of motion in generalized speeds: u̇, the rates of the speeds (in the order of [`Self::SPEEDS`]) at time `t`, coordinates `q` and speeds `speeds`.{u_doc}\n\nDerived as Maggi's equations (Sᵀ M S) u̇ = Sᵀ(Q − h − M(Ṡ u + σ̇)) with q̇ = S(q, t) u + σ(q, t) from `kinematics`, M = ∂²L/∂q̇∂q̇ and E = M q̈ + h − Q the Euler–Lagrange terms; the k × k system is {how}; {} operations after common-subexpression elimination.",
+            self.stats.ops_curvature
+        )
+    }
+
+    /// `velocities`: q̇ = S u + σ.
+    pub(super) fn velocities_body(&mut self) -> TokenStream {
+        let n = self.m.n();
+        let mut d = bound_dag(self.m, &Args::vectors(self.m));
+        let w = self.m.constrained_qdot();
+        let outs = exprs(&mut d, self.m, &w);
+        let (stmts, o) = self.emit_hoisted(&d, &outs);
+        let ret = vector_expr(n, &o);
+        quote! { let _ = (t, q, speeds); #stmts #ret }
+    }
+
+    /// `reaction_forces`: E − Q = M (S u̇ + a) + h, with u̇ from `accelerations`.
+    pub(super) fn reaction_forces_body(&mut self) -> TokenStream {
+        let (n, k) = (self.m.n(), self.m.k());
+        let mut d = bound_dag(self.m, &Args::vectors(self.m));
+        let udot: Vec<Node> = (0..k).map(|b| d.leaf(quote!(__nh_udot[#b]))).collect();
+        let t = self.terms();
+        let (mass, bias, s, acc) = (
+            t.mass.clone(),
+            t.bias.clone(),
+            t.s.clone(),
+            t.acc_bias.clone(),
+        );
+        let mass = matrix(&mut d, self.m, &mass);
+        let bias = exprs(&mut d, self.m, &bias);
+        let s = matrix(&mut d, self.m, &s);
+        let acc = exprs(&mut d, self.m, &acc);
+        // q̈ = S u̇ + a
+        let qdd: Vec<Node> = (0..n)
+            .map(|i| dot(&mut d, acc[i], (0..k).map(|b| (s[i][b], udot[b]))))
+            .collect();
+        let out: Vec<Node> = (0..n)
+            .map(|i| {
+                let r = dot(&mut d, bias[i], (0..n).map(|j| (mass[i][j], qdd[j])));
+                d.label(r, format!("reaction force {i}: (M q̈ + h)_{i}, E − Q (3.9)"));
+                r
+            })
+            .collect();
+        let (stmts, o) = self.emit_hoisted(&d, &out);
+        let ret = vector_expr(n, &o);
+        let u = self.u_forward();
+        quote! {
+            let __nh_udot = self.accelerations(t, q, speeds #u);
+            #stmts #ret
+        }
+    }
+
+    /// `mass_matrix` in generalized speeds: Sᵀ M S.
+    pub(super) fn speeds_mass_matrix_body(&mut self) -> TokenStream {
+        let k = self.m.k();
+        let flat: Vec<_> = self
+            .dv
+            .curvature_route
+            .mass
+            .iter()
+            .flatten()
+            .copied()
+            .collect();
+        self.matrix_of_q(k, k, &flat)
+    }
+
+    /// The runtime's `rhs`: [S u + σ, u̇] from `velocities` and `accelerations`.
+    pub(super) fn speeds_rhs_body(&mut self) -> TokenStream {
+        let (n, k) = (self.m.n(), self.m.k());
+        let u = self.u_forward();
+        let items: Vec<TokenStream> = (0..n)
+            .map(|i| quote!(__nh_qdot[#i]))
+            .chain((0..k).map(|b| quote!(__nh_udot[#b])))
+            .collect();
+        let ret = vector_expr(n + k, &items);
+        quote! {
+            let __nh_q = x.fixed_rows::<#n>(0).into_owned();
+            let __nh_u = x.fixed_rows::<#k>(#n).into_owned();
+            let __nh_qdot = self.velocities(t, &__nh_q, &__nh_u);
+            let __nh_udot = self.accelerations(t, &__nh_q, &__nh_u #u);
+            #ret
+        }
+    }
+
+    /// The runtime's `chart_regularity`: the Hadamard ratio det(Sᵀ M S) /
+    /// Π (Sᵀ M S)_aa, from the pivots of its LDLᵀ factorisation. In (0, 1]
+    /// where Sᵀ M S is positive definite; it tends to 0 where the speeds
+    /// lose rank.
+    pub(super) fn chart_regularity(&mut self) -> TokenStream {
+        let (n, k) = (self.m.n(), self.m.k());
+        let dim = n + k;
+        let mut d = bound_dag(self.m, &Args::state(self.m));
+        let mass = matrix(&mut d, self.m, &self.dv.curvature_route.mass);
+        let fac = d.factor_symmetric(&mass);
+        let mut ratio = crate::emit::ONE_NODE;
+        for (a, &p) in fac.d.iter().enumerate() {
+            let r = d.div(p, mass[a][a]);
+            ratio = d.mul(ratio, r);
+        }
+        d.label(
+            ratio,
+            "Hadamard ratio det(Sᵀ M S) / Π diag: 1 for orthogonal speeds, → 0 at a loss of rank",
+        );
+        let (stmts, o) = self.emit_hoisted(&d, &[ratio]);
+        let v = &o[0];
+        let xty = crate::api::svector(dim);
+        quote! {
+            /// The regularity of the speeds' chart: the Hadamard ratio
+            /// det(Sᵀ M S) / Π (Sᵀ M S)_aa of the mass matrix in the speeds,
+            /// in (0, 1] where it is positive definite and tending to 0 where
+            /// the speeds lose rank (the runtime then ends the run).
+            #[inline]
+            fn chart_regularity(&self, t: T, x: &#xty) -> ::core::option::Option<T> {
+                let _ = (t, x);
+                #stmts
+                ::core::option::Option::Some(#v)
+            }
+        }
+    }
+}

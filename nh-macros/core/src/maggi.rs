@@ -1,0 +1,127 @@
+//! Maggi's equations for a system in generalized speeds (DESIGN §9): with
+//! q̇ = S(q, t) u + σ(q, t) and the Euler–Lagrange terms
+//! E = M q̈ + h (3.9), forces included in h, the motion satisfies
+//! Sᵀ E = 0 with q̈ = S u̇ + a, a = Ṡ u + σ̇ (total time derivatives along
+//! the motion at fixed u), so that
+//!
+//! (Sᵀ M S) u̇ = −Sᵀ (h + M a),
+//!
+//! everything evaluated at q̇ = S u + σ. The reduced system has the shape of
+//! the curvature route's (a k × k symmetric matrix and a right side), so the
+//! generation solves it, differentiates it and checks it the same way.
+
+use crate::mechanics::{CurvatureRoute, Derivation};
+use crate::model::Model;
+use crate::sym::{ExprId, ZERO};
+use rustc_hash::FxHashMap as HashMap;
+
+/// The pieces of Maggi's equations beyond the reduced system, for the
+/// reaction forces.
+pub struct MaggiTerms {
+    /// M at q̇ = S u + σ, n × n.
+    pub mass: Vec<Vec<ExprId>>,
+    /// h at q̇ = S u + σ.
+    pub bias: Vec<ExprId>,
+    /// S = ∂q̇/∂u, n × k.
+    pub s: Vec<Vec<ExprId>>,
+    /// a = Ṡ u + σ̇: the part of q̇'s time derivative at fixed u.
+    pub acc_bias: Vec<ExprId>,
+}
+
+impl Model {
+    /// The derivation of a system in generalized speeds: Maggi's equations
+    /// as the reduced system (in the curvature route's slot), the
+    /// multiplier route's M and h, and the terms of the reaction forces.
+    pub fn derive_maggi(&mut self) -> (Derivation, MaggiTerms) {
+        let multiplier_route = self.multiplier_route();
+        let (n, k) = (self.n(), self.k());
+        let map = self.constrained_velocities();
+        let w = self.constrained_qdot();
+        let speeds = self.independent_velocities();
+        let positions: Vec<_> = self.positions().collect();
+        let time = self.time;
+        let e = &mut self.engine;
+        let mut memo = HashMap::default();
+        let mass: Vec<Vec<ExprId>> = multiplier_route
+            .mass
+            .iter()
+            .map(|row| row.iter().map(|&x| e.subst(x, &map, &mut memo)).collect())
+            .collect();
+        let bias: Vec<ExprId> = multiplier_route
+            .bias
+            .iter()
+            .map(|&x| e.subst(x, &map, &mut memo))
+            .collect();
+        let s: Vec<Vec<ExprId>> = w
+            .iter()
+            .map(|&wi| speeds.iter().map(|&u| e.diff(wi, u)).collect())
+            .collect();
+        let acc_bias: Vec<ExprId> = w
+            .iter()
+            .map(|&wi| {
+                let mut parts = vec![e.diff(wi, time)];
+                for (j, &q) in positions.iter().enumerate() {
+                    let d = e.diff(wi, q);
+                    if d != ZERO {
+                        parts.push(e.mul(d, w[j]));
+                    }
+                }
+                e.sum(&parts)
+            })
+            .collect();
+        // M S and h + M a
+        let ms: Vec<Vec<ExprId>> = (0..n)
+            .map(|i| {
+                (0..k)
+                    .map(|b| {
+                        let parts: Vec<ExprId> =
+                            (0..n).map(|j| e.mul(mass[i][j], s[j][b])).collect();
+                        e.sum(&parts)
+                    })
+                    .collect()
+            })
+            .collect();
+        let g: Vec<ExprId> = (0..n)
+            .map(|i| {
+                let mut parts = vec![bias[i]];
+                parts.extend((0..n).map(|j| e.mul(mass[i][j], acc_bias[j])));
+                e.sum(&parts)
+            })
+            .collect();
+        let mut reduced = vec![vec![ZERO; k]; k];
+        for a in 0..k {
+            for b in a..k {
+                let parts: Vec<ExprId> = (0..n).map(|i| e.mul(s[i][a], ms[i][b])).collect();
+                let x = e.sum(&parts);
+                reduced[a][b] = x;
+                reduced[b][a] = x;
+            }
+        }
+        let rhs: Vec<ExprId> = (0..k)
+            .map(|a| {
+                let parts: Vec<ExprId> = (0..n).map(|i| e.mul(s[i][a], g[i])).collect();
+                let x = e.sum(&parts);
+                e.neg(x)
+            })
+            .collect();
+        let derivation = Derivation {
+            multiplier_route,
+            curvature: Vec::new(),
+            curvature_route: CurvatureRoute {
+                mass: reduced,
+                rhs,
+                solution: None,
+            },
+            energy: None,
+            integrable: false,
+            integrable_proved: false,
+        };
+        let terms = MaggiTerms {
+            mass,
+            bias,
+            s,
+            acc_bias,
+        };
+        (derivation, terms)
+    }
+}

@@ -1,0 +1,13 @@
+use nonholonomic::prelude::*;
+
+nonholonomic_system! {
+    pub struct Sled {
+        parameters { m, J }
+        coordinates { x, y, theta }
+        lagrangian = m*(dot(x)^2 + dot(y)^2)/2 + J*dot(theta)^2/2;
+        constraints { dot(y) = tan(theta)*dot(x); }
+        outputs { reaction_forces }
+    }
+}
+
+fn main() {}

@@ -1,0 +1,18 @@
+use nonholonomic::prelude::*;
+
+nonholonomic_system! {
+    pub struct Sled {
+        parameters { m, J }
+        coordinates { x, y, theta }
+        lagrangian = m*(dot(x)^2 + dot(y)^2)/2 + J*dot(theta)^2/2;
+        constraints { dot(y) = tan(theta)*dot(x); }
+        speeds { v, omega }
+        kinematics {
+            dot(x) = v*cos(theta);
+            dot(y) = v*sin(theta);
+            dot(theta) = omega;
+        }
+    }
+}
+
+fn main() {}
