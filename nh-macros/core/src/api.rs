@@ -43,6 +43,12 @@ pub struct Shape<'a> {
     pub outputs: Outputs,
     /// Whether every curvature coefficient vanishes identically.
     pub integrable: bool,
+    /// Which coordinate each implicit or holonomic constraint is solved
+    /// for (the documentation of `DEPENDENT`); `None` when every
+    /// constraint is explicit.
+    pub dependent_doc: Option<String>,
+    /// Whether some constraint has an affine or time-dependent term.
+    pub affine: bool,
 }
 
 /// A method of the generated API: one variant per method, in the order of
@@ -275,6 +281,13 @@ pub trait Bodies {
     /// every method): their number and the statements computing them into
     /// `c: [T; number]` from `self`'s parameters.
     fn hoisting(&mut self) -> (usize, TokenStream);
+    /// The runtime trait's manifold hooks (`chart_regularity`,
+    /// `constraint_residual`, `project`) for state type `xty`: none by
+    /// default.
+    fn manifold(&mut self, xty: &TokenStream) -> TokenStream {
+        let _ = xty;
+        quote!()
+    }
 }
 
 /// The facade's private module in generated code: a `use` in the block
@@ -385,7 +398,8 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     } else {
         quote!()
     };
-    let runtime_impl = runtime_impl(shape, dims, bodies.method(GeneratedMethod::Rhs));
+    let manifold = bodies.manifold(&svector(dims.state));
+    let runtime_impl = runtime_impl(shape, dims, bodies.method(GeneratedMethod::Rhs), manifold);
     let jacobian_impl = jacobian_impl(shape, dims);
     let cache = Cache::new(&params, bodies.hoisting());
     let constants = constants(shape, dims);
@@ -500,7 +514,7 @@ fn inherent_methods(shape: &Shape, dims: Dims, bodies: &mut dyn Bodies) -> Token
 
 /// The runtime trait implementation: `OdeSystem`, or `ControlledSystem`
 /// for a system with inputs.
-fn runtime_impl(shape: &Shape, dims: Dims, rhs: Method) -> TokenStream {
+fn runtime_impl(shape: &Shape, dims: Dims, rhs: Method, manifold: TokenStream) -> TokenStream {
     let Method { doc, body } = rhs;
     let (name, dim, n_in) = (shape.name, dims.state, dims.inputs);
     let xty = svector(dim);
@@ -527,6 +541,7 @@ fn runtime_impl(shape: &Shape, dims: Dims, rhs: Method) -> TokenStream {
             #rhs_fn {
                 #body
             }
+            #manifold
         }
     }
 }
@@ -565,17 +580,25 @@ fn constants(shape: &Shape, dims: Dims) -> TokenStream {
     let integrable = shape.integrable;
     let integrable_doc = if p == 0 {
         "No constraints: trivially `true`.".to_string()
+    } else if shape.affine {
+        "`false`: some constraint has an affine or time-dependent term, which the curvature test (5.21) does not cover; such constraints are not reported as integrable.".to_string()
     } else if integrable {
         "`true`: every curvature coefficient B^b_{αβ} (5.21) is identically zero, so the constraints are integrable (holonomic in disguise) and could be eliminated by integrating them.".to_string()
     } else {
         "`false`: some curvature coefficient B^b_{αβ} (5.21) is not identically zero, so the constraints are genuinely nonholonomic.".to_string()
+    };
+    let dependent_doc = match &shape.dependent_doc {
+        Some(doc) => quote!(#[doc = #doc]),
+        None => quote!(
+            /// Indices in `q` of the dependent coordinates s (one per constraint), ascending.
+        ),
     };
     quote! {
         /// The generalized coordinates in declared order: the coordinate order of `q` everywhere.
         pub const COORDINATES: [&'static ::core::primitive::str; #n] = [#(#coord_names),*];
         /// Indices in `q` of the independent coordinates r, ascending.
         pub const INDEPENDENT: [::core::primitive::usize; #k] = [#(#indep),*];
-        /// Indices in `q` of the dependent coordinates s (one per constraint), ascending.
+        #dependent_doc
         pub const DEPENDENT: [::core::primitive::usize; #p] = [#(#dep),*];
         /// The inputs in declared order.
         pub const INPUTS: [&'static ::core::primitive::str; #n_in] = [#(#input_names),*];

@@ -127,6 +127,30 @@ pub fn derivation(def: &SystemDef, m: &Model, dv: &Derivation, cx: &mut Ctxt) ->
     cx.is_empty()
 }
 
+/// The outputs requested are defined for the forms of the constraints:
+/// `curvature` and `routes` need homogeneous, time-independent velocity
+/// constraints, `energy` time-independent ones. False after an error.
+pub fn forms(def: &SystemDef, m: &Model, cx: &mut Ctxt) -> bool {
+    let Some((kw, list)) = &def.outputs else {
+        return true;
+    };
+    let time_dependent = m
+        .constraints
+        .iter()
+        .any(|c| m.engine.depends_on(c.velocity, m.time));
+    for o in list {
+        let name = o.to_string();
+        let why = match name.as_str() {
+            "curvature" | "routes" if !m.homogeneous => format!("output `{name}` needs homogeneous, time-independent velocity constraints (the curvature route (5.12)–(5.21) has no terms for an affine or time-dependent part, nor for holonomic constraints); this system uses the multiplier route alone: remove `{name}` from `outputs`"),
+            "energy" if time_dependent => "output `energy` needs time-independent constraints: the constraint forces of a moving constraint do work, so E is not a constant of the motion; remove `energy` from `outputs`".to_string(),
+            _ => continue,
+        };
+        cx.error_at(o.span(), why);
+    }
+    let _ = kw;
+    cx.is_empty()
+}
+
 /// The reduced mass matrix is regular: no pivot of its factorisation, by
 /// either route, is structurally zero. False after an error.
 pub fn regular(def: &SystemDef, pivots: &[Node], cx: &mut Ctxt) -> bool {

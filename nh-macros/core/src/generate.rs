@@ -79,7 +79,7 @@ impl Stats {
     /// One line: operation counts, route, graph size.
     pub fn summary(&self) -> String {
         let curvature = if self.ops_curvature == 0 {
-            "not derived (k > 6)".to_string()
+            "not derived (k > 6, or constraints that are not homogeneous)".to_string()
         } else {
             format!("{} ops (cost {})", self.ops_curvature, self.cost_curvature)
         };
@@ -101,7 +101,7 @@ impl Stats {
 }
 
 /// Where the values of a function's arguments come from.
-struct Args {
+pub(crate) struct Args {
     coord: Vec<TokenStream>,
     rvel: Vec<TokenStream>,
 }
@@ -114,7 +114,7 @@ impl Args {
         }
     }
 
-    fn state(n: usize, k: usize) -> Args {
+    pub(crate) fn state(n: usize, k: usize) -> Args {
         Args {
             coord: (0..n).map(|i| quote!(x[#i])).collect(),
             rvel: (0..k)
@@ -128,7 +128,7 @@ impl Args {
 }
 
 /// A graph with every symbol of the model bound to its source.
-fn bound_dag(m: &Model, args: &Args) -> Dag {
+pub(crate) fn bound_dag(m: &Model, args: &Args) -> Dag {
     let mut d = Dag::new();
     for (i, c) in m.coordinates.iter().enumerate() {
         let l = d.leaf_named(
@@ -477,6 +477,10 @@ impl Derived<'_> {
         };
         let used = self.ops(self.route);
         let other = match self.ops(self.route.other()) {
+            0 if !self.m.homogeneous => {
+                "the curvature route needs homogeneous, time-independent velocity constraints"
+                    .to_string()
+            }
             0 => {
                 "the curvature route is derived for k ≤ 6 or with `outputs { routes }`".to_string()
             }
@@ -993,6 +997,10 @@ impl Bodies for Derived<'_> {
         Method { doc, body }
     }
 
+    fn manifold(&mut self, xty: &TokenStream) -> TokenStream {
+        crate::manifold::methods(self.m, xty)
+    }
+
     fn hoisting(&mut self) -> (usize, TokenStream) {
         let blocks = &self.hoist_blocks;
         (self.hoist_len, quote!(#(#blocks)*))
@@ -1075,6 +1083,8 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
         dependent,
         outputs,
         integrable: false,
+        dependent_doc: None,
+        affine: false,
     }
 }
 
@@ -1090,7 +1100,9 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     // the curvature route pays for small systems (its closed forms); beyond
     // CURVATURE_ROUTE_MAX_K independent coordinates it is derived only when
     // `routes` asks for it, and `accelerations` takes the multiplier route
-    let both_routes = m.outputs.contains(Output::Routes) || m.k() <= CURVATURE_ROUTE_MAX_K;
+    // (only for homogeneous, time-independent velocity constraints: DESIGN §9)
+    let both_routes =
+        m.homogeneous && (m.outputs.contains(Output::Routes) || m.k() <= CURVATURE_ROUTE_MAX_K);
     let mut dv = m.derive(both_routes);
     stats.derived.extend([
         if both_routes {
@@ -1100,6 +1112,9 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         },
         "curvature terms",
     ]);
+    // (5.21) decides integrability of the homogeneous part only: with affine
+    // or time-dependent terms the constraints are not called integrable
+    dv.integrable &= !m.affine;
     stats.integrable = dv.integrable;
     stats.integrable_proved = dv.integrable_proved;
     if !check::within_limits(def, &m, cx) {
@@ -1108,7 +1123,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     if m.outputs.contains(Output::Energy) {
         dv.energy = Some(m.energy());
     }
-    if !check::derivation(def, &m, &dv, cx) {
+    if !check::derivation(def, &m, &dv, cx) || !check::forms(def, &m, cx) {
         return (TokenStream::new(), stats);
     }
     let compared = compare_routes(&mut m, &mut dv, both_routes);
@@ -1121,6 +1136,10 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     let mut shape = shape_of(def);
     shape.integrable = integrable;
     shape.outputs = m.outputs;
+    shape.independent = m.independent().to_vec();
+    shape.dependent = m.dependent().to_vec();
+    shape.dependent_doc = dependent_doc(&m);
+    shape.affine = m.affine;
     let mut bodies = Derived {
         m: &mut m,
         dv,
@@ -1132,7 +1151,8 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         graphs,
     };
     let mut tokens = crate::api::expand(&shape, &mut bodies);
-    if integrable && m.p() > 0 {
+    let velocity_constraints = m.constraints.iter().any(|c| c.holonomic.is_none());
+    if integrable && velocity_constraints {
         tokens.extend(integrability_warning(
             def,
             m.constraints_span.unwrap_or(def.name.span()),
@@ -1145,6 +1165,25 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     stats.graph_size = m.engine.num_exprs();
     stats.derivatives = m.engine.counters.derivatives;
     (tokens, stats)
+}
+
+/// The documentation of `DEPENDENT` when some constraint is implicit or
+/// holonomic: which coordinate each constraint is solved for.
+fn dependent_doc(m: &Model) -> Option<String> {
+    m.chart?;
+    let mut doc = String::from(
+        " Indices in `q` of the dependent coordinates s (one per constraint), ascending. Each constraint is solved for one of them (DESIGN §9):\n",
+    );
+    for c in &m.constraints {
+        doc.push_str(&format!(
+            "\n - `{}` ({}): solved for `{}`",
+            c.source,
+            c.kind.describe(),
+            m.coordinates[c.dependent].name
+        ));
+    }
+    doc.push_str("\n\n`dependent_velocities` and `multipliers` follow this order; the multiplier λ_a belongs to the constraint solved for s_a, normalised as ṡ_a + Σ A^a_α ṙ_α + β_a = 0.");
+    Some(doc)
 }
 
 /// The graphs of r̈ by both routes, built to compare their costs.

@@ -19,6 +19,7 @@ mod ctxt;
 mod emit;
 mod generate;
 mod lower;
+mod manifold;
 mod mechanics;
 mod model;
 mod names;

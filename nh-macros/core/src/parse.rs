@@ -188,6 +188,9 @@ pub struct SystemDef {
     pub constraints: Option<(Ident, Vec<Constraint>)>,
     /// `outputs { .. }`
     pub outputs: Option<(Ident, Vec<Ident>)>,
+    /// `dependent { .. }`: the coordinates the implicit and holonomic
+    /// constraints are solved for, in the order of those constraints
+    pub dependent: Option<(Ident, Vec<Ident>)>,
     /// Names declared by items that failed to parse: their uses are not
     /// reported again as unknown (no follow-up errors).
     pub poisoned: Vec<Ident>,
@@ -296,6 +299,7 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         forces: None,
         constraints: None,
         outputs: None,
+        dependent: None,
         poisoned: Vec::new(),
         lagrangian_written: false,
         krate,
@@ -401,12 +405,13 @@ fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
 }
 
 /// The blocks of a definition, in the order messages list them.
-const BLOCKS: [&str; 6] = [
+const BLOCKS: [&str; 7] = [
     "parameters",
     "coordinates",
     "inputs",
     "forces",
     "constraints",
+    "dependent",
     "outputs",
 ];
 
@@ -414,7 +419,9 @@ const BLOCKS: [&str; 6] = [
 fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &mut Ctxt) {
     let which = kw.to_string();
     match which.as_str() {
-        "parameters" | "coordinates" | "inputs" | "outputs" => parse_name_block(kw, group, def, cx),
+        "parameters" | "coordinates" | "inputs" | "outputs" | "dependent" => {
+            parse_name_block(kw, group, def, cx)
+        }
         "constraints" => {
             let list = parse_each(group, parse_constraint, cx);
             set_once(&mut def.constraints, kw, list, cx, |_| {
@@ -432,7 +439,7 @@ fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &
             cx.error_at(
                 kw.span(),
                 format!(
-                    "unknown block `{which}`{hint}; the blocks are `parameters`, `coordinates`, `inputs`, `forces`, `constraints` and `outputs`"
+                    "unknown block `{which}`{hint}; the blocks are `parameters`, `coordinates`, `inputs`, `forces`, `constraints`, `dependent` and `outputs`"
                 ),
             );
         }
@@ -472,6 +479,7 @@ fn parse_name_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, 
         "parameters" => &mut def.parameters,
         "coordinates" => &mut def.coordinates,
         "inputs" => &mut def.inputs,
+        "dependent" => &mut def.dependent,
         _ => &mut def.outputs,
     };
     set_once(slot, kw, list, cx, |prev| {
@@ -630,7 +638,7 @@ fn parse_constraint(input: ParseStream) -> syn::Result<Constraint> {
     let lhs = parse_expr(input, 0)?;
     if !input.peek(Token![=]) {
         return Err(
-            input.error("expected `=`: a constraint is written `dot(s) = a(q)*dot(r) + ..;`")
+            input.error("expected `=`: a constraint is written `dot(s) = a(q)*dot(r) + ..;`, `c1(q)*dot(q1) + .. = b(q, t);` or `f(q, t) = 0;`")
         );
     }
     let _: Token![=] = input.parse()?;
