@@ -49,6 +49,9 @@ pub struct Shape<'a> {
     pub dependent_doc: Option<String>,
     /// Whether some constraint has an affine or time-dependent term.
     pub affine: bool,
+    /// Whether some dependent velocity depends on time explicitly (then
+    /// `dependent_velocities` takes `t`).
+    pub rheonomic: bool,
 }
 
 /// A method of the generated API: one variant per method, in the order of
@@ -90,6 +93,8 @@ pub enum Arguments {
     Coordinates,
     /// `q, rdot`
     Velocities,
+    /// `t, q, rdot`: the dependent velocities of time-dependent constraints.
+    TimedVelocities,
     /// `t, q, rdot` and `u` for a system with inputs.
     Motion,
     /// `t, x` and `u` for a system with inputs.
@@ -355,6 +360,7 @@ impl Dims {
         match takes {
             Arguments::Coordinates => quote!(&self, q: &#qty),
             Arguments::Velocities => quote!(&self, q: &#qty, rdot: &#rty),
+            Arguments::TimedVelocities => quote!(&self, t: T, q: &#qty, rdot: &#rty),
             Arguments::Motion => quote!(&self, t: T, q: &#qty, rdot: &#rty #u_arg),
             Arguments::State => quote!(&self, t: T, x: &#xty #u_arg),
         }
@@ -500,7 +506,11 @@ fn inherent_methods(shape: &Shape, dims: Dims, bodies: &mut dyn Bodies) -> Token
         }
         let Method { doc, body } = bodies.method(spec.method);
         let id = format_ident!("{}", spec.name);
-        let (args, ret) = (dims.arguments(spec.takes), dims.returns(spec.returns));
+        let takes = match spec.takes {
+            Arguments::Velocities if shape.rheonomic => Arguments::TimedVelocities,
+            takes => takes,
+        };
+        let (args, ret) = (dims.arguments(takes), dims.returns(spec.returns));
         methods.extend(quote! {
             #[doc = #doc]
             #[inline]

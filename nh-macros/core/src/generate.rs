@@ -716,7 +716,12 @@ impl Derived<'_> {
         let outs = exprs(&mut d, self.m, &sdot);
         let (stmts, o) = self.emit_hoisted(&d, &outs);
         let ret = vector_expr(p, &o);
-        quote! { let _ = (q, rdot); #stmts #ret }
+        let t = if self.m.rheonomic() {
+            quote!(t,)
+        } else {
+            quote!()
+        };
+        quote! { let _ = (#t q, rdot); #stmts #ret }
     }
 
     /// `reduced_system`: Mc and f of the curvature route (5.20).
@@ -902,6 +907,11 @@ impl Derived<'_> {
     fn rhs_body(&mut self) -> TokenStream {
         let (n, k) = (self.m.n(), self.m.k());
         let u = self.u_forward();
+        let t = if self.m.rheonomic() {
+            quote!(t,)
+        } else {
+            quote!()
+        };
         let ret = vector_expr(n + k, &{
             let mut v: Vec<TokenStream> = Vec::with_capacity(n + k);
             let (mut j, mut a) = (0usize, 0usize);
@@ -920,7 +930,7 @@ impl Derived<'_> {
         quote! {
             let __nh_q = x.fixed_rows::<#n>(0).into_owned();
             let __nh_rdot = x.fixed_rows::<#k>(#n).into_owned();
-            let __nh_sdot = self.dependent_velocities(&__nh_q, &__nh_rdot);
+            let __nh_sdot = self.dependent_velocities(#t &__nh_q, &__nh_rdot);
             let __nh_rdd = self.accelerations(t, &__nh_q, &__nh_rdot #u);
             #ret
         }
@@ -1085,6 +1095,7 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
         integrable: false,
         dependent_doc: None,
         affine: false,
+        rheonomic: false,
     }
 }
 
@@ -1140,6 +1151,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     shape.dependent = m.dependent().to_vec();
     shape.dependent_doc = dependent_doc(&m);
     shape.affine = m.affine;
+    shape.rheonomic = m.rheonomic();
     let mut bodies = Derived {
         m: &mut m,
         dv,

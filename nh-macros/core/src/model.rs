@@ -269,6 +269,13 @@ impl Model {
             .collect()
     }
 
+    /// Whether some dependent velocity depends on time explicitly.
+    pub fn rheonomic(&self) -> bool {
+        self.constraints
+            .iter()
+            .any(|c| self.engine.depends_on(c.velocity, self.time))
+    }
+
     /// The holonomic constraints: (dependent coordinate, f).
     pub fn holonomic(&self) -> Vec<(usize, ExprId)> {
         self.constraints
