@@ -110,6 +110,7 @@ pub fn derivation(def: &SystemDef, m: &Model, dv: &Derivation, cx: &mut Ctxt) ->
     }
     if let Some(en) = dv.energy
         && m.engine.depends_on(en, m.time)
+        && !m.rheonomic()
     {
         cx.error_at(outputs_span, "output `energy` needs a Lagrangian that does not depend on time `t` explicitly: remove `energy` from `outputs`");
     }

@@ -518,7 +518,10 @@ impl Lowerer<'_> {
             }
         }
         if chosen.len() != implicit.len() {
-            self.cx.error_at(kw.span(), format!("`dependent` lists {} coordinate(s), but there are {} implicit or holonomic constraint(s): list exactly one dependent coordinate per such constraint, in their order", chosen.len(), implicit.len()));
+            let count = |n: usize, one: &str, many: &str| {
+                format!("{n} {}", if n == 1 { one } else { many })
+            };
+            self.cx.error_at(kw.span(), format!("`dependent` lists {}, but {} implicit or holonomic: list exactly one dependent coordinate per such constraint, in their order", count(chosen.len(), "coordinate", "coordinates"), count(implicit.len(), "constraint is", "constraints are")));
             return None;
         }
         for a in 0..implicit.len() {
