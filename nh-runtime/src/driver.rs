@@ -444,7 +444,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             let across = self
                 .sys
                 .chart_regularity(self.t + h, &predictor)
-                .is_some_and(|next| !(next * rho > T::zero()));
+                .is_some_and(|next| next * rho <= T::zero() || !next.is_finite());
             if across {
                 return self.chart_singular();
             }
