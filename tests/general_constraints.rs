@@ -31,7 +31,7 @@ nonholonomic_system! {
         lagrangian = J*dot(theta)^2/2
             + m*((-a*dot(theta)*sin(theta) + dot(x))^2 + (a*dot(theta)*cos(theta) + dot(y))^2)/2;
         constraints { dot(y) = tan(theta)*dot(x); }
-        outputs { multipliers }
+        outputs { multipliers, jacobian }
     }
 }
 
@@ -44,7 +44,7 @@ nonholonomic_system! {
         lagrangian = J*dot(theta)^2/2
             + m*((-a*dot(theta)*sin(theta) + dot(x))^2 + (a*dot(theta)*cos(theta) + dot(y))^2)/2;
         constraints { cos(theta)*dot(y) - sin(theta)*dot(x) = 0; }
-        outputs { multipliers }
+        outputs { multipliers, jacobian }
     }
 }
 
@@ -85,7 +85,7 @@ nonholonomic_system! {
         coordinates { x, y }
         lagrangian = m*(dot(x)^2 + dot(y)^2)/2 - m*g*y;
         constraints { x^2 + y^2 = l^2; }
-        outputs { multipliers }
+        outputs { multipliers, jacobian }
     }
 }
 
@@ -136,6 +136,7 @@ nonholonomic_system! {
         coordinates { x, y }
         lagrangian = m*(dot(x)^2 + dot(y)^2)/2;
         constraints { dot(y) = k*t*dot(x); }
+        outputs { jacobian }
     }
 }
 
@@ -149,6 +150,39 @@ impl Rng {
         self.0 ^= self.0 << 17;
         lo + (hi - lo) * ((self.0 >> 11) as f64 / (1u64 << 53) as f64)
     }
+}
+
+/// The largest difference between a generated Jacobian and central
+/// differences of `rhs`, relative to max(1, |entry|).
+fn jacobian_error<S: OdeJacobian<f64, D>, const D: usize>(
+    s: &S,
+    t: f64,
+    x: &SVector<f64, D>,
+) -> f64 {
+    let j = s.jacobian(t, x);
+    let mut worst = 0.0f64;
+    for i in 0..D {
+        let h = 1e-6 * x[i].abs().max(1.0);
+        let (mut a, mut b) = (*x, *x);
+        a[i] += h;
+        b[i] -= h;
+        let col = (s.rhs(t, &a) - s.rhs(t, &b)) / (2.0 * h);
+        for r in 0..D {
+            worst = worst.max((j[(r, i)] - col[r]).abs() / col[r].abs().max(1.0));
+        }
+    }
+    worst
+}
+
+#[test]
+fn generated_jacobians_match_central_differences() {
+    let (m, l, g) = PENDULUM;
+    let p = CartesianPendulum::new(m, l, g);
+    let blade = TurningBlade::new(2.0, 0.7);
+    let e1 = jacobian_error(&p, 0.0, &pendulum_state(0.7, 1.2));
+    let e2 = jacobian_error(&blade, 1.3, &SVector::<f64, 3>::new(0.1, 0.2, 1.3));
+    println!("Jacobian vs central differences: pendulum {e1:.2e}, turning blade {e2:.2e}");
+    assert!(e1 <= 1e-7 && e2 <= 1e-7, "{e1:e} {e2:e}");
 }
 
 /// max_i |a_i − b_i| / max(1, |b_i|).

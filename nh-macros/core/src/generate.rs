@@ -1055,6 +1055,16 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
             }
         }
     }
+    // the coordinates named for the implicit and holonomic constraints
+    if let Some((_, names)) = &def.dependent {
+        for id in names {
+            if let Some(i) = coords.iter().position(|x| x == id)
+                && !dependent.contains(&i)
+            {
+                dependent.push(i);
+            }
+        }
+    }
     dependent.sort_unstable();
     let independent = (0..coords.len())
         .filter(|i| !dependent.contains(i))
