@@ -409,6 +409,16 @@ fn cartesian_pendulum_tension_and_residual() {
     );
     assert!(worst_tension <= 1e-12, "{worst_tension:e}");
 
+    // Newton on y cannot move a state with y = 0 (∂f/∂y = 0) onto the circle
+    let mut off = SVector::<f64, 3>::new(2.0 * l, 0.0, 0.0);
+    let failure = p.project(0.0, &mut off).unwrap_err();
+    assert!(failure.residual.is_nan() || failure.residual > 1e-12);
+    // a state near the circle is projected in a few Newton steps
+    let mut near = pendulum_state(0.3, 1.0);
+    near[1] *= 1.0 + 1e-6;
+    assert!(p.project(0.0, &mut near).unwrap());
+    assert!(p.constraint_residual(0.0, &near).unwrap() <= 1e-15);
+
     let x0 = pendulum_state(0.8, 0.0);
     let projected = DormandPrince::new(1e-10, 1e-12)
         .integrate(&p, 0.0, x0, 100.0)
