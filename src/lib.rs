@@ -54,7 +54,8 @@
 //! | `let NAME = expr;` | a named subexpression; may use coordinates, velocities, parameters, inputs, `t` and earlier `let`s |
 //! | `lagrangian = expr;` | exactly one: L(q, q̇, t) |
 //! | `forces { q: expr; .. }` | optional generalized non-potential forces Q_j (damping, actuation, forcing) |
-//! | `constraints { dot(s) = expr; .. }` | linear homogeneous velocity constraints, one per dependent coordinate s |
+//! | `constraints { .. }` | constraints linear in the velocities, one per dependent coordinate: explicit `dot(s) = expr;`, implicit `expr = expr;` or holonomic `f(q, t) = g(q, t);` (below) |
+//! | `dependent { s1, .. }` | optional: the coordinates the implicit and holonomic constraints are solved for, in their order |
 //! | `speeds { u1, .. }` | instead of `constraints`: generalized speeds u (Kane, Maggi); see [below](#generalized-speeds) |
 //! | `kinematics { dot(q) = expr; .. }` | with `speeds`: q̇ = S(q, t) u + σ(q, t), one line per coordinate |
 //! | `outputs { name, .. }` | optional extra generated methods (below); by default only the core API is derived |
@@ -141,6 +142,81 @@
 //! assert!((a[1] + 4.0 * (2.0 * ps).sin() * phd * psd / d).abs() < 1e-13);
 //! assert!((a[2] - psdd).abs() < 1e-12);
 //! ```
+//!
+//! ### Implicit, affine, time-dependent and holonomic constraints
+//!
+//! Each constraint is one of four forms (DESIGN §9):
+//!
+//! ```text
+//! constraints {
+//!     dot(y) = tan(theta)*dot(x);                  // explicit, homogeneous (above)
+//!     dot(x) = R*dot(beta) - Omega*y;              // explicit with an affine / time-dependent term b(q, t)
+//!     cos(theta)*dot(y) - sin(theta)*dot(x) = 0;   // implicit: velocities on either side, linear in them
+//!     x^2 + y^2 = l^2;                             // holonomic: no velocities, f(q, t) = 0
+//! }
+//! dependent { y, x }   // optional: what the implicit and holonomic constraints are solved for
+//! ```
+//!
+//! * **Explicit**: written `dot(s) = rhs` where ṡ appears nowhere in rhs, s is
+//!   not the left side of an earlier explicit constraint, and rhs uses no
+//!   velocity of another explicit constraint's coordinate. The right side is
+//!   linear in the velocities plus an optional velocity-free term b(q, t) (a
+//!   moving support, a conveyor, a turntable); s becomes dependent.
+//! * **Implicit**: any other constraint with velocities: lhs − rhs must be
+//!   linear in them, Σ_i c_i(q, t) q̇_i + b(q, t) = 0.
+//! * **Holonomic**: no velocities: f = lhs − rhs = 0. Its time derivative
+//!   Σ_i ∂f/∂q_i q̇_i + ∂f/∂t = 0 is its velocity row; the generated system
+//!   also projects states back onto f = 0 and reports the residual (below).
+//!
+//! The dependent coordinates of the implicit and holonomic constraints are those
+//! listed in `dependent { .. }` (one per such constraint, in their order), else
+//! chosen by this rule: constraints in order; for each, among the coordinates not
+//! yet dependent whose velocity has a non-zero coefficient, the first (in
+//! declared order) whose coefficient is a nonzero constant, else the last
+//! declared; a candidate is kept only if the block c_s of dependent-velocity
+//! coefficients so far stays nonsingular at a generic point (exact zero test,
+//! then 16 random points in 32-digit arithmetic), else the next is tried
+//! (constant coefficients first, then from the last declared backwards). A block
+//! singular for every choice is a compile error at the constraint. The chosen
+//! coordinates are in `DEPENDENT`, whose documentation says which constraint is
+//! solved for which coordinate. At most 3 constraints may be implicit or
+//! holonomic (their block is inverted symbolically).
+//!
+//! With the block solved, ṡ = −A ṙ − β: the equations of motion are the
+//! multiplier route (5.9) with s̈ = −A r̈ − Ȧ ṙ − β̇ (total time derivatives,
+//! ∂/∂t included). The state stays x = [q, ṙ]; the dependent velocities are
+//! computed from the constraints.
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     /// A pendulum in Cartesian coordinates (y up): solved for `y`.
+//!     pub struct Pendulum {
+//!         parameters { m, l, g }
+//!         coordinates { x, y }
+//!         lagrangian = m*(dot(x)^2 + dot(y)^2)/2 - m*g*y;
+//!         constraints { x^2 + y^2 = l^2; }
+//!         outputs { multipliers }
+//!     }
+//! }
+//!
+//! assert_eq!(Pendulum::<f64>::DEPENDENT, [1]);
+//! let p = Pendulum::new(1.0, 1.3, 9.81);
+//! let x0 = SVector::from([1.3 * 0.5f64.sin(), -1.3 * 0.5f64.cos(), 0.0]);
+//! let out = DormandPrince::new(1e-10, 1e-12).integrate(&p, 0.0, x0, 10.0).unwrap();
+//! assert!(out.max_residual.unwrap() <= 1e-12);   // projected after every step
+//! // λ is the constraint force on y, −T y/l: the rod tension T = −λ l/y
+//! let (q, r) = (out.x.fixed_rows::<2>(0).into_owned(), out.x.fixed_rows::<1>(2).into_owned());
+//! let tension = -p.multipliers(out.t, &q, &r)[0] * 1.3 / q[1];
+//! assert!(tension > 0.0);
+//! ```
+//!
+//! A chart of dependent coordinates can be singular somewhere (the implicit
+//! sled solved for y at θ = π/2): the generated `chart_regularity` (the signed
+//! ratio det(c_s)/Π‖c_a‖ of the block, in [−1, 1]) lets every integrator end
+//! such a run in `SimError::Singular { cause: Singularity::Chart, .. }` with
+//! the last good state.
 //!
 //! ## Forces, inputs and time
 //!
@@ -271,10 +347,12 @@
 //! | `COORDINATES: [&str; n]`, `INPUTS: [&str; m]` | names in declared order |
 //! | `INDEPENDENT: [usize; k]`, `DEPENDENT: [usize; p]` | the indices of r and s in q, ascending |
 //! | `N`, `K`, `P`, `STATE_DIM` | n, k, p and n + k |
-//! | `INTEGRABLE: bool` | the curvature vanishes identically: the constraints are holonomic in disguise (the macro also warns) |
-//! | `dependent_velocities(&self, q, rdot) -> SVector<T, p>` | ṡ = −A(q) ṙ |
+//! | `INTEGRABLE: bool` | the curvature vanishes identically: the constraints are holonomic in disguise (the macro warns when velocity constraints are); `false` with affine or time-dependent terms |
+//! | `dependent_velocities(&self, q, rdot) -> SVector<T, p>` | ṡ = −A(q) ṙ − β(q) (`(&self, t, q, rdot)` when a constraint depends on time) |
 //! | `accelerations(&self, t, q, rdot[, u]) -> SVector<T, k>` | r̈, the reduced equations of motion (5.9) |
 //! | `impl OdeSystem<T, n + k>` | ẋ = [q̇(q, ṙ), r̈] on the state x = [q_1 … q_n, ṙ_1 … ṙ_k] (`ControlledSystem<T, n + k, m>` with inputs) |
+//! | its `chart_regularity` | with implicit or holonomic constraints only: det(c_s)/Π‖c_a‖, zero where the chart is singular |
+//! | its `constraint_residual`, `project` | with holonomic constraints only: max \|f_i\|, and Newton's method on their dependent coordinates (at most 8 iterations, to 4 ε of the size of f's terms, `ProjectionFailure` otherwise), which the integrators apply after every accepted step unless `with_projection(false)` |
 //!
 //! The runtime state holds every coordinate and only the independent velocities;
 //! the dependent velocities are computed from the constraints at every
@@ -287,13 +365,13 @@
 //! | output | method | value |
 //! |---|---|---|
 //! | `multipliers` | `multipliers(&self, t, q, rdot[, u]) -> SVector<T, p>` | λ_a = d/dt ∂L/∂ṡ_a − ∂L/∂s_a − Q_{s_a} along the motion (5.10): the constraint forces |
-//! | `curvature` | `curvature(&self, q) -> [SMatrix<T, k, k>; p]` | `B[b][(α, β)]` = B^b_{αβ} of (5.21) |
-//! | `energy` | `energy(&self, q, rdot) -> T` | E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities (L must not depend on `t`) |
-//! | `constraint_matrix` | `constraint_matrix(&self, q) -> SMatrix<T, p, k>` | A^a_α, minus the coefficient of ṙ_α in the constraint of s_a |
+//! | `curvature` | `curvature(&self, q) -> [SMatrix<T, k, k>; p]` | `B[b][(α, β)]` = B^b_{αβ} of (5.21) (homogeneous, time-independent velocity constraints only) |
+//! | `energy` | `energy(&self, q, rdot) -> T` | E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities (L and the constraints must not depend on `t`) |
+//! | `constraint_matrix` | `constraint_matrix(&self, q) -> SMatrix<T, p, k>` | A^a_α, minus the coefficient of ṙ_α in the solved constraint of s_a (time-independent constraints) |
 //! | `mass_matrix` | `mass_matrix(&self, q) -> SMatrix<T, n, n>` | ∂²L/∂q̇_i∂q̇_j |
 //! | `jacobian` | `jacobian(&self, t, x[, u]) -> SMatrix<T, n+k, n+k>` and `impl OdeJacobian` | ∂f/∂x of the first-order system, for the stiff integrators |
 //! | `linearization` | `linearization(&self, t, x, u) -> (A, B)` | A = ∂f/∂x and B = ∂f/∂u of ẋ = f(t, x, u), for controller design |
-//! | `routes` | `accelerations_multiplier_route`, `accelerations_curvature_route`, `reduced_system`, `OPS_MULTIPLIER_ROUTE`, `OPS_CURVATURE_ROUTE`, `ROUTE` | both derivations of r̈ as separate methods with their operation counts, and the reduced system M_c r̈ = f |
+//! | `routes` (homogeneous, time-independent velocity constraints) | `accelerations_multiplier_route`, `accelerations_curvature_route`, `reduced_system`, `OPS_MULTIPLIER_ROUTE`, `OPS_CURVATURE_ROUTE`, `ROUTE` | both derivations of r̈ as separate methods with their operation counts, and the reduced system M_c r̈ = f |
 //!
 //! ```
 //! use nonholonomic::prelude::*;
@@ -333,7 +411,8 @@
 //!
 //! Of the two derivations of r̈ — projecting the full Euler–Lagrange equations
 //! with multipliers (5.9), or Bloch's form with the constrained Lagrangian and the
-//! curvature (5.12)–(5.21) — both are derived when k ≤ 6 (or with `routes`), and
+//! curvature (5.12)–(5.21) — both are derived when k ≤ 6 (or with `routes`) and
+//! the constraints are homogeneous and time-independent, and
 //! `accelerations` uses the one with fewer weighted operations; they agree to
 //! rounding. Values that depend on parameters alone are computed in `new` and
 //! recomputed if a parameter field is changed afterwards.
@@ -345,7 +424,9 @@
 //!   that ṡ = −A ṙ. For the disc above, `dot(x) = R*cos(phi)*dot(theta)` gives
 //!   A^x_θ = −R cos φ.
 //! * Multipliers carry the thesis's sign: E = Cᵀ λ with C = [A | I] (columns
-//!   in the order r, s) and E_j = d/dt ∂L/∂q̇_j − ∂L/∂q_j − Q_j.
+//!   in the order r, s) and E_j = d/dt ∂L/∂q̇_j − ∂L/∂q_j − Q_j. For an
+//!   implicit or holonomic constraint, λ_a belongs to the row solved for s_a,
+//!   ṡ_a + Σ_α A^a_α ṙ_α + β_a = 0 (coefficient 1 on ṡ_a).
 //! * Names are used as written (`R`, `J`, `I1` are fine); `r#x` and `x` are one
 //!   name. The generated code binds only `__nh_` names of its own.
 //!
@@ -380,15 +461,15 @@
 //! }
 //! ```
 //!
-//! and an affine term (the constraint must be homogeneous in the velocities):
+//! and a `dependent` coordinate that no implicit or holonomic constraint involves:
 //!
 //! ```compile_fail
 //! nonholonomic::nonholonomic_system! {
 //!     pub struct Bad {
-//!         parameters { v }
-//!         coordinates { x, y }
-//!         lagrangian = dot(x)^2/2 + dot(y)^2/2;
-//!         constraints { dot(y) = dot(x) + v; }  // error: velocity-free term
+//!         coordinates { x, y, theta }
+//!         lagrangian = dot(x)^2/2 + dot(y)^2/2 + dot(theta)^2/2;
+//!         constraints { cos(theta)*dot(y) = sin(theta)*dot(x); }
+//!         dependent { theta }  // error: theta is in no such constraint
 //!     }
 //! }
 //! ```

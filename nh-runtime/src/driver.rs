@@ -432,9 +432,23 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
     }
 
     /// A failure within `eps^(1/4)` of a chart singularity is reported as
-    /// the singularity that caused it.
+    /// the singularity that caused it; so is a stage solve that failed on a
+    /// step whose explicit Euler predictor x + h f(t, x) lies across one
+    /// (an implicit method's fixed step reaching the singularity).
     fn explain(&self, e: SimError<T, D>) -> SimError<T, D> {
         let near = |rho: T| rho.abs() <= self.eps.sqrt().sqrt();
+        if let SimError::NoConvergence { h, .. } = e
+            && let Some(rho) = self.sys.chart_regularity(self.t, &self.x)
+        {
+            let predictor = self.x + self.sys.rhs(self.t, &self.x) * h;
+            let across = self
+                .sys
+                .chart_regularity(self.t + h, &predictor)
+                .is_some_and(|next| next * rho <= T::zero() || !next.is_finite());
+            if across {
+                return self.chart_singular();
+            }
+        }
         match e {
             SimError::NonFinite { .. }
             | SimError::StepSizeTooSmall { .. }

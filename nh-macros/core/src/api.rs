@@ -43,6 +43,15 @@ pub struct Shape<'a> {
     pub outputs: Outputs,
     /// Whether every curvature coefficient vanishes identically.
     pub integrable: bool,
+    /// Which coordinate each implicit or holonomic constraint is solved
+    /// for (the documentation of `DEPENDENT`); `None` when every
+    /// constraint is explicit.
+    pub dependent_doc: Option<String>,
+    /// Whether some constraint has an affine or time-dependent term.
+    pub affine: bool,
+    /// Whether some dependent velocity depends on time explicitly (then
+    /// `dependent_velocities` takes `t`).
+    pub rheonomic: bool,
     /// The generalized speeds, for a system written in them (DESIGN §9);
     /// empty otherwise.
     pub speeds: Vec<String>,
@@ -98,6 +107,8 @@ pub enum Arguments {
     Coordinates,
     /// `q, rdot`
     Velocities,
+    /// `t, q, rdot`: the dependent velocities of time-dependent constraints.
+    TimedVelocities,
     /// `t, q, rdot` and `u` for a system with inputs.
     Motion,
     /// `t, x` and `u` for a system with inputs.
@@ -338,9 +349,13 @@ pub trait Bodies {
     fn method(&mut self, method: GeneratedMethod) -> Method;
     /// Extra associated constants (route figures), emitted with `routes`.
     fn route_consts(&mut self) -> TokenStream;
-    /// Provided methods of the runtime trait the system overrides (its
-    /// chart's regularity, for a system in generalized speeds).
-    fn runtime_hooks(&mut self) -> TokenStream {
+    /// Provided methods of the runtime trait the system overrides, for
+    /// state type `xty`: its chart's regularity (implicit or holonomic
+    /// constraints, generalized speeds), the holonomic residual and the
+    /// projection (`chart_regularity`, `constraint_residual`, `project`);
+    /// none by default.
+    fn runtime_hooks(&mut self, xty: &TokenStream) -> TokenStream {
+        let _ = xty;
         TokenStream::new()
     }
     /// The parameter-only values hoisted out of the methods (asked for after
@@ -423,6 +438,7 @@ impl Dims {
         match takes {
             Arguments::Coordinates => quote!(&self, q: &#qty),
             Arguments::Velocities => quote!(&self, q: &#qty, #vel: &#rty),
+            Arguments::TimedVelocities => quote!(&self, t: T, q: &#qty, #vel: &#rty),
             Arguments::Motion => quote!(&self, t: T, q: &#qty, #vel: &#rty #u_arg),
             Arguments::State => quote!(&self, t: T, x: &#xty #u_arg),
             Arguments::Kinematics => quote!(&self, t: T, q: &#qty, #vel: &#rty),
@@ -470,7 +486,7 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
         quote!()
     };
     let rhs = bodies.method(GeneratedMethod::Rhs);
-    let runtime_impl = runtime_impl(shape, dims, rhs, bodies.runtime_hooks());
+    let runtime_impl = runtime_impl(shape, dims, rhs, bodies.runtime_hooks(&svector(dims.state)));
     let jacobian_impl = jacobian_impl(shape, dims);
     let cache = Cache::new(&params, bodies.hoisting());
     let constants = constants(shape, dims);
@@ -571,7 +587,11 @@ fn inherent_methods(shape: &Shape, dims: Dims, bodies: &mut dyn Bodies) -> Token
         }
         let Method { doc, body } = bodies.method(spec.method);
         let id = format_ident!("{}", spec.name);
-        let (args, ret) = (dims.arguments(spec.takes), dims.returns(spec.returns));
+        let takes = match spec.takes {
+            Arguments::Velocities if shape.rheonomic => Arguments::TimedVelocities,
+            takes => takes,
+        };
+        let (args, ret) = (dims.arguments(takes), dims.returns(spec.returns));
         methods.extend(quote! {
             #[doc = #doc]
             #[inline]
@@ -668,17 +688,25 @@ fn constants(shape: &Shape, dims: Dims) -> TokenStream {
     let integrable = shape.integrable;
     let integrable_doc = if p == 0 {
         "No constraints: trivially `true`.".to_string()
+    } else if shape.affine {
+        "`false`: some constraint has an affine or time-dependent term, which the curvature test (5.21) does not cover; such constraints are not reported as integrable.".to_string()
     } else if integrable {
         "`true`: every curvature coefficient B^b_{αβ} (5.21) is identically zero, so the constraints are integrable (holonomic in disguise) and could be eliminated by integrating them.".to_string()
     } else {
         "`false`: some curvature coefficient B^b_{αβ} (5.21) is not identically zero, so the constraints are genuinely nonholonomic.".to_string()
+    };
+    let dependent_doc = match &shape.dependent_doc {
+        Some(doc) => quote!(#[doc = #doc]),
+        None => quote!(
+            /// Indices in `q` of the dependent coordinates s (one per constraint), ascending.
+        ),
     };
     quote! {
         /// The generalized coordinates in declared order: the coordinate order of `q` everywhere.
         pub const COORDINATES: [&'static ::core::primitive::str; #n] = [#(#coord_names),*];
         /// Indices in `q` of the independent coordinates r, ascending.
         pub const INDEPENDENT: [::core::primitive::usize; #k] = [#(#indep),*];
-        /// Indices in `q` of the dependent coordinates s (one per constraint), ascending.
+        #dependent_doc
         pub const DEPENDENT: [::core::primitive::usize; #p] = [#(#dep),*];
         /// The inputs in declared order.
         pub const INPUTS: [&'static ::core::primitive::str; #n_in] = [#(#input_names),*];

@@ -152,6 +152,7 @@ pub fn derivation(def: &SystemDef, m: &Model, dv: &Derivation, cx: &mut Ctxt) ->
     }
     if let Some(en) = dv.energy
         && m.engine.depends_on(en, m.time)
+        && !m.rheonomic()
     {
         let msg = if m.speeds.is_some() {
             "output `energy` needs a Lagrangian and kinematics that do not depend on time `t` explicitly (the method takes no `t`): remove `energy` from `outputs`"
@@ -182,6 +183,28 @@ pub fn derivation(def: &SystemDef, m: &Model, dv: &Derivation, cx: &mut Ctxt) ->
             cx.error_at(outputs_span, msg);
         }
     }
+    cx.is_empty()
+}
+
+/// The outputs requested are defined for the forms of the constraints:
+/// `curvature` and `routes` need homogeneous, time-independent velocity
+/// constraints, `energy` time-independent ones. False after an error.
+pub fn forms(def: &SystemDef, m: &Model, cx: &mut Ctxt) -> bool {
+    let Some((kw, list)) = &def.outputs else {
+        return true;
+    };
+    let time_dependent = m.rheonomic();
+    for o in list {
+        let name = o.to_string();
+        let why = match name.as_str() {
+            "curvature" | "routes" if !m.homogeneous => format!("output `{name}` needs homogeneous, time-independent velocity constraints (the curvature route (5.12)–(5.21) has no terms for an affine or time-dependent part, nor for holonomic constraints); this system uses the multiplier route alone: remove `{name}` from `outputs`"),
+            "constraint_matrix" if time_dependent => "output `constraint_matrix` takes only `q`, but a constraint depends on time `t`: remove `constraint_matrix` from `outputs` (`dependent_velocities(t, q, rdot)` gives ṡ)".to_string(),
+            "energy" if time_dependent => "output `energy` needs time-independent constraints: the constraint forces of a moving constraint do work, so E is not a constant of the motion; remove `energy` from `outputs`".to_string(),
+            _ => continue,
+        };
+        cx.error_at(o.span(), why);
+    }
+    let _ = kw;
     cx.is_empty()
 }
 

@@ -94,7 +94,7 @@ impl Stats {
             );
         }
         let curvature = if self.ops_curvature == 0 {
-            "not derived (k > 6)".to_string()
+            "not derived (k > 6, or constraints that are not homogeneous)".to_string()
         } else {
             format!("{} ops (cost {})", self.ops_curvature, self.cost_curvature)
         };
@@ -116,7 +116,7 @@ impl Stats {
 }
 
 /// Where the values of a function's arguments come from.
-struct Args {
+pub(crate) struct Args {
     coord: Vec<TokenStream>,
     rvel: Vec<TokenStream>,
 }
@@ -132,7 +132,7 @@ impl Args {
     }
 
     /// The state `x` = [q, ṙ] (or [q, u]).
-    fn state(m: &Model) -> Args {
+    pub(crate) fn state(m: &Model) -> Args {
         let (n, k) = (m.n(), m.k());
         Args {
             coord: (0..n).map(|i| quote!(x[#i])).collect(),
@@ -152,7 +152,7 @@ fn velocity_arg(m: &Model) -> Ident {
 }
 
 /// A graph with every symbol of the model bound to its source.
-fn bound_dag(m: &Model, args: &Args) -> Dag {
+pub(crate) fn bound_dag(m: &Model, args: &Args) -> Dag {
     let mut d = Dag::new();
     for (i, c) in m.coordinates.iter().enumerate() {
         let l = d.leaf_named(
@@ -529,6 +529,10 @@ impl Derived<'_> {
         };
         let used = self.ops(self.route);
         let other = match self.ops(self.route.other()) {
+            0 if !self.m.homogeneous => {
+                "the curvature route needs homogeneous, time-independent velocity constraints"
+                    .to_string()
+            }
             0 => {
                 "the curvature route is derived for k ≤ 6 or with `outputs { routes }`".to_string()
             }
@@ -774,7 +778,12 @@ impl Derived<'_> {
         let outs = exprs(&mut d, self.m, &sdot);
         let (stmts, o) = self.emit_hoisted(&d, &outs);
         let ret = vector_expr(p, &o);
-        quote! { let _ = (q, rdot); #stmts #ret }
+        let t = if self.m.rheonomic() {
+            quote!(t,)
+        } else {
+            quote!()
+        };
+        quote! { let _ = (#t q, rdot); #stmts #ret }
     }
 
     /// `reduced_system`: Mc and f of the curvature route (5.20).
@@ -961,6 +970,11 @@ impl Derived<'_> {
     fn rhs_body(&mut self) -> TokenStream {
         let (n, k) = (self.m.n(), self.m.k());
         let u = self.u_forward();
+        let t = if self.m.rheonomic() {
+            quote!(t,)
+        } else {
+            quote!()
+        };
         let ret = vector_expr(n + k, &{
             let mut v: Vec<TokenStream> = Vec::with_capacity(n + k);
             let (mut j, mut a) = (0usize, 0usize);
@@ -979,7 +993,7 @@ impl Derived<'_> {
         quote! {
             let __nh_q = x.fixed_rows::<#n>(0).into_owned();
             let __nh_rdot = x.fixed_rows::<#k>(#n).into_owned();
-            let __nh_sdot = self.dependent_velocities(&__nh_q, &__nh_rdot);
+            let __nh_sdot = self.dependent_velocities(#t &__nh_q, &__nh_rdot);
             let __nh_rdd = self.accelerations(t, &__nh_q, &__nh_rdot #u);
             #ret
         }
@@ -1077,11 +1091,11 @@ impl Bodies for Derived<'_> {
         Method { doc, body }
     }
 
-    fn runtime_hooks(&mut self) -> TokenStream {
+    fn runtime_hooks(&mut self, xty: &TokenStream) -> TokenStream {
         if self.maggi.is_some() {
             self.chart_regularity()
         } else {
-            TokenStream::new()
+            crate::manifold::methods(self.m, xty)
         }
     }
 
@@ -1140,6 +1154,16 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
             }
         }
     }
+    // the coordinates named for the implicit and holonomic constraints
+    if let Some((_, names)) = &def.dependent {
+        for id in names {
+            if let Some(i) = coords.iter().position(|x| x == id)
+                && !dependent.contains(&i)
+            {
+                dependent.push(i);
+            }
+        }
+    }
     dependent.sort_unstable();
     let independent = (0..coords.len())
         .filter(|i| !dependent.contains(i))
@@ -1171,6 +1195,9 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
         outputs,
         integrable: false,
         speeds: names_as_written(&def.speeds),
+        dependent_doc: None,
+        affine: false,
+        rheonomic: false,
     }
 }
 
@@ -1189,7 +1216,9 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     // the curvature route pays for small systems (its closed forms); beyond
     // CURVATURE_ROUTE_MAX_K independent coordinates it is derived only when
     // `routes` asks for it, and `accelerations` takes the multiplier route
-    let both_routes = m.outputs.contains(Output::Routes) || m.k() <= CURVATURE_ROUTE_MAX_K;
+    // (only for homogeneous, time-independent velocity constraints: DESIGN §9)
+    let both_routes =
+        m.homogeneous && (m.outputs.contains(Output::Routes) || m.k() <= CURVATURE_ROUTE_MAX_K);
     let mut dv = m.derive(both_routes);
     stats.derived.extend([
         if both_routes {
@@ -1199,6 +1228,9 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         },
         "curvature terms",
     ]);
+    // (5.21) decides integrability of the homogeneous part only: with affine
+    // or time-dependent terms the constraints are not called integrable
+    dv.integrable &= !m.affine;
     stats.integrable = dv.integrable;
     stats.integrable_proved = dv.integrable_proved;
     if !derivation_checked(def, &mut m, &mut dv, cx) {
@@ -1214,6 +1246,11 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
     let mut shape = shape_of(def);
     shape.integrable = integrable;
     shape.outputs = m.outputs;
+    shape.independent = m.independent().to_vec();
+    shape.dependent = m.dependent().to_vec();
+    shape.dependent_doc = dependent_doc(&m);
+    shape.affine = m.affine;
+    shape.rheonomic = m.rheonomic();
     let mut bodies = Derived {
         m: &mut m,
         dv,
@@ -1226,7 +1263,8 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         maggi: None,
     };
     let mut tokens = crate::api::expand(&shape, &mut bodies);
-    if integrable && m.p() > 0 {
+    let velocity_constraints = m.constraints.iter().any(|c| c.holonomic.is_none());
+    if integrable && velocity_constraints {
         tokens.extend(integrability_warning(
             def,
             m.constraints_span.unwrap_or(def.name.span()),
@@ -1246,7 +1284,7 @@ fn derivation_checked(def: &SystemDef, m: &mut Model, dv: &mut Derivation, cx: &
     if m.outputs.contains(Output::Energy) {
         dv.energy = Some(m.energy());
     }
-    check::derivation(def, m, dv, cx)
+    check::derivation(def, m, dv, cx) && check::forms(def, m, cx)
 }
 
 /// The expansion once every method is emitted: empty if a constant of the
@@ -1333,6 +1371,25 @@ fn generate_speeds(
     };
     let tokens = crate::api::expand(&shape, &mut bodies);
     finish(def, &m, cx, tokens, stats)
+}
+
+/// The documentation of `DEPENDENT` when some constraint is implicit or
+/// holonomic: which coordinate each constraint is solved for.
+fn dependent_doc(m: &Model) -> Option<String> {
+    m.chart?;
+    let mut doc = String::from(
+        " Indices in `q` of the dependent coordinates s (one per constraint), ascending. Each constraint is solved for one of them (DESIGN §9):\n",
+    );
+    for c in &m.constraints {
+        doc.push_str(&format!(
+            "\n - `{}` ({}): solved for `{}`",
+            c.source,
+            c.kind.describe(),
+            m.coordinates[c.dependent].name
+        ));
+    }
+    doc.push_str("\n\n`dependent_velocities` and `multipliers` follow this order; the multiplier λ_a belongs to the constraint solved for s_a, normalised as ṡ_a + Σ A^a_α ṙ_α + β_a = 0.");
+    Some(doc)
 }
 
 /// The graphs of r̈ by both routes, built to compare their costs.

@@ -20,6 +20,7 @@ mod emit;
 mod generate;
 mod lower;
 mod maggi;
+mod manifold;
 mod mechanics;
 mod model;
 mod names;

@@ -3,9 +3,11 @@
 //! coordinates, velocities, parameters, inputs and time, and every misuse of
 //! a name is reported at its token.
 
+pub(crate) mod constraints;
+
 use crate::check;
 use crate::ctxt::{Ctxt, SpanRange};
-use crate::model::{Constraint, ConstraintKind, Coordinate, Input, Model, Parameter, Partition};
+use crate::model::{Coordinate, Input, Model, Parameter, Partition};
 use crate::names;
 use crate::parse::{BinOp, Expr, SystemDef};
 use crate::sym::{Engine, ExprId, Fun, Rational, SymId, ZERO};
@@ -133,7 +135,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     lw.lower_lets(def, &let_ok);
     let lagrangian = lw.lower_lagrangian(def);
     lw.lower_forces(def);
-    let constraints = lw.lower_constraints(def);
+    let lowered = lw.lower_constraints(def);
     let speeds = lw.lower_speeds(def);
     let outputs = check::outputs(def, lw.cx);
     check::outputs_for_form(def, lw.cx);
@@ -147,7 +149,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     if !lw.cx.is_empty() {
         return None;
     }
-    let mut constraints = constraints;
+    let mut constraints = lowered.constraints;
     let partition = match speeds {
         Some(_) => Partition::of(0, &mut constraints),
         None => Partition::of(lw.coords.len(), &mut constraints),
@@ -164,6 +166,9 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         partition,
         outputs,
         speeds,
+        homogeneous: lowered.homogeneous,
+        affine: lowered.affine,
+        chart: lowered.chart,
         constraints_span: def.constraints.as_ref().map(|c| c.0.span()),
         huge_constant: lw.huge_constant,
     })
@@ -313,55 +318,6 @@ impl<'a> Lowerer<'a> {
                 }
             }
         }
-    }
-
-    /// The constraints: each left side names its dependent coordinate, each
-    /// right side is checked for the form of (5.3) and gives a row of A.
-    fn lower_constraints(&mut self, def: &SystemDef) -> Vec<Constraint> {
-        let n = self.coords.len();
-        let mut constrained = vec![false; n];
-        let mut written: Vec<(usize, ExprId, &crate::parse::Constraint)> = Vec::new();
-        if let Some((_, list)) = &def.constraints {
-            for c in list {
-                let Some(s) = self.constraint_lhs(&c.lhs) else {
-                    continue;
-                };
-                if constrained[s] {
-                    let name = &self.coords[s].name;
-                    self.cx.error(
-                        c.lhs.range(),
-                        format!("`{name}` is constrained twice: each dependent coordinate has exactly one constraint `dot({name}) = ..`; merge them or choose another dependent coordinate"),
-                    );
-                    continue;
-                }
-                constrained[s] = true;
-                self.place = Place::Constraint;
-                if let Some(v) = self.lower(&c.rhs, 0) {
-                    written.push((s, v, c));
-                }
-            }
-        }
-        let dependent: Vec<usize> = (0..n).filter(|&i| constrained[i]).collect();
-        let independent: Vec<usize> = (0..n).filter(|&i| !constrained[i]).collect();
-        let constraints_span = def.constraints.as_ref().map(|c| c.0.span());
-        check::independent_left(def, n, &independent, constraints_span, self.cx);
-        if independent.is_empty() {
-            return Vec::new();
-        }
-        // right sides: linear and homogeneous in the independent velocities
-        let mut constraints = Vec::new();
-        for (s, rhs, c) in written {
-            if let Some(coefficients) = self.analyse_constraint(s, rhs, c, &dependent, &independent)
-            {
-                constraints.push(Constraint {
-                    kind: ConstraintKind::ExplicitVelocity,
-                    dependent: s,
-                    velocity: rhs,
-                    coefficients,
-                });
-            }
-        }
-        constraints
     }
 
     /// " (did you mean ..?)" for a name that should be a coordinate.
@@ -620,13 +576,7 @@ impl Lowerer<'_> {
                 Some(self.e.sym(self.speed_syms[i]))
             }
             None => match s.as_str() {
-                "t" => {
-                    if self.place == Place::Constraint {
-                        self.cx.error_at(id.span(), "time-dependent (rheonomic) constraints are not supported: a constraint may depend on the coordinates only");
-                        return None;
-                    }
-                    Some(self.e.sym(self.t_sym))
-                }
+                "t" => Some(self.e.sym(self.t_sym)),
                 "pi" => Some(self.e.sym(self.pi_sym)),
                 _ if FUNCTIONS.contains(&s.as_str()) || s == "dot" => {
                     self.cx.error_at(
@@ -798,9 +748,37 @@ impl Lowerer<'_> {
         }
     }
 
-    /// The dependent coordinate of a constraint's left side `dot(s)`.
-    fn constraint_lhs(&mut self, lhs: &Expr) -> Option<usize> {
-        self.velocity_lhs(lhs, "the left side of a constraint must be `dot(s)` for a coordinate `s`, which becomes dependent: write `dot(s) = a1(q)*dot(r1) + ..`")
+    /// Where the velocity of coordinate `d` is used in `x` (depth first, left to right).
+    fn find_velocity_use(&mut self, x: &Expr, d: usize) -> Option<SpanRange> {
+        let mut stack = vec![x];
+        while let Some(x) = stack.pop() {
+            match x {
+                Expr::Call { func, arg, range } if func == "dot" => {
+                    if let Expr::Name(id) = &**arg
+                        && self
+                            .scope
+                            .get(&id.to_string())
+                            .is_some_and(|b| matches!(b, Binding::Coord(i) if *i == d))
+                    {
+                        return Some(*range);
+                    }
+                }
+                Expr::Call { arg, .. } => stack.push(arg),
+                Expr::Neg(inner, _) => stack.push(inner),
+                Expr::Chain { first, rest } => {
+                    for (_, _, e) in rest.iter().rev() {
+                        stack.push(e);
+                    }
+                    stack.push(first);
+                }
+                Expr::Pow { base, exp, .. } => {
+                    stack.push(exp);
+                    stack.push(base);
+                }
+                Expr::Name(_) | Expr::Num(..) => {}
+            }
+        }
+        None
     }
 
     /// The coordinate of a left side `dot(q)`; `msg` says what is expected.
@@ -829,128 +807,6 @@ impl Lowerer<'_> {
                 None
             }
         }
-    }
-
-    /// Checks a constraint's right side and returns its row of A.
-    fn analyse_constraint(
-        &mut self,
-        s: usize,
-        rhs: ExprId,
-        c: &crate::parse::Constraint,
-        dependent: &[usize],
-        independent: &[usize],
-    ) -> Option<Vec<ExprId>> {
-        let sname = self.coords[s].name.clone();
-        let form = "a constraint must have the form `dot(s) = a1(q)*dot(r1) + a2(q)*dot(r2) + ..`, linear and homogeneous in the velocities of the independent coordinates";
-        // dependent velocities on the right side
-        for &d in dependent {
-            if self.e.depends_on(rhs, self.coords[d].velocity) {
-                let culprit = self.find_velocity_use(&c.rhs, d).unwrap_or(c.rhs.range());
-                if d == s {
-                    self.cx.error(culprit, format!("`dot({sname})` appears on both sides of its own constraint, so the constraint cannot be solved for it at a generic point; move the term to the left and divide by its coefficient"));
-                } else {
-                    self.cx.error(culprit, format!("the constraint for `{sname}` uses `dot({})`, the velocity of a dependent coordinate; substitute its constraint so that the right side has only independent velocities", self.coords[d].name));
-                }
-                return None;
-            }
-        }
-        // every term: exactly one independent velocity to the first power
-        let terms = self.e.terms(rhs).to_vec();
-        let mut ok = true;
-        for (m, _) in &terms {
-            let factors = self.e.factors(*m).to_vec();
-            let mut vel_count = 0;
-            let mut nonlinear = false;
-            for (a, ex) in &factors {
-                let syms = self.e.atom_symbols(*a).to_vec();
-                let has_vel = independent
-                    .iter()
-                    .any(|&i| syms.contains(&self.coords[i].velocity));
-                if !has_vel {
-                    continue;
-                }
-                match self.e.atom(*a) {
-                    crate::sym::Atom::Sym(_) if ex.is_one() => vel_count += 1,
-                    _ => nonlinear = true,
-                }
-            }
-            if nonlinear || vel_count != 1 {
-                ok = false;
-            }
-        }
-        if !ok {
-            // locate the offending top-level term in the source
-            let mut reported = false;
-            for term in top_level_terms(&c.rhs) {
-                let Some(v) = self.lower(term, 0) else {
-                    continue;
-                };
-                let kind = self.term_kind(v, independent);
-                match kind {
-                    TermKind::Linear => {}
-                    TermKind::Affine => {
-                        let text = term.to_source();
-                        self.cx.error(
-                            term.range(),
-                            format!("the constraint for `{sname}` has a term without any velocity, `{text}` (an affine term: ṡ would not vanish with the independent velocities); {form}"),
-                        );
-                        reported = true;
-                    }
-                    TermKind::Nonlinear => {
-                        let (culprit, why) = self
-                            .find_nonlinear(term, independent)
-                            .unwrap_or((term, "is not linear in the velocities"));
-                        let text = culprit.to_source();
-                        self.cx.error(
-                            culprit.range(),
-                            format!("the constraint for `{sname}` is not linear in the velocities: `{text}` {why}; {form}"),
-                        );
-                        reported = true;
-                    }
-                }
-            }
-            if !reported {
-                self.cx.error(c.rhs.range(), format!("the constraint for `{sname}` is not linear and homogeneous in the velocities once expanded; {form}"));
-            }
-            return None;
-        }
-        let mut row = Vec::with_capacity(independent.len());
-        for &i in independent {
-            let coef = self.e.diff(rhs, self.coords[i].velocity);
-            row.push(self.e.neg(coef));
-        }
-        Some(row)
-    }
-
-    fn term_kind(&mut self, v: ExprId, independent: &[usize]) -> TermKind {
-        let mut kind = TermKind::Linear;
-        let terms = self.e.terms(v).to_vec();
-        if terms.is_empty() {
-            return TermKind::Linear;
-        }
-        for (m, _) in terms {
-            let mut count = 0;
-            for (a, ex) in self.e.factors(m).to_vec() {
-                let syms = self.e.atom_symbols(a).to_vec();
-                if !independent
-                    .iter()
-                    .any(|&i| syms.contains(&self.coords[i].velocity))
-                {
-                    continue;
-                }
-                match self.e.atom(a) {
-                    crate::sym::Atom::Sym(_) if ex.is_one() => count += 1,
-                    _ => count += 2,
-                }
-            }
-            if count > 1 {
-                return TermKind::Nonlinear;
-            }
-            if count == 0 {
-                kind = TermKind::Affine;
-            }
-        }
-        kind
     }
 
     fn has_velocity(&mut self, x: &Expr, independent: &[usize]) -> bool {
@@ -1016,45 +872,6 @@ impl Lowerer<'_> {
             _ => None,
         }
     }
-
-    /// Where the velocity of coordinate `d` is used in `x` (depth first, left to right).
-    fn find_velocity_use(&mut self, x: &Expr, d: usize) -> Option<SpanRange> {
-        let mut stack = vec![x];
-        while let Some(x) = stack.pop() {
-            match x {
-                Expr::Call { func, arg, range } if func == "dot" => {
-                    if let Expr::Name(id) = &**arg
-                        && self
-                            .scope
-                            .get(&id.to_string())
-                            .is_some_and(|b| matches!(b, Binding::Coord(i) if *i == d))
-                    {
-                        return Some(*range);
-                    }
-                }
-                Expr::Call { arg, .. } => stack.push(arg),
-                Expr::Neg(inner, _) => stack.push(inner),
-                Expr::Chain { first, rest } => {
-                    for (_, _, e) in rest.iter().rev() {
-                        stack.push(e);
-                    }
-                    stack.push(first);
-                }
-                Expr::Pow { base, exp, .. } => {
-                    stack.push(exp);
-                    stack.push(base);
-                }
-                Expr::Name(_) | Expr::Num(..) => {}
-            }
-        }
-        None
-    }
-}
-
-enum TermKind {
-    Linear,
-    Affine,
-    Nonlinear,
 }
 
 /// The top-level additive terms of an expression (through `+`, `-` and unary minus).

@@ -4,7 +4,7 @@
 //! energy. Every function derives only what it is asked for.
 
 use crate::model::Model;
-use crate::sym::{ExprId, SymId, ZERO};
+use crate::sym::{Engine, ExprId, SymId, ZERO};
 use rustc_hash::FxHashMap as HashMap;
 
 /// The pieces of the multiplier route, with the full velocity vector q̇
@@ -14,8 +14,46 @@ pub struct MultiplierRoute {
     pub mass: Vec<Vec<ExprId>>,
     /// h_j = Σ_i ∂²L/∂q̇_j∂q_i q̇_i + ∂²L/∂q̇_j∂t − ∂L/∂q_j − Q_j, so that E_j = Σ_i M_ji q̈_i + h_j (3.9).
     pub bias: Vec<ExprId>,
-    /// −(Ȧ ṙ)_a: the part of s̈_a that does not depend on r̈ (from differentiating (5.3)).
+    /// −(Ȧ ṙ)_a − β̇_a: the part of s̈_a that does not depend on r̈ (from
+    /// differentiating (5.3), with ∂/∂t for time-dependent constraints).
     pub dependent_bias: Vec<ExprId>,
+}
+
+/// Whether every expression of `entries` vanishes at 16 random points in
+/// double-double arithmetic (about 32 digits): any point where one exceeds
+/// 1e-24 of the sum of its terms' sizes proves it nonzero; entries below that
+/// at every point are taken as zero (an identity the canonical form does not
+/// know, such as an angle-addition formula). Every symbol but π takes values
+/// in [0.3, 1.4], the same points every build.
+pub fn vanish_at_random_points(engine: &Engine, pi: SymId, entries: &[ExprId]) -> bool {
+    use crate::sym::dd::Dd;
+    let mut rng = crate::sym::Rng::new(0x243F_6A88_85A3_08D3);
+    let mut vals = vec![Dd::ZERO; engine.num_symbols()];
+    let mut points = 0;
+    for _ in 0..64 {
+        if points == 16 {
+            break;
+        }
+        for v in vals.iter_mut() {
+            *v = Dd::from_f64(0.3 + 1.1 * rng.next_f64()); // positive: keeps sqrt and ln arguments valid
+        }
+        vals[pi.index()] = Dd::PI;
+        let mut usable = true;
+        for &b in entries {
+            let (v, scale) = engine.eval_with_scale(b, &vals);
+            if !v.is_finite() || !scale.is_finite() {
+                usable = false;
+                break;
+            }
+            if v.abs().to_f64() > 1e-24 * scale.to_f64() {
+                return false;
+            }
+        }
+        if usable {
+            points += 1;
+        }
+    }
+    points == 16
 }
 
 /// Everything derived symbolically for one system, each piece once.
@@ -78,7 +116,6 @@ impl Model {
     /// formula). A genuinely nonholonomic system would have to cancel to 24
     /// digits at 16 random points to be called integrable.
     fn integrability(&self, curv: &[Vec<Vec<ExprId>>]) -> (bool, bool) {
-        use crate::sym::dd::Dd;
         let entries: Vec<ExprId> = curv
             .iter()
             .flatten()
@@ -89,33 +126,10 @@ impl Model {
         if entries.is_empty() {
             return (true, true);
         }
-        let mut rng = crate::sym::Rng::new(0x243F_6A88_85A3_08D3);
-        let mut vals = vec![Dd::ZERO; self.engine.num_symbols()];
-        let mut points = 0;
-        for _ in 0..64 {
-            if points == 16 {
-                break;
-            }
-            for v in vals.iter_mut() {
-                *v = Dd::from_f64(0.3 + 1.1 * rng.next_f64()); // positive: keeps sqrt and ln arguments valid
-            }
-            vals[self.pi.index()] = Dd::PI;
-            let mut usable = true;
-            for &b in &entries {
-                let (v, scale) = self.engine.eval_with_scale(b, &vals);
-                if !v.is_finite() || !scale.is_finite() {
-                    usable = false;
-                    break;
-                }
-                if v.abs().to_f64() > 1e-24 * scale.to_f64() {
-                    return (false, false);
-                }
-            }
-            if usable {
-                points += 1;
-            }
-        }
-        (points == 16, false)
+        (
+            vanish_at_random_points(&self.engine, self.pi, &entries),
+            false,
+        )
     }
 
     /// The substitution ṡ_a ↦ −Σ_α A^a_α ṙ_α of (5.11).
@@ -188,6 +202,10 @@ impl Model {
                     let v = e.sym(q[i].velocity);
                     parts.push(e.mul(d, v));
                 }
+            }
+            let dt = e.diff(sdot, self.time);
+            if dt != ZERO {
+                parts.push(dt);
             }
             dependent_bias.push(e.sum(&parts));
         }

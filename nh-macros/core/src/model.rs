@@ -116,6 +116,16 @@ pub enum ConstraintKind {
     /// `dot(s) = Σ a_α(q) dot(r_α)`: the dependent velocity written as a
     /// linear, homogeneous form in the independent velocities (5.3).
     ExplicitVelocity,
+    /// `dot(s) = Σ a_i(q, t) dot(q_i) + b(q, t)` with an affine or
+    /// time-dependent term (DESIGN §9).
+    ExplicitAffine,
+    /// `Σ c_i(q, t) dot(q_i) + b(q, t) = 0`, velocities on either side,
+    /// solved for the dependent velocity the rule or `dependent { .. }`
+    /// chose (DESIGN §9).
+    Implicit,
+    /// `f(q, t) = 0`: no velocities; its time derivative is the velocity row
+    /// (DESIGN §9).
+    Holonomic,
 }
 
 impl ConstraintKind {
@@ -124,6 +134,20 @@ impl ConstraintKind {
     pub fn velocity_source(self) -> &'static str {
         match self {
             ConstraintKind::ExplicitVelocity => "dependent velocity from the constraint (5.3)",
+            ConstraintKind::ExplicitAffine => "dependent velocity from the affine constraint",
+            ConstraintKind::Implicit | ConstraintKind::Holonomic => {
+                "dependent velocity solved from the constraint rows"
+            }
+        }
+    }
+
+    /// How the generated documentation names the form.
+    pub fn describe(self) -> &'static str {
+        match self {
+            ConstraintKind::ExplicitVelocity => "explicit",
+            ConstraintKind::ExplicitAffine => "explicit, affine or time-dependent",
+            ConstraintKind::Implicit => "implicit",
+            ConstraintKind::Holonomic => "holonomic",
         }
     }
 }
@@ -141,6 +165,10 @@ pub struct Constraint {
     /// The row A^a_· of the constraint matrix: minus the coefficient of each
     /// independent velocity ṙ_α, in the order of [`Model::independent`].
     pub coefficients: Vec<ExprId>,
+    /// f(q, t) of a [`ConstraintKind::Holonomic`] constraint.
+    pub holonomic: Option<ExprId>,
+    /// The constraint as written, for the generated documentation.
+    pub source: String,
 }
 
 /// A system in generalized speeds (DESIGN §9): q̇ = S(q, t) u + σ(q, t).
@@ -203,6 +231,15 @@ pub struct Model {
     /// The generalized speeds and kinematics, for a system written in them
     /// (it then has no constraints).
     pub speeds: Option<Speeds>,
+    /// Whether every constraint is a homogeneous, time-independent velocity
+    /// constraint (the curvature route and `curvature` need that).
+    pub homogeneous: bool,
+    /// Whether some constraint has an affine or time-dependent term b(q, t).
+    pub affine: bool,
+    /// The signed Hadamard ratio det(c_s)/Π‖c_a‖ of the implicit and
+    /// holonomic rows (with explicit rows substituted), in [−1, 1] and zero
+    /// where the chart is singular; `None` when every constraint is explicit.
+    pub chart: Option<ExprId>,
     /// Span of the `constraints` keyword, if any (for diagnostics).
     pub constraints_span: Option<Span>,
     /// The first subexpression of the input whose value is a constant beyond
@@ -252,6 +289,21 @@ impl Model {
         self.independent()
             .iter()
             .map(|&i| f(&self.coordinates[i]))
+            .collect()
+    }
+
+    /// Whether some dependent velocity depends on time explicitly.
+    pub fn rheonomic(&self) -> bool {
+        self.constraints
+            .iter()
+            .any(|c| self.engine.depends_on(c.velocity, self.time))
+    }
+
+    /// The holonomic constraints: (dependent coordinate, f).
+    pub fn holonomic(&self) -> Vec<(usize, ExprId)> {
+        self.constraints
+            .iter()
+            .filter_map(|c| c.holonomic.map(|f| (c.dependent, f)))
             .collect()
     }
 

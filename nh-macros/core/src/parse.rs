@@ -188,6 +188,9 @@ pub struct SystemDef {
     pub constraints: Option<(Ident, Vec<Constraint>)>,
     /// `outputs { .. }`
     pub outputs: Option<(Ident, Vec<Ident>)>,
+    /// `dependent { .. }`: the coordinates the implicit and holonomic
+    /// constraints are solved for, in the order of those constraints
+    pub dependent: Option<(Ident, Vec<Ident>)>,
     /// `speeds { .. }`: the generalized speeds u (DESIGN §9)
     pub speeds: Option<(Ident, Vec<Ident>)>,
     /// `kinematics { dot(q) = ..; }`: q̇ = S(q, t) u + σ(q, t), one line per
@@ -301,6 +304,7 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         forces: None,
         constraints: None,
         outputs: None,
+        dependent: None,
         speeds: None,
         kinematics: None,
         poisoned: Vec::new(),
@@ -408,12 +412,13 @@ fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
 }
 
 /// The blocks of a definition, in the order messages list them.
-const BLOCKS: [&str; 8] = [
+const BLOCKS: [&str; 9] = [
     "parameters",
     "coordinates",
     "inputs",
     "forces",
     "constraints",
+    "dependent",
     "speeds",
     "kinematics",
     "outputs",
@@ -423,7 +428,7 @@ const BLOCKS: [&str; 8] = [
 fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &mut Ctxt) {
     let which = kw.to_string();
     match which.as_str() {
-        "parameters" | "coordinates" | "inputs" | "speeds" | "outputs" => {
+        "parameters" | "coordinates" | "inputs" | "speeds" | "outputs" | "dependent" => {
             parse_name_block(kw, group, def, cx)
         }
         "kinematics" => {
@@ -450,7 +455,7 @@ fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &
             cx.error_at(
                 kw.span(),
                 format!(
-                    "unknown block `{which}`{hint}; the blocks are `parameters`, `coordinates`, `inputs`, `forces`, `constraints`, `speeds`, `kinematics` and `outputs`"
+                    "unknown block `{which}`{hint}; the blocks are `parameters`, `coordinates`, `inputs`, `forces`, `constraints`, `dependent`, `speeds`, `kinematics` and `outputs`"
                 ),
             );
         }
@@ -492,6 +497,7 @@ fn parse_name_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, 
         "coordinates" => &mut def.coordinates,
         "inputs" => &mut def.inputs,
         "speeds" => &mut def.speeds,
+        "dependent" => &mut def.dependent,
         _ => &mut def.outputs,
     };
     set_once(slot, kw, list, cx, |prev| {
@@ -649,7 +655,7 @@ fn parse_name_list(input: ParseStream) -> syn::Result<Vec<Ident>> {
 fn parse_constraint(input: ParseStream) -> syn::Result<Constraint> {
     parse_equation(
         input,
-        "expected `=`: a constraint is written `dot(s) = a(q)*dot(r) + ..;`",
+        "expected `=`: a constraint is written `dot(s) = a(q)*dot(r) + ..;`, `c1(q)*dot(q1) + .. = b(q, t);` or `f(q, t) = 0;`",
     )
 }
 

@@ -1,3 +1,4 @@
+//! A left side without a velocity: an implicit, affine row.
 use nonholonomic::prelude::*;
 
 nonholonomic_system! {
@@ -6,8 +7,8 @@ nonholonomic_system! {
         coordinates { theta, phi, x, y }
         lagrangian = m/2*(dot(x)^2 + dot(y)^2) + m*R^2/4*dot(theta)^2 + m*R^2/8*dot(phi)^2;
         constraints {
-            dot(x) = R*cos(phi)*dot(theta);
-            dot(x) = R*sin(phi)*dot(theta);
+            x = R*cos(phi)*dot(theta);
+            dot(y) = R*sin(phi)*dot(theta);
         }
     }
 }

@@ -1,3 +1,4 @@
+//! A right side using another constraint's dependent velocity: the row becomes implicit and is solved with the other.
 use nonholonomic::prelude::*;
 
 nonholonomic_system! {

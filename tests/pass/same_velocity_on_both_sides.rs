@@ -1,3 +1,4 @@
+//! The dependent velocity on both sides: an implicit row, solved for it by the rule.
 use nonholonomic::prelude::*;
 
 nonholonomic_system! {

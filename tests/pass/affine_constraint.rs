@@ -1,3 +1,4 @@
+//! An explicit constraint with an affine term (a moving support): accepted (DESIGN §9).
 use nonholonomic::prelude::*;
 
 nonholonomic_system! {

@@ -1,0 +1,545 @@
+//! The constraints of DESIGN §9: each is classified (explicit, implicit or
+//! holonomic), the dependent coordinates of the implicit and holonomic ones
+//! are chosen (`dependent { .. }` or the documented rule), and every
+//! dependent velocity is solved for: ṡ = −A ṙ − β.
+
+use super::{Binding, Lowerer, Place};
+use crate::ctxt::SpanRange;
+use crate::mechanics::vanish_at_random_points;
+use crate::model::{Constraint, ConstraintKind};
+use crate::parse::{self, Expr, SystemDef};
+use crate::sym::{Engine, ExprId, Rational, SymId, ZERO};
+use proc_macro2::Ident;
+use rustc_hash::FxHashMap as HashMap;
+
+/// The most implicit and holonomic constraints a system may have: their
+/// block of dependent velocities is inverted symbolically (Cramer's rule).
+pub const MAX_IMPLICIT: usize = 3;
+
+/// The constraints after lowering.
+#[derive(Default)]
+pub struct Lowered {
+    /// One per dependent coordinate, solved.
+    pub constraints: Vec<Constraint>,
+    /// See [`crate::model::Model::chart`].
+    pub chart: Option<ExprId>,
+    /// See [`crate::model::Model::homogeneous`].
+    pub homogeneous: bool,
+    /// See [`crate::model::Model::affine`].
+    pub affine: bool,
+}
+
+/// A constraint as written and lowered, before solving.
+struct Row<'d> {
+    src: &'d parse::Constraint,
+    kind: ConstraintKind,
+    /// The dependent coordinate of an explicit row.
+    explicit: Option<usize>,
+    /// The explicit row's right side, or lhs − rhs (a velocity row: for a
+    /// holonomic constraint, the time derivative of f).
+    value: ExprId,
+    /// f of a holonomic row.
+    holonomic: Option<ExprId>,
+}
+
+/// A constraint's text as written, shortened for messages and docs.
+fn source_of(c: &parse::Constraint) -> String {
+    format!("{} = {}", c.lhs.to_source(), c.rhs.to_source())
+}
+
+/// The range of a whole constraint.
+fn range_of(c: &parse::Constraint) -> SpanRange {
+    let (l, r) = (c.lhs.range(), c.rhs.range());
+    SpanRange {
+        first: l.first,
+        last: r.last,
+    }
+}
+
+/// The determinant of a small square matrix (Laplace expansion).
+fn det(e: &mut Engine, m: &[Vec<ExprId>]) -> ExprId {
+    match m.len() {
+        0 => crate::sym::ONE,
+        1 => m[0][0],
+        n => {
+            let mut parts = Vec::with_capacity(n);
+            for j in 0..n {
+                if m[0][j] == ZERO {
+                    continue;
+                }
+                let minor: Vec<Vec<ExprId>> = m[1..]
+                    .iter()
+                    .map(|row| {
+                        row.iter()
+                            .enumerate()
+                            .filter(|&(c, _)| c != j)
+                            .map(|(_, &x)| x)
+                            .collect()
+                    })
+                    .collect();
+                let d = det(e, &minor);
+                let t = e.mul(m[0][j], d);
+                parts.push(if j % 2 == 0 { t } else { e.neg(t) });
+            }
+            e.sum(&parts)
+        }
+    }
+}
+
+/// x = m⁻¹ w by Cramer's rule.
+pub fn cramer(e: &mut Engine, m: &[Vec<ExprId>], w: &[ExprId]) -> Vec<ExprId> {
+    let d = det(e, m);
+    let inv = e.pow(d, Rational::MINUS_ONE);
+    (0..w.len())
+        .map(|j| {
+            let mj: Vec<Vec<ExprId>> = m
+                .iter()
+                .zip(w)
+                .map(|(row, &wi)| {
+                    let mut row = row.clone();
+                    row[j] = wi;
+                    row
+                })
+                .collect();
+            let dj = det(e, &mj);
+            e.mul(dj, inv)
+        })
+        .collect()
+}
+
+impl Lowerer<'_> {
+    /// The constraints, classified, with their dependent coordinates chosen
+    /// and their dependent velocities solved for (DESIGN §9).
+    pub(super) fn lower_constraints(&mut self, def: &SystemDef) -> Lowered {
+        let Some((_, list)) = &def.constraints else {
+            return Lowered {
+                homogeneous: true,
+                ..Lowered::default()
+            };
+        };
+        self.place = Place::Constraint;
+        let mut sides = Vec::new();
+        for c in list {
+            let lhs = self.lower(&c.lhs, 0);
+            let rhs = self.lower(&c.rhs, 0);
+            if let (Some(l), Some(r)) = (lhs, rhs) {
+                sides.push((c, l, r));
+            }
+        }
+        let explicit = self.explicit_targets(&sides);
+        let mut rows = Vec::new();
+        for ((c, l, r), s) in sides.into_iter().zip(explicit) {
+            if let Some(row) = self.classify(c, l, r, s) {
+                rows.push(row);
+            }
+        }
+        if !self.cx.is_empty() {
+            return Lowered::default();
+        }
+        self.solve_rows(def, rows).unwrap_or_default()
+    }
+
+    /// For each constraint, the coordinate it makes dependent if it is
+    /// explicit: written `dot(s) = rhs` with ṡ nowhere in rhs, the first such
+    /// constraint for s, and no other explicit constraint's ṡ in rhs.
+    fn explicit_targets(
+        &mut self,
+        sides: &[(&parse::Constraint, ExprId, ExprId)],
+    ) -> Vec<Option<usize>> {
+        let mut out: Vec<Option<usize>> = Vec::with_capacity(sides.len());
+        for (c, _, r) in sides {
+            let s = match &c.lhs {
+                Expr::Call { func, arg, .. } if func == "dot" => match &**arg {
+                    Expr::Name(id) => match self.scope.get(&id.to_string()) {
+                        Some(Binding::Coord(i)) => Some(*i),
+                        _ => None,
+                    },
+                    _ => None,
+                },
+                _ => None,
+            };
+            let s = s.filter(|&s| {
+                !self.e.depends_on(*r, self.coords[s].velocity) && !out.contains(&Some(s))
+            });
+            out.push(s);
+        }
+        loop {
+            let mut changed = false;
+            for a in 0..out.len() {
+                if out[a].is_none() {
+                    continue;
+                }
+                let uses_other = out.iter().enumerate().any(|(b, s)| {
+                    b != a
+                        && s.is_some_and(|s| self.e.depends_on(sides[a].2, self.coords[s].velocity))
+                });
+                if uses_other {
+                    out[a] = None;
+                    changed = true;
+                }
+            }
+            if !changed {
+                return out;
+            }
+        }
+    }
+
+    /// A constraint's form, after checking that it is linear in the
+    /// velocities.
+    fn classify<'d>(
+        &mut self,
+        c: &'d parse::Constraint,
+        lhs: ExprId,
+        rhs: ExprId,
+        explicit: Option<usize>,
+    ) -> Option<Row<'d>> {
+        let g = self.e.sub(lhs, rhs);
+        let vels: Vec<SymId> = self.coords.iter().map(|c| c.velocity).collect();
+        let has_velocity = vels.iter().any(|&v| self.e.depends_on(g, v));
+        if !has_velocity {
+            // holonomic: its velocity row is df/dt = Σ ∂f/∂q_i q̇_i + ∂f/∂t
+            let mut parts = Vec::new();
+            for i in 0..self.coords.len() {
+                let d = self.e.diff(g, self.coords[i].position);
+                if d != ZERO {
+                    let v = self.e.sym(self.coords[i].velocity);
+                    parts.push(self.e.mul(d, v));
+                }
+            }
+            parts.push(self.e.diff(g, self.t_sym));
+            let value = self.e.sum(&parts);
+            if value == ZERO {
+                self.cx.error(range_of(c), format!("the constraint `{}` involves no velocity and no coordinate (it is constant): remove it", source_of(c)));
+                return None;
+            }
+            return Some(Row {
+                src: c,
+                kind: ConstraintKind::Holonomic,
+                explicit: None,
+                value,
+                holonomic: Some(g),
+            });
+        }
+        if !self.linear_in_velocities(c, g, explicit) {
+            return None;
+        }
+        let (kind, value) = match explicit {
+            Some(_) => {
+                let b = self.velocity_free_part(rhs);
+                let affine = b != ZERO || self.e.depends_on(rhs, self.t_sym);
+                let kind = if affine {
+                    ConstraintKind::ExplicitAffine
+                } else {
+                    ConstraintKind::ExplicitVelocity
+                };
+                (kind, rhs)
+            }
+            None => (ConstraintKind::Implicit, g),
+        };
+        Some(Row {
+            src: c,
+            kind,
+            explicit,
+            value,
+            holonomic: None,
+        })
+    }
+
+    /// `x` with every velocity set to zero.
+    fn velocity_free_part(&mut self, x: ExprId) -> ExprId {
+        let map: HashMap<SymId, ExprId> = self.coords.iter().map(|c| (c.velocity, ZERO)).collect();
+        self.e.subst(x, &map, &mut HashMap::default())
+    }
+
+    /// Whether `g` is linear in the velocities (every second derivative
+    /// in them vanishes); reports the offending term if not.
+    fn linear_in_velocities(
+        &mut self,
+        c: &parse::Constraint,
+        g: ExprId,
+        explicit: Option<usize>,
+    ) -> bool {
+        let vels: Vec<SymId> = self.coords.iter().map(|c| c.velocity).collect();
+        let mut linear = true;
+        'outer: for &v in &vels {
+            let d = self.e.diff(g, v);
+            for &w in &vels {
+                if self.e.diff(d, w) != ZERO {
+                    linear = false;
+                    break 'outer;
+                }
+            }
+        }
+        if linear {
+            return true;
+        }
+        let all: Vec<usize> = (0..self.coords.len()).collect();
+        let form = "a constraint is linear in the velocities: `dot(s) = a1(q, t)*dot(r1) + .. + b(q, t)` or `c1(q, t)*dot(q1) + .. = b(q, t)`";
+        let who = match explicit {
+            Some(s) => format!("the constraint for `{}`", self.coords[s].name),
+            None => format!("the constraint `{}`", short(source_of(c))),
+        };
+        for side in [&c.lhs, &c.rhs] {
+            for term in super::top_level_terms(side) {
+                if let Some((culprit, why)) = self.find_nonlinear(term, &all) {
+                    let text = culprit.to_source();
+                    self.cx.error(
+                        culprit.range(),
+                        format!("{who} is not linear in the velocities: `{text}` {why}; {form}"),
+                    );
+                    return false;
+                }
+            }
+        }
+        self.cx.error(
+            range_of(c),
+            format!("{who} is not linear in the velocities once expanded; {form}"),
+        );
+        false
+    }
+
+    /// Chooses the dependent coordinates of the implicit and holonomic rows
+    /// and solves every row for its dependent velocity.
+    fn solve_rows(&mut self, def: &SystemDef, rows: Vec<Row<'_>>) -> Option<Lowered> {
+        let n = self.coords.len();
+        let explicit_deps: Vec<usize> = rows.iter().filter_map(|r| r.explicit).collect();
+        let implicit: Vec<usize> = (0..rows.len())
+            .filter(|&a| rows[a].explicit.is_none())
+            .collect();
+        let free: Vec<usize> = (0..n).filter(|i| !explicit_deps.contains(i)).collect();
+        // the explicit velocities substituted into the other rows
+        let sub: HashMap<SymId, ExprId> = rows
+            .iter()
+            .filter_map(|r| r.explicit.map(|s| (self.coords[s].velocity, r.value)))
+            .collect();
+        let mut coef: Vec<Vec<ExprId>> = Vec::new();
+        let mut bias = Vec::new();
+        for &a in &implicit {
+            let v = self.e.subst(rows[a].value, &sub, &mut HashMap::default());
+            coef.push(
+                free.iter()
+                    .map(|&i| self.e.diff(v, self.coords[i].velocity))
+                    .collect(),
+            );
+            bias.push(self.velocity_free_part(v));
+        }
+        if implicit.len() > MAX_IMPLICIT {
+            let c = rows[implicit[MAX_IMPLICIT]].src;
+            self.cx.error(range_of(c), format!("at most {MAX_IMPLICIT} constraints may be implicit or holonomic (their block of dependent velocities is inverted symbolically): write the others explicitly, `dot(s) = ..`"));
+            return None;
+        }
+        let chosen = self.choose_dependent(def, &rows, &implicit, &free, &coef)?;
+        let dependent: Vec<usize> = explicit_deps
+            .iter()
+            .chain(chosen.iter().map(|&j| &free[j]))
+            .copied()
+            .collect();
+        let independent: Vec<usize> = (0..n).filter(|i| !dependent.contains(i)).collect();
+        crate::check::independent_left(
+            def,
+            n,
+            &independent,
+            def.constraints.as_ref().map(|c| c.0.span()),
+            self.cx,
+        );
+        if independent.is_empty() {
+            return None;
+        }
+        // the implicit block solved: c_s ṡ = −(c_r ṙ + b)
+        let block: Vec<Vec<ExprId>> = coef
+            .iter()
+            .map(|row| chosen.iter().map(|&j| row[j]).collect())
+            .collect();
+        let w: Vec<ExprId> = coef
+            .iter()
+            .zip(&bias)
+            .map(|(row, &b)| {
+                let mut parts = vec![b];
+                for (j, &i) in free.iter().enumerate() {
+                    if !chosen.contains(&j) && row[j] != ZERO {
+                        let v = self.e.sym(self.coords[i].velocity);
+                        parts.push(self.e.mul(row[j], v));
+                    }
+                }
+                let s = self.e.sum(&parts);
+                self.e.neg(s)
+            })
+            .collect();
+        let solved = cramer(&mut self.e, &block, &w);
+        let chart = (!implicit.is_empty()).then(|| self.regularity(&block, &coef));
+        let back: HashMap<SymId, ExprId> = chosen
+            .iter()
+            .zip(&solved)
+            .map(|(&j, &v)| (self.coords[free[j]].velocity, v))
+            .collect();
+        let mut homogeneous = true;
+        let mut affine = false;
+        let mut constraints = Vec::with_capacity(rows.len());
+        let mut next_implicit = 0;
+        for row in &rows {
+            let (s, velocity) = match row.explicit {
+                Some(s) if back.is_empty() => (s, row.value),
+                Some(s) => (s, self.e.subst(row.value, &back, &mut HashMap::default())),
+                None => {
+                    let j = chosen[next_implicit];
+                    next_implicit += 1;
+                    (free[j], solved[next_implicit - 1])
+                }
+            };
+            let coefficients = independent
+                .iter()
+                .map(|&i| {
+                    let d = self.e.diff(velocity, self.coords[i].velocity);
+                    self.e.neg(d)
+                })
+                .collect();
+            let row_affine = self.velocity_free_part(velocity) != ZERO
+                || self.e.depends_on(velocity, self.t_sym);
+            affine |= row_affine;
+            homogeneous &= row.kind != ConstraintKind::Holonomic && !row_affine;
+            constraints.push(Constraint {
+                kind: row.kind,
+                dependent: s,
+                velocity,
+                coefficients,
+                holonomic: row.holonomic,
+                source: source_of(row.src),
+            });
+        }
+        Some(Lowered {
+            constraints,
+            chart,
+            homogeneous,
+            affine,
+        })
+    }
+
+    /// det(c_s)/Π_a ‖c_a‖: the signed Hadamard ratio of the implicit rows.
+    fn regularity(&mut self, block: &[Vec<ExprId>], coef: &[Vec<ExprId>]) -> ExprId {
+        let e = &mut self.e;
+        let mut parts = vec![det(e, block)];
+        for row in coef {
+            let squares: Vec<ExprId> = row.iter().map(|&c| e.mul(c, c)).collect();
+            let norm2 = e.sum(&squares);
+            parts.push(e.pow(norm2, Rational::new(-1, 2).unwrap_or(Rational::MINUS_ONE)));
+        }
+        parts
+            .into_iter()
+            .fold(crate::sym::ONE, |acc, x| e.mul(acc, x))
+    }
+
+    /// Whether a block of dependent-velocity coefficients is singular at
+    /// every point.
+    fn generically_singular(&mut self, block: &[Vec<ExprId>]) -> bool {
+        let d = det(&mut self.e, block);
+        d == ZERO || vanish_at_random_points(&self.e, self.pi_sym, &[d])
+    }
+
+    /// For each implicit row, the index in `free` of its dependent
+    /// coordinate: from `dependent { .. }`, else by the rule of DESIGN §9.
+    fn choose_dependent(
+        &mut self,
+        def: &SystemDef,
+        rows: &[Row<'_>],
+        implicit: &[usize],
+        free: &[usize],
+        coef: &[Vec<ExprId>],
+    ) -> Option<Vec<usize>> {
+        if let Some((kw, names)) = &def.dependent {
+            return self.named_dependent(kw, names, rows, implicit, free, coef);
+        }
+        let mut chosen: Vec<usize> = Vec::new();
+        for (a, &ra) in implicit.iter().enumerate() {
+            let mut with_constant: Vec<usize> = Vec::new();
+            let mut others: Vec<usize> = Vec::new();
+            for j in 0..free.len() {
+                if chosen.contains(&j) || coef[a][j] == ZERO {
+                    continue;
+                }
+                match self.e.as_constant(coef[a][j]) {
+                    Some(_) => with_constant.push(j),
+                    None => others.push(j),
+                }
+            }
+            others.reverse();
+            let pick = with_constant.into_iter().chain(others).find(|&j| {
+                let cols: Vec<usize> = chosen.iter().copied().chain([j]).collect();
+                let block: Vec<Vec<ExprId>> = coef[..=a]
+                    .iter()
+                    .map(|row| cols.iter().map(|&c| row[c]).collect())
+                    .collect();
+                !self.generically_singular(&block)
+            });
+            match pick {
+                Some(j) => chosen.push(j),
+                None => {
+                    self.cx.error(range_of(rows[ra].src), "this constraint cannot be solved for any velocity not already dependent: with the constraints before it, its block of dependent velocities is singular at every point (it repeats or combines them, or involves only dependent coordinates); remove it or rewrite it");
+                    return None;
+                }
+            }
+        }
+        Some(chosen)
+    }
+
+    /// The dependent coordinates named in `dependent { .. }`, checked.
+    fn named_dependent(
+        &mut self,
+        kw: &Ident,
+        names: &[Ident],
+        rows: &[Row<'_>],
+        implicit: &[usize],
+        free: &[usize],
+        coef: &[Vec<ExprId>],
+    ) -> Option<Vec<usize>> {
+        let mut chosen = Vec::new();
+        for id in names {
+            let j = match self.scope.get(&id.to_string()) {
+                Some(Binding::Coord(i)) => free.iter().position(|f| f == i),
+                _ => {
+                    let hint = self.coordinate_hint(id);
+                    self.cx.error_at(id.span(), format!("`{id}` is not a coordinate{hint}: `dependent {{ .. }}` lists the coordinates the implicit and holonomic constraints are solved for"));
+                    return None;
+                }
+            };
+            let involved = j.filter(|&j| coef.iter().any(|row| row[j] != ZERO));
+            match involved {
+                Some(j) if chosen.contains(&j) => {
+                    self.cx.error_at(
+                        id.span(),
+                        format!("`{id}` is listed twice in `dependent`: remove one"),
+                    );
+                    return None;
+                }
+                Some(j) => chosen.push(j),
+                None => {
+                    self.cx.error_at(id.span(), format!("`{id}` appears in no implicit or holonomic constraint (or is made dependent by an explicit constraint `dot({id}) = ..`), so none can be solved for it: list a coordinate whose velocity such a constraint involves"));
+                    return None;
+                }
+            }
+        }
+        if chosen.len() != implicit.len() {
+            let count = |n: usize, one: &str, many: &str| {
+                format!("{n} {}", if n == 1 { one } else { many })
+            };
+            self.cx.error_at(kw.span(), format!("`dependent` lists {}, but {} implicit or holonomic: list exactly one dependent coordinate per such constraint, in their order", count(chosen.len(), "coordinate", "coordinates"), count(implicit.len(), "constraint is", "constraints are")));
+            return None;
+        }
+        for a in 0..implicit.len() {
+            let block: Vec<Vec<ExprId>> = coef[..=a]
+                .iter()
+                .map(|row| chosen[..=a].iter().map(|&c| row[c]).collect())
+                .collect();
+            if self.generically_singular(&block) {
+                let name = &self.coords[free[chosen[a]]].name;
+                self.cx.error(range_of(rows[implicit[a]].src), format!("this constraint cannot be solved for `dot({name})` (named in `dependent`): with the constraints before it, the block of dependent velocities is singular at every point; list another coordinate in `dependent`"));
+                return None;
+            }
+        }
+        Some(chosen)
+    }
+}
+
+/// A text for a message, shortened past 60 characters.
+fn short(s: String) -> String {
+    super::short(s)
+}

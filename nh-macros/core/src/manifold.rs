@@ -1,0 +1,161 @@
+//! The runtime hooks of systems with implicit or holonomic constraints
+//! (DESIGN §9): the chart regularity of the dependent-velocity block, the
+//! residual of the holonomic constraints, and the projection onto them by
+//! Newton's method on their dependent coordinates.
+
+use crate::emit::Node;
+use crate::generate::{Args, bound_dag};
+use crate::lower::constraints::cramer;
+use crate::model::Model;
+use crate::sym::{ExprId, ZERO};
+use proc_macro2::TokenStream;
+use quote::quote;
+
+/// Newton iterations of the projection before it fails.
+const NEWTON_ITERATIONS: usize = 8;
+
+/// The trait methods `chart_regularity`, `constraint_residual` and
+/// `project` for state type `xty`; nothing for a system whose constraints
+/// are all explicit (its per-step cost is unchanged).
+pub fn methods(m: &mut Model, xty: &TokenStream) -> TokenStream {
+    let Some(chart) = m.chart else {
+        return quote!();
+    };
+    let args = Args::state(m);
+    let mut d = bound_dag(m, &args);
+    let node = d.expr(&m.engine, chart);
+    let (stmts, o) = d.emit(&[node]);
+    let rho = &o[0];
+    let mut out = quote! {
+        /// The signed Hadamard ratio det(c_s)/Π‖c_a‖ of the block of
+        /// dependent velocities of the implicit and holonomic constraints:
+        /// in [−1, 1], zero where the chart of dependent coordinates is
+        /// singular.
+        #[inline]
+        fn chart_regularity(&self, t: T, x: &#xty) -> ::core::option::Option<T> {
+            let _ = (t, x);
+            #stmts
+            ::core::option::Option::Some(#rho)
+        }
+    };
+    let holonomic = m.holonomic();
+    if !holonomic.is_empty() {
+        out.extend(projection(m, &args, &holonomic, xty));
+    }
+    out
+}
+
+/// `constraint_residual` and `project` for the holonomic constraints
+/// (dependent coordinate, f).
+fn projection(
+    m: &mut Model,
+    args: &Args,
+    holonomic: &[(usize, ExprId)],
+    xty: &TokenStream,
+) -> TokenStream {
+    let p = holonomic.len();
+    let f: Vec<ExprId> = holonomic.iter().map(|&(_, f)| f).collect();
+    // Newton's step on the dependent coordinates: Δs = −J⁻¹ f, J = ∂f/∂s
+    let jac: Vec<Vec<ExprId>> = f
+        .iter()
+        .map(|&fa| {
+            holonomic
+                .iter()
+                .map(|&(s, _)| m.engine.diff(fa, m.coordinates[s].position))
+                .collect()
+        })
+        .collect();
+    let minus_f: Vec<ExprId> = f.iter().map(|&x| m.engine.neg(x)).collect();
+    let step = cramer(&mut m.engine, &jac, &minus_f);
+    // the scale of f's terms: Σ_i |∂f/∂q_i q_i|
+    let mut scale_terms = Vec::new();
+    for &fa in &f {
+        for i in 0..m.n() {
+            let d = m.engine.diff(fa, m.coordinates[i].position);
+            if d != ZERO {
+                let q = m.engine.sym(m.coordinates[i].position);
+                scale_terms.push(m.engine.mul(d, q));
+            }
+        }
+    }
+    let mut d = bound_dag(m, args);
+    let outs: Vec<Node> = f
+        .iter()
+        .chain(&step)
+        .chain(&scale_terms)
+        .map(|&e| d.expr(&m.engine, e))
+        .collect();
+    let (stmts, o) = d.emit(&outs);
+    let (fo, rest) = o.split_at(p);
+    let (so, scale) = rest.split_at(p);
+    let updates = holonomic
+        .iter()
+        .enumerate()
+        .map(|(a, &(s, _))| quote!(x[#s] += step[#a];));
+    let residuals = {
+        let mut d = bound_dag(m, args);
+        let outs: Vec<Node> = f.iter().map(|&e| d.expr(&m.engine, e)).collect();
+        let (s, o) = d.emit(&outs);
+        quote!({ #s [#(#o),*] })
+    };
+    let iterations = NEWTON_ITERATIONS;
+    quote! {
+        /// The largest |f_i(q, t)| of the holonomic constraints.
+        #[inline]
+        fn constraint_residual(&self, t: T, x: &#xty) -> ::core::option::Option<T> {
+            let _ = (t, x);
+            let __nh_f: [T; #p] = #residuals;
+            let mut __nh_r = T::zero();
+            for v in __nh_f {
+                let a = v.abs();
+                if !(a <= __nh_r) {
+                    __nh_r = a;
+                }
+            }
+            ::core::option::Option::Some(__nh_r)
+        }
+
+        /// Newton's method on the dependent coordinates of the holonomic
+        /// constraints, at most 8 iterations, to 4 ε of the size of f's
+        /// terms Σ|∂f/∂q_i q_i|.
+        #[inline]
+        fn project(
+            &self,
+            t: T,
+            x: &mut #xty,
+        ) -> ::core::result::Result<bool, __nh_private::nh_runtime::ProjectionFailure<T>> {
+            let __nh_newton = |x: &#xty| -> (T, T, [T; #p]) {
+                let _ = (t, x);
+                #stmts
+                let mut res = T::zero();
+                for v in [#(#fo),*] {
+                    let a = v.abs();
+                    if !(a <= res) {
+                        res = a;
+                    }
+                }
+                let mut scale = T::zero();
+                for v in [#(#scale),*] {
+                    scale += v.abs();
+                }
+                let tol = T::default_epsilon() * Self::__nh_c(4.0) * scale;
+                (res, tol, [#(#so),*])
+            };
+            let mut changed = false;
+            for _ in 0..#iterations {
+                let (res, tol, step) = __nh_newton(x);
+                if res <= tol {
+                    return ::core::result::Result::Ok(changed);
+                }
+                #(#updates)*
+                changed = true;
+            }
+            let (res, tol, _) = __nh_newton(x);
+            if res <= tol {
+                ::core::result::Result::Ok(changed)
+            } else {
+                ::core::result::Result::Err(__nh_private::nh_runtime::ProjectionFailure { residual: res })
+            }
+        }
+    }
+}
