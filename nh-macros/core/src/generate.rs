@@ -1164,6 +1164,18 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
             }
         }
     }
+    // one dependent coordinate per constraint: those the rule would choose
+    // are not known without lowering, but their number is, and the API's
+    // dimensions depend only on it (the last coordinates stand in)
+    let wanted = def.constraints.as_ref().map_or(0, |(_, l)| l.len());
+    for i in (0..coords.len()).rev() {
+        if dependent.len() >= wanted.min(coords.len()) {
+            break;
+        }
+        if !dependent.contains(&i) {
+            dependent.push(i);
+        }
+    }
     dependent.sort_unstable();
     let independent = (0..coords.len())
         .filter(|i| !dependent.contains(i))
