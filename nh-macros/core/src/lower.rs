@@ -4,6 +4,7 @@
 //! a name is reported at its token.
 
 pub(crate) mod constraints;
+pub(crate) mod linear;
 
 use crate::check;
 use crate::ctxt::{Ctxt, SpanRange};

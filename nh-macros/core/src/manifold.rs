@@ -5,7 +5,7 @@
 
 use crate::emit::Node;
 use crate::generate::{Args, bound_dag};
-use crate::lower::constraints::cramer;
+use crate::lower::linear;
 use crate::model::Model;
 use crate::sym::{ExprId, ZERO};
 use proc_macro2::TokenStream;
@@ -66,7 +66,7 @@ fn projection(
         })
         .collect();
     let minus_f: Vec<ExprId> = f.iter().map(|&x| m.engine.neg(x)).collect();
-    let step = cramer(&mut m.engine, &jac, &minus_f);
+    let step = linear::solve(&mut m.engine, &jac, &[minus_f]).x.remove(0);
     // the scale of f's terms: Σ_i |∂f/∂q_i q_i|
     let mut scale_terms = Vec::new();
     for &fa in &f {

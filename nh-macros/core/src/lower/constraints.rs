@@ -3,18 +3,20 @@
 //! are chosen (`dependent { .. }` or the documented rule), and every
 //! dependent velocity is solved for: ṡ = −A ṙ − β.
 
+use super::linear;
 use super::{Binding, Lowerer, Place};
 use crate::ctxt::SpanRange;
 use crate::mechanics::vanish_at_random_points;
 use crate::model::{Constraint, ConstraintKind};
 use crate::parse::{self, Expr, SystemDef};
-use crate::sym::{Engine, ExprId, Rational, SymId, ZERO};
+use crate::sym::{ExprId, Rational, SymId, ZERO};
 use proc_macro2::Ident;
 use rustc_hash::FxHashMap as HashMap;
 
 /// The most implicit and holonomic constraints a system may have: their
-/// block of dependent velocities is inverted symbolically (Cramer's rule).
-pub const MAX_IMPLICIT: usize = 3;
+/// block of dependent velocities is solved symbolically (Cramer's rule up to
+/// [`CRAMER_MAX`](super::linear::CRAMER_MAX) rows, sparse elimination beyond).
+pub const MAX_IMPLICIT: usize = 8;
 
 /// The constraints after lowering.
 #[derive(Default)]
@@ -54,57 +56,6 @@ fn range_of(c: &parse::Constraint) -> SpanRange {
         first: l.first,
         last: r.last,
     }
-}
-
-/// The determinant of a small square matrix (Laplace expansion).
-fn det(e: &mut Engine, m: &[Vec<ExprId>]) -> ExprId {
-    match m.len() {
-        0 => crate::sym::ONE,
-        1 => m[0][0],
-        n => {
-            let mut parts = Vec::with_capacity(n);
-            for j in 0..n {
-                if m[0][j] == ZERO {
-                    continue;
-                }
-                let minor: Vec<Vec<ExprId>> = m[1..]
-                    .iter()
-                    .map(|row| {
-                        row.iter()
-                            .enumerate()
-                            .filter(|&(c, _)| c != j)
-                            .map(|(_, &x)| x)
-                            .collect()
-                    })
-                    .collect();
-                let d = det(e, &minor);
-                let t = e.mul(m[0][j], d);
-                parts.push(if j % 2 == 0 { t } else { e.neg(t) });
-            }
-            e.sum(&parts)
-        }
-    }
-}
-
-/// x = m⁻¹ w by Cramer's rule.
-pub fn cramer(e: &mut Engine, m: &[Vec<ExprId>], w: &[ExprId]) -> Vec<ExprId> {
-    let d = det(e, m);
-    let inv = e.pow(d, Rational::MINUS_ONE);
-    (0..w.len())
-        .map(|j| {
-            let mj: Vec<Vec<ExprId>> = m
-                .iter()
-                .zip(w)
-                .map(|(row, &wi)| {
-                    let mut row = row.clone();
-                    row[j] = wi;
-                    row
-                })
-                .collect();
-            let dj = det(e, &mj);
-            e.mul(dj, inv)
-        })
-        .collect()
 }
 
 impl Lowerer<'_> {
@@ -325,7 +276,7 @@ impl Lowerer<'_> {
         }
         if implicit.len() > MAX_IMPLICIT {
             let c = rows[implicit[MAX_IMPLICIT]].src;
-            self.cx.error(range_of(c), format!("at most {MAX_IMPLICIT} constraints may be implicit or holonomic (their block of dependent velocities is inverted symbolically): write the others explicitly, `dot(s) = ..`"));
+            self.cx.error(range_of(c), format!("at most {MAX_IMPLICIT} constraints may be implicit or holonomic (their block of dependent velocities is solved symbolically): write the others explicitly, `dot(s) = ..`"));
             return None;
         }
         let chosen = self.choose_dependent(def, &rows, &implicit, &free, &coef)?;
@@ -345,28 +296,8 @@ impl Lowerer<'_> {
         if independent.is_empty() {
             return None;
         }
-        // the implicit block solved: c_s ṡ = −(c_r ṙ + b)
-        let block: Vec<Vec<ExprId>> = coef
-            .iter()
-            .map(|row| chosen.iter().map(|&j| row[j]).collect())
-            .collect();
-        let w: Vec<ExprId> = coef
-            .iter()
-            .zip(&bias)
-            .map(|(row, &b)| {
-                let mut parts = vec![b];
-                for (j, &i) in free.iter().enumerate() {
-                    if !chosen.contains(&j) && row[j] != ZERO {
-                        let v = self.e.sym(self.coords[i].velocity);
-                        parts.push(self.e.mul(row[j], v));
-                    }
-                }
-                let s = self.e.sum(&parts);
-                self.e.neg(s)
-            })
-            .collect();
-        let solved = cramer(&mut self.e, &block, &w);
-        let chart = (!implicit.is_empty()).then(|| self.regularity(&block, &coef));
+        let (solved, det) = self.solve_block(&coef, &bias, &chosen, &free);
+        let chart = (!implicit.is_empty()).then(|| self.regularity(det, &coef));
         let back: HashMap<SymId, ExprId> = chosen
             .iter()
             .zip(&solved)
@@ -414,10 +345,67 @@ impl Lowerer<'_> {
         })
     }
 
-    /// det(c_s)/Π_a ‖c_a‖: the signed Hadamard ratio of the implicit rows.
-    fn regularity(&mut self, block: &[Vec<ExprId>], coef: &[Vec<ExprId>]) -> ExprId {
+    /// The implicit block solved, c_s ṡ = −(c_r ṙ + b): the dependent
+    /// velocities (in the order of `chosen`) and det c_s. Up to
+    /// [`linear::CRAMER_MAX`] rows the right side is one vector, linear in
+    /// ṙ; beyond, A and β are eliminated column by column, each entry a
+    /// function of q and t only, and ṡ = −A ṙ − β assembled after.
+    fn solve_block(
+        &mut self,
+        coef: &[Vec<ExprId>],
+        bias: &[ExprId],
+        chosen: &[usize],
+        free: &[usize],
+    ) -> (Vec<ExprId>, ExprId) {
+        let block: Vec<Vec<ExprId>> = coef
+            .iter()
+            .map(|row| chosen.iter().map(|&j| row[j]).collect())
+            .collect();
         let e = &mut self.e;
-        let mut parts = vec![det(e, block)];
+        if block.len() > linear::CRAMER_MAX {
+            // the right sides' columns: −c_r for each ṙ involved, then −b
+            let mut velocities = Vec::new();
+            let mut columns: Vec<Vec<ExprId>> = Vec::new();
+            for (j, &i) in free.iter().enumerate() {
+                if !chosen.contains(&j) && coef.iter().any(|row| row[j] != ZERO) {
+                    velocities.push(e.sym(self.coords[i].velocity));
+                    columns.push(coef.iter().map(|row| e.neg(row[j])).collect());
+                }
+            }
+            columns.push(bias.iter().map(|&b| e.neg(b)).collect());
+            let s = linear::solve(e, &block, &columns);
+            let solved = (0..block.len())
+                .map(|a| {
+                    let mut parts = vec![s.x[velocities.len()][a]];
+                    for (xk, &v) in s.x.iter().zip(&velocities) {
+                        parts.push(e.mul(xk[a], v));
+                    }
+                    e.sum(&parts)
+                })
+                .collect();
+            return (solved, s.det);
+        }
+        let w: Vec<ExprId> = (0..block.len())
+            .map(|a| {
+                let mut parts = vec![bias[a]];
+                for (j, &i) in free.iter().enumerate() {
+                    if !chosen.contains(&j) && coef[a][j] != ZERO {
+                        let v = e.sym(self.coords[i].velocity);
+                        parts.push(e.mul(coef[a][j], v));
+                    }
+                }
+                let s = e.sum(&parts);
+                e.neg(s)
+            })
+            .collect();
+        let s = linear::solve(e, &block, &[w]);
+        (s.x.into_iter().next().unwrap_or_default(), s.det)
+    }
+
+    /// det(c_s)/Π_a ‖c_a‖: the signed Hadamard ratio of the implicit rows.
+    fn regularity(&mut self, det: ExprId, coef: &[Vec<ExprId>]) -> ExprId {
+        let e = &mut self.e;
+        let mut parts = vec![det];
         for row in coef {
             let squares: Vec<ExprId> = row.iter().map(|&c| e.mul(c, c)).collect();
             let norm2 = e.sum(&squares);
@@ -431,7 +419,7 @@ impl Lowerer<'_> {
     /// Whether a block of dependent-velocity coefficients is singular at
     /// every point.
     fn generically_singular(&mut self, block: &[Vec<ExprId>]) -> bool {
-        let d = det(&mut self.e, block);
+        let d = linear::det(&mut self.e, block);
         d == ZERO || vanish_at_random_points(&self.e, self.pi_sym, &[d])
     }
 
