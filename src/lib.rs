@@ -179,8 +179,11 @@
 //! (constant coefficients first, then from the last declared backwards). A block
 //! singular for every choice is a compile error at the constraint. The chosen
 //! coordinates are in `DEPENDENT`, whose documentation says which constraint is
-//! solved for which coordinate. At most 3 constraints may be implicit or
-//! holonomic (their block is inverted symbolically).
+//! solved for which coordinate. At most 8 constraints may be implicit or
+//! holonomic: their block is solved symbolically, by Cramer's rule up to 3
+//! rows and by sparse Gaussian elimination beyond (constant pivots first, then
+//! the sparsest rows and columns), so two rolling wheels (4 rows) or a bicycle
+//! (4 rolling rows and a holonomic one) are accepted.
 //!
 //! With the block solved, ṡ = −A ṙ − β: the equations of motion are the
 //! multiplier route (5.9) with s̈ = −A r̈ − Ȧ ṙ − β̇ (total time derivatives,
