@@ -1067,9 +1067,13 @@ impl Bodies for Derived<'_> {
             GeneratedMethod::Jacobian if self.m.outputs.contains(Output::Linearization) => {
                 // the linearisation's A is this Jacobian: one copy of the code
                 let u = self.u_forward();
-                let doc = format!(
-                    "{}: the matrix A of [`Self::linearization`], derived symbolically through the reduced solve.",
+                let system = if self.maggi.is_some() {
+                    "The Jacobian ∂f/∂x of the first-order system x = [q, u] ↦ [S u + σ, u̇]"
+                } else {
                     spec.doc
+                };
+                let doc = format!(
+                    "{system}: the matrix A of [`Self::linearization`], derived symbolically through the reduced solve.",
                 );
                 (doc, quote! { self.linearization(t, x #u).0 })
             }
@@ -1086,6 +1090,10 @@ impl Bodies for Derived<'_> {
             }
             // q̇ and r̈ from their methods, inlined (one copy of the code;
             // measured as fast as a fused body)
+            GeneratedMethod::Rhs if self.maggi.is_some() => (
+                "ẋ for the state x = [q, u] of a system in generalized speeds: ẋ = [S u + σ, u̇], u̇ by Maggi's equations.".to_string(),
+                self.rhs_body(),
+            ),
             GeneratedMethod::Rhs => (static_doc(), self.rhs_body()),
         };
         Method { doc, body }
