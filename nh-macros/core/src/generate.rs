@@ -1152,9 +1152,7 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
     let mut dependent: Vec<usize> = Vec::new();
     if let Some((_, list)) = &def.constraints {
         for c in list {
-            if let crate::parse::Expr::Call { func, arg, .. } = &c.lhs
-                && func == "dot"
-                && let crate::parse::Expr::Name(id) = &**arg
+            if let Some(crate::parse::Expr::Name(id)) = c.lhs.call1("dot")
                 && let Some(i) = coords.iter().position(|x| x == id)
                 && !dependent.contains(&i)
             {

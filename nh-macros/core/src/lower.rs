@@ -3,14 +3,18 @@
 //! coordinates, velocities, parameters, inputs and time, and every misuse of
 //! a name is reported at its token.
 
+mod bodies;
 pub(crate) mod constraints;
 pub(crate) mod linear;
+pub(crate) mod values;
 
 use crate::check;
 use crate::ctxt::{Ctxt, SpanRange};
 use crate::model::{Coordinate, Input, Model, Parameter, Partition};
 use crate::names;
-use crate::parse::{BinOp, Expr, SystemDef};
+use crate::parse::{BinOp, BodyDef, Expr, SystemDef};
+use bodies::BodyState;
+use values::Value;
 use crate::sym::{Engine, ExprId, Fun, Rational, SymId, ZERO};
 use proc_macro2::{Ident, Span};
 use rustc_hash::FxHashMap as HashMap;
@@ -30,6 +34,7 @@ enum Binding {
     Input(usize),
     Let(usize),
     Speed(usize),
+    Body(usize),
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -39,10 +44,11 @@ enum Place {
     Force,
     Constraint,
     Kinematics,
+    Body,
 }
 
 struct LetInfo {
-    value: Option<ExprId>,
+    value: Option<Value>,
     name: Ident,
 }
 
@@ -56,6 +62,9 @@ struct Lowerer<'a> {
     /// the generalized speeds' symbols, in declared order
     speed_syms: Vec<SymId>,
     lets: Vec<LetInfo>,
+    /// the `body` items, lowered on first use
+    body_defs: Vec<BodyDef>,
+    body_state: Vec<BodyState>,
     t_sym: SymId,
     pi_sym: SymId,
     place: Place,
@@ -138,6 +147,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     lw.lower_forces(def);
     let lowered = lw.lower_constraints(def);
     let speeds = lw.lower_speeds(def);
+    lw.lower_unused_bodies();
     let outputs = check::outputs(def, lw.cx);
     check::outputs_for_form(def, lw.cx);
     if lw.e.overflowed() {
@@ -221,6 +231,9 @@ impl<'a> Lowerer<'a> {
             names.bind(cx, &u, "a speed", Binding::Speed(i));
             speed_syms.push(e.symbol(&u.to_string()));
         }
+        for (i, b) in def.bodies.iter().enumerate() {
+            names.bind(cx, &b.name, "a body", Binding::Body(i));
+        }
         let let_ok = def
             .lets
             .iter()
@@ -243,6 +256,8 @@ impl<'a> Lowerer<'a> {
             inputs,
             speed_syms,
             lets: Vec::new(),
+            body_defs: def.bodies.clone(),
+            body_state: vec![BodyState::Pending; def.bodies.len()],
             t_sym,
             pi_sym,
             place: Place::Let,
@@ -257,7 +272,7 @@ impl<'a> Lowerer<'a> {
     fn lower_lets(&mut self, def: &SystemDef, let_ok: &[bool]) {
         for (i, l) in def.lets.iter().enumerate() {
             self.place = Place::Let;
-            let v = self.lower(&l.value, 0);
+            let v = self.lower_value(&l.value, 0);
             self.lets.push(LetInfo {
                 value: v,
                 name: l.name.clone(),
@@ -360,16 +375,26 @@ impl Lowerer<'_> {
         v
     }
 
-    /// Lowers a surface expression; `None` after recording an error.
+    /// Lowers a surface expression that must be a scalar; `None` after
+    /// recording an error.
     fn lower(&mut self, x: &Expr, depth: usize) -> Option<ExprId> {
+        let v = self.lower_value(x, depth)?;
+        self.scalar_of(v, x)
+    }
+
+    /// Lowers a surface expression of any kind; `None` after recording an error.
+    fn lower_value(&mut self, x: &Expr, depth: usize) -> Option<Value> {
         let v = self.lower_inner(x, depth)?;
+        let Value::Scalar(v) = v else {
+            return Some(v);
+        };
         if self.huge_constant.is_none()
             && let Some(c) = self.e.as_constant(v)
             && !c.to_f64().is_finite()
         {
             self.huge_constant = Some(x.range());
         }
-        Some(v)
+        Some(Value::Scalar(v))
     }
 
     /// The sign of `e` if it is a rational constant times a power of π.
@@ -412,7 +437,7 @@ impl Lowerer<'_> {
         }
     }
 
-    fn lower_inner(&mut self, x: &Expr, depth: usize) -> Option<ExprId> {
+    fn lower_inner(&mut self, x: &Expr, depth: usize) -> Option<Value> {
         if depth > crate::parse::MAX_DEPTH {
             self.cx.error(
                 x.range(),
@@ -421,15 +446,20 @@ impl Lowerer<'_> {
             return None;
         }
         match x {
-            Expr::Num(q, _) => Some(self.e.constant(*q)),
+            Expr::Num(q, _) => Some(Value::Scalar(self.e.constant(*q))),
             Expr::Name(id) => self.lower_name(id),
-            Expr::Neg(inner, _) => {
-                let v = self.lower(inner, depth + 1)?;
-                Some(self.e.neg(v))
-            }
+            Expr::Neg(inner, _) => match self.lower_value(inner, depth + 1)? {
+                Value::Scalar(v) => Some(Value::Scalar(self.e.neg(v))),
+                v => {
+                    let minus = Value::Scalar(self.e.int(-1));
+                    self.combine(BinOp::Mul, minus, v, x.range(), inner)
+                }
+            },
             Expr::Chain { first, rest } => self.lower_chain(first, rest, depth),
-            Expr::Pow { base, exp, .. } => self.lower_pow(x, base, exp, depth),
-            Expr::Call { func, arg, range } => self.lower_call(func, arg, *range, depth),
+            Expr::Pow { base, exp, .. } => self.lower_pow(x, base, exp, depth).map(Value::Scalar),
+            Expr::Call { func, args, range } => self.lower_call(func, args, *range, depth),
+            Expr::Vector { items, range } => self.lower_brackets(items, *range, depth),
+            Expr::Component { base, field } => self.lower_component(base, field, depth),
         }
     }
 
@@ -439,17 +469,14 @@ impl Lowerer<'_> {
         first: &Expr,
         rest: &[(BinOp, Span, Expr)],
         depth: usize,
-    ) -> Option<ExprId> {
+    ) -> Option<Value> {
         // every operand is lowered, so that all their errors are reported
-        let mut acc = self.lower(first, depth + 1);
+        let mut acc = self.lower_value(first, depth + 1);
         for (op, op_span, operand) in rest {
-            let v = self.lower(operand, depth + 1);
+            let v = self.lower_value(operand, depth + 1);
             acc = match (acc, v) {
                 (Some(a), Some(v)) => match op {
-                    BinOp::Add => Some(self.e.add(a, v)),
-                    BinOp::Sub => Some(self.e.sub(a, v)),
-                    BinOp::Mul => Some(self.e.mul(a, v)),
-                    BinOp::Div if v == ZERO => {
+                    BinOp::Div if matches!(v, Value::Scalar(ZERO)) => {
                         let at = SpanRange {
                             first: *op_span,
                             last: operand.range().last,
@@ -462,7 +489,10 @@ impl Lowerer<'_> {
                         self.cx.error(at, msg);
                         None
                     }
-                    BinOp::Div => Some(self.e.div(a, v)),
+                    _ => {
+                        let at = first.range().to(operand.range());
+                        self.combine(*op, a, v, at, operand)
+                    }
                 },
                 _ => None,
             };
@@ -533,11 +563,33 @@ impl Lowerer<'_> {
         })
     }
 
-    fn lower_name(&mut self, id: &Ident) -> Option<ExprId> {
+    fn lower_name(&mut self, id: &Ident) -> Option<Value> {
         let s = id.to_string();
         if self.poisoned.contains(&s) {
             return None;
         }
+        if let Some(Binding::Let(i)) = self.scope.get(&s).copied() {
+            let v = self.lets[i].value.clone()?;
+            let inputs: Vec<SymId> = self.inputs.iter().map(|u| u.sym).collect();
+            let uses_input = v
+                .entries()
+                .iter()
+                .any(|&x| inputs.iter().any(|&u| self.e.depends_on(x, u)));
+            if self.place == Place::Lagrangian && uses_input {
+                self.cx.error_at(id.span(), format!("`{s}` depends on an input, and inputs cannot appear in the Lagrangian: put actuation in `forces`"));
+                return None;
+            }
+            return Some(v);
+        }
+        if let Some(Binding::Body(_)) = self.scope.get(&s) {
+            self.cx.error_at(id.span(), format!("`{s}` is a body, not a value: its kinetic energy is `kinetic_energy({s})`"));
+            return None;
+        }
+        self.lower_scalar_name(id).map(Value::Scalar)
+    }
+
+    fn lower_scalar_name(&mut self, id: &Ident) -> Option<ExprId> {
+        let s = id.to_string();
         match self.scope.get(&s).copied() {
             Some(Binding::Param(i)) => Some(self.e.sym(self.params[i].sym)),
             Some(Binding::Coord(i)) => Some(self.e.sym(self.coords[i].position)),
@@ -555,20 +607,15 @@ impl Lowerer<'_> {
                         self.cx.error_at(id.span(), format!("input `{s}` cannot appear in `kinematics`: q̇ = S(q, t) u + σ(q, t) depends on the coordinates, the speeds and time only; inputs act through `forces`"));
                         return None;
                     }
+                    Place::Body => {
+                        self.cx.error_at(id.span(), format!("input `{s}` cannot appear in a body or a rolling contact: they enter the Lagrangian and the constraints; inputs act through `forces`"));
+                        return None;
+                    }
                     _ => {}
                 }
                 Some(self.e.sym(self.inputs[i].sym))
             }
-            Some(Binding::Let(i)) => {
-                let v = self.lets[i].value?;
-                if self.place == Place::Lagrangian
-                    && self.inputs.iter().any(|u| self.e.depends_on(v, u.sym))
-                {
-                    self.cx.error_at(id.span(), format!("`{s}` depends on an input, and inputs cannot appear in the Lagrangian: put actuation in `forces`"));
-                    return None;
-                }
-                Some(v)
-            }
+            Some(Binding::Let(_) | Binding::Body(_)) => None,
             Some(Binding::Speed(i)) => {
                 if self.place != Place::Kinematics {
                     self.cx.error_at(id.span(), format!("speed `{s}` can appear only on the right sides of `kinematics`: write the Lagrangian, forces and `let`s with the velocities `dot(q)` of the coordinates (they are substituted by q̇ = S u + σ)"));
@@ -607,14 +654,33 @@ impl Lowerer<'_> {
     fn lower_call(
         &mut self,
         func: &Ident,
+        args: &[Expr],
+        range: SpanRange,
+        depth: usize,
+    ) -> Option<Value> {
+        let f = func.to_string();
+        if f == "dot" && args.len() == 1 {
+            return self.lower_dot(&args[0], range);
+        }
+        if let Some(v) = self.lower_vector_call(func, args, range, depth) {
+            return v;
+        }
+        if FUNCTIONS.contains(&f.as_str()) && args.len() != 1 {
+            self.cx.error(range, format!("`{f}` takes one argument"));
+            return None;
+        }
+        self.lower_scalar_call(func, &args[0], range, depth)
+            .map(Value::Scalar)
+    }
+
+    fn lower_scalar_call(
+        &mut self,
+        func: &Ident,
         arg: &Expr,
         range: SpanRange,
         depth: usize,
     ) -> Option<ExprId> {
         let f = func.to_string();
-        if f == "dot" {
-            return self.lower_dot(arg, range);
-        }
         let fun = match f.as_str() {
             "sin" => Some(Fun::Sin),
             "cos" => Some(Fun::Cos),
@@ -624,7 +690,7 @@ impl Lowerer<'_> {
             "sqrt" => None,
             _ => {
                 let mut cands: Vec<&str> = FUNCTIONS.to_vec();
-                cands.push("dot");
+                cands.extend(bodies::VECTOR_FUNCTIONS);
                 let hint = names::suggest(&f, &cands);
                 let extra = if f == "log" {
                     " (the natural logarithm is `ln`)"
@@ -636,7 +702,7 @@ impl Lowerer<'_> {
                     format!("unknown function `{f}`{hint}{extra}; the functions are `sin`, `cos`, `tan`, `exp`, `ln`, `sqrt` and `dot` (time derivative)"),
                 );
                 // still lower the argument to find errors inside it
-                let _ = self.lower(arg, depth + 1);
+                let _ = self.lower_value(arg, depth + 1);
                 return None;
             }
         };
@@ -677,7 +743,7 @@ impl Lowerer<'_> {
         })
     }
 
-    fn lower_dot(&mut self, arg: &Expr, range: SpanRange) -> Option<ExprId> {
+    fn lower_dot(&mut self, arg: &Expr, range: SpanRange) -> Option<Value> {
         let id = match arg {
             Expr::Name(id) => id,
             Expr::Call { func, .. } if func == "dot" => {
@@ -694,11 +760,15 @@ impl Lowerer<'_> {
             return None;
         }
         match self.scope.get(&s).copied() {
-            Some(Binding::Coord(i)) => Some(self.e.sym(self.coords[i].velocity)),
+            Some(Binding::Coord(i)) => Some(Value::Scalar(self.e.sym(self.coords[i].velocity))),
             Some(Binding::Let(i)) => {
-                let v = self.lets[i].value?;
+                let v = self.lets[i].value.clone()?;
                 let name = self.lets[i].name.clone();
-                let fs = self.e.free_symbols(v).to_vec();
+                let entries = v.entries();
+                let mut fs: Vec<SymId> = Vec::new();
+                for &x in &entries {
+                    fs.extend_from_slice(self.e.free_symbols(x));
+                }
                 if self.coords.iter().any(|c| fs.contains(&c.velocity)) {
                     self.cx.error(range, format!("`dot({name})`: `{name}` contains velocities, and its time derivative would need accelerations; `dot` applies to velocity-free `let`s only"));
                     return None;
@@ -708,17 +778,20 @@ impl Lowerer<'_> {
                     return None;
                 }
                 // total derivative by the chain rule: Σ ∂/∂q_i q̇_i + ∂/∂t
-                let mut parts = Vec::new();
-                for i in 0..self.coords.len() {
-                    let d = self.e.diff(v, self.coords[i].position);
-                    if d != ZERO {
-                        let vel = self.e.sym(self.coords[i].velocity);
-                        parts.push(self.e.mul(d, vel));
+                Some(match v {
+                    Value::Scalar(x) => Value::Scalar(self.time_derivative(x)),
+                    Value::Vector(x) => Value::Vector(x.map(|c| self.time_derivative(c))),
+                    Value::Rotation(r) => {
+                        Value::Matrix(r.matrix.map(|row| row.map(|c| self.time_derivative(c))))
                     }
-                }
-                let dt = self.e.diff(v, self.t_sym);
-                parts.push(dt);
-                Some(self.e.sum(&parts))
+                    Value::Matrix(m) => {
+                        Value::Matrix(m.map(|row| row.map(|c| self.time_derivative(c))))
+                    }
+                })
+            }
+            Some(Binding::Body(_)) => {
+                self.cx.error(range, format!("`dot({s})`: `{s}` is a body; the velocity of its centre is `dot(C)` of a `let C` for the centre, its angular velocity `omega(R)` of its orientation"));
+                None
             }
             Some(Binding::Speed(_)) => {
                 self.cx.error(range, format!("`dot({s})`: `{s}` is a speed; its derivative is what the equations of motion compute, it cannot be written"));
@@ -754,8 +827,8 @@ impl Lowerer<'_> {
         let mut stack = vec![x];
         while let Some(x) = stack.pop() {
             match x {
-                Expr::Call { func, arg, range } if func == "dot" => {
-                    if let Expr::Name(id) = &**arg
+                Expr::Call { func, args, range } if func == "dot" && args.len() == 1 => {
+                    if let Expr::Name(id) = &args[0]
                         && self
                             .scope
                             .get(&id.to_string())
@@ -764,7 +837,10 @@ impl Lowerer<'_> {
                         return Some(*range);
                     }
                 }
-                Expr::Call { arg, .. } => stack.push(arg),
+                Expr::Call { args: items, .. } | Expr::Vector { items, .. } => {
+                    stack.extend(items.iter().rev())
+                }
+                Expr::Component { base, .. } => stack.push(base),
                 Expr::Neg(inner, _) => stack.push(inner),
                 Expr::Chain { first, rest } => {
                     for (_, _, e) in rest.iter().rev() {
@@ -785,7 +861,7 @@ impl Lowerer<'_> {
     /// The coordinate of a left side `dot(q)`; `msg` says what is expected.
     fn velocity_lhs(&mut self, lhs: &Expr, msg: &str) -> Option<usize> {
         match lhs {
-            Expr::Call { func, arg, .. } if func == "dot" => match &**arg {
+            Expr::Call { func, args, .. } if func == "dot" && args.len() == 1 => match &args[0] {
                 Expr::Name(id) if self.poisoned.contains(&id.to_string()) => None,
                 Expr::Name(id) => match self.scope.get(&id.to_string()) {
                     Some(Binding::Coord(i)) => Some(*i),
@@ -862,7 +938,7 @@ impl Lowerer<'_> {
                     None
                 }
             }
-            Expr::Call { func, .. } if func == "dot" => None,
+            Expr::Call { func, args, .. } if func == "dot" && args.len() == 1 => None,
             Expr::Call { .. } => {
                 if self.has_velocity(x, independent) {
                     Some((x, "has a velocity inside a function"))

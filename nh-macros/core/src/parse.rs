@@ -38,14 +38,29 @@ pub enum Expr {
     Num(Rational, SpanRange),
     /// A name.
     Name(Ident),
-    /// `f(arg)`: a function call, or `dot(arg)`.
+    /// `f(a, ..)`: a function call, `dot(arg)`, or a method call
+    /// `a.f(..)` (whose receiver is the first argument).
     Call {
         /// the function name
         func: Ident,
-        /// the argument
-        arg: Box<Expr>,
+        /// the arguments
+        args: Vec<Expr>,
         /// the whole call
         range: SpanRange,
+    },
+    /// `[a, b, c]`: a vector from its components (or, nested, a matrix by rows).
+    Vector {
+        /// the components
+        items: Vec<Expr>,
+        /// the whole bracket
+        range: SpanRange,
+    },
+    /// `v.x`, `v.y`, `v.z`: a component of a vector.
+    Component {
+        /// the vector
+        base: Box<Expr>,
+        /// the component's name
+        field: Ident,
     },
     /// `-e`.
     Neg(Box<Expr>, SpanRange),
@@ -71,7 +86,8 @@ impl Expr {
         match self {
             Expr::Num(_, r) | Expr::Neg(_, r) => *r,
             Expr::Name(i) => SpanRange::single(i.span()),
-            Expr::Call { range, .. } => *range,
+            Expr::Call { range, .. } | Expr::Vector { range, .. } => *range,
+            Expr::Component { base, field } => base.range().to(SpanRange::single(field.span())),
             Expr::Chain { first, rest } => match rest.last() {
                 Some((_, _, last)) => first.range().to(last.range()),
                 None => first.range(),
@@ -84,7 +100,14 @@ impl Expr {
     /// (for messages: "`dot(theta)^2` is ...").
     pub fn to_source(&self) -> String {
         fn atomic(e: &Expr) -> bool {
-            matches!(e, Expr::Num(..) | Expr::Name(_) | Expr::Call { .. })
+            matches!(
+                e,
+                Expr::Num(..)
+                    | Expr::Name(_)
+                    | Expr::Call { .. }
+                    | Expr::Vector { .. }
+                    | Expr::Component { .. }
+            )
         }
         fn paren(e: &Expr, need: bool) -> String {
             if need {
@@ -96,7 +119,9 @@ impl Expr {
         match self {
             Expr::Num(q, _) => q.to_string(),
             Expr::Name(i) => i.to_string(),
-            Expr::Call { func, arg, .. } => format!("{func}({})", arg.to_source()),
+            Expr::Call { func, args, .. } => format!("{func}({})", list_source(args)),
+            Expr::Vector { items, .. } => format!("[{}]", list_source(items)),
+            Expr::Component { base, field } => format!("{}.{field}", paren(base, !atomic(base))),
             Expr::Neg(inner, _) => format!("-{}", paren(inner, inner.is_sum())),
             Expr::Chain { first, rest } => {
                 let sum = self.is_sum();
@@ -128,11 +153,59 @@ impl Expr {
         }
     }
 
+    /// The argument of a one-argument call of `func` (`dot(x)`: `x`).
+    pub fn call1(&self, func: &str) -> Option<&Expr> {
+        match self {
+            Expr::Call { func: f, args, .. } if f == func && args.len() == 1 => Some(&args[0]),
+            _ => None,
+        }
+    }
+
     /// Is this a sum (a chain of `+`/`-`)?
     pub fn is_sum(&self) -> bool {
         matches!(self, Expr::Chain { rest, .. }
             if rest.first().is_some_and(|r| matches!(r.0, BinOp::Add | BinOp::Sub)))
     }
+}
+
+/// Comma-separated source of a list of expressions.
+fn list_source(items: &[Expr]) -> String {
+    items.iter().map(Expr::to_source).collect::<Vec<_>>().join(", ")
+}
+
+/// A `name: expr` field of a `body` item or a `rolls(..)` line.
+#[derive(Clone, Debug)]
+pub struct Field {
+    /// the field's name
+    pub name: Ident,
+    /// its value
+    pub value: Expr,
+}
+
+/// A `body NAME { mass: .., centre: .., orientation: .., inertia: .. }` item.
+#[derive(Clone, Debug)]
+pub struct BodyDef {
+    /// the `body` keyword
+    pub kw: Ident,
+    /// the body's name
+    pub name: Ident,
+    /// the fields as written
+    pub fields: Vec<Field>,
+}
+
+/// A `rolls(BODY, radius: .., axle: ..);` line of `constraints`.
+#[derive(Clone, Debug)]
+pub struct RollingDef {
+    /// the `rolls` keyword
+    pub kw: Ident,
+    /// the rolling body
+    pub body: Ident,
+    /// the named arguments as written
+    pub fields: Vec<Field>,
+    /// the whole line
+    pub range: SpanRange,
+    /// how many equations of the block come before it
+    pub position: usize,
 }
 
 /// A `let NAME = expr;` item.
@@ -180,6 +253,10 @@ pub struct SystemDef {
     pub inputs: Option<(Ident, Vec<Ident>)>,
     /// `let` items in order
     pub lets: Vec<Let>,
+    /// `body NAME { .. }` items in order
+    pub bodies: Vec<BodyDef>,
+    /// `rolls(..)` lines of `constraints`, in order
+    pub rolling: Vec<RollingDef>,
     /// `lagrangian = ..;` items (more than one is an error reported later)
     pub lagrangians: Vec<(Ident, Expr)>,
     /// `forces { .. }`
@@ -300,6 +377,8 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         coordinates: None,
         inputs: None,
         lets: Vec::new(),
+        bodies: Vec::new(),
+        rolling: Vec::new(),
         lagrangians: Vec::new(),
         forces: None,
         constraints: None,
@@ -349,6 +428,8 @@ fn too_large(input: &TokenStream) -> Option<syn::Error> {
 /// One top-level item of the body: either `keyword { .. }` or tokens up to `;`.
 enum Item {
     Block(Ident, proc_macro2::Group),
+    /// `body NAME { .. }`
+    Body(Ident, Ident, proc_macro2::Group),
     Statement(Vec<TokenTree>),
 }
 
@@ -357,6 +438,30 @@ fn split_items(stream: TokenStream, cx: &mut Ctxt) -> Vec<Item> {
     let mut cur: Vec<TokenTree> = Vec::new();
     let mut it = stream.into_iter().peekable();
     while let Some(tt) = it.next() {
+        // `body NAME { .. }` is a body item
+        if cur.is_empty()
+            && let TokenTree::Ident(kw) = &tt
+            && kw == "body"
+            && let Some(TokenTree::Ident(name)) = it.peek()
+        {
+            let name = name.clone();
+            let mut ahead = it.clone();
+            ahead.next();
+            if let Some(TokenTree::Group(g)) = ahead.peek()
+                && g.delimiter() == Delimiter::Brace
+            {
+                let g = g.clone();
+                it.next();
+                it.next();
+                items.push(Item::Body(kw.clone(), names::canonical(name), g));
+                if let Some(TokenTree::Punct(p)) = it.peek()
+                    && p.as_char() == ';'
+                {
+                    it.next();
+                }
+                continue;
+            }
+        }
         // `keyword { .. }` at the start of an item is a block item
         if cur.is_empty()
             && let TokenTree::Ident(id) = &tt
@@ -407,6 +512,10 @@ fn split_items(stream: TokenStream, cx: &mut Ctxt) -> Vec<Item> {
 fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
     match item {
         Item::Block(kw, group) => parse_block(kw, &group, def, cx),
+        Item::Body(kw, name, group) => {
+            let fields = parse_fields(group.stream(), cx);
+            def.bodies.push(BodyDef { kw, name, fields });
+        }
         Item::Statement(toks) => parse_statement_item(toks, def, cx),
     }
 }
@@ -439,7 +548,20 @@ fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &
             });
         }
         "constraints" => {
-            let list = parse_each(group, parse_constraint, cx);
+            let mut list = Vec::new();
+            let mut rolling = Vec::new();
+            for line in parse_each(group, parse_constraint_line, cx) {
+                match line {
+                    Line::Equation(c) => list.push(c),
+                    Line::Rolling(mut r) => {
+                        r.position = list.len();
+                        rolling.push(r);
+                    }
+                }
+            }
+            if def.constraints.is_none() {
+                def.rolling = rolling;
+            }
             set_once(&mut def.constraints, kw, list, cx, |_| {
                 "duplicate `constraints` block: write all constraints in one block".to_string()
             });
@@ -652,6 +774,106 @@ fn parse_name_list(input: ParseStream) -> syn::Result<Vec<Ident>> {
     Ok(names)
 }
 
+/// A line of `constraints`: an equation or a rolling contact.
+enum Line {
+    Equation(Constraint),
+    Rolling(RollingDef),
+}
+
+fn parse_constraint_line(input: ParseStream) -> syn::Result<Line> {
+    let fork = input.fork();
+    let is_rolling = fork
+        .call(Ident::parse_any)
+        .is_ok_and(|id| id == "rolls")
+        && fork.peek(syn::token::Paren);
+    if is_rolling {
+        return parse_rolling(input).map(Line::Rolling);
+    }
+    parse_constraint(input).map(Line::Equation)
+}
+
+/// `rolls(BODY, name: expr, ..);`
+fn parse_rolling(input: ParseStream) -> syn::Result<RollingDef> {
+    let kw: Ident = input.call(IdentExt::parse_any)?;
+    let content;
+    let paren = syn::parenthesized!(content in input);
+    let body: Ident = content.call(IdentExt::parse_any).map_err(|e| {
+        syn::Error::new(
+            e.span(),
+            "expected the rolling body's name: `rolls(wheel, radius: r, axle: [0, 1, 0]);`",
+        )
+    })?;
+    let mut fields = Vec::new();
+    while !content.is_empty() {
+        let _: Token![,] = content.parse().map_err(|e| {
+            syn::Error::new(e.span(), "expected `,` between the arguments of `rolls`")
+        })?;
+        if content.is_empty() {
+            break;
+        }
+        fields.push(parse_field(&content)?);
+    }
+    if input.peek(Token![;]) {
+        let _: Token![;] = input.parse()?;
+    }
+    if !input.is_empty() {
+        return Err(input.error("unexpected tokens after `rolls(..)`: end the line with `;`"));
+    }
+    Ok(RollingDef {
+        range: SpanRange {
+            first: kw.span(),
+            last: paren.span.close(),
+        },
+        kw,
+        body: names::canonical(body),
+        fields,
+        position: 0,
+    })
+}
+
+/// `name: expr`
+fn parse_field(input: ParseStream) -> syn::Result<Field> {
+    let name: Ident = input.call(IdentExt::parse_any).map_err(|e| {
+        syn::Error::new(e.span(), "expected a field: `name: value`")
+    })?;
+    let _: Token![:] = input.parse().map_err(|e| {
+        syn::Error::new(e.span(), format!("expected `:` after `{name}`: a field is written `{name}: value`"))
+    })?;
+    let value = parse_expr(input, 0)?;
+    Ok(Field { name, value })
+}
+
+/// The comma-separated `name: expr` fields of a `body` item, each parsed on
+/// its own so that one error does not hide the others.
+fn parse_fields(stream: TokenStream, cx: &mut Ctxt) -> Vec<Field> {
+    let mut out = Vec::new();
+    let mut pieces: Vec<Vec<TokenTree>> = vec![Vec::new()];
+    for tt in stream {
+        match &tt {
+            TokenTree::Punct(p) if p.as_char() == ',' => pieces.push(Vec::new()),
+            _ => pieces.last_mut().map_or((), |v| v.push(tt)),
+        }
+    }
+    for piece in pieces.into_iter().filter(|p| !p.is_empty()) {
+        let parser = |input: ParseStream| {
+            let f = parse_field(input)?;
+            if !input.is_empty() {
+                let tt: TokenTree = input.parse()?;
+                return Err(syn::Error::new(
+                    tt.span(),
+                    format!("unexpected `{tt}`: separate the fields of a body with `,`"),
+                ));
+            }
+            Ok(f)
+        };
+        match parser.parse2(piece.into_iter().collect()) {
+            Ok(f) => out.push(f),
+            Err(e) => cx.syn_error(e),
+        }
+    }
+    out
+}
+
 fn parse_constraint(input: ParseStream) -> syn::Result<Constraint> {
     parse_equation(
         input,
@@ -845,7 +1067,7 @@ fn parse_unary(input: ParseStream, depth: usize) -> syn::Result<Expr> {
 /// power := primary ('^' unary)?
 fn parse_power(input: ParseStream, depth: usize) -> syn::Result<Expr> {
     not_too_deep(input, depth, " (a tower of powers?)")?;
-    let base = parse_primary(input, depth)?;
+    let base = parse_postfix(input, depth)?;
     if input.peek(Token![^]) && !input.peek(Token![^=]) {
         let _: Token![^] = input.parse()?;
         let exp = parse_unary(input, depth + 1)?;
@@ -857,7 +1079,60 @@ fn parse_power(input: ParseStream, depth: usize) -> syn::Result<Expr> {
     Ok(base)
 }
 
-/// primary := number | name | name '(' expr ')' | '(' expr ')'
+/// postfix := primary ('.' name | '.' name '(' args ')')*: a component
+/// `v.x`, or a method call `a.cross(b)` (the call `cross(a, b)`).
+fn parse_postfix(input: ParseStream, depth: usize) -> syn::Result<Expr> {
+    let mut e = parse_primary(input, depth)?;
+    while input.peek(Token![.]) && !input.peek(Token![..]) {
+        let _: Token![.] = input.parse()?;
+        let field: Ident = input.call(IdentExt::parse_any).map_err(|err| {
+            syn::Error::new(
+                err.span(),
+                "expected a component `.x`, `.y`, `.z` or a method such as `.cross(b)` after `.`",
+            )
+        })?;
+        if input.peek(syn::token::Paren) {
+            let content;
+            let paren = syn::parenthesized!(content in input);
+            let mut args = vec![e];
+            args.extend(parse_args(&content, depth + 1)?);
+            let range = args[0].range().to(SpanRange::single(paren.span.close()));
+            e = Expr::Call {
+                func: names::canonical(field),
+                args,
+                range,
+            };
+        } else {
+            e = Expr::Component {
+                base: Box::new(e),
+                field,
+            };
+        }
+    }
+    Ok(e)
+}
+
+/// args := expr (',' expr)* ','?
+fn parse_args(content: ParseStream, depth: usize) -> syn::Result<Vec<Expr>> {
+    let mut args = Vec::new();
+    while !content.is_empty() {
+        args.push(parse_expr(content, depth)?);
+        if content.is_empty() {
+            break;
+        }
+        if !content.peek(Token![,]) {
+            let t: TokenTree = content.parse()?;
+            return Err(syn::Error::new(
+                t.span(),
+                format!("unexpected `{t}`: separate arguments with `,`"),
+            ));
+        }
+        let _: Token![,] = content.parse()?;
+    }
+    Ok(args)
+}
+
+/// primary := number | name | name '(' args ')' | '(' expr ')' | '[' args ']'
 fn parse_primary(input: ParseStream, depth: usize) -> syn::Result<Expr> {
     if input.is_empty() {
         return Err(input.error("expected an operand (a number, a name, `dot(q)`, a function call or a parenthesised expression)"));
@@ -869,9 +1144,26 @@ fn parse_primary(input: ParseStream, depth: usize) -> syn::Result<Expr> {
         TokenTree::Group(g) if g.delimiter() == Delimiter::Parenthesis => {
             parse_parenthesised(input, depth)
         }
+        TokenTree::Group(g) if g.delimiter() == Delimiter::Bracket => {
+            let content;
+            let bracket = syn::bracketed!(content in input);
+            let items = parse_args(&content, depth + 1)?;
+            if items.is_empty() {
+                return Err(syn::Error::new(
+                    g.span(),
+                    "empty brackets: a vector is written `[x, y, z]`",
+                ));
+            }
+            Ok(Expr::Vector {
+                items,
+                range: SpanRange {
+                    first: bracket.span.open(),
+                    last: bracket.span.close(),
+                },
+            })
+        }
         TokenTree::Group(g) => {
             let what = match g.delimiter() {
-                Delimiter::Bracket => "brackets `[..]`",
                 Delimiter::Brace => "braces `{..}`",
                 _ => "this group",
             };
@@ -924,7 +1216,7 @@ fn parse_number(input: ParseStream) -> syn::Result<Expr> {
     }
 }
 
-/// name | name '(' expr ')'
+/// name | name '(' args ')'
 fn parse_name_or_call(input: ParseStream, depth: usize) -> syn::Result<Expr> {
     let id: Ident = names::canonical(input.call(IdentExt::parse_any)?);
     if !input.peek(syn::token::Paren) {
@@ -938,23 +1230,14 @@ fn parse_name_or_call(input: ParseStream, depth: usize) -> syn::Result<Expr> {
             format!("`{id}()` needs an argument"),
         ));
     }
-    let arg = parse_expr(&content, depth + 1)?;
-    if !content.is_empty() {
-        let t: TokenTree = content.parse()?;
-        let msg = if matches!(&t, TokenTree::Punct(p) if p.as_char() == ',') {
-            format!("`{id}` takes one argument")
-        } else {
-            format!("unexpected `{t}` in the argument of `{id}`")
-        };
-        return Err(syn::Error::new(t.span(), msg));
-    }
+    let args = parse_args(&content, depth + 1)?;
     let range = SpanRange {
         first: id.span(),
         last: paren.span.close(),
     };
     Ok(Expr::Call {
         func: id,
-        arg: Box::new(arg),
+        args,
         range,
     })
 }

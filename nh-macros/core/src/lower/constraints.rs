@@ -8,7 +8,7 @@ use super::{Binding, Lowerer, Place};
 use crate::ctxt::SpanRange;
 use crate::mechanics::vanish_at_random_points;
 use crate::model::{Constraint, ConstraintKind};
-use crate::parse::{self, Expr, SystemDef};
+use crate::parse::{self, Expr, RollingDef, SystemDef};
 use crate::sym::{ExprId, Rational, SymId, ZERO};
 use proc_macro2::Ident;
 use rustc_hash::FxHashMap as HashMap;
@@ -31,9 +31,36 @@ pub struct Lowered {
     pub affine: bool,
 }
 
+/// Where a constraint row comes from.
+#[derive(Clone, Copy)]
+enum Source<'d> {
+    /// An equation as written.
+    Written(&'d parse::Constraint),
+    /// A row of a `rolls(..)` line (and what the row says).
+    Rolling(&'d RollingDef, &'static str),
+}
+
+impl Source<'_> {
+    /// The row's text, for messages and docs.
+    fn text(&self) -> String {
+        match self {
+            Source::Written(c) => source_of(c),
+            Source::Rolling(r, what) => format!("rolls({}, ..): {what}", r.body),
+        }
+    }
+
+    /// The range to point at.
+    fn range(&self) -> SpanRange {
+        match self {
+            Source::Written(c) => range_of(c),
+            Source::Rolling(r, _) => r.range,
+        }
+    }
+}
+
 /// A constraint as written and lowered, before solving.
 struct Row<'d> {
-    src: &'d parse::Constraint,
+    src: Source<'d>,
     kind: ConstraintKind,
     /// The dependent coordinate of an explicit row.
     explicit: Option<usize>,
@@ -70,11 +97,16 @@ impl Lowerer<'_> {
         };
         self.place = Place::Constraint;
         let mut sides = Vec::new();
-        for c in list {
+        let mut wheels = Vec::new();
+        for i in 0..=list.len() {
+            for r in def.rolling.iter().filter(|r| r.position == i) {
+                self.rolling_rows(r, &mut sides, &mut wheels);
+            }
+            let Some(c) = list.get(i) else { break };
             let lhs = self.lower(&c.lhs, 0);
             let rhs = self.lower(&c.rhs, 0);
             if let (Some(l), Some(r)) = (lhs, rhs) {
-                sides.push((c, l, r));
+                sides.push((Source::Written(c), l, r));
             }
         }
         let explicit = self.explicit_targets(&sides);
@@ -87,7 +119,34 @@ impl Lowerer<'_> {
         if !self.cx.is_empty() {
             return Lowered::default();
         }
-        self.solve_rows(def, rows).unwrap_or_default()
+        let mut lowered = self.solve_rows(def, rows).unwrap_or_default();
+        for w in wheels {
+            lowered.chart = Some(match lowered.chart {
+                Some(c) => self.e.mul(c, w),
+                None => w,
+            });
+        }
+        lowered
+    }
+
+    /// The rows of a `rolls(..)` line: the contact's height if it is not
+    /// identically zero (holonomic), then no slip along x and along y.
+    fn rolling_rows<'d>(
+        &mut self,
+        r: &'d RollingDef,
+        sides: &mut Vec<(Source<'d>, ExprId, ExprId)>,
+        wheels: &mut Vec<ExprId>,
+    ) {
+        let Some(contact) = self.rolling_contact(r) else {
+            return;
+        };
+        if let Some(h) = contact.height {
+            sides.push((Source::Rolling(r, "contact with the plane z = 0"), h, ZERO));
+        }
+        let [vx, vy] = contact.velocity;
+        sides.push((Source::Rolling(r, "no slip along x"), vx, ZERO));
+        sides.push((Source::Rolling(r, "no slip along y"), vy, ZERO));
+        wheels.extend(contact.chart);
     }
 
     /// For each constraint, the coordinate it makes dependent if it is
@@ -95,12 +154,16 @@ impl Lowerer<'_> {
     /// constraint for s, and no other explicit constraint's ṡ in rhs.
     fn explicit_targets(
         &mut self,
-        sides: &[(&parse::Constraint, ExprId, ExprId)],
+        sides: &[(Source<'_>, ExprId, ExprId)],
     ) -> Vec<Option<usize>> {
         let mut out: Vec<Option<usize>> = Vec::with_capacity(sides.len());
         for (c, _, r) in sides {
+            let Source::Written(c) = c else {
+                out.push(None);
+                continue;
+            };
             let s = match &c.lhs {
-                Expr::Call { func, arg, .. } if func == "dot" => match &**arg {
+                Expr::Call { func, args, .. } if func == "dot" && args.len() == 1 => match &args[0] {
                     Expr::Name(id) => match self.scope.get(&id.to_string()) {
                         Some(Binding::Coord(i)) => Some(*i),
                         _ => None,
@@ -139,7 +202,7 @@ impl Lowerer<'_> {
     /// velocities.
     fn classify<'d>(
         &mut self,
-        c: &'d parse::Constraint,
+        c: Source<'d>,
         lhs: ExprId,
         rhs: ExprId,
         explicit: Option<usize>,
@@ -160,7 +223,7 @@ impl Lowerer<'_> {
             parts.push(self.e.diff(g, self.t_sym));
             let value = self.e.sum(&parts);
             if value == ZERO {
-                self.cx.error(range_of(c), format!("the constraint `{}` involves no velocity and no coordinate (it is constant): remove it", source_of(c)));
+                self.cx.error(c.range(), format!("the constraint `{}` involves no velocity and no coordinate (it is constant): remove it", c.text()));
                 return None;
             }
             return Some(Row {
@@ -206,7 +269,7 @@ impl Lowerer<'_> {
     /// in them vanishes); reports the offending term if not.
     fn linear_in_velocities(
         &mut self,
-        c: &parse::Constraint,
+        c: Source<'_>,
         g: ExprId,
         explicit: Option<usize>,
     ) -> bool {
@@ -228,9 +291,13 @@ impl Lowerer<'_> {
         let form = "a constraint is linear in the velocities: `dot(s) = a1(q, t)*dot(r1) + .. + b(q, t)` or `c1(q, t)*dot(q1) + .. = b(q, t)`";
         let who = match explicit {
             Some(s) => format!("the constraint for `{}`", self.coords[s].name),
-            None => format!("the constraint `{}`", short(source_of(c))),
+            None => format!("the constraint `{}`", short(c.text())),
         };
-        for side in [&c.lhs, &c.rhs] {
+        let sides = match c {
+            Source::Written(c) => vec![&c.lhs, &c.rhs],
+            Source::Rolling(..) => Vec::new(),
+        };
+        for side in sides {
             for term in super::top_level_terms(side) {
                 if let Some((culprit, why)) = self.find_nonlinear(term, &all) {
                     let text = culprit.to_source();
@@ -243,7 +310,7 @@ impl Lowerer<'_> {
             }
         }
         self.cx.error(
-            range_of(c),
+            c.range(),
             format!("{who} is not linear in the velocities once expanded; {form}"),
         );
         false
@@ -276,7 +343,7 @@ impl Lowerer<'_> {
         }
         if implicit.len() > MAX_IMPLICIT {
             let c = rows[implicit[MAX_IMPLICIT]].src;
-            self.cx.error(range_of(c), format!("at most {MAX_IMPLICIT} constraints may be implicit or holonomic (their block of dependent velocities is solved symbolically): write the others explicitly, `dot(s) = ..`"));
+            self.cx.error(c.range(), format!("at most {MAX_IMPLICIT} constraints may be implicit or holonomic (their block of dependent velocities is solved symbolically): write the others explicitly, `dot(s) = ..`"));
             return None;
         }
         let chosen = self.choose_dependent(def, &rows, &implicit, &free, &coef)?;
@@ -297,7 +364,9 @@ impl Lowerer<'_> {
             return None;
         }
         let (solved, det) = self.solve_block(&coef, &bias, &chosen, &free);
-        let chart = (!implicit.is_empty()).then(|| self.regularity(det, &coef));
+        // a block with a constant nonzero determinant is never singular
+        let constant_det = self.e.as_constant(det).is_some_and(|d| !d.is_zero());
+        let chart = (!implicit.is_empty() && !constant_det).then(|| self.regularity(det, &coef));
         let back: HashMap<SymId, ExprId> = chosen
             .iter()
             .zip(&solved)
@@ -334,7 +403,7 @@ impl Lowerer<'_> {
                 velocity,
                 coefficients,
                 holonomic: row.holonomic,
-                source: source_of(row.src),
+                source: row.src.text(),
             });
         }
         Some(Lowered {
@@ -461,7 +530,7 @@ impl Lowerer<'_> {
             match pick {
                 Some(j) => chosen.push(j),
                 None => {
-                    self.cx.error(range_of(rows[ra].src), "this constraint cannot be solved for any velocity not already dependent: with the constraints before it, its block of dependent velocities is singular at every point (it repeats or combines them, or involves only dependent coordinates); remove it or rewrite it");
+                    self.cx.error(rows[ra].src.range(), "this constraint cannot be solved for any velocity not already dependent: with the constraints before it, its block of dependent velocities is singular at every point (it repeats or combines them, or involves only dependent coordinates); remove it or rewrite it");
                     return None;
                 }
             }
@@ -519,7 +588,7 @@ impl Lowerer<'_> {
                 .collect();
             if self.generically_singular(&block) {
                 let name = &self.coords[free[chosen[a]]].name;
-                self.cx.error(range_of(rows[implicit[a]].src), format!("this constraint cannot be solved for `dot({name})` (named in `dependent`): with the constraints before it, the block of dependent velocities is singular at every point; list another coordinate in `dependent`"));
+                self.cx.error(rows[implicit[a]].src.range(), format!("this constraint cannot be solved for `dot({name})` (named in `dependent`): with the constraints before it, the block of dependent velocities is singular at every point; list another coordinate in `dependent`"));
                 return None;
             }
         }

@@ -161,6 +161,13 @@ impl Engine {
         Some(self.mul(cpart, mono))
     }
 
+    /// `(c, u)` if `e` is `c·(1 − sin²u)` for a rational `c`: the normal form
+    /// of `c·cos²u`, whose square root is `√c·|cos u|`.
+    pub fn as_scaled_cos_square(&mut self, e: ExprId) -> Option<(Rational, ExprId)> {
+        let (c, u) = self.scaled_one_minus_sin2(e)?;
+        Some((self.as_constant(c)?, u))
+    }
+
     /// `(c, u)` if `e` is `c − c·sin(u)²` for a rational `c ≠ 0`.
     fn scaled_one_minus_sin2(&mut self, e: ExprId) -> Option<(ExprId, ExprId)> {
         let terms = self.exprs[e.index()].clone();

@@ -1,0 +1,503 @@
+//! Rigid bodies (DESIGN §10): the functions of vectors and rotations, the
+//! angular velocity of a rotation from Ṙ Rᵀ, the kinetic energy of a body,
+//! and the rolling contact of a round body on the plane z = 0.
+
+use super::values::{
+    Mat3, Rotation, Value, Vec3, add3, cross3, dot3, elementary, inverse, mat_mat, mat_vec, scale3,
+    sub3, transpose, unit,
+};
+use super::{Binding, Lowerer, Place};
+use crate::ctxt::SpanRange;
+use crate::parse::{BodyDef, Expr, Field, RollingDef};
+use crate::sym::{ExprId, Rational, ZERO};
+use proc_macro2::Ident;
+use std::rc::Rc;
+
+/// The functions of vectors, rotations and bodies.
+pub const VECTOR_FUNCTIONS: [&str; 11] = [
+    "cross",
+    "norm",
+    "transpose",
+    "rot_x",
+    "rot_y",
+    "rot_z",
+    "diag",
+    "omega",
+    "omega_body",
+    "kinetic_energy",
+    "dot",
+];
+
+/// A body, lowered: world components, body-axis inertia.
+pub(crate) struct Body {
+    /// The mass.
+    pub(crate) mass: ExprId,
+    /// The centre of mass, world components.
+    pub(crate) centre: Vec3,
+    /// Orientation (body → world) and inertia about the centre of mass in
+    /// body axes, for a body that is not a point mass.
+    pub(crate) rotation: Option<(Rc<Rotation>, Mat3)>,
+}
+
+/// What a `rolls(..)` line gives: its velocity rows and its contact.
+pub(crate) struct Contact {
+    /// The no-slip rows: the x and y components of the contact point's
+    /// material velocity.
+    pub(crate) velocity: [ExprId; 2],
+    /// The contact point's height, if not identically zero (a holonomic
+    /// constraint).
+    pub(crate) height: Option<ExprId>,
+    /// The contact point, world components.
+    pub(crate) point: Vec3,
+    /// |e_z × n| of a wheel (zero when it lies flat), for the chart check.
+    pub(crate) chart: Option<ExprId>,
+}
+
+/// The state of a body's lowering (bodies are lowered on first use).
+#[derive(Clone)]
+pub(crate) enum BodyState {
+    Pending,
+    Busy,
+    Done(Option<Rc<Body>>),
+}
+
+impl Lowerer<'_> {
+    /// A call of a vector, rotation or body function; `None` inside
+    /// `Some` after an error, `None` if `f` is not one of them.
+    pub(super) fn lower_vector_call(
+        &mut self,
+        func: &Ident,
+        args: &[Expr],
+        range: SpanRange,
+        depth: usize,
+    ) -> Option<Option<Value>> {
+        let f = func.to_string();
+        let arity = match f.as_str() {
+            "dot" | "cross" => 2,
+            "diag" => 3,
+            "norm" | "transpose" | "rot_x" | "rot_y" | "rot_z" | "omega" | "omega_body"
+            | "kinetic_energy" => 1,
+            _ => return None,
+        };
+        if args.len() != arity {
+            let what = if arity == 1 { "one argument".to_string() } else { format!("{arity} arguments") };
+            self.cx.error(range, format!("`{f}` takes {what}"));
+            return Some(None);
+        }
+        if f == "kinetic_energy" {
+            return Some(self.kinetic_energy_of(&args[0]).map(Value::Scalar));
+        }
+        let vals: Vec<Option<Value>> = args.iter().map(|a| self.lower_value(a, depth + 1)).collect();
+        let vals: Vec<Value> = match vals.into_iter().collect::<Option<_>>() {
+            Some(v) => v,
+            None => return Some(None),
+        };
+        Some(self.apply_vector_function(&f, vals, args))
+    }
+
+    fn apply_vector_function(&mut self, f: &str, mut vals: Vec<Value>, args: &[Expr]) -> Option<Value> {
+        let arg = |i: usize| &args[i];
+        match f {
+            "dot" | "cross" => {
+                let b = vals.pop()?;
+                let a = vals.pop()?;
+                let what = format!("each argument of `{f}`");
+                let a = self.vector_of(a, arg(0), &what);
+                let b = self.vector_of(b, arg(1), &what);
+                let (a, b) = (a?, b?);
+                Some(if f == "dot" {
+                    Value::Scalar(dot3(&mut self.e, a, b))
+                } else {
+                    Value::Vector(cross3(&mut self.e, a, b))
+                })
+            }
+            "norm" => {
+                let v = self.vector_of(vals.pop()?, arg(0), "the argument of `norm`")?;
+                let n2 = dot3(&mut self.e, v, v);
+                Some(Value::Scalar(self.e.pow(n2, Rational::new(1, 2)?)))
+            }
+            "transpose" => match vals.pop()? {
+                Value::Rotation(r) => Some(Value::Rotation(Rc::new(inverse(&mut self.e, &r)))),
+                Value::Matrix(m) => Some(Value::Matrix(transpose(&m))),
+                other => {
+                    self.cx.error(arg(0).range(), format!("`transpose` takes a rotation or a matrix, but `{}` is {}", super::short(arg(0).to_source()), other.kind()));
+                    None
+                }
+            },
+            "rot_x" | "rot_y" | "rot_z" => {
+                let angle = self.scalar_of(vals.pop()?, arg(0))?;
+                if !self.position_like(angle, arg(0), "the angle of a rotation") {
+                    return None;
+                }
+                let k = usize::from(f.as_bytes()[4] - b'x');
+                let matrix = elementary(&mut self.e, k, angle);
+                Some(Value::Rotation(Rc::new(Rotation { matrix, factors: vec![(k, angle)] })))
+            }
+            "diag" => {
+                let mut m = [[ZERO; 3]; 3];
+                for (i, v) in vals.into_iter().enumerate() {
+                    m[i][i] = self.scalar_of(v, arg(i))?;
+                }
+                Some(Value::Matrix(m))
+            }
+            _ => {
+                let world = f == "omega";
+                let r = self.rotation_of(vals.pop()?, arg(0), &format!("the argument of `{f}`"))?;
+                Some(Value::Vector(self.angular_velocity(&r, world)))
+            }
+        }
+    }
+
+    /// Whether `v` is free of velocities and inputs (a position, an
+    /// angle), else an error at `x`.
+    pub(super) fn position_like(&mut self, v: ExprId, x: &Expr, what: &str) -> bool {
+        let fs = self.e.free_symbols(v).to_vec();
+        let culprit = if self.coords.iter().any(|c| fs.contains(&c.velocity)) {
+            Some("a velocity")
+        } else if self.inputs.iter().any(|u| fs.contains(&u.sym)) {
+            Some("an input")
+        } else {
+            None
+        };
+        if let Some(c) = culprit {
+            self.cx.error(x.range(), format!("{what} depends on the coordinates and time only, but `{}` contains {c}", super::short(x.to_source())));
+            return false;
+        }
+        true
+    }
+
+    /// The total time derivative of a velocity-free expression: Σ ∂e/∂q_i q̇_i + ∂e/∂t.
+    pub(super) fn time_derivative(&mut self, v: ExprId) -> ExprId {
+        let mut parts = Vec::new();
+        for i in 0..self.coords.len() {
+            let d = self.e.diff(v, self.coords[i].position);
+            if d != ZERO {
+                let vel = self.e.sym(self.coords[i].velocity);
+                parts.push(self.e.mul(d, vel));
+            }
+        }
+        parts.push(self.e.diff(v, self.t_sym));
+        self.e.sum(&parts)
+    }
+
+    /// The angular velocity of a rotation, world (`world`) or body
+    /// components. Each elementary factor's ω is read off its Ṙ Rᵀ (skew
+    /// by construction); the factors combine by the product rule,
+    /// d(AB)/dt (AB)ᵀ = ȦAᵀ + A (ḂBᵀ) Aᵀ: world ω = Σ_i F₁⋯F_{i−1} ω_i,
+    /// body ω = Σ_i (F_{i+1}⋯F_n)ᵀ ω_i.
+    pub(crate) fn angular_velocity(&mut self, r: &Rotation, world: bool) -> Vec3 {
+        let own: Vec<Vec3> = r.factors.iter().map(|&(k, a)| self.factor_omega(k, a)).collect();
+        let mut acc = [ZERO; 3];
+        if world {
+            for (i, &(k, a)) in r.factors.iter().enumerate().rev() {
+                let f = elementary(&mut self.e, k, a);
+                let turned = mat_vec(&mut self.e, &f, acc);
+                acc = add3(&mut self.e, turned, own[i]);
+            }
+        } else {
+            for (i, &(k, a)) in r.factors.iter().enumerate() {
+                let f = elementary(&mut self.e, k, a);
+                let back = mat_vec(&mut self.e, &transpose(&f), acc);
+                acc = add3(&mut self.e, back, own[i]);
+            }
+        }
+        acc
+    }
+
+    /// ω of one elementary rotation, from the skew matrix Ṙ Rᵀ.
+    fn factor_omega(&mut self, k: usize, angle: ExprId) -> Vec3 {
+        let m = elementary(&mut self.e, k, angle);
+        let rdot: Mat3 = m.map(|row| row.map(|x| self.time_derivative(x)));
+        let w = mat_mat(&mut self.e, &rdot, &transpose(&m));
+        [w[2][1], w[0][2], w[1][0]]
+    }
+
+    /// The rotation of a body's orientation, looked up for ω.
+    pub(super) fn body(&mut self, id: &Ident) -> Option<Rc<Body>> {
+        let s = id.to_string();
+        if self.poisoned.contains(&s) {
+            return None;
+        }
+        let Some(Binding::Body(i)) = self.scope.get(&s).copied() else {
+            let what = match self.scope.get(&s) {
+                Some(_) => format!("`{s}` is not a body"),
+                None => format!("unknown body `{s}`"),
+            };
+            let bodies: Vec<String> = self.body_defs.iter().map(|b| b.name.to_string()).collect();
+            let refs: Vec<&str> = bodies.iter().map(|b| b.as_str()).collect();
+            let hint = crate::names::suggest(&s, &refs);
+            self.cx.error_at(id.span(), format!("{what}{hint}: declare it with `body {s} {{ mass: .., centre: .., orientation: .., inertia: .. }}`"));
+            return None;
+        };
+        match self.body_state[i].clone() {
+            BodyState::Done(b) => b,
+            BodyState::Busy => {
+                self.cx.error_at(id.span(), format!("body `{s}` is used in its own definition"));
+                None
+            }
+            BodyState::Pending => {
+                self.body_state[i] = BodyState::Busy;
+                let def = self.body_defs[i].clone();
+                let b = self.lower_body(&def).map(Rc::new);
+                self.body_state[i] = BodyState::Done(b.clone());
+                b
+            }
+        }
+    }
+
+    /// Lowers every body not used yet, so that its errors are reported.
+    pub(super) fn lower_unused_bodies(&mut self) {
+        for i in 0..self.body_defs.len() {
+            if matches!(self.body_state[i], BodyState::Pending) {
+                let name = self.body_defs[i].name.clone();
+                if self.scope.contains_key(&name.to_string()) {
+                    let _ = self.body(&name);
+                }
+            }
+        }
+    }
+
+    /// The fields of a body, checked and lowered.
+    fn lower_body(&mut self, def: &BodyDef) -> Option<Body> {
+        let saved = std::mem::replace(&mut self.place, Place::Body);
+        let fields = self.fields(&def.fields, &BODY_FIELDS, "a body", &def.name);
+        let get = |n: &str| fields.iter().find(|f| f.0 == n).map(|f| f.1);
+        let mut ok = true;
+        for required in ["mass", "centre"] {
+            if get(required).is_none() {
+                ok = false;
+                self.cx.error_at(def.name.span(), format!("body `{}` has no `{required}`: write `body {} {{ mass: m, centre: C, orientation: R, inertia: I }}` (orientation and inertia may be left out together for a point mass)", def.name, def.name));
+            }
+        }
+        let mass = get("mass").and_then(|x| self.lower_position_scalar(x, "the mass of a body"));
+        let centre = get("centre").and_then(|x| {
+            let v = self.lower_value(x, 0)?;
+            let v = self.vector_of(v, x, "the centre of mass")?;
+            v.iter().all(|&c| self.position_like(c, x, "the centre of mass")).then_some(v)
+        });
+        let rotation = match (get("orientation"), get("inertia")) {
+            (None, None) => Some(None),
+            (Some(r), Some(i)) => {
+                let rot = self.lower_value(r, 0).and_then(|v| self.rotation_of(v, r, "the orientation of a body"));
+                let inertia = self.lower_inertia(i);
+                Some(rot.zip(inertia))
+            }
+            (one, _) => {
+                let (have, missing) = if one.is_some() { ("orientation", "inertia") } else { ("inertia", "orientation") };
+                self.cx.error_at(def.name.span(), format!("body `{}` has an `{have}` but no `{missing}`: a rigid body needs both (a point mass neither)", def.name));
+                None
+            }
+        };
+        self.place = saved;
+        let rotation = rotation?;
+        if !ok {
+            return None;
+        }
+        let (mass, centre) = (mass?, centre?);
+        let rotation = match rotation {
+            Some(r) => Some(r),
+            None if get("orientation").is_some() => return None,
+            None => None,
+        };
+        Some(Body { mass, centre, rotation })
+    }
+
+    /// A scalar field that must be free of velocities and inputs.
+    fn lower_position_scalar(&mut self, x: &Expr, what: &str) -> Option<ExprId> {
+        let v = self.lower(x, 0)?;
+        self.position_like(v, x, what).then_some(v)
+    }
+
+    /// The inertia tensor: a symmetric 3×3 matrix free of velocities.
+    fn lower_inertia(&mut self, x: &Expr) -> Option<Mat3> {
+        let v = self.lower_value(x, 0)?;
+        let m = match v {
+            Value::Matrix(m) => m,
+            other => {
+                self.cx.error(x.range(), format!("the inertia of a body is a 3×3 matrix, but `{}` is {}: write `diag(I1, I2, I3)` for principal axes or `[[Ixx, Ixy, Ixz], [Ixy, Iyy, Iyz], [Ixz, Iyz, Izz]]`", super::short(x.to_source()), other.kind()));
+                return None;
+            }
+        };
+        for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+            if m[i][j] != m[j][i] {
+                let (a, b) = (self.e.display(m[i][j]), self.e.display(m[j][i]));
+                self.cx.error(x.range(), format!("the inertia tensor is not symmetric: entry ({}, {}) is `{}` but ({}, {}) is `{}`; an inertia tensor has I_ij = I_ji", i + 1, j + 1, super::short(a), j + 1, i + 1, super::short(b)));
+                return None;
+            }
+        }
+        let all_ok = m.iter().flatten().all(|&c| self.position_like(c, x, "the inertia tensor"));
+        all_ok.then_some(m)
+    }
+
+    /// Named fields checked against `allowed` (`center` is `centre`):
+    /// unknown and repeated ones reported; the known ones returned.
+    fn fields<'f>(
+        &mut self,
+        fields: &'f [Field],
+        allowed: &[&str],
+        what: &str,
+        owner: &Ident,
+    ) -> Vec<(String, &'f Expr)> {
+        let mut out: Vec<(String, &Expr)> = Vec::new();
+        for f in fields {
+            let n = match f.name.to_string() {
+                c if c == "center" => "centre".to_string(),
+                c => c,
+            };
+            if !allowed.contains(&n.as_str()) {
+                let hint = crate::names::suggest(&n, allowed);
+                let list: Vec<String> = allowed.iter().map(|a| format!("`{a}`")).collect();
+                self.cx.error_at(f.name.span(), format!("unknown field `{n}`{hint} of {what} `{owner}`: the fields are {}", list.join(", ")));
+            } else if out.iter().any(|o| o.0 == n) {
+                self.cx.error_at(f.name.span(), format!("`{n}` is given twice for `{owner}`: remove one"));
+            } else {
+                out.push((n, &f.value));
+            }
+        }
+        out
+    }
+
+    /// `kinetic_energy(body)`: ½ m |Ċ|² + ½ ω_bᵀ I ω_b, ω_b the body
+    /// components of the body's angular velocity.
+    fn kinetic_energy_of(&mut self, x: &Expr) -> Option<ExprId> {
+        let Expr::Name(id) = x else {
+            self.cx.error(x.range(), "`kinetic_energy` takes the name of a body: `kinetic_energy(wheel)`");
+            return None;
+        };
+        let b = self.body(id)?;
+        let v = b.centre.map(|c| self.time_derivative(c));
+        let v2 = dot3(&mut self.e, v, v);
+        let half = self.e.constant(Rational::new(1, 2)?);
+        let m_half = self.e.mul(half, b.mass);
+        let mut t = self.e.mul(m_half, v2);
+        if let Some((r, inertia)) = &b.rotation {
+            let w = self.angular_velocity(r, false);
+            let iw = mat_vec(&mut self.e, inertia, w);
+            let rot = dot3(&mut self.e, w, iw);
+            let rot = self.e.mul(half, rot);
+            t = self.e.add(t, rot);
+        }
+        Some(t)
+    }
+
+    /// The contact of a `rolls(..)` line: the lowest point of a round body
+    /// on the plane z = 0 and its material velocity.
+    pub(super) fn rolling_contact(&mut self, def: &RollingDef) -> Option<Contact> {
+        let fields = self.fields(&def.fields, &ROLLING_FIELDS, "`rolls`", &def.body);
+        let get = |n: &str| fields.iter().find(|f| f.0 == n).map(|f| f.1);
+        let b = self.body(&def.body);
+        let radius = match get("radius") {
+            Some(x) => self.lower_position_scalar(x, "the radius"),
+            None => {
+                self.cx.error(def.range, format!("`rolls({}, ..)` needs the wheel's `radius: r` (and `axle: [..]` for a disc or torus; none for a sphere)", def.body));
+                None
+            }
+        };
+        let tube = get("tube").map(|x| self.lower_position_scalar(x, "the tube radius"));
+        let axle = get("axle").map(|x| self.constant_axle(x));
+        let centre = get("centre").map(|x| {
+            let v = self.lower_value(x, 0)?;
+            let v = self.vector_of(v, x, "the wheel's centre")?;
+            v.iter().all(|&c| self.position_like(c, x, "the wheel's centre")).then_some(v)
+        });
+        let b = b?;
+        let radius = radius?;
+        // an optional field: absent, or given and lowered without error
+        fn given<T>(x: Option<Option<T>>) -> Option<Option<T>> {
+            x.map_or(Some(None), |v| v.map(Some))
+        }
+        let tube = given(tube)?;
+        let axle = given(axle)?;
+        let centre = given(centre)?.unwrap_or(b.centre);
+        let Some((rot, _)) = &b.rotation else {
+            self.cx.error(def.range, format!("body `{}` is a point mass: a rolling body needs an `orientation` and an `inertia`", def.body));
+            return None;
+        };
+        if tube.is_some() && axle.is_none() {
+            self.cx.error(def.range, "a torus (`tube: ..`) needs its `axle: [..]`");
+            return None;
+        }
+        Some(self.contact(rot, centre, radius, axle, tube))
+    }
+
+    /// A wheel's axle: a constant nonzero vector in body axes, made unit.
+    fn constant_axle(&mut self, x: &Expr) -> Option<Vec3> {
+        let v = self.lower_value(x, 0)?;
+        let a = self.vector_of(v, x, "the axle")?;
+        if a.iter().any(|&c| self.e.as_constant(c).is_none()) {
+            self.cx.error(x.range(), format!("the axle is fixed in the body: give constant components in body axes, e.g. `[0, 1, 0]`, not `{}`", super::short(x.to_source())));
+            return None;
+        }
+        if a.iter().all(|&c| c == ZERO) {
+            self.cx.error(x.range(), "the axle is the zero vector: give the wheel's axis of symmetry in body axes, e.g. `[0, 1, 0]`");
+            return None;
+        }
+        let n2 = dot3(&mut self.e, a, a);
+        let inv = self.e.pow(n2, Rational::new(-1, 2)?);
+        Some(scale3(&mut self.e, inv, a))
+    }
+
+    /// The contact point P of a body turned by `rot`, with geometric centre
+    /// G: P − G = −r w − ρ e_z, where w = (e_z − n_z n)/|e_z × n| is the
+    /// direction to the lowest point of the rim (n the world axle; a sphere
+    /// has w = e_z). Its material velocity is Ġ + ω × (P − G).
+    fn contact(&mut self, rot: &Rotation, centre: Vec3, radius: ExprId, axle: Option<Vec3>, tube: Option<ExprId>) -> Contact {
+        let ez = unit(2);
+        let (w, chart) = match axle {
+            None => (ez, None),
+            Some(a) => {
+                let n = mat_vec(&mut self.e, &rot.matrix, a);
+                let nz_n = scale3(&mut self.e, n[2], n);
+                let towards = sub3(&mut self.e, ez, nz_n);
+                let s = self.rim_scale(n[2]);
+                let inv = self.e.pow(s, Rational::MINUS_ONE);
+                (scale3(&mut self.e, inv, towards), Some(s))
+            }
+        };
+        let mut offset = scale3(&mut self.e, radius, w);
+        if let Some(rho) = tube {
+            let down = scale3(&mut self.e, rho, ez);
+            offset = add3(&mut self.e, offset, down);
+        }
+        let offset = offset.map(|c| self.e.neg(c));
+        let point = add3(&mut self.e, centre, offset);
+        let omega = self.angular_velocity(rot, true);
+        let gdot = centre.map(|c| self.time_derivative(c));
+        let spin = cross3(&mut self.e, omega, offset);
+        let v = add3(&mut self.e, gdot, spin);
+        let height = (point[2] != ZERO
+            && !crate::mechanics::vanish_at_random_points(&self.e, self.pi_sym, &[point[2]]))
+        .then_some(point[2]);
+        Contact { velocity: [v[0], v[1]], height, point, chart }
+    }
+
+    /// |e_z × n| = √(1 − n_z²) for a unit axle n: cos u when 1 − n_z² is
+    /// cos²u and u vanishes at the reference configuration (all coordinates
+    /// and t zero: an upright wheel), valid until the wheel lies flat; the
+    /// square root otherwise.
+    fn rim_scale(&mut self, nz: ExprId) -> ExprId {
+        let nz2 = self.e.mul(nz, nz);
+        let one = self.e.int(1);
+        let s2 = self.e.sub(one, nz2);
+        if let Some((c, u)) = self.e.as_scaled_cos_square(s2) {
+            let mut at_rest = rustc_hash::FxHashMap::default();
+            for c in &self.coords {
+                at_rest.insert(c.position, ZERO);
+            }
+            at_rest.insert(self.t_sym, ZERO);
+            if self.e.subst(u, &at_rest, &mut Default::default()) == ZERO && c > Rational::ZERO {
+                let root = self.e.constant(c);
+                let root = self.e.pow(root, Rational::new(1, 2).unwrap_or(Rational::ONE));
+                let cos = self.e.func(crate::sym::Fun::Cos, u);
+                return self.e.mul(root, cos);
+            }
+        }
+        self.e.pow(s2, Rational::new(1, 2).unwrap_or(Rational::ONE))
+    }
+}
+
+/// The fields of a `body` item.
+const BODY_FIELDS: [&str; 4] = ["mass", "centre", "orientation", "inertia"];
+
+/// The named arguments of `rolls(..)`.
+const ROLLING_FIELDS: [&str; 4] = ["radius", "axle", "tube", "centre"];

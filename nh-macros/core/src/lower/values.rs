@@ -1,0 +1,346 @@
+//! The kinds of values (DESIGN §10): scalars, 3-vectors, rotations and 3×3
+//! matrices, their arithmetic component by component in the engine, and the
+//! kind errors of the operators, each at its token.
+
+use super::Lowerer;
+use crate::ctxt::SpanRange;
+use crate::parse::{BinOp, Expr};
+use crate::sym::{Engine, ExprId, Fun, ONE, ZERO};
+use std::rc::Rc;
+
+/// A vector's world (or body) components.
+pub(crate) type Vec3 = [ExprId; 3];
+/// A matrix by rows.
+pub(crate) type Mat3 = [[ExprId; 3]; 3];
+
+/// The value of an expression or a `let`, with its kind.
+#[derive(Clone)]
+pub(crate) enum Value {
+    /// A scalar.
+    Scalar(ExprId),
+    /// A 3-vector.
+    Vector(Vec3),
+    /// A rotation, built from elementary rotations.
+    Rotation(Rc<Rotation>),
+    /// A 3×3 matrix that is not known to be a rotation.
+    Matrix(Mat3),
+}
+
+/// A rotation (body → world) as the product of the elementary rotations
+/// it was built from, and its matrix.
+pub(crate) struct Rotation {
+    /// The matrix, by rows.
+    pub(crate) matrix: Mat3,
+    /// The elementary factors, left to right: (axis 0, 1, 2 for x, y, z; angle).
+    pub(crate) factors: Vec<(usize, ExprId)>,
+}
+
+impl Value {
+    /// The kind, for messages.
+    pub(crate) fn kind(&self) -> &'static str {
+        match self {
+            Value::Scalar(_) => "a scalar",
+            Value::Vector(_) => "a vector",
+            Value::Rotation(_) => "a rotation",
+            Value::Matrix(_) => "a 3×3 matrix",
+        }
+    }
+
+    /// The matrix of a rotation or matrix.
+    fn matrix(&self) -> Option<Mat3> {
+        match self {
+            Value::Rotation(r) => Some(r.matrix),
+            Value::Matrix(m) => Some(*m),
+            _ => None,
+        }
+    }
+
+    /// Every scalar the value is made of.
+    pub(crate) fn entries(&self) -> Vec<ExprId> {
+        match self {
+            Value::Scalar(s) => vec![*s],
+            Value::Vector(v) => v.to_vec(),
+            Value::Rotation(r) => r.matrix.iter().flatten().copied().collect(),
+            Value::Matrix(m) => m.iter().flatten().copied().collect(),
+        }
+    }
+}
+
+/// a + b.
+pub(crate) fn add3(e: &mut Engine, a: Vec3, b: Vec3) -> Vec3 {
+    [0, 1, 2].map(|i| e.add(a[i], b[i]))
+}
+
+/// a − b.
+pub(crate) fn sub3(e: &mut Engine, a: Vec3, b: Vec3) -> Vec3 {
+    [0, 1, 2].map(|i| e.sub(a[i], b[i]))
+}
+
+/// s·v.
+pub(crate) fn scale3(e: &mut Engine, s: ExprId, v: Vec3) -> Vec3 {
+    v.map(|x| e.mul(s, x))
+}
+
+/// a · b.
+pub(crate) fn dot3(e: &mut Engine, a: Vec3, b: Vec3) -> ExprId {
+    let p = [0, 1, 2].map(|i| e.mul(a[i], b[i]));
+    e.sum(&p)
+}
+
+/// a × b.
+pub(crate) fn cross3(e: &mut Engine, a: Vec3, b: Vec3) -> Vec3 {
+    [0, 1, 2].map(|i| {
+        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
+        let l = e.mul(a[j], b[k]);
+        let r = e.mul(a[k], b[j]);
+        e.sub(l, r)
+    })
+}
+
+/// M v.
+pub(crate) fn mat_vec(e: &mut Engine, m: &Mat3, v: Vec3) -> Vec3 {
+    [0, 1, 2].map(|i| dot3(e, m[i], v))
+}
+
+/// A B.
+pub(crate) fn mat_mat(e: &mut Engine, a: &Mat3, b: &Mat3) -> Mat3 {
+    let bt = transpose(b);
+    [0, 1, 2].map(|i| [0, 1, 2].map(|j| dot3(e, a[i], bt[j])))
+}
+
+/// Mᵀ.
+pub(crate) fn transpose(m: &Mat3) -> Mat3 {
+    [0, 1, 2].map(|i| [0, 1, 2].map(|j| m[j][i]))
+}
+
+/// The unit vector along axis `k`.
+pub(crate) fn unit(k: usize) -> Vec3 {
+    [0, 1, 2].map(|i| if i == k { ONE } else { ZERO })
+}
+
+/// The elementary rotation by `angle` about axis `k`.
+pub(crate) fn elementary(e: &mut Engine, k: usize, angle: ExprId) -> Mat3 {
+    let (i, j) = ((k + 1) % 3, (k + 2) % 3);
+    let c = e.func(Fun::Cos, angle);
+    let s = e.func(Fun::Sin, angle);
+    let mut m = [[ZERO; 3]; 3];
+    m[k][k] = ONE;
+    m[i][i] = c;
+    m[j][j] = c;
+    m[i][j] = e.neg(s);
+    m[j][i] = s;
+    m
+}
+
+/// R₁R₂ of two rotations: their factors chained.
+pub(crate) fn compose(e: &mut Engine, a: &Rotation, b: &Rotation) -> Rotation {
+    Rotation {
+        matrix: mat_mat(e, &a.matrix, &b.matrix),
+        factors: a.factors.iter().chain(&b.factors).copied().collect(),
+    }
+}
+
+/// Rᵀ of a rotation: the factors reversed, each angle negated.
+pub(crate) fn inverse(e: &mut Engine, r: &Rotation) -> Rotation {
+    Rotation {
+        matrix: transpose(&r.matrix),
+        factors: r.factors.iter().rev().map(|&(k, a)| (k, e.neg(a))).collect(),
+    }
+}
+
+impl Lowerer<'_> {
+    /// `a op b` for values of any kinds, or an error at `at` naming the kinds.
+    pub(super) fn combine(
+        &mut self,
+        op: BinOp,
+        a: Value,
+        b: Value,
+        at: SpanRange,
+        operand: &Expr,
+    ) -> Option<Value> {
+        use Value::{Matrix as M, Rotation as R, Scalar as S, Vector as V};
+        let e = &mut self.e;
+        let out = match (op, &a, &b) {
+            (BinOp::Add, S(x), S(y)) => S(e.add(*x, *y)),
+            (BinOp::Sub, S(x), S(y)) => S(e.sub(*x, *y)),
+            (BinOp::Mul, S(x), S(y)) => S(e.mul(*x, *y)),
+            (BinOp::Div, S(x), S(y)) => S(e.div(*x, *y)),
+            (BinOp::Add, V(x), V(y)) => V(add3(e, *x, *y)),
+            (BinOp::Sub, V(x), V(y)) => V(sub3(e, *x, *y)),
+            (BinOp::Mul, S(s), V(v)) | (BinOp::Mul, V(v), S(s)) => V(scale3(e, *s, *v)),
+            (BinOp::Div, V(v), S(s)) => {
+                let r = e.pow(*s, crate::sym::Rational::MINUS_ONE);
+                V(scale3(e, r, *v))
+            }
+            (BinOp::Mul, R(x), R(y)) => R(Rc::new(compose(e, x, y))),
+            (BinOp::Mul, R(_) | M(_), V(v)) => V(mat_vec(e, &a.matrix()?, *v)),
+            (BinOp::Mul, R(_) | M(_), R(_) | M(_)) => M(mat_mat(e, &a.matrix()?, &b.matrix()?)),
+            (BinOp::Add | BinOp::Sub, R(_) | M(_), R(_) | M(_)) => {
+                let (x, y) = (a.matrix()?, b.matrix()?);
+                let sub = op == BinOp::Sub;
+                M([0, 1, 2].map(|i| {
+                    [0, 1, 2].map(|j| {
+                        if sub {
+                            e.sub(x[i][j], y[i][j])
+                        } else {
+                            e.add(x[i][j], y[i][j])
+                        }
+                    })
+                }))
+            }
+            (BinOp::Mul, S(s), R(_) | M(_)) | (BinOp::Mul, R(_) | M(_), S(s)) => {
+                let m = if let S(_) = a { b.matrix()? } else { a.matrix()? };
+                M(m.map(|row| row.map(|x| e.mul(*s, x))))
+            }
+            (BinOp::Div, R(_) | M(_), S(s)) => {
+                let r = e.pow(*s, crate::sym::Rational::MINUS_ONE);
+                M(a.matrix()?.map(|row| row.map(|x| e.mul(r, x))))
+            }
+            _ => {
+                let msg = kind_mismatch(op, &a, &b, operand);
+                self.cx.error(at, msg);
+                return None;
+            }
+        };
+        Some(out)
+    }
+
+    /// The scalar of `v`, or an error at `x` saying what was found.
+    pub(super) fn scalar_of(&mut self, v: Value, x: &Expr) -> Option<ExprId> {
+        match v {
+            Value::Scalar(s) => Some(s),
+            other => {
+                let src = super::short(x.to_source());
+                let hint = match other {
+                    Value::Vector(_) => format!(
+                        "take a component (`{src}.z`), its length `norm({src})` or a dot product `dot({src}, v)`"
+                    ),
+                    Value::Rotation(_) => {
+                        format!("a rotation turns vectors: write `{src} * v`")
+                    }
+                    _ => format!("a matrix multiplies vectors: write `{src} * v`"),
+                };
+                self.cx.error(
+                    x.range(),
+                    format!(
+                        "`{src}` is {}, but a scalar is needed here: {hint}",
+                        other.kind()
+                    ),
+                );
+                None
+            }
+        }
+    }
+
+    /// The vector of `v`, or an error at `x`.
+    pub(super) fn vector_of(&mut self, v: Value, x: &Expr, what: &str) -> Option<crate::lower::values::Vec3> {
+        match v {
+            Value::Vector(v) => Some(v),
+            other => {
+                let src = super::short(x.to_source());
+                self.cx.error(
+                    x.range(),
+                    format!(
+                        "`{src}` is {}, but {what} is a vector: write a vector as `[x, y, z]`",
+                        other.kind()
+                    ),
+                );
+                None
+            }
+        }
+    }
+
+    /// The rotation of `v`, or an error at `x` saying how rotations are built.
+    pub(super) fn rotation_of(&mut self, v: Value, x: &Expr, what: &str) -> Option<Rc<Rotation>> {
+        match v {
+            Value::Rotation(r) => Some(r),
+            other => {
+                let src = super::short(x.to_source());
+                let why = match other {
+                    Value::Matrix(_) => " that is not known to be a rotation",
+                    _ => "",
+                };
+                self.cx.error(
+                    x.range(),
+                    format!(
+                        "{what} must be a rotation, but `{src}` is {}{why}: build rotations from `rot_x(a)`, `rot_y(a)`, `rot_z(a)`, their products and `transpose(..)`",
+                        other.kind()
+                    ),
+                );
+                None
+            }
+        }
+    }
+
+    /// `[a, b, c]` (a vector) or `[[..], [..], [..]]` (a matrix by rows).
+    pub(super) fn lower_brackets(
+        &mut self,
+        items: &[Expr],
+        range: SpanRange,
+        depth: usize,
+    ) -> Option<Value> {
+        let values: Vec<Option<Value>> = items
+            .iter()
+            .map(|x| self.lower_value(x, depth + 1))
+            .collect();
+        if items.len() != 3 {
+            self.cx.error(
+                range,
+                format!(
+                    "a vector has 3 components, but `[..]` has {}: write `[x, y, z]`",
+                    items.len()
+                ),
+            );
+            return None;
+        }
+        let values: Vec<Value> = values.into_iter().collect::<Option<_>>()?;
+        if values.iter().all(|v| matches!(v, Value::Vector(_))) {
+            let rows: Vec<crate::lower::values::Vec3> = values
+                .into_iter()
+                .map(|v| match v {
+                    Value::Vector(v) => v,
+                    _ => [ZERO; 3],
+                })
+                .collect();
+            return Some(Value::Matrix([rows[0], rows[1], rows[2]]));
+        }
+        let mut comps = [ZERO; 3];
+        for (i, (v, x)) in values.into_iter().zip(items).enumerate() {
+            comps[i] = self.scalar_of(v, x)?;
+        }
+        Some(Value::Vector(comps))
+    }
+
+    /// `v.x`, `v.y`, `v.z`.
+    pub(super) fn lower_component(
+        &mut self,
+        base: &Expr,
+        field: &proc_macro2::Ident,
+        depth: usize,
+    ) -> Option<Value> {
+        let v = self.lower_value(base, depth + 1)?;
+        let f = field.to_string();
+        let Some(i) = ["x", "y", "z"].iter().position(|c| *c == f) else {
+            self.cx.error_at(
+                field.span(),
+                format!("unknown component `.{f}`: the components of a vector are `.x`, `.y` and `.z`"),
+            );
+            return None;
+        };
+        let v = self.vector_of(v, base, "`.x`, `.y`, `.z` take components of a vector; what comes before them")?;
+        Some(Value::Scalar(v[i]))
+    }
+}
+
+/// The message for `a op b` with kinds that do not combine.
+fn kind_mismatch(op: BinOp, a: &Value, b: &Value, operand: &Expr) -> String {
+    let (ka, kb) = (a.kind(), b.kind());
+    let src = super::short(operand.to_source());
+    match (op, a, b) {
+        (BinOp::Mul, Value::Vector(_), Value::Vector(_)) => "the product of two vectors is ambiguous: write the scalar product `dot(a, b)` or the cross product `cross(a, b)`".to_string(),
+        (BinOp::Div, _, _) => format!("cannot divide {ka} by {kb} (`{src}`): only a scalar can divide"),
+        (BinOp::Mul, Value::Vector(_), _) => format!("cannot multiply {ka} by {kb} (`{src}`) from the right: a rotation or matrix acts on a vector from the left, `R * v`"),
+        (BinOp::Add | BinOp::Sub, _, _) => format!("cannot {} {ka} and {kb} (`{src}`): both sides of `+` and `-` must be of one kind", if op == BinOp::Add { "add" } else { "subtract" }),
+        _ => format!("cannot multiply {ka} by {kb} (`{src}`)"),
+    }
+}
