@@ -35,8 +35,8 @@ fn numbers<const L: usize>(v: &Value) -> SVector<f64, L> {
 
 #[test]
 fn chaplygin_sphere_agrees_with_sympy() {
-    let data: Value = serde_json::from_str(include_str!("data/chaplygin_sphere.json"))
-        .expect("valid JSON");
+    let data: Value =
+        serde_json::from_str(include_str!("data/chaplygin_sphere.json")).expect("valid JSON");
     assert_eq!(ChaplyginSphere::<f64>::DEPENDENT, [3, 4]);
     let cases = data["cases"].as_array().expect("cases");
     assert!(cases.len() >= 20);
@@ -67,7 +67,10 @@ fn chaplygin_sphere_agrees_with_sympy() {
         cases.len()
     );
     assert!(worst_acc < 1e-12, "accelerations differ by {worst_acc:e}");
-    assert!(worst_vel < 1e-12, "dependent velocities differ by {worst_vel:e}");
+    assert!(
+        worst_vel < 1e-12,
+        "dependent velocities differ by {worst_vel:e}"
+    );
     assert!(worst_energy < 1e-12, "energy differs by {worst_energy:e}");
 }
 
@@ -126,9 +129,15 @@ fn body_rates_of_euler_angles_match_the_textbook() {
         let q = SVector::<f64, 3>::from_fn(|_, _| next());
         let v = SVector::<f64, 3>::from_fn(|_, _| 4.0 * next());
         let y = b.accelerations(0.0, &q, &v);
-        for x in [a.accelerations(0.0, &q, &v), world.accelerations(0.0, &q, &v)] {
+        for x in [
+            a.accelerations(0.0, &q, &v),
+            world.accelerations(0.0, &q, &v),
+        ] {
             worst = worst.max((x - y).amax() / (1.0 + y.amax()));
         }
     }
-    assert!(worst < 1e-13, "omega/omega_body differ from the textbook body rates: {worst:e}");
+    assert!(
+        worst < 1e-13,
+        "omega/omega_body differ from the textbook body rates: {worst:e}"
+    );
 }

@@ -60,6 +60,28 @@ nonholonomic_system! {
 }
 
 nonholonomic_system! {
+    /// [`RollingDisc`] written as a rigid body with a rolling contact: the
+    /// frame F of the disc's plane (heading φ, then lean ψ), the centre above
+    /// the contact point (x, y), the disc turned by θ about its axle in F,
+    /// and `rolls(..)` for the no-slip constraints. The macro derives the
+    /// angular velocity, the kinetic energy and the constraints that are
+    /// written out by hand in [`RollingDisc`].
+    pub struct BodyDisc {
+        parameters { m, R, g }
+        coordinates { theta, phi, psi, x, y }
+        let F = rot_z(phi) * rot_x(-psi);          // heading, then lean
+        let C = [x, y, 0] + R*(F*[0, 0, 1]);       // centre, above the contact point
+        body disc {
+            mass: m, centre: C, orientation: F*rot_y(theta),
+            inertia: diag(m*R^2/4, m*R^2/2, m*R^2/4),
+        }
+        lagrangian = kinetic_energy(disc) - m*g*C.z;
+        constraints { rolls(disc, radius: R, axle: [0, 1, 0]); }
+        outputs { energy, multipliers, curvature, constraint_matrix, jacobian }
+    }
+}
+
+nonholonomic_system! {
     /// [`ThesisDisc`] with a stiff spring-damper on the lean: the generalized
     /// force Q_ψ = −k (ψ − ψ0) − c ψ̇ (the stiff scene of the reports).
     pub struct StiffDisc {

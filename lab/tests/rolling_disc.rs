@@ -1,7 +1,7 @@
 //! The physically correct rolling disc (`systems::RollingDisc`), checked
 //! against an independent Newton–Euler computation of steady rolling on a
 //! circle at constant lean, and against the thesis's simplified model.
-use nh_lab::systems::{RollingDisc, ThesisDisc};
+use nh_lab::systems::{BodyDisc, RollingDisc, ThesisDisc};
 use nonholonomic::prelude::*;
 
 type V3 = [f64; 3];
@@ -170,4 +170,52 @@ fn closed_form_derived_by_hand() {
     }
     println!("closed form vs generated: {worst:.2e}");
     assert!(worst < 1e-12);
+}
+
+/// The disc written as a body with a rolling contact (`systems::BodyDisc`) is
+/// the hand-expanded [`RollingDisc`]: the same accelerations, multipliers,
+/// dependent velocities and energy at random states, to rounding.
+#[test]
+fn the_disc_as_a_body_is_the_hand_expanded_disc() {
+    let (m, r, g) = (1.7, 0.35, 9.81);
+    let hand: RollingDisc = RollingDisc::new(m, r, g);
+    let body: BodyDisc = BodyDisc::new(m, r, g);
+    assert_eq!(BodyDisc::<f64>::DEPENDENT, RollingDisc::<f64>::DEPENDENT);
+    let mut seed = 0x2545_F491_4F6C_DD1D_u64;
+    let mut next = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+    };
+    let rel = |a: SVector<f64, 3>, b: SVector<f64, 3>| (a - b).amax() / b.amax().max(1e-300);
+    let mut worst = [0.0_f64; 4];
+    for _ in 0..50 {
+        let q = SVector::<f64, 5>::from_fn(|i, _| if i == 2 { 1.4 * next() } else { 3.0 * next() });
+        let rdot = SVector::<f64, 3>::from_fn(|_, _| 10.0 * next());
+        let a = rel(
+            body.accelerations(0.0, &q, &rdot),
+            hand.accelerations(0.0, &q, &rdot),
+        );
+        let (lb, lh) = (
+            body.multipliers(0.0, &q, &rdot),
+            hand.multipliers(0.0, &q, &rdot),
+        );
+        let l = (lb - lh).amax() / lh.amax();
+        let (sb, sh) = (
+            body.dependent_velocities(&q, &rdot),
+            hand.dependent_velocities(&q, &rdot),
+        );
+        let s = (sb - sh).amax() / sh.amax().max(1e-300);
+        let e =
+            (body.energy(&q, &rdot) - hand.energy(&q, &rdot)).abs() / hand.energy(&q, &rdot).abs();
+        for (w, v) in worst.iter_mut().zip([a, l, s, e]) {
+            *w = w.max(v);
+        }
+    }
+    eprintln!(
+        "body disc vs hand-expanded disc (relative): accelerations {:.1e}, multipliers {:.1e}, dependent velocities {:.1e}, energy {:.1e}",
+        worst[0], worst[1], worst[2], worst[3]
+    );
+    assert!(worst.iter().all(|&w| w < 1e-14), "{worst:?}");
 }

@@ -1173,7 +1173,9 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
     // one dependent coordinate per constraint: those the rule would choose
     // are not known without lowering, but their number is, and the API's
     // dimensions depend only on it (the last coordinates stand in)
-    let wanted = def.constraints.as_ref().map_or(0, |(_, l)| l.len());
+    // (a rolling contact: its two no-slip rows; a contact height that is
+    // not identically zero adds one, which only lowering can tell)
+    let wanted = def.constraints.as_ref().map_or(0, |(_, l)| l.len()) + 2 * def.rolling.len();
     for i in (0..coords.len()).rev() {
         if dependent.len() >= wanted.min(coords.len()) {
             break;

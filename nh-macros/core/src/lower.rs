@@ -13,11 +13,11 @@ use crate::ctxt::{Ctxt, SpanRange};
 use crate::model::{Coordinate, Input, Model, Parameter, Partition};
 use crate::names;
 use crate::parse::{BinOp, BodyDef, Expr, SystemDef};
-use bodies::BodyState;
-use values::Value;
 use crate::sym::{Engine, ExprId, Fun, Rational, SymId, ZERO};
+use bodies::BodyState;
 use proc_macro2::{Ident, Span};
 use rustc_hash::FxHashMap as HashMap;
+use values::Value;
 
 mod speeds;
 
@@ -582,7 +582,12 @@ impl Lowerer<'_> {
             return Some(v);
         }
         if let Some(Binding::Body(_)) = self.scope.get(&s) {
-            self.cx.error_at(id.span(), format!("`{s}` is a body, not a value: its kinetic energy is `kinetic_energy({s})`"));
+            self.cx.error_at(
+                id.span(),
+                format!(
+                    "`{s}` is a body, not a value: its kinetic energy is `kinetic_energy({s})`"
+                ),
+            );
             return None;
         }
         self.lower_scalar_name(id).map(Value::Scalar)

@@ -170,7 +170,11 @@ impl Expr {
 
 /// Comma-separated source of a list of expressions.
 fn list_source(items: &[Expr]) -> String {
-    items.iter().map(Expr::to_source).collect::<Vec<_>>().join(", ")
+    items
+        .iter()
+        .map(Expr::to_source)
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// A `name: expr` field of a `body` item or a `rolls(..)` line.
@@ -782,10 +786,8 @@ enum Line {
 
 fn parse_constraint_line(input: ParseStream) -> syn::Result<Line> {
     let fork = input.fork();
-    let is_rolling = fork
-        .call(Ident::parse_any)
-        .is_ok_and(|id| id == "rolls")
-        && fork.peek(syn::token::Paren);
+    let is_rolling =
+        fork.call(Ident::parse_any).is_ok_and(|id| id == "rolls") && fork.peek(syn::token::Paren);
     if is_rolling {
         return parse_rolling(input).map(Line::Rolling);
     }
@@ -833,11 +835,14 @@ fn parse_rolling(input: ParseStream) -> syn::Result<RollingDef> {
 
 /// `name: expr`
 fn parse_field(input: ParseStream) -> syn::Result<Field> {
-    let name: Ident = input.call(IdentExt::parse_any).map_err(|e| {
-        syn::Error::new(e.span(), "expected a field: `name: value`")
-    })?;
+    let name: Ident = input
+        .call(IdentExt::parse_any)
+        .map_err(|e| syn::Error::new(e.span(), "expected a field: `name: value`"))?;
     let _: Token![:] = input.parse().map_err(|e| {
-        syn::Error::new(e.span(), format!("expected `:` after `{name}`: a field is written `{name}: value`"))
+        syn::Error::new(
+            e.span(),
+            format!("expected `:` after `{name}`: a field is written `{name}: value`"),
+        )
     })?;
     let value = parse_expr(input, 0)?;
     Ok(Field { name, value })

@@ -80,14 +80,21 @@ impl Lowerer<'_> {
             _ => return None,
         };
         if args.len() != arity {
-            let what = if arity == 1 { "one argument".to_string() } else { format!("{arity} arguments") };
+            let what = if arity == 1 {
+                "one argument".to_string()
+            } else {
+                format!("{arity} arguments")
+            };
             self.cx.error(range, format!("`{f}` takes {what}"));
             return Some(None);
         }
         if f == "kinetic_energy" {
             return Some(self.kinetic_energy_of(&args[0]).map(Value::Scalar));
         }
-        let vals: Vec<Option<Value>> = args.iter().map(|a| self.lower_value(a, depth + 1)).collect();
+        let vals: Vec<Option<Value>> = args
+            .iter()
+            .map(|a| self.lower_value(a, depth + 1))
+            .collect();
         let vals: Vec<Value> = match vals.into_iter().collect::<Option<_>>() {
             Some(v) => v,
             None => return Some(None),
@@ -95,7 +102,12 @@ impl Lowerer<'_> {
         Some(self.apply_vector_function(&f, vals, args))
     }
 
-    fn apply_vector_function(&mut self, f: &str, mut vals: Vec<Value>, args: &[Expr]) -> Option<Value> {
+    fn apply_vector_function(
+        &mut self,
+        f: &str,
+        mut vals: Vec<Value>,
+        args: &[Expr],
+    ) -> Option<Value> {
         let arg = |i: usize| &args[i];
         match f {
             "dot" | "cross" => {
@@ -120,7 +132,14 @@ impl Lowerer<'_> {
                 Value::Rotation(r) => Some(Value::Rotation(Rc::new(inverse(&mut self.e, &r)))),
                 Value::Matrix(m) => Some(Value::Matrix(transpose(&m))),
                 other => {
-                    self.cx.error(arg(0).range(), format!("`transpose` takes a rotation or a matrix, but `{}` is {}", super::short(arg(0).to_source()), other.kind()));
+                    self.cx.error(
+                        arg(0).range(),
+                        format!(
+                            "`transpose` takes a rotation or a matrix, but `{}` is {}",
+                            super::short(arg(0).to_source()),
+                            other.kind()
+                        ),
+                    );
                     None
                 }
             },
@@ -131,7 +150,10 @@ impl Lowerer<'_> {
                 }
                 let k = usize::from(f.as_bytes()[4] - b'x');
                 let matrix = elementary(&mut self.e, k, angle);
-                Some(Value::Rotation(Rc::new(Rotation { matrix, factors: vec![(k, angle)] })))
+                Some(Value::Rotation(Rc::new(Rotation {
+                    matrix,
+                    factors: vec![(k, angle)],
+                })))
             }
             "diag" => {
                 let mut m = [[ZERO; 3]; 3];
@@ -160,7 +182,13 @@ impl Lowerer<'_> {
             None
         };
         if let Some(c) = culprit {
-            self.cx.error(x.range(), format!("{what} depends on the coordinates and time only, but `{}` contains {c}", super::short(x.to_source())));
+            self.cx.error(
+                x.range(),
+                format!(
+                    "{what} depends on the coordinates and time only, but `{}` contains {c}",
+                    super::short(x.to_source())
+                ),
+            );
             return false;
         }
         true
@@ -186,7 +214,11 @@ impl Lowerer<'_> {
     /// d(AB)/dt (AB)ᵀ = ȦAᵀ + A (ḂBᵀ) Aᵀ: world ω = Σ_i F₁⋯F_{i−1} ω_i,
     /// body ω = Σ_i (F_{i+1}⋯F_n)ᵀ ω_i.
     pub(crate) fn angular_velocity(&mut self, r: &Rotation, world: bool) -> Vec3 {
-        let own: Vec<Vec3> = r.factors.iter().map(|&(k, a)| self.factor_omega(k, a)).collect();
+        let own: Vec<Vec3> = r
+            .factors
+            .iter()
+            .map(|&(k, a)| self.factor_omega(k, a))
+            .collect();
         let mut acc = [ZERO; 3];
         if world {
             for (i, &(k, a)) in r.factors.iter().enumerate().rev() {
@@ -232,7 +264,10 @@ impl Lowerer<'_> {
         match self.body_state[i].clone() {
             BodyState::Done(b) => b,
             BodyState::Busy => {
-                self.cx.error_at(id.span(), format!("body `{s}` is used in its own definition"));
+                self.cx.error_at(
+                    id.span(),
+                    format!("body `{s}` is used in its own definition"),
+                );
                 None
             }
             BodyState::Pending => {
@@ -273,17 +308,25 @@ impl Lowerer<'_> {
         let centre = get("centre").and_then(|x| {
             let v = self.lower_value(x, 0)?;
             let v = self.vector_of(v, x, "the centre of mass")?;
-            v.iter().all(|&c| self.position_like(c, x, "the centre of mass")).then_some(v)
+            v.iter()
+                .all(|&c| self.position_like(c, x, "the centre of mass"))
+                .then_some(v)
         });
         let rotation = match (get("orientation"), get("inertia")) {
             (None, None) => Some(None),
             (Some(r), Some(i)) => {
-                let rot = self.lower_value(r, 0).and_then(|v| self.rotation_of(v, r, "the orientation of a body"));
+                let rot = self
+                    .lower_value(r, 0)
+                    .and_then(|v| self.rotation_of(v, r, "the orientation of a body"));
                 let inertia = self.lower_inertia(i);
                 Some(rot.zip(inertia))
             }
             (one, _) => {
-                let (have, missing) = if one.is_some() { ("orientation", "inertia") } else { ("inertia", "orientation") };
+                let (have, missing) = if one.is_some() {
+                    ("orientation", "inertia")
+                } else {
+                    ("inertia", "orientation")
+                };
                 self.cx.error_at(def.name.span(), format!("body `{}` has an `{have}` but no `{missing}`: a rigid body needs both (a point mass neither)", def.name));
                 None
             }
@@ -299,7 +342,11 @@ impl Lowerer<'_> {
             None if get("orientation").is_some() => return None,
             None => None,
         };
-        Some(Body { mass, centre, rotation })
+        Some(Body {
+            mass,
+            centre,
+            rotation,
+        })
     }
 
     /// A scalar field that must be free of velocities and inputs.
@@ -325,7 +372,10 @@ impl Lowerer<'_> {
                 return None;
             }
         }
-        let all_ok = m.iter().flatten().all(|&c| self.position_like(c, x, "the inertia tensor"));
+        let all_ok = m
+            .iter()
+            .flatten()
+            .all(|&c| self.position_like(c, x, "the inertia tensor"));
         all_ok.then_some(m)
     }
 
@@ -347,9 +397,18 @@ impl Lowerer<'_> {
             if !allowed.contains(&n.as_str()) {
                 let hint = crate::names::suggest(&n, allowed);
                 let list: Vec<String> = allowed.iter().map(|a| format!("`{a}`")).collect();
-                self.cx.error_at(f.name.span(), format!("unknown field `{n}`{hint} of {what} `{owner}`: the fields are {}", list.join(", ")));
+                self.cx.error_at(
+                    f.name.span(),
+                    format!(
+                        "unknown field `{n}`{hint} of {what} `{owner}`: the fields are {}",
+                        list.join(", ")
+                    ),
+                );
             } else if out.iter().any(|o| o.0 == n) {
-                self.cx.error_at(f.name.span(), format!("`{n}` is given twice for `{owner}`: remove one"));
+                self.cx.error_at(
+                    f.name.span(),
+                    format!("`{n}` is given twice for `{owner}`: remove one"),
+                );
             } else {
                 out.push((n, &f.value));
             }
@@ -361,7 +420,10 @@ impl Lowerer<'_> {
     /// components of the body's angular velocity.
     fn kinetic_energy_of(&mut self, x: &Expr) -> Option<ExprId> {
         let Expr::Name(id) = x else {
-            self.cx.error(x.range(), "`kinetic_energy` takes the name of a body: `kinetic_energy(wheel)`");
+            self.cx.error(
+                x.range(),
+                "`kinetic_energy` takes the name of a body: `kinetic_energy(wheel)`",
+            );
             return None;
         };
         let b = self.body(id)?;
@@ -398,7 +460,9 @@ impl Lowerer<'_> {
         let centre = get("centre").map(|x| {
             let v = self.lower_value(x, 0)?;
             let v = self.vector_of(v, x, "the wheel's centre")?;
-            v.iter().all(|&c| self.position_like(c, x, "the wheel's centre")).then_some(v)
+            v.iter()
+                .all(|&c| self.position_like(c, x, "the wheel's centre"))
+                .then_some(v)
         });
         let b = b?;
         let radius = radius?;
@@ -414,7 +478,8 @@ impl Lowerer<'_> {
             return None;
         };
         if tube.is_some() && axle.is_none() {
-            self.cx.error(def.range, "a torus (`tube: ..`) needs its `axle: [..]`");
+            self.cx
+                .error(def.range, "a torus (`tube: ..`) needs its `axle: [..]`");
             return None;
         }
         Some(self.contact(rot, centre, radius, axle, tube))
@@ -441,7 +506,14 @@ impl Lowerer<'_> {
     /// G: P − G = −r w − ρ e_z, where w = (e_z − n_z n)/|e_z × n| is the
     /// direction to the lowest point of the rim (n the world axle; a sphere
     /// has w = e_z). Its material velocity is Ġ + ω × (P − G).
-    fn contact(&mut self, rot: &Rotation, centre: Vec3, radius: ExprId, axle: Option<Vec3>, tube: Option<ExprId>) -> Contact {
+    fn contact(
+        &mut self,
+        rot: &Rotation,
+        centre: Vec3,
+        radius: ExprId,
+        axle: Option<Vec3>,
+        tube: Option<ExprId>,
+    ) -> Contact {
         let ez = unit(2);
         let (w, chart) = match axle {
             None => (ez, None),
@@ -468,7 +540,12 @@ impl Lowerer<'_> {
         let height = (point[2] != ZERO
             && !crate::mechanics::vanish_at_random_points(&self.e, self.pi_sym, &[point[2]]))
         .then_some(point[2]);
-        Contact { velocity: [v[0], v[1]], height, point, chart }
+        Contact {
+            velocity: [v[0], v[1]],
+            height,
+            point,
+            chart,
+        }
     }
 
     /// |e_z × n| = √(1 − n_z²) for a unit axle n: cos u when 1 − n_z² is
@@ -487,7 +564,9 @@ impl Lowerer<'_> {
             at_rest.insert(self.t_sym, ZERO);
             if self.e.subst(u, &at_rest, &mut Default::default()) == ZERO && c > Rational::ZERO {
                 let root = self.e.constant(c);
-                let root = self.e.pow(root, Rational::new(1, 2).unwrap_or(Rational::ONE));
+                let root = self
+                    .e
+                    .pow(root, Rational::new(1, 2).unwrap_or(Rational::ONE));
                 let cos = self.e.func(crate::sym::Fun::Cos, u);
                 return self.e.mul(root, cos);
             }

@@ -152,10 +152,7 @@ impl Lowerer<'_> {
     /// For each constraint, the coordinate it makes dependent if it is
     /// explicit: written `dot(s) = rhs` with ṡ nowhere in rhs, the first such
     /// constraint for s, and no other explicit constraint's ṡ in rhs.
-    fn explicit_targets(
-        &mut self,
-        sides: &[(Source<'_>, ExprId, ExprId)],
-    ) -> Vec<Option<usize>> {
+    fn explicit_targets(&mut self, sides: &[(Source<'_>, ExprId, ExprId)]) -> Vec<Option<usize>> {
         let mut out: Vec<Option<usize>> = Vec::with_capacity(sides.len());
         for (c, _, r) in sides {
             let Source::Written(c) = c else {
@@ -163,7 +160,8 @@ impl Lowerer<'_> {
                 continue;
             };
             let s = match &c.lhs {
-                Expr::Call { func, args, .. } if func == "dot" && args.len() == 1 => match &args[0] {
+                Expr::Call { func, args, .. } if func == "dot" && args.len() == 1 => match &args[0]
+                {
                     Expr::Name(id) => match self.scope.get(&id.to_string()) {
                         Some(Binding::Coord(i)) => Some(*i),
                         _ => None,
@@ -267,12 +265,7 @@ impl Lowerer<'_> {
 
     /// Whether `g` is linear in the velocities (every second derivative
     /// in them vanishes); reports the offending term if not.
-    fn linear_in_velocities(
-        &mut self,
-        c: Source<'_>,
-        g: ExprId,
-        explicit: Option<usize>,
-    ) -> bool {
+    fn linear_in_velocities(&mut self, c: Source<'_>, g: ExprId, explicit: Option<usize>) -> bool {
         let vels: Vec<SymId> = self.coords.iter().map(|c| c.velocity).collect();
         let mut linear = true;
         'outer: for &v in &vels {

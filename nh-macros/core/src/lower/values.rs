@@ -144,7 +144,12 @@ pub(crate) fn compose(e: &mut Engine, a: &Rotation, b: &Rotation) -> Rotation {
 pub(crate) fn inverse(e: &mut Engine, r: &Rotation) -> Rotation {
     Rotation {
         matrix: transpose(&r.matrix),
-        factors: r.factors.iter().rev().map(|&(k, a)| (k, e.neg(a))).collect(),
+        factors: r
+            .factors
+            .iter()
+            .rev()
+            .map(|&(k, a)| (k, e.neg(a)))
+            .collect(),
     }
 }
 
@@ -189,7 +194,11 @@ impl Lowerer<'_> {
                 }))
             }
             (BinOp::Mul, S(s), R(_) | M(_)) | (BinOp::Mul, R(_) | M(_), S(s)) => {
-                let m = if let S(_) = a { b.matrix()? } else { a.matrix()? };
+                let m = if let S(_) = a {
+                    b.matrix()?
+                } else {
+                    a.matrix()?
+                };
                 M(m.map(|row| row.map(|x| e.mul(*s, x))))
             }
             (BinOp::Div, R(_) | M(_), S(s)) => {
@@ -233,7 +242,12 @@ impl Lowerer<'_> {
     }
 
     /// The vector of `v`, or an error at `x`.
-    pub(super) fn vector_of(&mut self, v: Value, x: &Expr, what: &str) -> Option<crate::lower::values::Vec3> {
+    pub(super) fn vector_of(
+        &mut self,
+        v: Value,
+        x: &Expr,
+        what: &str,
+    ) -> Option<crate::lower::values::Vec3> {
         match v {
             Value::Vector(v) => Some(v),
             other => {
@@ -323,11 +337,17 @@ impl Lowerer<'_> {
         let Some(i) = ["x", "y", "z"].iter().position(|c| *c == f) else {
             self.cx.error_at(
                 field.span(),
-                format!("unknown component `.{f}`: the components of a vector are `.x`, `.y` and `.z`"),
+                format!(
+                    "unknown component `.{f}`: the components of a vector are `.x`, `.y` and `.z`"
+                ),
             );
             return None;
         };
-        let v = self.vector_of(v, base, "`.x`, `.y`, `.z` take components of a vector; what comes before them")?;
+        let v = self.vector_of(
+            v,
+            base,
+            "`.x`, `.y`, `.z` take components of a vector; what comes before them",
+        )?;
         Some(Value::Scalar(v[i]))
     }
 }

@@ -1,0 +1,85 @@
+//! Rigid bodies (DESIGN §10) in the engine: the rolling disc written with a
+//! body and a rolling contact costs no more operations than the same disc
+//! expanded by hand, and the kinds of values are checked before derivation.
+
+const HAND: &str = "pub struct Disc {
+    parameters { m, R, g }
+    coordinates { theta, phi, psi, x, y }
+    let X = x - R*sin(phi)*sin(psi);
+    let Y = y + R*cos(phi)*sin(psi);
+    let Z = R*cos(psi);
+    let w_t = -dot(psi);
+    let w_u = dot(phi)*cos(psi);
+    let w_n = dot(phi)*sin(psi) - dot(theta);
+    lagrangian = m/2*(dot(X)^2 + dot(Y)^2 + dot(Z)^2)
+               + m*R^2/8*(w_t^2 + w_u^2) + m*R^2/4*w_n^2 - m*g*Z;
+    constraints {
+        dot(x) = R*cos(phi)*dot(theta);
+        dot(y) = R*sin(phi)*dot(theta);
+    }
+}";
+
+const BODY: &str = "pub struct Disc {
+    parameters { m, R, g }
+    coordinates { theta, phi, psi, x, y }
+    let F = rot_z(phi) * rot_x(-psi);
+    let C = [x, y, 0] + R*(F*[0, 0, 1]);
+    body disc {
+        mass: m, centre: C, orientation: F*rot_y(theta),
+        inertia: diag(m*R^2/4, m*R^2/2, m*R^2/4),
+    }
+    lagrangian = kinetic_energy(disc) - m*g*C.z;
+    constraints { rolls(disc, radius: R, axle: [0, 1, 0]); }
+}";
+
+fn stats(src: &str) -> (String, nh_core::Stats) {
+    let (out, stats) = nh_core::expand_with_stats(src.parse().expect("lexes"));
+    (out.to_string(), stats)
+}
+
+#[test]
+fn the_disc_as_a_body_costs_no_more_than_by_hand() {
+    let (_, hand) = stats(HAND);
+    let (out, body) = stats(BODY);
+    assert!(!out.contains("compile_error"), "{out}");
+    assert_eq!(body.route, hand.route);
+    assert!(
+        body.ops_curvature <= hand.ops_curvature && body.ops_multiplier <= hand.ops_multiplier,
+        "body: {} / {} ops, by hand: {} / {}",
+        body.ops_curvature,
+        body.ops_multiplier,
+        hand.ops_curvature,
+        hand.ops_multiplier
+    );
+    // the rolling contact is solved for the contact point's coordinates
+    assert!(
+        out.contains("solved for `x`") && out.contains("solved for `y`"),
+        "{out}"
+    );
+}
+
+#[test]
+fn a_wheel_that_can_fall_flat_has_a_chart_check() {
+    // |e_z × n| = cos ψ vanishes when the disc lies flat
+    let (out, _) = stats(BODY);
+    assert!(out.contains("fn chart_regularity"), "{out}");
+}
+
+#[test]
+fn kinds_are_checked_with_one_error_each() {
+    for (bad, needle) in [
+        ("- m*g*C.z;", "- m*g*C;"),
+        ("centre: C,", "centre: x,"),
+        ("axle: [0, 1, 0]", "axle: [0, 0, 0]"),
+        ("orientation: F*rot_y(theta)", "orientation: 2*F"),
+        (
+            "inertia: diag(m*R^2/4, m*R^2/2, m*R^2/4)",
+            "inertia: [[m, 1, 0], [0, m, 0], [0, 0, m]]",
+        ),
+    ] {
+        let src = BODY.replace(bad, needle);
+        assert_ne!(src, BODY, "{bad}");
+        let out = nh_core::expand(src.parse().expect("lexes")).to_string();
+        assert_eq!(out.matches("compile_error").count(), 1, "{needle}: {out}");
+    }
+}
