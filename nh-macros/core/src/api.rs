@@ -362,6 +362,11 @@ pub trait Bodies {
     /// every method): their number and the statements computing them into
     /// `c: [T; number]` from `self`'s parameters.
     fn hoisting(&mut self) -> (usize, TokenStream);
+    /// Lines for the struct's documentation on its vectors, rotations,
+    /// bodies and rolling contacts; none by default.
+    fn description(&self) -> Vec<String> {
+        Vec::new()
+    }
 }
 
 /// The facade's private module in generated code: a `use` in the block
@@ -511,6 +516,17 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
         )
     };
     let field_docs: Vec<String> = params.iter().map(|p| format!("Parameter `{p}`.")).collect();
+    let mut description = bodies.description();
+    if !description.is_empty() {
+        description.splice(
+            0..0,
+            [
+                String::new(),
+                "# Vectors, rotations and bodies".to_string(),
+                String::new(),
+            ],
+        );
+    }
     let inherited = crate::attrs::inherited(attrs);
     let krate = shape.krate;
     let private = private();
@@ -520,6 +536,7 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     // them is an error at its path, see `attrs::check_derives`)
     quote! {
         #(#attrs)*
+        #(#[doc = #description])*
         #[allow(non_snake_case)]
         #derive
         #vis struct #name<T = ::core::primitive::f64> {

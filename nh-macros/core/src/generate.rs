@@ -1107,6 +1107,10 @@ impl Bodies for Derived<'_> {
         }
     }
 
+    fn description(&self) -> Vec<String> {
+        self.m.description.clone()
+    }
+
     fn hoisting(&mut self) -> (usize, TokenStream) {
         let blocks = &self.hoist_blocks;
         (self.hoist_len, quote!(#(#blocks)*))

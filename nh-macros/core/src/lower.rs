@@ -74,6 +74,8 @@ struct Lowerer<'a> {
     poisoned: Vec<String>,
     /// see [`Model::huge_constant`]
     huge_constant: Option<SpanRange>,
+    /// see [`Model::description`]
+    description: Vec<String>,
 }
 
 /// The names declared so far, each with what it was declared as.
@@ -181,6 +183,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         affine: lowered.affine,
         chart: lowered.chart,
         constraints_span: def.constraints.as_ref().map(|c| c.0.span()),
+        description: lw.description,
         huge_constant: lw.huge_constant,
     })
 }
@@ -264,6 +267,7 @@ impl<'a> Lowerer<'a> {
             all_lets: def.lets.iter().map(|l| l.name.to_string()).collect(),
             poisoned,
             huge_constant: None,
+            description: Vec::new(),
         };
         (lw, let_ok)
     }
@@ -273,6 +277,9 @@ impl<'a> Lowerer<'a> {
         for (i, l) in def.lets.iter().enumerate() {
             self.place = Place::Let;
             let v = self.lower_value(&l.value, 0);
+            if let Some(v) = &v {
+                self.describe_let(l, v);
+            }
             self.lets.push(LetInfo {
                 value: v,
                 name: l.name.clone(),

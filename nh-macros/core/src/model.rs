@@ -242,6 +242,9 @@ pub struct Model {
     pub chart: Option<ExprId>,
     /// Span of the `constraints` keyword, if any (for diagnostics).
     pub constraints_span: Option<Span>,
+    /// Lines of the struct's documentation on its vector, rotation and
+    /// matrix `let`s, bodies and rolling contacts, as lowered (DESIGN §10).
+    pub description: Vec<String>,
     /// The first subexpression of the input whose value is a constant beyond
     /// the range of `f64` (where an error about such a constant in the
     /// generated code points).

@@ -189,8 +189,6 @@ pub struct Field {
 /// A `body NAME { mass: .., centre: .., orientation: .., inertia: .. }` item.
 #[derive(Clone, Debug)]
 pub struct BodyDef {
-    /// the `body` keyword
-    pub kw: Ident,
     /// the body's name
     pub name: Ident,
     /// the fields as written
@@ -200,8 +198,6 @@ pub struct BodyDef {
 /// A `rolls(BODY, radius: .., axle: ..);` line of `constraints`.
 #[derive(Clone, Debug)]
 pub struct RollingDef {
-    /// the `rolls` keyword
-    pub kw: Ident,
     /// the rolling body
     pub body: Ident,
     /// the named arguments as written
@@ -516,9 +512,9 @@ fn split_items(stream: TokenStream, cx: &mut Ctxt) -> Vec<Item> {
 fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
     match item {
         Item::Block(kw, group) => parse_block(kw, &group, def, cx),
-        Item::Body(kw, name, group) => {
+        Item::Body(_, name, group) => {
             let fields = parse_fields(group.stream(), cx);
-            def.bodies.push(BodyDef { kw, name, fields });
+            def.bodies.push(BodyDef { name, fields });
         }
         Item::Statement(toks) => parse_statement_item(toks, def, cx),
     }
@@ -826,7 +822,6 @@ fn parse_rolling(input: ParseStream) -> syn::Result<RollingDef> {
             first: kw.span(),
             last: paren.span.close(),
         },
-        kw,
         body: names::canonical(body),
         fields,
         position: 0,

@@ -280,6 +280,30 @@ impl Lowerer<'_> {
         }
     }
 
+    /// A line of the struct's docs for a `let` that is not a scalar.
+    pub(super) fn describe_let(&mut self, l: &crate::parse::Let, v: &Value) {
+        if let Value::Scalar(_) = v {
+            return;
+        }
+        let kind = v.kind().trim_start_matches("a ");
+        self.description.push(format!(
+            "- `{}` ({kind}) = `{}`",
+            l.name,
+            l.value.to_source()
+        ));
+    }
+
+    /// Components as text for the docs, shortened past 240 characters.
+    fn show3(&self, v: Vec3) -> String {
+        let parts: Vec<String> = v.iter().map(|&c| self.e.display(c)).collect();
+        let text = format!("({})", parts.join(", "));
+        if text.chars().count() <= 240 {
+            return text;
+        }
+        let head: String = text.chars().take(237).collect();
+        format!("{head}...")
+    }
+
     /// Lowers every body not used yet, so that its errors are reported.
     pub(super) fn lower_unused_bodies(&mut self) {
         for i in 0..self.body_defs.len() {
@@ -342,6 +366,21 @@ impl Lowerer<'_> {
             None if get("orientation").is_some() => return None,
             None => None,
         };
+        let src = |n: &str| get(n).map(|x| x.to_source()).unwrap_or_default();
+        let mut line = format!(
+            "- body `{}`: mass `{}`, centre of mass `{}`",
+            def.name,
+            src("mass"),
+            src("centre")
+        );
+        match &rotation {
+            Some((r, _)) => {
+                let w = self.angular_velocity(r, false);
+                line.push_str(&format!(", orientation `{}`, inertia `{}` (body axes); kinetic energy T = ½ m |ċ|² + ½ ω_bᵀ I ω_b with the body angular velocity ω_b = {}", src("orientation"), src("inertia"), self.show3(w)));
+            }
+            None => line.push_str("; kinetic energy T = ½ m |ċ|² (a point mass)"),
+        }
+        self.description.push(line);
         Some(Body {
             mass,
             centre,
@@ -482,7 +521,23 @@ impl Lowerer<'_> {
                 .error(def.range, "a torus (`tube: ..`) needs its `axle: [..]`");
             return None;
         }
-        Some(self.contact(rot, centre, radius, axle, tube))
+        let contact = self.contact(rot, centre, radius, axle, tube);
+        let height = match contact.height {
+            Some(h) => format!(
+                "; its height `{}` = 0 is a holonomic constraint",
+                self.e.display(h)
+            ),
+            None => String::new(),
+        };
+        let line = format!(
+            "- `rolls({}, ..)`: contact point P = {}; no slip: the x and y components of its material velocity, `{}` and `{}`, vanish{height}",
+            def.body,
+            self.show3(contact.point),
+            self.e.display(contact.velocity[0]),
+            self.e.display(contact.velocity[1]),
+        );
+        self.description.push(line);
+        Some(contact)
     }
 
     /// A wheel's axle: a constant nonzero vector in body axes, made unit.
