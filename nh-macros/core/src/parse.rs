@@ -429,7 +429,7 @@ fn too_large(input: &TokenStream) -> Option<syn::Error> {
 enum Item {
     Block(Ident, proc_macro2::Group),
     /// `body NAME { .. }`
-    Body(Ident, Ident, proc_macro2::Group),
+    Body(Ident, proc_macro2::Group),
     Statement(Vec<TokenTree>),
 }
 
@@ -453,7 +453,7 @@ fn split_items(stream: TokenStream, cx: &mut Ctxt) -> Vec<Item> {
                 let g = g.clone();
                 it.next();
                 it.next();
-                items.push(Item::Body(kw.clone(), names::canonical(name), g));
+                items.push(Item::Body(names::canonical(name), g));
                 if let Some(TokenTree::Punct(p)) = it.peek()
                     && p.as_char() == ';'
                 {
@@ -512,7 +512,7 @@ fn split_items(stream: TokenStream, cx: &mut Ctxt) -> Vec<Item> {
 fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
     match item {
         Item::Block(kw, group) => parse_block(kw, &group, def, cx),
-        Item::Body(_, name, group) => {
+        Item::Body(name, group) => {
             let fields = parse_fields(group.stream(), cx);
             def.bodies.push(BodyDef { name, fields });
         }

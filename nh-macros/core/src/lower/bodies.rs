@@ -113,7 +113,7 @@ impl Lowerer<'_> {
             "dot" | "cross" => {
                 let b = vals.pop()?;
                 let a = vals.pop()?;
-                let what = format!("each argument of `{f}`");
+                let what = format!("each argument of `{f}` must be a vector");
                 let a = self.vector_of(a, arg(0), &what);
                 let b = self.vector_of(b, arg(1), &what);
                 let (a, b) = (a?, b?);
@@ -124,7 +124,7 @@ impl Lowerer<'_> {
                 })
             }
             "norm" => {
-                let v = self.vector_of(vals.pop()?, arg(0), "the argument of `norm`")?;
+                let v = self.vector_of(vals.pop()?, arg(0), "the argument of `norm` must be a vector")?;
                 let n2 = dot3(&mut self.e, v, v);
                 Some(Value::Scalar(self.e.pow(n2, Rational::new(1, 2)?)))
             }
@@ -252,13 +252,18 @@ impl Lowerer<'_> {
         }
         let Some(Binding::Body(i)) = self.scope.get(&s).copied() else {
             let what = match self.scope.get(&s) {
+                Some(Binding::Let(_)) => format!("`{s}` is a `let`, not a body"),
                 Some(_) => format!("`{s}` is not a body"),
                 None => format!("unknown body `{s}`"),
             };
             let bodies: Vec<String> = self.body_defs.iter().map(|b| b.name.to_string()).collect();
             let refs: Vec<&str> = bodies.iter().map(|b| b.as_str()).collect();
             let hint = crate::names::suggest(&s, &refs);
-            self.cx.error_at(id.span(), format!("{what}{hint}: declare it with `body {s} {{ mass: .., centre: .., orientation: .., inertia: .. }}`"));
+            let known = match bodies.as_slice() {
+                [] => "declare a body with `body NAME { mass: .., centre: .., orientation: .., inertia: .. }`".to_string(),
+                list => format!("the bodies are {}", list.iter().map(|b| format!("`{b}`")).collect::<Vec<_>>().join(", ")),
+            };
+            self.cx.error_at(id.span(), format!("{what}{hint}: {known}"));
             return None;
         };
         match self.body_state[i].clone() {
@@ -319,7 +324,10 @@ impl Lowerer<'_> {
     /// The fields of a body, checked and lowered.
     fn lower_body(&mut self, def: &BodyDef) -> Option<Body> {
         let saved = std::mem::replace(&mut self.place, Place::Body);
-        let fields = self.fields(&def.fields, &BODY_FIELDS, "a body", &def.name);
+        let Some(fields) = self.fields(&def.fields, &BODY_FIELDS, "a body", &def.name) else {
+            self.place = saved;
+            return None;
+        };
         let get = |n: &str| fields.iter().find(|f| f.0 == n).map(|f| f.1);
         let mut ok = true;
         for required in ["mass", "centre"] {
@@ -331,7 +339,7 @@ impl Lowerer<'_> {
         let mass = get("mass").and_then(|x| self.lower_position_scalar(x, "the mass of a body"));
         let centre = get("centre").and_then(|x| {
             let v = self.lower_value(x, 0)?;
-            let v = self.vector_of(v, x, "the centre of mass")?;
+            let v = self.vector_of(v, x, "the centre of mass must be a vector")?;
             v.iter()
                 .all(|&c| self.position_like(c, x, "the centre of mass"))
                 .then_some(v)
@@ -407,7 +415,8 @@ impl Lowerer<'_> {
         for (i, j) in [(0, 1), (0, 2), (1, 2)] {
             if m[i][j] != m[j][i] {
                 let (a, b) = (self.e.display(m[i][j]), self.e.display(m[j][i]));
-                self.cx.error(x.range(), format!("the inertia tensor is not symmetric: entry ({}, {}) is `{}` but ({}, {}) is `{}`; an inertia tensor has I_ij = I_ji", i + 1, j + 1, super::short(a), j + 1, i + 1, super::short(b)));
+                let at = entry_range(x, i, j).unwrap_or(x.range());
+                self.cx.error(at, format!("the inertia tensor is not symmetric: entry ({}, {}) is `{}` but ({}, {}) is `{}`; an inertia tensor has I_ij = I_ji", i + 1, j + 1, super::short(a), j + 1, i + 1, super::short(b)));
                 return None;
             }
         }
@@ -426,8 +435,9 @@ impl Lowerer<'_> {
         allowed: &[&str],
         what: &str,
         owner: &Ident,
-    ) -> Vec<(String, &'f Expr)> {
+    ) -> Option<Vec<(String, &'f Expr)>> {
         let mut out: Vec<(String, &Expr)> = Vec::new();
+        let mut unknown = false;
         for f in fields {
             let n = match f.name.to_string() {
                 c if c == "center" => "centre".to_string(),
@@ -443,6 +453,7 @@ impl Lowerer<'_> {
                         list.join(", ")
                     ),
                 );
+                unknown = true;
             } else if out.iter().any(|o| o.0 == n) {
                 self.cx.error_at(
                     f.name.span(),
@@ -452,7 +463,8 @@ impl Lowerer<'_> {
                 out.push((n, &f.value));
             }
         }
-        out
+        // with a field misspelled, a missing one is no news
+        (!unknown).then_some(out)
     }
 
     /// `kinetic_energy(body)`: ½ m |Ċ|² + ½ ω_bᵀ I ω_b, ω_b the body
@@ -484,7 +496,7 @@ impl Lowerer<'_> {
     /// The contact of a `rolls(..)` line: the lowest point of a round body
     /// on the plane z = 0 and its material velocity.
     pub(super) fn rolling_contact(&mut self, def: &RollingDef) -> Option<Contact> {
-        let fields = self.fields(&def.fields, &ROLLING_FIELDS, "`rolls`", &def.body);
+        let fields = self.fields(&def.fields, &ROLLING_FIELDS, "`rolls`", &def.body)?;
         let get = |n: &str| fields.iter().find(|f| f.0 == n).map(|f| f.1);
         let b = self.body(&def.body);
         let radius = match get("radius") {
@@ -498,7 +510,7 @@ impl Lowerer<'_> {
         let axle = get("axle").map(|x| self.constant_axle(x));
         let centre = get("centre").map(|x| {
             let v = self.lower_value(x, 0)?;
-            let v = self.vector_of(v, x, "the wheel's centre")?;
+            let v = self.vector_of(v, x, "the wheel's centre must be a vector")?;
             v.iter()
                 .all(|&c| self.position_like(c, x, "the wheel's centre"))
                 .then_some(v)
@@ -543,7 +555,7 @@ impl Lowerer<'_> {
     /// A wheel's axle: a constant nonzero vector in body axes, made unit.
     fn constant_axle(&mut self, x: &Expr) -> Option<Vec3> {
         let v = self.lower_value(x, 0)?;
-        let a = self.vector_of(v, x, "the axle")?;
+        let a = self.vector_of(v, x, "the axle must be a vector")?;
         if a.iter().any(|&c| self.e.as_constant(c).is_none()) {
             self.cx.error(x.range(), format!("the axle is fixed in the body: give constant components in body axes, e.g. `[0, 1, 0]`, not `{}`", super::short(x.to_source())));
             return None;
@@ -627,6 +639,17 @@ impl Lowerer<'_> {
             }
         }
         self.e.pow(s2, Rational::new(1, 2).unwrap_or(Rational::ONE))
+    }
+}
+
+/// The range of entry (i, j) of a matrix written `[[..], [..], [..]]`.
+fn entry_range(x: &Expr, i: usize, j: usize) -> Option<SpanRange> {
+    let Expr::Vector { items: rows, .. } = x else {
+        return None;
+    };
+    match rows.get(i)? {
+        Expr::Vector { items, .. } => Some(items.get(j)?.range()),
+        _ => None,
     }
 }
 

@@ -207,6 +207,7 @@ impl Lowerer<'_> {
             }
             _ => {
                 let msg = kind_mismatch(op, &a, &b, operand);
+                let at = if matches!(op, BinOp::Add | BinOp::Sub) { operand.range() } else { at };
                 self.cx.error(at, msg);
                 return None;
             }
@@ -241,23 +242,16 @@ impl Lowerer<'_> {
         }
     }
 
-    /// The vector of `v`, or an error at `x`.
-    pub(super) fn vector_of(
-        &mut self,
-        v: Value,
-        x: &Expr,
-        what: &str,
-    ) -> Option<crate::lower::values::Vec3> {
+    /// The vector of `v`, or an error at `x`: `what` says where a vector
+    /// is needed ("the centre of mass must be a vector").
+    pub(super) fn vector_of(&mut self, v: Value, x: &Expr, what: &str) -> Option<Vec3> {
         match v {
             Value::Vector(v) => Some(v),
             other => {
                 let src = super::short(x.to_source());
                 self.cx.error(
                     x.range(),
-                    format!(
-                        "`{src}` is {}, but {what} is a vector: write a vector as `[x, y, z]`",
-                        other.kind()
-                    ),
+                    format!("`{src}` is {}, but {what}: a vector is written `[a, b, c]`", other.kind()),
                 );
                 None
             }
@@ -301,7 +295,8 @@ impl Lowerer<'_> {
             self.cx.error(
                 range,
                 format!(
-                    "a vector has 3 components, but `[..]` has {}: write `[x, y, z]`",
+                    "a vector has 3 components, but `[{}]` has {}: write `[a, b, c]`",
+                    super::short(items.iter().map(Expr::to_source).collect::<Vec<_>>().join(", ")),
                     items.len()
                 ),
             );
@@ -343,11 +338,17 @@ impl Lowerer<'_> {
             );
             return None;
         };
-        let v = self.vector_of(
-            v,
-            base,
-            "`.x`, `.y`, `.z` take components of a vector; what comes before them",
-        )?;
+        let v = match v {
+            Value::Vector(v) => v,
+            other => {
+                let src = super::short(base.to_source());
+                self.cx.error(
+                    base.range(),
+                    format!("`{src}` is {}: `.{f}` is a component of a vector", other.kind()),
+                );
+                return None;
+            }
+        };
         Some(Value::Scalar(v[i]))
     }
 }
@@ -360,7 +361,8 @@ fn kind_mismatch(op: BinOp, a: &Value, b: &Value, operand: &Expr) -> String {
         (BinOp::Mul, Value::Vector(_), Value::Vector(_)) => "the product of two vectors is ambiguous: write the scalar product `dot(a, b)` or the cross product `cross(a, b)`".to_string(),
         (BinOp::Div, _, _) => format!("cannot divide {ka} by {kb} (`{src}`): only a scalar can divide"),
         (BinOp::Mul, Value::Vector(_), _) => format!("cannot multiply {ka} by {kb} (`{src}`) from the right: a rotation or matrix acts on a vector from the left, `R * v`"),
-        (BinOp::Add | BinOp::Sub, _, _) => format!("cannot {} {ka} and {kb} (`{src}`): both sides of `+` and `-` must be of one kind", if op == BinOp::Add { "add" } else { "subtract" }),
+        (BinOp::Add | BinOp::Sub, Value::Scalar(_), Value::Vector(_)) => format!("`{src}` is a vector, but the terms before it are a scalar: the terms of a sum are of one kind (take a component, `({src}).z`, or a length, `norm({src})`)"),
+        (BinOp::Add | BinOp::Sub, _, _) => format!("`{src}` is {kb}, but the terms before it are {ka}: the terms of a sum are of one kind"),
         _ => format!("cannot multiply {ka} by {kb} (`{src}`)"),
     }
 }
