@@ -336,6 +336,130 @@
 //! constraint force); conversely `reaction_forces` is a compile error on a
 //! system with `constraints` (use `multipliers` there).
 //!
+//! ## Vectors, rotations and rigid bodies
+//!
+//! A `let` may be a 3-vector, a rotation or a 3×3 matrix as well as a scalar;
+//! its kind is inferred from its value and checked wherever it is used,
+//! before anything is derived (DESIGN §10). Everything lowers to scalar
+//! expressions component by component, so the derivation, the pruning of
+//! zeros and the common-subexpression elimination are those of scalar input.
+//!
+//! | written | kind | meaning |
+//! |---|---|---|
+//! | `[a, b, c]` | vector | components in the world frame (or in body axes, where a field says so) |
+//! | `[[..], [..], [..]]`, `diag(a, b, c)` | matrix | by rows; used for inertia tensors |
+//! | `rot_x(a)`, `rot_y(a)`, `rot_z(a)` | rotation | the right-handed elementary rotation by angle `a` (a function of the coordinates and `t`) |
+//! | `R1 * R2`, `transpose(R)` | rotation | frames as chains of rotations: `rot_z(psi) * rot_x(theta)` turns first about z, then about the new x |
+//! | `u + v`, `u - v`, `s * v`, `v / s`, `-v` | vector | componentwise; `s` a scalar |
+//! | `R * v`, `M * v`, `M * N` | vector, matrix | a rotation or matrix applied to a vector, matrix products |
+//! | `dot(u, v)`, `cross(u, v)`, `norm(v)` | scalar, vector, scalar | also as methods: `u.dot(v)`, `u.cross(v)`, `v.norm()` |
+//! | `v.x`, `v.y`, `v.z` | scalar | components |
+//! | `dot(V)` of a vector `let` | vector | its time derivative by the chain rule, as for scalars |
+//! | `omega(R)`, `omega_body(R)` | vector | the angular velocity of rotation `R`, in world and in body components |
+//! | `kinetic_energy(B)` | scalar | the kinetic energy of body `B` |
+//!
+//! The angular velocity is derived, not looked up: for each elementary
+//! factor the skew matrix Ṙ Rᵀ is computed symbolically and its axial vector
+//! read off, and the factors combine by the product rule
+//! d(AB)/dt (AB)ᵀ = ȦAᵀ + A (ḂBᵀ) Aᵀ, so any chain of rotations (Euler angles
+//! of any convention, a steered fork on a leaning frame) gets its exact ω.
+//! A product of two vectors (`u * v`), a sum of different kinds, a rotation
+//! built from anything but rotations (`2*R`, a matrix literal) where a
+//! rotation is needed, and a vector where a scalar is needed (or the
+//! reverse) are compile errors at the token.
+//!
+//! A **body** is an item `body NAME { mass: m, centre: C, orientation: R,
+//! inertia: I }`: its mass, its centre of mass C (world components, a function
+//! of the coordinates and `t`), its orientation R (body → world) and its
+//! inertia tensor I about the centre of mass in body axes, symmetric,
+//! products of inertia included (`center` is accepted for `centre`; a point
+//! mass has neither orientation nor inertia). `kinetic_energy(NAME)` is
+//! T = ½ m |Ċ|² + ½ ω_bᵀ I ω_b and may be used in the Lagrangian like any
+//! scalar.
+//!
+//! A **rolling contact** is one line of `constraints`:
+//! `rolls(NAME, radius: r, axle: a);` for a round wheel with axle `a` (a
+//! constant nonzero vector in body axes), `tube: ρ` added for a torus (a
+//! tyre of tube radius ρ), and no `axle` for a sphere; `centre: G` gives
+//! the geometric centre where it is not the centre of mass. The body rolls
+//! without slipping on the plane z = 0: its contact point P is the lowest
+//! point of the rim, P − G = −r w − ρ e_z with w = (e_z − n_z n)/|e_z × n|
+//! (n the world axle; w = e_z for a sphere), and the two no-slip
+//! constraints say that the material point at P is at rest horizontally,
+//! the x and y components of Ġ + ω × (P − G) vanish. They are implicit
+//! constraints, solved for dependent velocities by the rule of DESIGN §9.
+//! If the contact's height P_z is not identically zero in the coordinates
+//! (a front wheel whose pitch follows from the lean and steer), P_z = 0 is
+//! added as a holonomic constraint. |e_z × n| vanishes when the wheel lies
+//! flat; it enters the chart check, so a run that reaches that ends with
+//! `SimError::Singular` instead of dividing by zero. Sliding is not
+//! modelled, and the ground is the plane z = 0.
+//!
+//! The physically correct rolling disc in ten lines: the frame F of its
+//! plane (heading φ, lean ψ), the centre above the contact point (x, y), the
+//! disc turned by θ about its axle:
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     pub struct Disc {
+//!         parameters { m, R, g }
+//!         coordinates { theta, phi, psi, x, y }
+//!         let F = rot_z(phi) * rot_x(-psi);          // heading, then lean
+//!         let C = [x, y, 0] + R*(F*[0, 0, 1]);       // centre, above the contact point
+//!         body disc {
+//!             mass: m, centre: C, orientation: F*rot_y(theta),
+//!             inertia: diag(m*R^2/4, m*R^2/2, m*R^2/4),
+//!         }
+//!         lagrangian = kinetic_energy(disc) - m*g*C.z;
+//!         constraints { rolls(disc, radius: R, axle: [0, 1, 0]); }
+//!         outputs { energy }
+//!     }
+//! }
+//!
+//! let disc = Disc::new(1.7, 0.35, 9.81);
+//! assert_eq!(Disc::<f64>::DEPENDENT, [3, 4]); // the contact point follows the rolling
+//! let (q, rdot) = (SVector::from([0.0, 0.4, 0.3, 0.0, 0.0]), SVector::from([6.0, 2.0, 0.1]));
+//! // ẋ = R cos φ θ̇: the rolling condition the contact derived
+//! let sdot = disc.dependent_velocities(&q, &rdot);
+//! assert!((sdot[0] - 0.35 * 0.4_f64.cos() * 6.0).abs() < 1e-14);
+//! // the disc falls flat in the end: a typed outcome, not a NaN
+//! let x0 = SVector::<f64, 8>::from([0.0, 0.0, 0.3, 0.0, 0.0, 0.0, 0.0, 0.0]);
+//! match DormandPrince::new(1e-9, 1e-9).integrate(&disc, 0.0, x0, 5.0) {
+//!     Err(SimError::Singular { t, .. }) => assert!(t > 0.1),
+//!     other => panic!("expected the chart to end at the flat disc: {other:?}"),
+//! }
+//! ```
+//!
+//! A ball with an offset centre of mass and a full inertia tensor (a
+//! Chaplygin sphere), rolling on its geometric centre C:
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     pub struct Ball {
+//!         parameters { m, r, g, b1, b2, b3, I11, I22, I33, I12, I13, I23 }
+//!         coordinates { yaw, pitch, roll, x, y }
+//!         let Q = rot_z(yaw) * rot_y(pitch) * rot_x(roll);
+//!         let C = [x, y, r];                 // geometric centre
+//!         let G = C + Q*[b1, b2, b3];        // centre of mass
+//!         body ball {
+//!             mass: m, centre: G, orientation: Q,
+//!             inertia: [[I11, I12, I13], [I12, I22, I23], [I13, I23, I33]],
+//!         }
+//!         lagrangian = kinetic_energy(ball) - m*g*G.z;
+//!         constraints { rolls(ball, radius: r, centre: C); }
+//!     }
+//! }
+//! # let _ = Ball::new(1.0, 0.2, 9.81, 0.0, 0.0, -0.05, 0.02, 0.02, 0.03, 0.001, 0.0, 0.0);
+//! ```
+//!
+//! The struct's documentation lists the vector and rotation `let`s by name,
+//! each body's contribution (its fields and its body angular velocity) and
+//! each rolling contact (its contact point and no-slip rows).
+//!
 //! # The generated API
 //!
 //! For `pub struct Name { .. }` with n coordinates, p constraints, k = n − p

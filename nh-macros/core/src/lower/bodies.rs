@@ -124,7 +124,11 @@ impl Lowerer<'_> {
                 })
             }
             "norm" => {
-                let v = self.vector_of(vals.pop()?, arg(0), "the argument of `norm` must be a vector")?;
+                let v = self.vector_of(
+                    vals.pop()?,
+                    arg(0),
+                    "the argument of `norm` must be a vector",
+                )?;
                 let n2 = dot3(&mut self.e, v, v);
                 Some(Value::Scalar(self.e.pow(n2, Rational::new(1, 2)?)))
             }
@@ -263,7 +267,8 @@ impl Lowerer<'_> {
                 [] => "declare a body with `body NAME { mass: .., centre: .., orientation: .., inertia: .. }`".to_string(),
                 list => format!("the bodies are {}", list.iter().map(|b| format!("`{b}`")).collect::<Vec<_>>().join(", ")),
             };
-            self.cx.error_at(id.span(), format!("{what}{hint}: {known}"));
+            self.cx
+                .error_at(id.span(), format!("{what}{hint}: {known}"));
             return None;
         };
         match self.body_state[i].clone() {

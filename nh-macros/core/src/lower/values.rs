@@ -207,7 +207,11 @@ impl Lowerer<'_> {
             }
             _ => {
                 let msg = kind_mismatch(op, &a, &b, operand);
-                let at = if matches!(op, BinOp::Add | BinOp::Sub) { operand.range() } else { at };
+                let at = if matches!(op, BinOp::Add | BinOp::Sub) {
+                    operand.range()
+                } else {
+                    at
+                };
                 self.cx.error(at, msg);
                 return None;
             }
@@ -251,7 +255,10 @@ impl Lowerer<'_> {
                 let src = super::short(x.to_source());
                 self.cx.error(
                     x.range(),
-                    format!("`{src}` is {}, but {what}: a vector is written `[a, b, c]`", other.kind()),
+                    format!(
+                        "`{src}` is {}, but {what}: a vector is written `[a, b, c]`",
+                        other.kind()
+                    ),
                 );
                 None
             }
@@ -296,7 +303,13 @@ impl Lowerer<'_> {
                 range,
                 format!(
                     "a vector has 3 components, but `[{}]` has {}: write `[a, b, c]`",
-                    super::short(items.iter().map(Expr::to_source).collect::<Vec<_>>().join(", ")),
+                    super::short(
+                        items
+                            .iter()
+                            .map(Expr::to_source)
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    ),
                     items.len()
                 ),
             );
@@ -344,7 +357,10 @@ impl Lowerer<'_> {
                 let src = super::short(base.to_source());
                 self.cx.error(
                     base.range(),
-                    format!("`{src}` is {}: `.{f}` is a component of a vector", other.kind()),
+                    format!(
+                        "`{src}` is {}: `.{f}` is a component of a vector",
+                        other.kind()
+                    ),
                 );
                 return None;
             }
