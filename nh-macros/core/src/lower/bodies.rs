@@ -342,13 +342,8 @@ impl Lowerer<'_> {
             }
         }
         let mass = get("mass").and_then(|x| self.lower_position_scalar(x, "the mass of a body"));
-        let centre = get("centre").and_then(|x| {
-            let v = self.lower_value(x, 0)?;
-            let v = self.vector_of(v, x, "the centre of mass must be a vector")?;
-            v.iter()
-                .all(|&c| self.position_like(c, x, "the centre of mass"))
-                .then_some(v)
-        });
+        let centre =
+            get("centre").and_then(|x| self.lower_position_vector(x, "the centre of mass"));
         let rotation = match (get("orientation"), get("inertia")) {
             (None, None) => Some(None),
             (Some(r), Some(i)) => {
@@ -379,6 +374,23 @@ impl Lowerer<'_> {
             None if get("orientation").is_some() => return None,
             None => None,
         };
+        self.describe_body(def, &fields, rotation.as_ref().map(|r| &r.0));
+        Some(Body {
+            mass,
+            centre,
+            rotation,
+        })
+    }
+
+    /// The line of the struct's docs for a body: its fields as written and
+    /// its body angular velocity.
+    fn describe_body(
+        &mut self,
+        def: &BodyDef,
+        fields: &[(String, &Expr)],
+        rot: Option<&Rc<Rotation>>,
+    ) {
+        let get = |n: &str| fields.iter().find(|f| f.0 == n).map(|f| f.1);
         let src = |n: &str| get(n).map(|x| x.to_source()).unwrap_or_default();
         let mut line = format!(
             "- body `{}`: mass `{}`, centre of mass `{}`",
@@ -386,19 +398,23 @@ impl Lowerer<'_> {
             src("mass"),
             src("centre")
         );
-        match &rotation {
-            Some((r, _)) => {
+        match rot {
+            Some(r) => {
                 let w = self.angular_velocity(r, false);
                 line.push_str(&format!(", orientation `{}`, inertia `{}` (body axes); kinetic energy T = ½ m |ċ|² + ½ ω_bᵀ I ω_b with the body angular velocity ω_b = {}", src("orientation"), src("inertia"), self.show3(w)));
             }
             None => line.push_str("; kinetic energy T = ½ m |ċ|² (a point mass)"),
         }
         self.description.push(line);
-        Some(Body {
-            mass,
-            centre,
-            rotation,
-        })
+    }
+
+    /// A vector field that must be free of velocities and inputs.
+    fn lower_position_vector(&mut self, x: &Expr, what: &str) -> Option<Vec3> {
+        let v = self.lower_value(x, 0)?;
+        let v = self.vector_of(v, x, &format!("{what} must be a vector"))?;
+        v.iter()
+            .all(|&c| self.position_like(c, x, what))
+            .then_some(v)
     }
 
     /// A scalar field that must be free of velocities and inputs.
@@ -513,13 +529,7 @@ impl Lowerer<'_> {
         };
         let tube = get("tube").map(|x| self.lower_position_scalar(x, "the tube radius"));
         let axle = get("axle").map(|x| self.constant_axle(x));
-        let centre = get("centre").map(|x| {
-            let v = self.lower_value(x, 0)?;
-            let v = self.vector_of(v, x, "the wheel's centre must be a vector")?;
-            v.iter()
-                .all(|&c| self.position_like(c, x, "the wheel's centre"))
-                .then_some(v)
-        });
+        let centre = get("centre").map(|x| self.lower_position_vector(x, "the wheel's centre"));
         let b = b?;
         let radius = radius?;
         // an optional field: absent, or given and lowered without error

@@ -210,16 +210,7 @@ impl Lowerer<'_> {
         let has_velocity = vels.iter().any(|&v| self.e.depends_on(g, v));
         if !has_velocity {
             // holonomic: its velocity row is df/dt = Σ ∂f/∂q_i q̇_i + ∂f/∂t
-            let mut parts = Vec::new();
-            for i in 0..self.coords.len() {
-                let d = self.e.diff(g, self.coords[i].position);
-                if d != ZERO {
-                    let v = self.e.sym(self.coords[i].velocity);
-                    parts.push(self.e.mul(d, v));
-                }
-            }
-            parts.push(self.e.diff(g, self.t_sym));
-            let value = self.e.sum(&parts);
+            let value = self.time_derivative(g);
             if value == ZERO {
                 self.cx.error(c.range(), format!("the constraint `{}` involves no velocity and no coordinate (it is constant): remove it", c.text()));
                 return None;
