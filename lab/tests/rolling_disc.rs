@@ -219,3 +219,52 @@ fn the_disc_as_a_body_is_the_hand_expanded_disc() {
     );
     assert!(worst.iter().all(|&w| w < 1e-14), "{worst:?}");
 }
+
+nonholonomic_system! {
+    /// The disc with its centre's height z as a coordinate and a torus for
+    /// a rim (tube radius ρ): `rolls` adds the contact's height
+    /// z − R cos ψ − ρ = 0 as a holonomic constraint.
+    pub struct TorusDiscZ {
+        parameters { m, R, g, rho }
+        coordinates { theta, phi, psi, x, y, z }
+        let F = rot_z(phi) * rot_x(-psi);
+        let C = [x, y, z];
+        body disc {
+            mass: m, centre: C, orientation: F*rot_y(theta),
+            inertia: diag(m*R^2/4, m*R^2/2, m*R^2/4),
+        }
+        lagrangian = kinetic_energy(disc) - m*g*C.z;
+        constraints { rolls(disc, radius: R, axle: [0, 1, 0], tube: rho); }
+    }
+}
+
+/// With a holonomic contact height (the centre's z a coordinate, z =
+/// R cos ψ + ρ for a torus rim of tube radius ρ), the disc is the same: at
+/// ρ = 0 its lean, heading and spin accelerate as [`RollingDisc`]'s at the
+/// same (θ, φ, ψ) and rates; with a tube, the holonomic residual vanishes
+/// at z = R cos ψ + ρ.
+#[test]
+fn a_holonomic_contact_height_gives_the_same_disc() {
+    let (m, r, g) = (1.7, 0.35, 9.81);
+    let hand: RollingDisc = RollingDisc::new(m, r, g);
+    let torus = TorusDiscZ::new(m, r, g, 0.0);
+    assert_eq!(TorusDiscZ::<f64>::INDEPENDENT, [0, 1, 2]);
+    let mut worst = 0.0_f64;
+    for (k, psi) in [0.1_f64, 0.4, -0.7, 1.1].into_iter().enumerate() {
+        let rdot = SVector::<f64, 3>::from([3.0 + k as f64, -1.5, 0.4 * k as f64]);
+        let q5 = SVector::<f64, 5>::from([0.2, 0.9, psi, 0.3, -0.1]);
+        let q6 = SVector::<f64, 6>::from([0.2, 0.9, psi, 0.3, -0.1, r * psi.cos()]);
+        let (a, b) = (
+            torus.accelerations(0.0, &q6, &rdot),
+            hand.accelerations(0.0, &q5, &rdot),
+        );
+        worst = worst.max((a - b).amax() / b.amax());
+    }
+    assert!(worst < 1e-13, "{worst:e}");
+    // with a tube, the contact height carries ρ: z = R cos ψ + ρ on the manifold
+    let tyre = TorusDiscZ::new(m, r, g, 0.05);
+    let q = SVector::<f64, 6>::from([0.0, 0.0, 0.3, 0.0, 0.0, r * 0.3_f64.cos() + 0.05]);
+    let x = SVector::<f64, 9>::from_fn(|i, _| if i < 6 { q[i] } else { 1.0 });
+    let residual = tyre.constraint_residual(0.0, &x).expect("a holonomic row");
+    assert!(residual.abs() < 1e-15, "{residual:e}");
+}
