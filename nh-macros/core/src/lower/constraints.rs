@@ -348,9 +348,7 @@ impl Lowerer<'_> {
             return None;
         }
         let (solved, det) = self.solve_block(&coef, &bias, &chosen, &free);
-        // a block with a constant nonzero determinant is never singular
-        let constant_det = self.e.as_constant(det).is_some_and(|d| !d.is_zero());
-        let chart = (!implicit.is_empty() && !constant_det).then(|| self.regularity(det, &coef));
+        let chart = (!implicit.is_empty()).then(|| self.regularity(det, &coef));
         let back: HashMap<SymId, ExprId> = chosen
             .iter()
             .zip(&solved)
