@@ -456,6 +456,8 @@
 //! # let _ = Ball::new(1.0, 0.2, 9.81, 0.0, 0.0, -0.05, 0.02, 0.02, 0.03, 0.001, 0.0, 0.0);
 //! ```
 //!
+//! `outputs { contact_points }` adds `contact_points(&self, q)`, the
+//! contact points of the rolling contacts as the columns of a 3 × c matrix.
 //! The struct's documentation lists the vector and rotation `let`s by name,
 //! each body's contribution (its fields and its body angular velocity) and
 //! each rolling contact (its contact point and no-slip rows).
@@ -495,6 +497,7 @@
 //! | `curvature` | `curvature(&self, q) -> [SMatrix<T, k, k>; p]` | `B[b][(α, β)]` = B^b_{αβ} of (5.21) (homogeneous, time-independent velocity constraints only) |
 //! | `energy` | `energy(&self, q, rdot) -> T` | E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities (L and the constraints must not depend on `t`) |
 //! | `constraint_matrix` | `constraint_matrix(&self, q) -> SMatrix<T, p, k>` | A^a_α, minus the coefficient of ṙ_α in the solved constraint of s_a (time-independent constraints) |
+//! | `contact_points` | `contact_points(&self, q) -> SMatrix<T, 3, c>` | the contact points of the c rolling contacts (`rolls(..)` lines, in order), world components, one per column |
 //! | `mass_matrix` | `mass_matrix(&self, q) -> SMatrix<T, n, n>` | ∂²L/∂q̇_i∂q̇_j |
 //! | `jacobian` | `jacobian(&self, t, x[, u]) -> SMatrix<T, n+k, n+k>` and `impl OdeJacobian` | ∂f/∂x of the first-order system, for the stiff integrators |
 //! | `linearization` | `linearization(&self, t, x, u) -> (A, B)` | A = ∂f/∂x and B = ∂f/∂u of ẋ = f(t, x, u), for controller design |

@@ -23,7 +23,7 @@ nonholonomic_system! {
         }
         lagrangian = kinetic_energy(ball) - m*g*G.z;
         constraints { rolls(ball, radius: r, centre: C); }
-        outputs { energy }
+        outputs { energy, contact_points }
     }
 }
 
@@ -59,6 +59,9 @@ fn chaplygin_sphere_agrees_with_sympy() {
         for i in 0..2 {
             worst_vel = worst_vel.max(rel(sdot[i], qdot[3 + i]));
         }
+        // the contact point is below the geometric centre
+        let p = ball.contact_points(&q);
+        assert!((p[(0, 0)] - q[3]).abs() + (p[(1, 0)] - q[4]).abs() + p[(2, 0)].abs() < 1e-15);
         let e = case["energy"].as_f64().expect("energy");
         worst_energy = worst_energy.max(rel(ball.energy(&q, &rdot), e));
     }

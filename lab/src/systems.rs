@@ -77,7 +77,7 @@ nonholonomic_system! {
         }
         lagrangian = kinetic_energy(disc) - m*g*C.z;
         constraints { rolls(disc, radius: R, axle: [0, 1, 0]); }
-        outputs { energy, multipliers, curvature, constraint_matrix, jacobian }
+        outputs { energy, multipliers, curvature, constraint_matrix, jacobian, contact_points }
     }
 }
 

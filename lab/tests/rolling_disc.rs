@@ -207,6 +207,9 @@ fn the_disc_as_a_body_is_the_hand_expanded_disc() {
             hand.dependent_velocities(&q, &rdot),
         );
         let s = (sb - sh).amax() / sh.amax().max(1e-300);
+        // (x, y) is the contact point
+        let p = body.contact_points(&q);
+        assert!((p[(0, 0)] - q[3]).abs() + (p[(1, 0)] - q[4]).abs() + p[(2, 0)].abs() < 1e-15);
         let e =
             (body.energy(&q, &rdot) - hand.energy(&q, &rdot)).abs() / hand.energy(&q, &rdot).abs();
         for (w, v) in worst.iter_mut().zip([a, l, s, e]) {

@@ -55,6 +55,8 @@ pub struct Shape<'a> {
     /// The generalized speeds, for a system written in them (DESIGN §9);
     /// empty otherwise.
     pub speeds: Vec<String>,
+    /// Number of rolling contacts (`rolls(..)` lines).
+    pub contacts: usize,
 }
 
 impl Shape<'_> {
@@ -92,6 +94,8 @@ pub enum GeneratedMethod {
     ConstraintMatrix,
     /// `mass_matrix`
     MassMatrix,
+    /// `contact_points`
+    ContactPoints,
     /// `linearization`
     Linearization,
     /// `jacobian`
@@ -143,6 +147,8 @@ pub enum Returns {
     Scalar,
     /// A p × k matrix.
     ConstraintMatrix,
+    /// A 3 × c matrix: one column per rolling contact.
+    ContactPoints,
     /// An n × n matrix (k × k in generalized speeds).
     MassMatrix,
     /// A vector of n values, one per coordinate.
@@ -177,7 +183,7 @@ pub struct MethodSpec {
 
 /// Every generated method, in the order they are emitted and derived in
 /// (`rhs` last: the runtime trait calls the others).
-pub const METHODS: [MethodSpec; 15] = [
+pub const METHODS: [MethodSpec; 16] = [
     MethodSpec {
         method: GeneratedMethod::DependentVelocities,
         name: "dependent_velocities",
@@ -275,6 +281,15 @@ pub const METHODS: [MethodSpec; 15] = [
         takes: Arguments::Coordinates,
         returns: Returns::ConstraintMatrix,
         requested_by: Some(Output::ConstraintMatrix),
+        form: Form::Coordinates,
+    },
+    MethodSpec {
+        method: GeneratedMethod::ContactPoints,
+        name: "contact_points",
+        doc: "The contact points of the rolling contacts with the plane z = 0, world components: column c is the lowest point of the rim of the c-th `rolls(..)` line, in the order written (DESIGN §10).",
+        takes: Arguments::Coordinates,
+        returns: Returns::ContactPoints,
+        requested_by: Some(Output::ContactPoints),
         form: Form::Coordinates,
     },
     MethodSpec {
@@ -401,6 +416,8 @@ struct Dims {
     state: usize,
     /// Whether the system is in generalized speeds.
     speeds: bool,
+    /// Number of rolling contacts.
+    contacts: usize,
 }
 
 impl Dims {
@@ -418,6 +435,7 @@ impl Dims {
             inputs: shape.inputs.len(),
             state: n + k,
             speeds: shape.in_speeds(),
+            contacts: shape.contacts,
         }
     }
 
@@ -467,6 +485,7 @@ impl Dims {
             }
             Returns::Scalar => quote!(T),
             Returns::ConstraintMatrix => smatrix(p, k),
+            Returns::ContactPoints => smatrix(3, self.contacts),
             Returns::MassMatrix if self.speeds => smatrix(k, k),
             Returns::MassMatrix => smatrix(n, n),
             Returns::Coordinates => svector(n),

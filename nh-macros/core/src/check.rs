@@ -97,6 +97,9 @@ pub fn outputs_for_form(def: &SystemDef, cx: &mut Ctxt) {
             ("routes", true) => {
                 "a system in generalized speeds has one derivation, Maggi's equations (Sᵀ M S) u̇ = Sᵀ(Q − h − M(Ṡ u + σ̇)): there are no routes to compare"
             }
+            ("contact_points", _) if def.rolling.is_empty() => {
+                "`contact_points` gives the points of the rolling contacts, and this system has none (`rolls(BODY, radius: .., ..);` in `constraints`)"
+            }
             ("reaction_forces", false) => {
                 "`reaction_forces` is for systems in generalized speeds (`speeds` and `kinematics`); with `constraints`, the constraint forces are the `multipliers`"
             }

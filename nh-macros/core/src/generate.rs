@@ -897,6 +897,15 @@ impl Derived<'_> {
         self.matrix_of_q(p, k, &flat)
     }
 
+    /// `contact_points`: the rolling contacts' points, one per column.
+    fn contact_points_body(&mut self) -> TokenStream {
+        let c = self.m.contacts.len();
+        let flat: Vec<ExprId> = (0..3)
+            .flat_map(|i| self.m.contacts.iter().map(move |p| p[i]))
+            .collect();
+        self.matrix_of_q(3, c, &flat)
+    }
+
     /// `mass_matrix`: ∂²L/∂q̇∂q̇.
     fn mass_matrix_body(&mut self) -> TokenStream {
         let n = self.m.n();
@@ -1058,6 +1067,7 @@ impl Bodies for Derived<'_> {
             GeneratedMethod::Curvature => (static_doc(), self.curvature_body()),
             GeneratedMethod::Energy => (static_doc(), self.energy_body()),
             GeneratedMethod::ConstraintMatrix => (static_doc(), self.constraint_matrix_body()),
+            GeneratedMethod::ContactPoints => (static_doc(), self.contact_points_body()),
             GeneratedMethod::MassMatrix => (static_doc(), self.mass_matrix_body()),
             GeneratedMethod::Linearization if self.maggi.is_some() => (
                 "The linearisation of the first-order system ẋ = f(t, x, u), x = [q, u_speeds], at (t, x, u): A = ∂f/∂x and B = ∂f/∂u, derived symbolically through Maggi's equations (as for the Jacobian). For controller design: δẋ ≈ A δx + B δu.".to_string(),
@@ -1222,6 +1232,7 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
         dependent_doc: None,
         affine: false,
         rheonomic: false,
+        contacts: def.rolling.len(),
     }
 }
 

@@ -184,6 +184,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         chart: lowered.chart,
         constraints_span: def.constraints.as_ref().map(|c| c.0.span()),
         description: lw.description,
+        contacts: lowered.contacts,
         huge_constant: lw.huge_constant,
     })
 }

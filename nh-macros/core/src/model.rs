@@ -27,11 +27,13 @@ pub enum Output {
     Routes,
     /// `reaction_forces`: E − Q of a system in generalized speeds (DESIGN §9)
     ReactionForces,
+    /// `contact_points`: the contact points of the rolling contacts (DESIGN §10)
+    ContactPoints,
 }
 
 impl Output {
     /// Every output, in the order the messages list them.
-    pub const ALL: [Output; 9] = [
+    pub const ALL: [Output; 10] = [
         Output::Multipliers,
         Output::Curvature,
         Output::Energy,
@@ -41,6 +43,7 @@ impl Output {
         Output::Linearization,
         Output::Routes,
         Output::ReactionForces,
+        Output::ContactPoints,
     ];
 
     /// The name written in `outputs { .. }`.
@@ -55,6 +58,7 @@ impl Output {
             Output::Linearization => "linearization",
             Output::Routes => "routes",
             Output::ReactionForces => "reaction_forces",
+            Output::ContactPoints => "contact_points",
         }
     }
 }
@@ -242,6 +246,9 @@ pub struct Model {
     pub chart: Option<ExprId>,
     /// Span of the `constraints` keyword, if any (for diagnostics).
     pub constraints_span: Option<Span>,
+    /// The contact points of the `rolls(..)` lines, in order (world
+    /// components).
+    pub contacts: Vec<[ExprId; 3]>,
     /// Lines of the struct's documentation on its vector, rotation and
     /// matrix `let`s, bodies and rolling contacts, as lowered (DESIGN §10).
     pub description: Vec<String>,

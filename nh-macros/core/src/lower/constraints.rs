@@ -29,6 +29,8 @@ pub struct Lowered {
     pub homogeneous: bool,
     /// See [`crate::model::Model::affine`].
     pub affine: bool,
+    /// See [`crate::model::Model::contacts`].
+    pub contacts: Vec<[ExprId; 3]>,
 }
 
 /// Where a constraint row comes from.
@@ -98,9 +100,10 @@ impl Lowerer<'_> {
         self.place = Place::Constraint;
         let mut sides = Vec::new();
         let mut wheels = Vec::new();
+        let mut contacts = Vec::new();
         for i in 0..=list.len() {
             for r in def.rolling.iter().filter(|r| r.position == i) {
-                self.rolling_rows(r, &mut sides, &mut wheels);
+                contacts.extend(self.rolling_rows(r, &mut sides, &mut wheels));
             }
             let Some(c) = list.get(i) else { break };
             let lhs = self.lower(&c.lhs, 0);
@@ -120,6 +123,7 @@ impl Lowerer<'_> {
             return Lowered::default();
         }
         let mut lowered = self.solve_rows(def, rows).unwrap_or_default();
+        lowered.contacts = contacts;
         for w in wheels {
             lowered.chart = Some(match lowered.chart {
                 Some(c) => self.e.mul(c, w),
@@ -136,10 +140,8 @@ impl Lowerer<'_> {
         r: &'d RollingDef,
         sides: &mut Vec<(Source<'d>, ExprId, ExprId)>,
         wheels: &mut Vec<ExprId>,
-    ) {
-        let Some(contact) = self.rolling_contact(r) else {
-            return;
-        };
+    ) -> Option<[ExprId; 3]> {
+        let contact = self.rolling_contact(r)?;
         if let Some(h) = contact.height {
             sides.push((Source::Rolling(r, "contact with the plane z = 0"), h, ZERO));
         }
@@ -147,6 +149,7 @@ impl Lowerer<'_> {
         sides.push((Source::Rolling(r, "no slip along x"), vx, ZERO));
         sides.push((Source::Rolling(r, "no slip along y"), vy, ZERO));
         wheels.extend(contact.chart);
+        Some(contact.point)
     }
 
     /// For each constraint, the coordinate it makes dependent if it is
@@ -393,6 +396,7 @@ impl Lowerer<'_> {
             chart,
             homogeneous,
             affine,
+            contacts: Vec::new(),
         })
     }
 
