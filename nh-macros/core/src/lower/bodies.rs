@@ -37,6 +37,8 @@ pub(crate) struct Body {
     /// Orientation (body → world) and inertia about the centre of mass in
     /// body axes, for a body that is not a point mass.
     pub(crate) rotation: Option<(Rc<Rotation>, Mat3)>,
+    /// The body components of its angular velocity (zero for a point mass).
+    pub(crate) omega_body: Vec3,
 }
 
 /// What a `rolls(..)` line gives: its velocity rows and its contact.
@@ -374,11 +376,16 @@ impl Lowerer<'_> {
             None if get("orientation").is_some() => return None,
             None => None,
         };
-        self.describe_body(def, &fields, rotation.as_ref().map(|r| &r.0));
+        let omega_body = match &rotation {
+            Some((r, _)) => self.angular_velocity(r, false),
+            None => [ZERO; 3],
+        };
+        self.describe_body(def, &fields, rotation.is_some().then_some(omega_body));
         Some(Body {
             mass,
             centre,
             rotation,
+            omega_body,
         })
     }
 
@@ -388,7 +395,7 @@ impl Lowerer<'_> {
         &mut self,
         def: &BodyDef,
         fields: &[(String, &Expr)],
-        rot: Option<&Rc<Rotation>>,
+        omega_body: Option<Vec3>,
     ) {
         let get = |n: &str| fields.iter().find(|f| f.0 == n).map(|f| f.1);
         let src = |n: &str| get(n).map(|x| x.to_source()).unwrap_or_default();
@@ -398,9 +405,8 @@ impl Lowerer<'_> {
             src("mass"),
             src("centre")
         );
-        match rot {
-            Some(r) => {
-                let w = self.angular_velocity(r, false);
+        match omega_body {
+            Some(w) => {
                 line.push_str(&format!(", orientation `{}`, inertia `{}` (body axes); kinetic energy T = ½ m |ċ|² + ½ ω_bᵀ I ω_b with the body angular velocity ω_b = {}", src("orientation"), src("inertia"), self.show3(w)));
             }
             None => line.push_str("; kinetic energy T = ½ m |ċ|² (a point mass)"),
@@ -504,8 +510,8 @@ impl Lowerer<'_> {
         let half = self.e.constant(Rational::new(1, 2)?);
         let m_half = self.e.mul(half, b.mass);
         let mut t = self.e.mul(m_half, v2);
-        if let Some((r, inertia)) = &b.rotation {
-            let w = self.angular_velocity(r, false);
+        if let Some((_, inertia)) = &b.rotation {
+            let w = b.omega_body;
             let iw = mat_vec(&mut self.e, inertia, w);
             let rot = dot3(&mut self.e, w, iw);
             let rot = self.e.mul(half, rot);
