@@ -92,10 +92,10 @@ pub enum GeneratedMethod {
     Energy,
     /// `constraint_matrix`
     ConstraintMatrix,
-    /// `mass_matrix`
-    MassMatrix,
     /// `contact_points`
     ContactPoints,
+    /// `mass_matrix`
+    MassMatrix,
     /// `linearization`
     Linearization,
     /// `jacobian`
