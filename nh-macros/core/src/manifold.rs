@@ -7,7 +7,7 @@ use crate::emit::Node;
 use crate::generate::{Args, bound_dag};
 use crate::lower::linear;
 use crate::model::Model;
-use crate::sym::{ExprId, ZERO};
+use crate::sym::ExprId;
 use proc_macro2::TokenStream;
 use quote::quote;
 
@@ -67,15 +67,13 @@ fn projection(
         .collect();
     let minus_f: Vec<ExprId> = f.iter().map(|&x| m.engine.neg(x)).collect();
     let step = linear::solve(&mut m.engine, &jac, &[minus_f]).x.remove(0);
-    // the scale of f's terms: Σ_i |∂f/∂q_i q_i|
+    // the scale of f: the sum of the sizes of its terms, so that a
+    // constraint with constant terms (a wheel's radius) has a scale at q = 0
     let mut scale_terms = Vec::new();
     for &fa in &f {
-        for i in 0..m.n() {
-            let d = m.engine.diff(fa, m.coordinates[i].position);
-            if d != ZERO {
-                let q = m.engine.sym(m.coordinates[i].position);
-                scale_terms.push(m.engine.mul(d, q));
-            }
+        let terms = m.engine.terms(fa).to_vec();
+        for (mono, c) in terms {
+            scale_terms.push(m.engine.term(mono, c));
         }
     }
     let mut d = bound_dag(m, args);
@@ -117,7 +115,7 @@ fn projection(
 
         /// Newton's method on the dependent coordinates of the holonomic
         /// constraints, at most 8 iterations, to 4 ε of the size of f's
-        /// terms Σ|∂f/∂q_i q_i|.
+        /// terms, Σ|term|, and on while each step still halves the residual.
         #[inline]
         fn project(
             &self,
@@ -141,12 +139,16 @@ fn projection(
                 let tol = T::default_epsilon() * Self::__nh_c(4.0) * scale;
                 (res, tol, [#(#so),*])
             };
+            // converged once within the tolerance and no longer halving
+            // the residual (a state within it is left alone)
             let mut changed = false;
-            for _ in 0..#iterations {
+            let mut last = T::zero();
+            for i in 0..#iterations {
                 let (res, tol, step) = __nh_newton(x);
-                if res <= tol {
+                if res <= tol && (i == 0 || res + res >= last) {
                     return ::core::result::Result::Ok(changed);
                 }
+                last = res;
                 #(#updates)*
                 changed = true;
             }

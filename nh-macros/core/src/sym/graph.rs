@@ -144,6 +144,14 @@ impl Engine {
         &self.exprs[e.index()]
     }
 
+    /// The expression `c·m` of one term (`0` for `c = 0`).
+    pub fn term(&mut self, m: MonoId, c: Rational) -> ExprId {
+        if c.is_zero() {
+            return ZERO;
+        }
+        self.intern_expr(vec![(m, c)])
+    }
+
     /// The factors `(atom, exponent)` of a monomial, sorted.
     pub fn factors(&self, m: MonoId) -> &[(AtomId, Rational)] {
         &self.monos[m.index()]
