@@ -427,7 +427,9 @@ impl Model {
         Some(x)
     }
 
-    /// E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities.
+    /// E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities: substituted,
+    /// or in the full q̇ whose dependent velocities the emitted code binds
+    /// to their solved values.
     pub fn energy(&mut self) -> ExprId {
         let map = self.constrained_velocities();
         let l = self.lagrangian;
@@ -441,6 +443,16 @@ impl Model {
         parts.push(e.neg(l));
         let en = e.sum(&parts);
         let mut memo = HashMap::default();
-        e.subst(en, &map, &mut memo)
+        let substituted = e.subst(en, &map, &mut memo);
+        // Substituting the solved velocities pays when they simplify E (the
+        // closed forms of small systems). When they are large (a block of
+        // implicit rows), E stays in the full q̇: the emitted code binds each
+        // velocity symbol to its solved value, computed once.
+        let solved: usize = map.values().map(|&v| e.num_terms(v)).sum();
+        if e.num_terms(substituted) <= e.num_terms(en) + solved {
+            substituted
+        } else {
+            en
+        }
     }
 }
