@@ -70,26 +70,44 @@ fn plot(bike: &model::Whipple, path: &str) -> Result<(), Box<dyn std::error::Err
         .y_desc("eigenvalue [1/s]")
         .draw()?;
     let speeds: Vec<f64> = (0..=400).map(|i| f64::from(i) / 40.0).collect();
-    let spectra: Vec<Vec<(f64, f64)>> = speeds.iter().map(|&v| model::eigenvalues(bike, v)).collect();
+    let spectra: Vec<Vec<(f64, f64)>> = speeds
+        .iter()
+        .map(|&v| model::eigenvalues(bike, v))
+        .collect();
     // the real parts, sorted, are four continuous curves
     for k in 0..4 {
         let re = speeds.iter().zip(&spectra).map(|(&v, ev)| (v, ev[k].0));
         chart.draw_series(LineSeries::new(re, BLUE.stroke_width(2)))?;
     }
     // the imaginary part of the oscillating (weave) pair, where there is one
-    let im = speeds.iter().zip(&spectra).map(|(&v, ev)| (v, ev.iter().map(|e| e.1.abs()).fold(0.0, f64::max)));
+    let im = speeds
+        .iter()
+        .zip(&spectra)
+        .map(|(&v, ev)| (v, ev.iter().map(|e| e.1.abs()).fold(0.0, f64::max)));
     chart
         .draw_series(LineSeries::new(im, RED.stroke_width(2)))?
         .label("|imaginary part|")
         .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], RED));
-    chart.draw_series(std::iter::once(PathElement::new([(0.0, 0.0)], BLUE)))?
+    chart
+        .draw_series(std::iter::once(PathElement::new([(0.0, 0.0)], BLUE)))?
         .label("real parts")
         .legend(|(x, y)| PathElement::new([(x, y), (x + 20, y)], BLUE));
-    for (v, what) in [(model::stability_boundary(bike, 3.0, 5.0), "weave"), (model::stability_boundary(bike, 5.0, 7.0), "capsize")] {
+    for (v, what) in [
+        (model::stability_boundary(bike, 3.0, 5.0), "weave"),
+        (model::stability_boundary(bike, 5.0, 7.0), "capsize"),
+    ] {
         chart.draw_series(LineSeries::new([(v, -10.0), (v, 10.0)], BLACK.mix(0.4)))?;
-        chart.draw_series(std::iter::once(Text::new(format!("{what} {v:.3}"), (v + 0.05, 9.0), ("sans-serif", 13))))?;
+        chart.draw_series(std::iter::once(Text::new(
+            format!("{what} {v:.3}"),
+            (v + 0.05, 9.0),
+            ("sans-serif", 13),
+        )))?;
     }
-    chart.configure_series_labels().background_style(WHITE).border_style(BLACK).draw()?;
+    chart
+        .configure_series_labels()
+        .background_style(WHITE)
+        .border_style(BLACK)
+        .draw()?;
     chart.draw_series(LineSeries::new([(0.0, 0.0), (10.0, 0.0)], BLACK))?;
     root.present()?;
     Ok(())
