@@ -185,6 +185,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         constraints_span: def.constraints.as_ref().map(|c| c.0.span()),
         description: lw.description,
         contacts: lowered.contacts,
+        velocity_rows: lowered.velocity_rows,
         huge_constant: lw.huge_constant,
     })
 }

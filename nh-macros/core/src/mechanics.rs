@@ -192,6 +192,16 @@ impl Model {
             parts.push(e.neg(q[j].force));
             bias.push(e.sum(&parts));
         }
+        if !self.velocity_rows.is_empty() {
+            let dependent_bias = self.dependent_bias_from_rows();
+            return MultiplierRoute {
+                mass,
+                bias,
+                dependent_bias,
+            };
+        }
+        let e = &mut self.engine;
+        let q = &self.coordinates;
         let mut dependent_bias = Vec::with_capacity(self.constraints.len());
         for c in &self.constraints {
             let sdot = c.velocity;
@@ -214,6 +224,41 @@ impl Model {
             bias,
             dependent_bias,
         }
+    }
+
+    /// The part of s̈ that does not depend on r̈, from the velocity rows:
+    /// differentiating g(q, q̇, t) = 0 along the motion, c_s s̈ + c_r r̈ + d = 0
+    /// with d = Σ_j ∂g/∂q_j q̇_j + ∂g/∂t, so it is −c_s⁻¹ d, the block solved
+    /// as for the velocities (its pivots shared with them). The rows are
+    /// compact where the eliminated solutions are not.
+    fn dependent_bias_from_rows(&mut self) -> Vec<ExprId> {
+        let rows = self.velocity_rows.clone();
+        let e = &mut self.engine;
+        let q = &self.coordinates;
+        let mut block = Vec::with_capacity(rows.len());
+        let mut minus_d = Vec::with_capacity(rows.len());
+        for &g in &rows {
+            block.push(
+                self.constraints
+                    .iter()
+                    .map(|c| e.diff(g, q[c.dependent].velocity))
+                    .collect::<Vec<_>>(),
+            );
+            let mut parts = Vec::new();
+            for c in q {
+                let dg = e.diff(g, c.position);
+                if dg != ZERO {
+                    let v = e.sym(c.velocity);
+                    parts.push(e.mul(dg, v));
+                }
+            }
+            parts.push(e.diff(g, self.time));
+            let d = e.sum(&parts);
+            minus_d.push(e.neg(d));
+        }
+        crate::lower::linear::solve(e, &block, &[minus_d])
+            .x
+            .remove(0)
     }
 
     /// B^b_{αβ} of (5.21), p × k × k, antisymmetric in (α, β).

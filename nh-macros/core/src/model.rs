@@ -246,6 +246,12 @@ pub struct Model {
     pub chart: Option<ExprId>,
     /// Span of the `constraints` keyword, if any (for diagnostics).
     pub constraints_span: Option<Span>,
+    /// The velocity rows g_a(q, q̇, t) = 0 of a system whose constraints are
+    /// all implicit or holonomic and solved by elimination (more than
+    /// three), in the order of [`Model::constraints`]; empty otherwise. Their
+    /// derivative gives the dependent accelerations without differentiating
+    /// the eliminated solutions (DESIGN §9).
+    pub velocity_rows: Vec<ExprId>,
     /// The contact points of the `rolls(..)` lines, in order (world
     /// components).
     pub contacts: Vec<[ExprId; 3]>,

@@ -31,6 +31,8 @@ pub struct Lowered {
     pub affine: bool,
     /// See [`crate::model::Model::contacts`].
     pub contacts: Vec<[ExprId; 3]>,
+    /// See [`crate::model::Model::velocity_rows`].
+    pub velocity_rows: Vec<ExprId>,
 }
 
 /// Where a constraint row comes from.
@@ -351,6 +353,13 @@ impl Lowerer<'_> {
             return None;
         }
         let (solved, det) = self.solve_block(&coef, &bias, &chosen, &free);
+        // a block solved by elimination, with no explicit rows: its rows
+        // as written, for the dependent accelerations (see Model::velocity_rows)
+        let velocity_rows = if explicit_deps.is_empty() && implicit.len() > linear::CRAMER_MAX {
+            implicit.iter().map(|&a| rows[a].value).collect()
+        } else {
+            Vec::new()
+        };
         let chart = (!implicit.is_empty()).then(|| self.regularity(det, &coef));
         let back: HashMap<SymId, ExprId> = chosen
             .iter()
@@ -397,6 +406,7 @@ impl Lowerer<'_> {
             homogeneous,
             affine,
             contacts: Vec::new(),
+            velocity_rows,
         })
     }
 
