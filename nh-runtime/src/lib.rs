@@ -4,9 +4,13 @@
 //! The `nonholonomic_system!` macro emits types implementing [`OdeSystem`]
 //! (and, with inputs, [`ControlledSystem`]); this crate integrates them.
 //!
-//! * Systems: [`OdeSystem`], [`OdeJacobian`], [`ControlledSystem`] and the
-//!   [`Driven`] adapter (a controlled system with a held input). Closures
+//! * Systems: [`OdeSystem`], [`OdeJacobian`], [`ControlledSystem`],
+//!   [`ControlledJacobian`] and the [`Driven`] adapter (a controlled system
+//!   with a held input, with its Jacobian at that input). Closures
 //!   `Fn(T, &SVector<T, D>) -> SVector<T, D>` are `OdeSystem`s too.
+//! * States from velocities: [`ConstraintViolation`] (velocities that break
+//!   the constraints) and [`speeds_from_velocities`], behind the generated
+//!   `state_from_velocities`.
 //! * Integrators ([`Integrator`]):
 //!   * [`Rk4`]: classical Runge–Kutta, fixed step (order 4);
 //!   * [`DormandPrince`]: adaptive 5(4), after Hairer's `DOPRI5`;
@@ -86,6 +90,7 @@ mod outcome;
 mod rk4;
 mod rosenbrock;
 mod sink;
+mod state;
 mod step;
 mod system;
 
@@ -96,5 +101,9 @@ pub use gauss::GaussLegendre4;
 pub use outcome::{Outcome, SimError, Singularity, Stats};
 pub use rk4::Rk4;
 pub use rosenbrock::Rosenbrock;
+pub use state::{ConstraintViolation, speeds_from_velocities};
 pub use step::Step;
-pub use system::{ControlledSystem, Driven, Integrator, OdeJacobian, OdeSystem, ProjectionFailure};
+pub use system::{
+    ControlledJacobian, ControlledSystem, Driven, Integrator, OdeJacobian, OdeSystem,
+    ProjectionFailure,
+};

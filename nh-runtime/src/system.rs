@@ -29,6 +29,12 @@ use crate::{Outcome, SimError, Step};
 ///
 /// assert_eq!(Oscillator.rhs(0.0, &Vector2::new(1.0, 0.0)), Vector2::new(0.0, -1.0));
 /// ```
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` is not an `OdeSystem<{T}, {D}>`: the integrators take an ODE x' = f(t, x) with {D} states of type `{T}`",
+    label = "not an `OdeSystem<{T}, {D}>`",
+    note = "a generated system without inputs implements `OdeSystem<T, STATE_DIM>`; a system with `inputs` implements `ControlledSystem` instead: hold its input with `Driven::new(&system, u)` to integrate it",
+    note = "check that the state has STATE_DIM = n + k entries and the scalar type of the system"
+)]
 pub trait OdeSystem<T, const D: usize> {
     /// The right-hand side `f(t, x)`.
     fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D>;
@@ -114,6 +120,12 @@ where
 /// let j = Oscillator.jacobian(0.0, &Vector2::zeros());
 /// assert_eq!(j * Vector2::new(1.0, 0.0), Vector2::new(0.0, -1.0));
 /// ```
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` has no analytic Jacobian: it does not implement `OdeJacobian`",
+    label = "no `OdeJacobian`",
+    note = "a generated system implements `OdeJacobian` (with inputs: `ControlledJacobian`, which `Driven` turns into `OdeJacobian`) when its definition asks for it: add `outputs {{ jacobian }}`",
+    note = "or integrate without the analytic Jacobian (`integrate`, `integrate_with_steps`, ...): the implicit methods then use finite differences"
+)]
 pub trait OdeJacobian<T, const D: usize>: OdeSystem<T, D> {
     /// The Jacobian `∂f/∂x` evaluated at `(t, x)`.
     fn jacobian(&self, t: T, x: &SVector<T, D>) -> SMatrix<T, D, D>;
@@ -141,6 +153,11 @@ pub trait OdeJacobian<T, const D: usize>: OdeSystem<T, D> {
 /// let dx = Cart.rhs_with_input(0.0, &Vector2::new(0.0, 1.0), &Vector1::new(2.0));
 /// assert_eq!(dx, Vector2::new(1.0, 2.0));
 /// ```
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` is not a `ControlledSystem<{T}, {D}, {M}>`: a system with {M} inputs and {D} states of type `{T}`",
+    label = "not a `ControlledSystem<{T}, {D}, {M}>`",
+    note = "a generated system implements `ControlledSystem<T, STATE_DIM, m>` when it declares `inputs {{ .. }}` (m of them); without inputs it is an `OdeSystem` and needs no `Driven`"
+)]
 pub trait ControlledSystem<T, const D: usize, const M: usize> {
     /// The right-hand side `f(t, x, u)`.
     fn rhs_with_input(&self, t: T, x: &SVector<T, D>, u: &SVector<T, M>) -> SVector<T, D>;
@@ -164,8 +181,56 @@ pub trait ControlledSystem<T, const D: usize, const M: usize> {
     }
 }
 
+/// A [`ControlledSystem`] that can also provide the Jacobian `∂f/∂x` of
+/// `f(t, x, u)` at a given input: with [`Driven`], whose
+/// [`OdeJacobian::jacobian`] it is at the held input, a system with inputs
+/// runs on the implicit methods with its analytic Jacobian.
+///
+/// A generated system with `inputs` and `outputs { jacobian }` implements
+/// it with its generated `jacobian(t, x, u)`.
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::{Matrix2, Vector1, Vector2};
+/// use nh_runtime::{ControlledJacobian, ControlledSystem, Driven, Integrator, OdeJacobian, Rosenbrock};
+///
+/// /// A damped cart pushed by a force `u`: ẍ = u − 50 ẋ.
+/// struct Cart;
+///
+/// impl ControlledSystem<f64, 2, 1> for Cart {
+///     fn rhs_with_input(&self, _t: f64, x: &Vector2<f64>, u: &Vector1<f64>) -> Vector2<f64> {
+///         Vector2::new(x[1], u[0] - 50.0 * x[1])
+///     }
+/// }
+///
+/// impl ControlledJacobian<f64, 2, 1> for Cart {
+///     fn jacobian_with_input(&self, _t: f64, _x: &Vector2<f64>, _u: &Vector1<f64>) -> Matrix2<f64> {
+///         Matrix2::new(0.0, 1.0, 0.0, -50.0)
+///     }
+/// }
+///
+/// let driven = Driven::new(&Cart, Vector1::new(5.0));
+/// assert_eq!(driven.jacobian(0.0, &Vector2::zeros())[(1, 1)], -50.0);
+/// let out = Rosenbrock::new(1e-8, 1e-10)
+///     .integrate_with_jacobian(&driven, 0.0, Vector2::zeros(), 1.0)
+///     .unwrap();
+/// assert!((out.x[1] - 0.1).abs() < 1e-8); // the terminal velocity u/50
+/// ```
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` has no analytic Jacobian: it does not implement `ControlledJacobian`",
+    label = "no `ControlledJacobian`",
+    note = "a generated system with inputs implements `ControlledJacobian` when its definition asks for the Jacobian: add `outputs {{ jacobian }}`",
+    note = "or integrate without the analytic Jacobian (`integrate`, `integrate_with_steps`, ...): the implicit methods then use finite differences"
+)]
+pub trait ControlledJacobian<T, const D: usize, const M: usize>: ControlledSystem<T, D, M> {
+    /// The Jacobian `∂f/∂x` of `f(t, x, u)` evaluated at `(t, x, u)`.
+    fn jacobian_with_input(&self, t: T, x: &SVector<T, D>, u: &SVector<T, M>) -> SMatrix<T, D, D>;
+}
+
 /// Adapter: a [`ControlledSystem`] with a held (zero-order-hold) input `u`
-/// is an [`OdeSystem`].
+/// is an [`OdeSystem`], and an [`OdeJacobian`] when the system is a
+/// [`ControlledJacobian`].
 ///
 /// Typical use is a control loop that integrates one sampling period at a
 /// time with the input computed at the start of the period.
@@ -246,6 +311,17 @@ where
     #[inline]
     fn project(&self, t: T, x: &mut SVector<T, D>) -> Result<bool, ProjectionFailure<T>> {
         self.system.project(t, x)
+    }
+}
+
+/// `∂f/∂x` at the held input, for the implicit methods.
+impl<S, T, const D: usize, const M: usize> OdeJacobian<T, D> for Driven<'_, S, T, M>
+where
+    S: ControlledJacobian<T, D, M> + ?Sized,
+{
+    #[inline]
+    fn jacobian(&self, t: T, x: &SVector<T, D>) -> SMatrix<T, D, D> {
+        self.system.jacobian_with_input(t, x, &self.u)
     }
 }
 
