@@ -14,6 +14,8 @@
 //! identifier the generated code introduces (locals, temporaries, the cache)
 //! starts with `__nh_`.
 
+mod named;
+
 use crate::model::{Output, Outputs};
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
@@ -515,6 +517,11 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     let cache = Cache::new(&params, bodies.hoisting());
     let constants = constants(shape, dims);
     let new_fn = new_fn(&params, &cache);
+    let named::Companions {
+        structs: companions,
+        impls: companion_impls,
+        methods: companion_methods,
+    } = named::companions(shape, dims, &params);
     let Cache {
         fields: cache_fields,
         methods: cache_methods,
@@ -564,6 +571,8 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
             #cache_fields
         }
 
+        #companions
+
         #(#inherited)*
         const _: () = {
             use #krate::__private as #private;
@@ -572,12 +581,19 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
                 fn #arg_names() {}
             )*
 
+            // the constants do not depend on the scalar: on `Name<f64>`
+            // alone, `Name::N` needs no type argument (an impl for every
+            // `T` would leave `T` to infer, and nothing fixes it)
             #allow
-            impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy> #name<T> {
+            impl #name<::core::primitive::f64> {
                 #constants
                 #route_consts
+            }
 
+            #allow
+            impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy> #name<T> {
                 #new_fn
+                #companion_methods
                 #cache_methods
 
                 /// A constant of the generated code as `T`.
@@ -592,6 +608,7 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
 
             #runtime_impl
             #jacobian_impl
+            #companion_impls
         };
     }
 }
@@ -673,14 +690,30 @@ fn runtime_impl(shape: &Shape, dims: Dims, rhs: Method, hooks: TokenStream) -> T
     }
 }
 
-/// The runtime's `OdeJacobian` for a system with `jacobian` and no inputs.
+/// The runtime's `OdeJacobian` for a system with `jacobian` (its
+/// `ControlledJacobian` with inputs, which `Driven` makes an `OdeJacobian`).
 fn jacobian_impl(shape: &Shape, dims: Dims) -> TokenStream {
-    if !shape.outputs.contains(Output::Jacobian) || dims.inputs > 0 {
+    if !shape.outputs.contains(Output::Jacobian) {
         return quote!();
     }
-    let (name, dim) = (shape.name, dims.state);
+    let (name, dim, n_in) = (shape.name, dims.state, dims.inputs);
     let (xty, dd) = (svector(dim), smatrix(dim, dim));
     let allow = allow_lints();
+    if n_in > 0 {
+        let uty = svector(n_in);
+        return quote! {
+            #allow
+            impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy>
+                __nh_private::nh_runtime::ControlledJacobian<T, #dim, #n_in> for #name<T>
+            {
+                /// ∂f/∂x of the first-order system at the input `u`, derived symbolically (see the inherent `jacobian`).
+                #[inline]
+                fn jacobian_with_input(&self, t: T, x: &#xty, u: &#uty) -> #dd {
+                    #name::jacobian(self, t, x, u)
+                }
+            }
+        };
+    }
     quote! {
         #allow
         impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy>
@@ -867,6 +900,12 @@ fn argument_names(params: &[Ident], speeds: bool) -> Vec<Ident> {
         .collect();
     if speeds {
         arg_names.push(velocity_argument(true));
+    }
+    for a in named::ARGUMENTS {
+        let a = format_ident!("{a}");
+        if !arg_names.contains(&a) {
+            arg_names.push(a);
+        }
     }
     for p in params {
         if !arg_names.contains(p) {
