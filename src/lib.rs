@@ -229,7 +229,10 @@
 //! `u: &SVector<T, m>` as the last argument of `accelerations` and the methods
 //! that need it, implements [`ControlledSystem`](runtime::ControlledSystem)
 //! instead of [`OdeSystem`](runtime::OdeSystem), and [`Driven`](runtime::Driven)
-//! holds an input fixed to make it an `OdeSystem` for one sampling period.
+//! holds an input fixed to make it an `OdeSystem` for one sampling period
+//! (and, with `outputs { jacobian }`, an [`OdeJacobian`](runtime::OdeJacobian),
+//! so that it runs on `Rosenbrock` and `GaussLegendre4` with its generated
+//! Jacobian).
 //!
 //! ```
 //! use nonholonomic::prelude::*;
@@ -473,6 +476,9 @@
 //! | item | meaning |
 //! |---|---|
 //! | `Name::new(params..)` | the parameters in declared order (a `const fn`) |
+//! | `Name::from_parameters(NameParameters { .. })`, `From`, `parameters(&self)` | the parameters by name ([below](#building-and-reading-the-state)) |
+//! | `Name::state(NameCoordinates { .. }, NameVelocities { .. })`, `Name::split(&x)` | the state from named parts and back |
+//! | `state_from_velocities(&self, q, qdot) -> Result<SVector<T, n + k>, ConstraintViolation<T>>` | the state from the velocities of all coordinates, checked against the constraints (`(&self, t, q, qdot)` when they depend on time) |
 //! | `COORDINATES: [&str; n]`, `INPUTS: [&str; m]` | names in declared order |
 //! | `INDEPENDENT: [usize; k]`, `DEPENDENT: [usize; p]` | the indices of r and s in q, ascending |
 //! | `N`, `K`, `P`, `STATE_DIM` | n, k, p and n + k |
@@ -487,6 +493,104 @@
 //! the dependent velocities are computed from the constraints at every
 //! evaluation, so an integrated motion satisfies them exactly.
 //!
+//! The constants do not depend on the scalar type. They are defined on
+//! `Name<f64>`, so `Name::N` and `Name::COORDINATES` need no type argument
+//! (`Name::<f64>::N` works as well); code generic over the scalar reads
+//! them the same way, as `Name::N`.
+//!
+//! ## Building and reading the state
+//!
+//! Next to `Name`, with its visibility, the macro emits three plain structs
+//! (`Clone`, `Copy`, `Debug`, `PartialEq`, generic over `T = f64`):
+//!
+//! | struct | fields |
+//! |---|---|
+//! | `NameCoordinates<T>` | one per coordinate, in declared order (also `Default`) |
+//! | `NameVelocities<T>` | one per velocity of the state: each independent coordinate's, under the coordinate's name, or each generalized speed under its own name (also `Default`) |
+//! | `NameParameters<T>` | one per parameter |
+//!
+//! A field named by a Rust keyword is a raw identifier (`r#type`). The
+//! names are the system's with a suffix: a type of that name already in the
+//! module is a compile error ("the name `SledCoordinates` is defined
+//! multiple times") at the system's name; rename one of them.
+//! `NameCoordinates` and `NameVelocities` convert to and from the
+//! `SVector`s the methods take (`From`, `.into()`).
+//!
+//! * `Name::state(q, v)` is the state x = [q, ṙ] (or [q, u]);
+//!   `Name::split(&x)` its inverse, for an outcome's final state, an
+//!   observed state or a dense-output sample.
+//! * `state_from_velocities(&self, q, qdot)` takes the velocities of *all*
+//!   coordinates, as they are often known (a wheel's rates, a yaw rate), in
+//!   a `NameCoordinates`: it computes the dependent velocities from the
+//!   independent ones and returns the state if the given ones agree with
+//!   them to 1e-9 of the largest velocity, else a
+//!   [`ConstraintViolation`](runtime::ConstraintViolation) naming the
+//!   coordinate furthest off, with both values. It takes `t` first when
+//!   the constraints depend on time, and always in generalized speeds,
+//!   where the speeds are solved from q̇ = S(q, t) u + σ(q, t) by least
+//!   squares and q̇ is checked against S u + σ. The coordinates are taken
+//!   as given (the integrators project them onto holonomic constraints).
+//! * `Name::from_parameters(NameParameters { .. })`, or `.into()`, builds
+//!   the system by parameter name: the compiler checks that every
+//!   parameter is given. `parameters(&self)` reads them back.
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     /// The Chaplygin sled: the blade at (x, y) moves along its heading θ.
+//!     pub struct Sled {
+//!         parameters { m, J, a }
+//!         coordinates { x, theta, y }
+//!         lagrangian = J*dot(theta)^2/2
+//!             + m/2*((dot(x) - a*sin(theta)*dot(theta))^2 + (dot(y) + a*cos(theta)*dot(theta))^2);
+//!         constraints { dot(y) = tan(theta)*dot(x); }
+//!     }
+//! }
+//!
+//! let sled: Sled = SledParameters { m: 2.0, J: 0.3, a: 0.5 }.into();
+//! assert_eq!((Sled::N, Sled::STATE_DIM, Sled::COORDINATES), (3, 5, ["x", "theta", "y"]));
+//!
+//! // the state from the coordinates and the independent velocities ẋ, θ̇ ...
+//! let q = SledCoordinates { x: 0.0, theta: 0.2, y: 0.0 };
+//! let x0 = Sled::state(q, SledVelocities { x: 0.4, theta: 0.9 });
+//! // ... or from every velocity, checked against ẏ = tan θ ẋ
+//! let qdot = SledCoordinates { x: 0.4, theta: 0.9, y: 0.2_f64.tan() * 0.4 };
+//! assert_eq!(sled.state_from_velocities(q, qdot), Ok(x0));
+//! let sliding = SledCoordinates { y: 0.3, ..qdot };
+//! let e = sled.state_from_velocities(q, sliding).unwrap_err();
+//! assert_eq!(e.coordinate, "y");
+//! println!("{e}"); // the velocity of `y` is 0.3 but the constraints give 0.081.. at these coordinates ..
+//!
+//! // integrate, and read the outcome and a sample at t = 0.5 by name
+//! let mut half_way = None;
+//! let out = DormandPrince::new(1e-10, 1e-12)
+//!     .integrate_with_outputs(&sled, 0.0, x0, 1.0, &[0.5], |_, x| half_way = Some(Sled::split(x)))
+//!     .unwrap();
+//! let (q1, v1) = Sled::split(&out.x);
+//! let (q_half, _) = half_way.unwrap();
+//! assert!(q1.theta > q_half.theta && q_half.theta > q.theta); // it turns on
+//! // the blade never slips
+//! let ydot = sled.dependent_velocities(&q1.into(), &v1.into())[0];
+//! assert!((ydot - q1.theta.tan() * v1.x).abs() < 1e-12);
+//! ```
+//!
+//! A name taken twice:
+//!
+//! ```compile_fail,E0428
+//! use nonholonomic::prelude::*;
+//!
+//! struct SledVelocities; // the user's own type of that name
+//!
+//! nonholonomic_system! {
+//!     pub struct Sled { // error[E0428]: the name `SledVelocities` is defined multiple times
+//!         parameters { m }
+//!         coordinates { x }
+//!         lagrangian = m*dot(x)^2/2;
+//!     }
+//! }
+//! ```
+//!
 //! ## Outputs
 //!
 //! `outputs { .. }` asks for more; nothing else is derived or emitted.
@@ -499,7 +603,7 @@
 //! | `constraint_matrix` | `constraint_matrix(&self, q) -> SMatrix<T, p, k>` | A^a_α, minus the coefficient of ṙ_α in the solved constraint of s_a (time-independent constraints) |
 //! | `contact_points` | `contact_points(&self, q) -> SMatrix<T, 3, c>` | the contact points of the c rolling contacts (`rolls(..)` lines, in order), world components, one per column |
 //! | `mass_matrix` | `mass_matrix(&self, q) -> SMatrix<T, n, n>` | ∂²L/∂q̇_i∂q̇_j |
-//! | `jacobian` | `jacobian(&self, t, x[, u]) -> SMatrix<T, n+k, n+k>` and `impl OdeJacobian` | ∂f/∂x of the first-order system, for the stiff integrators |
+//! | `jacobian` | `jacobian(&self, t, x[, u]) -> SMatrix<T, n+k, n+k>` and `impl OdeJacobian` (with inputs `impl ControlledJacobian`, which makes `Driven` an `OdeJacobian` at the held input) | ∂f/∂x of the first-order system, for the stiff integrators (`integrate_with_jacobian`; without this output they tell you to add it) |
 //! | `linearization` | `linearization(&self, t, x, u) -> (A, B)` | A = ∂f/∂x and B = ∂f/∂u of ẋ = f(t, x, u), for controller design |
 //! | `routes` (homogeneous, time-independent velocity constraints) | `accelerations_multiplier_route`, `accelerations_curvature_route`, `reduced_system`, `OPS_MULTIPLIER_ROUTE`, `OPS_CURVATURE_ROUTE`, `ROUTE` | both derivations of r̈ as separate methods with their operation counts, and the reduced system M_c r̈ = f |
 //!
@@ -656,11 +760,35 @@ macro_rules! nonholonomic_system {
 
 pub use nh_runtime as runtime;
 
+/// The linear algebra the generated code and the runtime are written in
+/// (states are `nalgebra::SVector`s): re-exported, so that a scene needs no
+/// dependency of its own on it (and cannot end up with another version).
+pub use nalgebra;
+
 /// Everything a scene needs: the macro, the runtime traits and integrators,
-/// and nalgebra's static vectors.
+/// [`nalgebra`] itself and its vector and matrix types, and `RealField` for
+/// code generic over the scalar.
+///
+/// ```
+/// use nonholonomic::prelude::*;
+///
+/// let v: Vector3<f64> = Vector3::new(1.0, 2.0, 2.0);
+/// let m: Matrix3<f64> = Matrix3::identity() * 2.0;
+/// let x: SVector<f64, 3> = m * v;
+/// assert_eq!(x.norm(), 6.0);
+/// let r = nalgebra::Rotation3::<f64>::from_axis_angle(&Vector3::z_axis(), 0.5);
+/// fn half<T: RealField + Copy>(x: T) -> T {
+///     x / (T::one() + T::one())
+/// }
+/// assert!((half(r.angle()) - 0.25).abs() < 1e-15);
+/// ```
 pub mod prelude {
     pub use crate::nonholonomic_system;
-    pub use nalgebra::{SMatrix, SVector};
+    pub use nalgebra::{
+        self, Matrix2, Matrix3, Matrix4, RealField, SMatrix, SVector, Vector2, Vector3, Vector4,
+    };
+    #[cfg(feature = "std")]
+    pub use nalgebra::{DMatrix, DVector};
     pub use nh_runtime::*;
 }
 
