@@ -162,6 +162,10 @@ fn rebuild(e: &mut Engine, x: ExprId) -> ExprId {
                     e.func(f, u)
                 }
                 Atom::Base(b) => rebuild(e, b),
+                Atom::Atan2(y, x) => {
+                    let (y, x) = (rebuild(e, y), rebuild(e, x));
+                    e.atan2(y, x)
+                }
             };
             let p = e.pow(base, ex);
             t = e.mul(t, p);

@@ -136,6 +136,11 @@ impl Dag {
         self.intern(Op::Call(f, a))
     }
 
+    /// atan2(y, x).
+    pub fn atan2(&mut self, y: Node, x: Node) -> Node {
+        self.intern(Op::Atan2(y, x))
+    }
+
     /// a^q for a rational exponent.
     pub fn pow(&mut self, a: Node, q: Rational) -> Node {
         if q.is_zero() {

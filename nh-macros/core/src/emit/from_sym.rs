@@ -39,6 +39,11 @@ impl Dag {
                 self.call(f, un)
             }
             Atom::Base(b) => self.expr(eng, b),
+            Atom::Atan2(y, x) => {
+                let yn = self.expr(eng, y);
+                let xn = self.expr(eng, x);
+                self.atan2(yn, xn)
+            }
         };
         self.atom_memo.insert(a, n);
         n

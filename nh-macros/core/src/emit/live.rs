@@ -16,7 +16,8 @@ impl Dag {
 
     /// Estimated run time of computing `outputs`, in units of one addition:
     /// divisions and square roots about 4, elementary functions about 15
-    /// (sin and cos of one angle together about 20, as one `sin_cos`). Used to
+    /// (sin and cos of one angle together about 20, as one `sin_cos`; `abs` and
+    /// the sign about 2). Used to
     /// choose between the derivation routes; the figures are rough latencies
     /// of current x86-64 cores, confirmed by `cargo bench -p nh-lab --bench routes`.
     pub fn cost_estimate(&self, outputs: &[Node]) -> usize {
@@ -40,7 +41,8 @@ impl Dag {
                         15
                     }
                 }
-                Op::Call(..) => 15,
+                Op::Call(Fun::Abs | Fun::Sign, _) => 2,
+                Op::Call(..) | Op::Atan2(..) => 15,
                 op => cost(op),
             };
         }

@@ -55,6 +55,8 @@ pub enum Op {
     Neg(Node),
     /// f(a)
     Call(Fun, Node),
+    /// atan2(y, x), the angle of the point (x, y)
+    Atan2(Node, Node),
     /// √a
     Sqrt(Node),
     /// a^k for a small integer k ≥ 2 (emitted as multiplications)
@@ -170,9 +172,12 @@ impl Dag {
 
     fn children(&self, n: Node) -> [Option<Node>; 2] {
         match &self.ops[n.index()] {
-            Op::Add(a, b) | Op::Sub(a, b) | Op::Mul(a, b) | Op::Div(a, b) | Op::Powf(a, b) => {
-                [Some(*a), Some(*b)]
-            }
+            Op::Add(a, b)
+            | Op::Sub(a, b)
+            | Op::Mul(a, b)
+            | Op::Div(a, b)
+            | Op::Powf(a, b)
+            | Op::Atan2(a, b) => [Some(*a), Some(*b)],
             Op::Neg(a) | Op::Call(_, a) | Op::Sqrt(a) | Op::Powi(a, _) => [Some(*a), None],
             Op::Const(_) | Op::Pi | Op::Leaf(_) => [None, None],
         }

@@ -74,7 +74,12 @@ impl Dag {
             if inline.contains(&n) {
                 let atomic = matches!(
                     self.ops[n.index()],
-                    Op::Const(_) | Op::Pi | Op::Call(..) | Op::Sqrt(_) | Op::Powf(..)
+                    Op::Const(_)
+                        | Op::Pi
+                        | Op::Call(..)
+                        | Op::Atan2(..)
+                        | Op::Sqrt(_)
+                        | Op::Powf(..)
                 ) && !rhs.starts_with('-');
                 inline_text.insert(n, if atomic { rhs } else { format!("({rhs})") });
                 continue;
@@ -209,7 +214,8 @@ impl Dag {
             Op::Mul(a, b) => format!("{} * {}", name(*a), name(*b)),
             Op::Div(a, b) => format!("{} / {}", name(*a), name(*b)),
             Op::Neg(a) => format!("-{}", name(*a)),
-            Op::Call(f, a) => format!("{}.{}()", name(*a), f.name()),
+            Op::Call(f, a) => call_text(*f, &name(*a)),
+            Op::Atan2(y, x) => format!("{}.atan2({})", name(*y), name(*x)),
             Op::Sqrt(a) => format!("{}.sqrt()", name(*a)),
             Op::Powi(a, k) => powi_text(&name(*a), *k),
             Op::Powf(a, b) => format!("{}.powf({})", name(*a), name(*b)),
@@ -256,6 +262,23 @@ pub const MAX_INLINE_OPS: usize = 6;
 /// are split into blocks of [`CHUNK_LETS`](super::CHUNK_LETS) (see
 /// `Dag::chunked`).
 pub const MAX_LETS: usize = 2000;
+
+/// `f(a)` as text: a method of `T: RealField` (`ComplexField`'s `abs`,
+/// `sinh`, `asin`, ...); the sign, which has none that is 0 at 0 (`signum`
+/// is 1 at +0), by comparisons, NaN passed through; `cot`, `sec` and `csc`
+/// (which the engine rewrites into powers of `sin` and `cos` before this)
+/// by quotients.
+fn call_text(f: Fun, a: &str) -> String {
+    match f {
+        Fun::Sign => format!(
+            "({{ let __nh_sg: T = {a}; if __nh_sg > T::zero() {{ T::one() }} else if __nh_sg < T::zero() {{ -T::one() }} else {{ __nh_sg }} }})"
+        ),
+        Fun::Cot => format!("({a}.cos() / {a}.sin())"),
+        Fun::Sec => format!("(T::one() / {a}.cos())"),
+        Fun::Csc => format!("(T::one() / {a}.sin())"),
+        _ => format!("{a}.{}()", f.name()),
+    }
+}
 
 fn powi_text(a: &str, k: u32) -> String {
     match k {

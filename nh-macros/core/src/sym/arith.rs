@@ -224,16 +224,17 @@ impl Engine {
         self.mul(a, r)
     }
 
-    /// `f(a)`, with sign symmetries and values at zero folded.
+    /// `f(a)`, with sign symmetries and values at zero folded (for the
+    /// functions beyond `sin`, `cos`, `tan`, `exp` and `ln`, see `funcs`).
     pub fn func(&mut self, f: Fun, a: ExprId) -> ExprId {
+        if !matches!(f, Fun::Sin | Fun::Cos | Fun::Tan | Fun::Exp | Fun::Ln) {
+            return self.func_beyond(f, a);
+        }
         if a == ZERO {
             return match f {
                 Fun::Sin | Fun::Tan => ZERO,
                 Fun::Cos | Fun::Exp => ONE,
-                Fun::Ln => {
-                    let at = self.intern_atom(Atom::Func(f, a));
-                    self.atom_power(at, Rational::ONE)
-                }
+                _ => self.func_atom(f, a),
             };
         }
         if f == Fun::Ln && a == ONE {

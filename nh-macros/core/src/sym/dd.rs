@@ -153,6 +153,71 @@ impl Dd {
         y
     }
 
+    /// sinh x: its Taylor series for |x| < 1/2 (where (eˣ − e⁻ˣ)/2 would
+    /// cancel), (eˣ − e⁻ˣ)/2 beyond.
+    pub fn sinh(self) -> Dd {
+        if !self.is_finite() || self.hi.abs() > 700.0 {
+            return Dd::from_f64(self.hi.sinh());
+        }
+        if self.hi.abs() < 0.5 {
+            let x2 = self * self;
+            let (mut term, mut sum) = (self, self);
+            for i in 1..16 {
+                let i = i as f64;
+                term = term * x2 / Dd::from_f64((2.0 * i) * (2.0 * i + 1.0));
+                sum = sum + term;
+            }
+            return sum;
+        }
+        let e = self.exp();
+        (e - Dd::ONE / e) * Dd::from_f64(0.5)
+    }
+
+    /// cosh x = (eˣ + e⁻ˣ)/2.
+    pub fn cosh(self) -> Dd {
+        if !self.is_finite() || self.hi.abs() > 700.0 {
+            return Dd::from_f64(self.hi.cosh());
+        }
+        let e = self.exp();
+        (e + Dd::ONE / e) * Dd::from_f64(0.5)
+    }
+
+    /// tanh x = sinh x / cosh x (±1 to double-double precision beyond |x| = 40).
+    pub fn tanh(self) -> Dd {
+        if !self.is_finite() || self.hi.abs() > 40.0 {
+            return Dd::from_f64(self.hi.tanh());
+        }
+        self.sinh() / self.cosh()
+    }
+
+    /// atan2(y, x) with `self` = y: the angle of the point (x, y) in
+    /// (−π, π], by Newton's method from the `f64` angle θ: at the angle,
+    /// y cos θ − x sin θ = 0 and x cos θ + y sin θ = r. 0 at the origin.
+    pub fn atan2(self, x: Dd) -> Dd {
+        let y = self;
+        if !y.is_finite() || !x.is_finite() || (y.hi == 0.0 && x.hi == 0.0) {
+            return Dd::from_f64(y.hi.atan2(x.hi));
+        }
+        let mut t = Dd::from_f64(y.hi.atan2(x.hi));
+        for _ in 0..2 {
+            let (s, c) = t.sin_cos();
+            t = t + (y * c - x * s) / (x * c + y * s);
+        }
+        t
+    }
+
+    /// asin x = atan2(x, √(1 − x²)) (NaN beyond |x| = 1).
+    pub fn asin(self) -> Dd {
+        let root = ((Dd::ONE - self) * (Dd::ONE + self)).sqrt();
+        self.atan2(root)
+    }
+
+    /// acos x = atan2(√(1 − x²), x) (NaN beyond |x| = 1).
+    pub fn acos(self) -> Dd {
+        let root = ((Dd::ONE - self) * (Dd::ONE + self)).sqrt();
+        root.atan2(self)
+    }
+
     /// (sin x, cos x): reduced by multiples of π/2, then Taylor series.
     pub fn sin_cos(self) -> (Dd, Dd) {
         if !self.is_finite() || self.hi.abs() > 1e6 {
@@ -255,5 +320,40 @@ mod tests {
             assert!(close(s2, Dd::from_f64(2.0) * s * c, 1e-29));
         }
         assert!(close(Dd::ratio(1, 3) * Dd::from_f64(3.0), Dd::ONE, 1e-31));
+    }
+
+    #[test]
+    fn inverse_and_hyperbolic_functions_hold_to_double_double_precision() {
+        for &x in &[0.3, 0.97, -0.61, 1e-3, -0.2] {
+            let x = Dd::from_f64(x) + Dd::from_f64(1e-20);
+            // sin(asin x) = x, cos(acos x) = x, tan(atan x) = x
+            assert!(close(x.asin().sin_cos().0, x, 1e-30), "asin at {x:?}");
+            assert!(close(x.acos().sin_cos().1, x, 1e-30), "acos at {x:?}");
+            let (s, c) = x.atan2(Dd::ONE).sin_cos();
+            assert!(close(s / c, x, 1e-30), "atan at {x:?}");
+            // cosh² − sinh² = 1, tanh = sinh/cosh, sinh from its series and exp agree
+            let (sh, ch) = (x.sinh(), x.cosh());
+            assert!(
+                close(ch * ch - sh * sh, Dd::ONE, 1e-30),
+                "cosh² − sinh² at {x:?}"
+            );
+            let e = x.exp();
+            let sh_exp = (e - Dd::ONE / e) * Dd::from_f64(0.5);
+            assert!((sh - sh_exp).abs().to_f64() < 1e-30, "sinh at {x:?}");
+        }
+        // the four quadrants of atan2 and the π/4 multiples
+        let quarter = Dd::PI * Dd::from_f64(0.25);
+        for (y, x, k) in [
+            (1.0, 1.0, 1.0),
+            (1.0, -1.0, 3.0),
+            (-1.0, -1.0, -3.0),
+            (0.0, -1.0, 4.0),
+        ] {
+            let t = Dd::from_f64(y).atan2(Dd::from_f64(x));
+            assert!(
+                close(t, quarter * Dd::from_f64(k), 1e-31),
+                "atan2({y}, {x})"
+            );
+        }
     }
 }

@@ -97,8 +97,15 @@ impl Engine {
                     }
                     Fun::Exp => self.func(Fun::Exp, u),
                     Fun::Ln => self.pow(u, Rational::MINUS_ONE),
+                    _ => self.outer_derivative_beyond(f, u),
                 };
                 self.chain_rule_product(outer, du)
+            }
+            Atom::Atan2(y, x) => {
+                let dy = self.diff(y, s);
+                let dx = self.diff(x, s);
+                let (outer, inner) = self.atan2_derivative(y, x, dy, dx);
+                self.chain_rule_product(outer, inner)
             }
         }
     }

@@ -41,6 +41,7 @@ impl Engine {
                 Atom::Sym(s) => self.sym_names[s.index()].clone(),
                 Atom::Func(f, u) => format!("{}({})", f.name(), self.display(*u)),
                 Atom::Base(b) => format!("({})", self.display(*b)),
+                Atom::Atan2(y, x) => format!("atan2({}, {})", self.display(*y), self.display(*x)),
             };
             if e.is_one() {
                 parts.push(base);

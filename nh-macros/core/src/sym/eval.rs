@@ -31,6 +31,22 @@ pub trait Scalar:
     fn exp(self) -> Self;
     /// The natural logarithm.
     fn ln(self) -> Self;
+    /// The hyperbolic sine.
+    fn sinh(self) -> Self;
+    /// The hyperbolic cosine.
+    fn cosh(self) -> Self;
+    /// The hyperbolic tangent.
+    fn tanh(self) -> Self;
+    /// The inverse sine.
+    fn asin(self) -> Self;
+    /// The inverse cosine.
+    fn acos(self) -> Self;
+    /// The inverse tangent.
+    fn atan(self) -> Self;
+    /// The angle of the point `(x, self)`, in (−π, π] (0 at the origin).
+    fn atan2(self, x: Self) -> Self;
+    /// −1, 0 or 1 by the sign (0 at ±0; NaN stays NaN).
+    fn sign(self) -> Self;
 }
 
 impl Scalar for f64 {
@@ -61,6 +77,36 @@ impl Scalar for f64 {
     }
     fn ln(self) -> f64 {
         f64::ln(self)
+    }
+    fn sinh(self) -> f64 {
+        f64::sinh(self)
+    }
+    fn cosh(self) -> f64 {
+        f64::cosh(self)
+    }
+    fn tanh(self) -> f64 {
+        f64::tanh(self)
+    }
+    fn asin(self) -> f64 {
+        f64::asin(self)
+    }
+    fn acos(self) -> f64 {
+        f64::acos(self)
+    }
+    fn atan(self) -> f64 {
+        f64::atan(self)
+    }
+    fn atan2(self, x: f64) -> f64 {
+        f64::atan2(self, x)
+    }
+    fn sign(self) -> f64 {
+        if self > 0.0 {
+            1.0
+        } else if self < 0.0 {
+            -1.0
+        } else {
+            self
+        }
     }
 }
 
@@ -94,6 +140,30 @@ impl Scalar for Dd {
     fn ln(self) -> Dd {
         Dd::ln(self)
     }
+    fn sinh(self) -> Dd {
+        Dd::sinh(self)
+    }
+    fn cosh(self) -> Dd {
+        Dd::cosh(self)
+    }
+    fn tanh(self) -> Dd {
+        Dd::tanh(self)
+    }
+    fn asin(self) -> Dd {
+        Dd::asin(self)
+    }
+    fn acos(self) -> Dd {
+        Dd::acos(self)
+    }
+    fn atan(self) -> Dd {
+        Dd::atan2(self, Dd::ONE)
+    }
+    fn atan2(self, x: Dd) -> Dd {
+        Dd::atan2(self, x)
+    }
+    fn sign(self) -> Dd {
+        Dd::from_f64(self.hi.sign())
+    }
 }
 
 /// `f(x)`.
@@ -104,6 +174,17 @@ fn call<S: Scalar>(f: Fun, x: S) -> S {
         Fun::Tan => x.tan(),
         Fun::Exp => x.exp(),
         Fun::Ln => x.ln(),
+        Fun::Abs => x.abs(),
+        Fun::Sign => x.sign(),
+        Fun::Cot => x.cos() / x.sin(),
+        Fun::Sec => S::from_rational(Rational::ONE) / x.cos(),
+        Fun::Csc => S::from_rational(Rational::ONE) / x.sin(),
+        Fun::Sinh => x.sinh(),
+        Fun::Cosh => x.cosh(),
+        Fun::Tanh => x.tanh(),
+        Fun::Asin => x.asin(),
+        Fun::Acos => x.acos(),
+        Fun::Atan => x.atan(),
     }
 }
 
@@ -155,6 +236,10 @@ impl Engine {
                 Atom::Sym(s) => vals[s.index()],
                 Atom::Func(f, u) => call(*f, self.eval_memo(*u, vals, memo)),
                 Atom::Base(b) => self.eval_memo(*b, vals, memo),
+                Atom::Atan2(y, x) => {
+                    let y = self.eval_memo(*y, vals, memo);
+                    y.atan2(self.eval_memo(*x, vals, memo))
+                }
             };
             t = t * match ex.to_integer() {
                 Some(k) if k.abs() < i32::MAX as i64 => b.powi(k),

@@ -46,7 +46,11 @@ id_type! {
     ExprId
 }
 
-/// The elementary functions the input language supports (`sqrt` is a power).
+/// The elementary functions of one argument (`sqrt` is a power, `atan2` an
+/// atom of its own, [`Atom::Atan2`]). `Cot`, `Sec` and `Csc` are rewritten
+/// into powers of `sin` and `cos` and `Tan` into `sin/cos` when built
+/// ([`Engine::func`]), so they never occur in an atom; `Sign` is not in the
+/// input language: it is the derivative of `Abs`.
 #[derive(Clone, Copy, PartialEq, Eq, Hash, Debug, PartialOrd, Ord)]
 pub enum Fun {
     /// sine
@@ -59,10 +63,33 @@ pub enum Fun {
     Exp,
     /// natural logarithm
     Ln,
+    /// absolute value
+    Abs,
+    /// sign: −1, 0 or 1 (the derivative of `Abs`, taken as 0 at 0)
+    Sign,
+    /// cotangent, `cos/sin`
+    Cot,
+    /// secant, `1/cos`
+    Sec,
+    /// cosecant, `1/sin`
+    Csc,
+    /// hyperbolic sine
+    Sinh,
+    /// hyperbolic cosine
+    Cosh,
+    /// hyperbolic tangent
+    Tanh,
+    /// inverse sine, in [−π/2, π/2]
+    Asin,
+    /// inverse cosine, in [0, π]
+    Acos,
+    /// inverse tangent, in (−π/2, π/2)
+    Atan,
 }
 
 impl Fun {
-    /// The name as written in the input language.
+    /// The name as written in the input language (`sign` for the internal
+    /// sign function).
     pub fn name(self) -> &'static str {
         match self {
             Fun::Sin => "sin",
@@ -70,7 +97,42 @@ impl Fun {
             Fun::Tan => "tan",
             Fun::Exp => "exp",
             Fun::Ln => "ln",
+            Fun::Abs => "abs",
+            Fun::Sign => "sign",
+            Fun::Cot => "cot",
+            Fun::Sec => "sec",
+            Fun::Csc => "csc",
+            Fun::Sinh => "sinh",
+            Fun::Cosh => "cosh",
+            Fun::Tanh => "tanh",
+            Fun::Asin => "asin",
+            Fun::Acos => "acos",
+            Fun::Atan => "atan",
         }
+    }
+
+    /// The function of the input language called `name`, if any (`sqrt`,
+    /// a power, and `atan2`, of two arguments, are not a `Fun`; nor is the
+    /// internal `sign`).
+    pub fn from_name(name: &str) -> Option<Fun> {
+        Some(match name {
+            "sin" => Fun::Sin,
+            "cos" => Fun::Cos,
+            "tan" => Fun::Tan,
+            "exp" => Fun::Exp,
+            "ln" => Fun::Ln,
+            "abs" => Fun::Abs,
+            "cot" => Fun::Cot,
+            "sec" => Fun::Sec,
+            "csc" => Fun::Csc,
+            "sinh" => Fun::Sinh,
+            "cosh" => Fun::Cosh,
+            "tanh" => Fun::Tanh,
+            "asin" => Fun::Asin,
+            "acos" => Fun::Acos,
+            "atan" => Fun::Atan,
+            _ => return None,
+        })
     }
 }
 
@@ -81,6 +143,8 @@ pub enum Atom {
     Sym(SymId),
     /// `f(arg)`.
     Func(Fun, ExprId),
+    /// `atan2(y, x)`: the angle of the point (x, y), in (−π, π].
+    Atan2(ExprId, ExprId),
     /// An expression used as the base of a power that is not expanded.
     Base(ExprId),
 }
@@ -98,6 +162,13 @@ impl Engine {
         let syms = match &a {
             Atom::Sym(s) => vec![*s],
             Atom::Func(_, e) | Atom::Base(e) => self.expr_syms[e.index()].clone(),
+            Atom::Atan2(y, x) => {
+                let mut s = self.expr_syms[y.index()].clone();
+                s.extend_from_slice(&self.expr_syms[x.index()]);
+                s.sort_unstable();
+                s.dedup();
+                s
+            }
         };
         let id = AtomId::from_index(self.atoms.len());
         self.atoms.push(a.clone());

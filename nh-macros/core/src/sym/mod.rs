@@ -27,7 +27,8 @@
 //!
 //! [`Engine`] is defined here with its limits; its operations are in one
 //! file each: `graph` (the ids, node types and interners), `arith` (sums,
-//! products, functions, constant folding), `power` (integer and rational
+//! products, functions, constant folding), `funcs` (the functions beyond
+//! sin, cos, tan, exp and ln, and `atan2`), `power` (integer and rational
 //! powers), `normal` (the normal form of a monomial), `kept` (products kept
 //! unexpanded), `diff` (derivatives), `subst` (substitution), `eval`
 //! (numeric evaluation in any [`Scalar`]) and `display` (text).
@@ -37,6 +38,7 @@ pub mod dd;
 mod diff;
 mod display;
 mod eval;
+mod funcs;
 mod graph;
 mod kept;
 mod normal;
@@ -47,6 +49,7 @@ mod subst;
 use rustc_hash::FxHashMap as HashMap;
 
 pub use eval::Scalar;
+pub use funcs::{exact_atan2, exact_value};
 pub(crate) use graph::id_type;
 pub use graph::{Atom, AtomId, ExprId, Fun, MonoId, SymId};
 use graph::{Factors, Terms};

@@ -1,7 +1,7 @@
 //! The normal form of a monomial: constant bases folded into the
 //! coefficient, integer powers of monomial bases distributed, small integer
 //! powers of sums expanded, and trigonometric powers reduced modulo
-//! `sin² + cos² = 1`.
+//! `sin² + cos² = 1`; even powers of `|u|` become powers of `u`.
 
 use super::{Atom, AtomId, Engine, ExprId, Factors, Fun, MonoId, ONE, Rational};
 
@@ -58,6 +58,11 @@ impl Engine {
                     parts.multiplicands.push(p);
                 }
                 Atom::Base(b) => self.normal_base_power(a, b, e, &mut parts),
+                Atom::Func(Fun::Abs, u) if is_even(e) => {
+                    // |u|^(2k) = u^(2k)
+                    let p = self.pow(u, e);
+                    parts.multiplicands.push(p);
+                }
                 _ => parts.kept.push((a, e)),
             }
         }
@@ -158,6 +163,7 @@ impl Engine {
         }
         match &self.atoms[a.index()] {
             Atom::Func(Fun::Cos, _) => e.is_integer() && e >= Rational::int(2),
+            Atom::Func(Fun::Abs, _) => is_even(e),
             Atom::Base(b) => {
                 // normal exponents: in (0, 1) for constant and monomial bases,
                 // below 1 for sums, except a sum whose power is kept
@@ -168,9 +174,15 @@ impl Engine {
                     e >= Rational::ONE && !self.power_is_kept(*b, floor(e))
                 }
             }
-            Atom::Sym(_) | Atom::Func(..) => false,
+            Atom::Sym(_) | Atom::Func(..) | Atom::Atan2(..) => false,
         }
     }
+}
+
+/// Is `e` an even integer?
+pub(super) fn is_even(e: Rational) -> bool {
+    e.checked_div(Rational::int(2))
+        .is_some_and(|h| h.is_integer())
 }
 
 pub(super) fn floor(e: Rational) -> i64 {

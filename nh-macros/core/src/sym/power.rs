@@ -3,6 +3,7 @@
 //! identity on the reals), with the content of a sum and `c·cos²` pivots
 //! taken out first.
 
+use super::normal::is_even;
 use super::{Atom, AtomId, Engine, ExprId, Factors, Fun, MONO_ONE, ONE, Rational, ZERO};
 
 impl Engine {
@@ -43,7 +44,8 @@ impl Engine {
 
     /// `a^q` for a rational exponent, following real-valued semantics: the
     /// exponents of a power are multiplied only where that is an identity on
-    /// the reals (`(x²)^(1/2)` stays as written; it is `|x|`).
+    /// the reals, and an even power under a root is a power of the absolute
+    /// value (`(x²)^(1/2)` is `|x|`, `(x⁴)^(1/2)` is `x²`).
     pub fn pow(&mut self, a: ExprId, q: Rational) -> ExprId {
         if q.is_zero() {
             return ONE;
@@ -137,7 +139,7 @@ impl Engine {
             || (!c.is_negative()
                 && factors
                     .iter()
-                    .all(|&(_, e)| !e.is_integer() || e.abs().is_one()));
+                    .all(|&(_, e)| !e.is_integer() || e.abs().is_one() || is_even(e)));
         if !distributable {
             return None;
         }
@@ -153,12 +155,24 @@ impl Engine {
             self.atom_power_normal(b, q)
         };
         let mut prod: Factors = Vec::with_capacity(factors.len());
+        let mut even_roots = Vec::new();
         for (at, e) in factors {
             let ne = self.qmul(e, q);
-            prod.push((at, ne));
+            if !q.is_integer() && is_even(e) {
+                // (x^(2k))^q = |x|^(2kq): sqrt(x²) is |x|
+                even_roots.push((at, ne));
+            } else {
+                prod.push((at, ne));
+            }
         }
-        let mono = self.normal_expr(prod);
-        Some(self.mul(cpart, mono))
+        let mut r = self.normal_expr(prod);
+        r = self.mul(cpart, r);
+        for (at, ne) in even_roots {
+            let x = self.abs_of_atom(at);
+            let p = self.pow(x, ne);
+            r = self.mul(r, p);
+        }
+        Some(r)
     }
 
     /// `(c, u)` if `e` is `c·(1 − sin²u)` for a rational `c`: the normal form

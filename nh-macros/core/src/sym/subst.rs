@@ -35,6 +35,11 @@ impl Engine {
                         self.func(f, u2)
                     }
                     Atom::Base(b) => self.subst(b, map, memo),
+                    Atom::Atan2(y, x) => {
+                        let y2 = self.subst(y, map, memo);
+                        let x2 = self.subst(x, map, memo);
+                        self.atan2(y2, x2)
+                    }
                 };
                 let p = self.pow(base, ex);
                 t = self.mul(t, p);
