@@ -5,6 +5,7 @@
 
 mod bodies;
 pub(crate) mod constraints;
+mod functions;
 pub(crate) mod linear;
 pub(crate) mod values;
 
@@ -21,10 +22,17 @@ use values::Value;
 
 mod speeds;
 
-/// The functions of the input language.
-pub const FUNCTIONS: [&str; 6] = ["sin", "cos", "tan", "exp", "ln", "sqrt"];
+/// The scalar functions of one argument of the input language (`atan2`
+/// takes two; see `lower::functions`).
+pub const FUNCTIONS: [&str; 16] = [
+    "sin", "cos", "tan", "cot", "sec", "csc", "asin", "acos", "atan", "sinh", "cosh", "tanh",
+    "exp", "ln", "sqrt", "abs",
+];
 
-/// Names that cannot be declared: the language's own words.
+/// Names that cannot be declared: the language's own words. The functions
+/// added after the first six are not reserved: a name is one of them only
+/// where it is called, so a coordinate, parameter or `let` named `abs`,
+/// `atan` or `sinh` keeps working.
 const RESERVED: [&str; 9] = ["t", "pi", "dot", "sin", "cos", "tan", "exp", "ln", "sqrt"];
 
 #[derive(Clone, Copy, Debug)]
@@ -640,10 +648,14 @@ impl Lowerer<'_> {
             None => match s.as_str() {
                 "t" => Some(self.e.sym(self.t_sym)),
                 "pi" => Some(self.e.sym(self.pi_sym)),
-                _ if FUNCTIONS.contains(&s.as_str()) || s == "dot" => {
+                _ if FUNCTIONS.contains(&s.as_str()) || s == "dot" || s == "atan2" => {
+                    let (args, example) = match s.as_str() {
+                        "atan2" => ("two arguments", "atan2(y, x)".to_string()),
+                        _ => ("an argument", format!("{s}(x)")),
+                    };
                     self.cx.error_at(
                         id.span(),
-                        format!("`{s}` is a function: call it with an argument, as in `{s}(x)`"),
+                        format!("`{s}` is a function: call it with {args}, as in `{example}`"),
                     );
                     None
                 }
@@ -679,82 +691,8 @@ impl Lowerer<'_> {
         if let Some(v) = self.lower_vector_call(func, args, range, depth) {
             return v;
         }
-        if FUNCTIONS.contains(&f.as_str()) && args.len() != 1 {
-            self.cx.error(range, format!("`{f}` takes one argument"));
-            return None;
-        }
-        self.lower_scalar_call(func, &args[0], range, depth)
+        self.lower_scalar_call(func, args, range, depth)
             .map(Value::Scalar)
-    }
-
-    fn lower_scalar_call(
-        &mut self,
-        func: &Ident,
-        arg: &Expr,
-        range: SpanRange,
-        depth: usize,
-    ) -> Option<ExprId> {
-        let f = func.to_string();
-        let fun = match f.as_str() {
-            "sin" => Some(Fun::Sin),
-            "cos" => Some(Fun::Cos),
-            "tan" => Some(Fun::Tan),
-            "exp" => Some(Fun::Exp),
-            "ln" => Some(Fun::Ln),
-            "sqrt" => None,
-            _ => {
-                let mut cands: Vec<&str> = FUNCTIONS.to_vec();
-                cands.extend(bodies::VECTOR_FUNCTIONS);
-                let hint = names::suggest(&f, &cands);
-                let extra = if f == "log" {
-                    " (the natural logarithm is `ln`)"
-                } else {
-                    ""
-                };
-                self.cx.error_at(
-                    func.span(),
-                    format!("unknown function `{f}`{hint}{extra}; the functions are `sin`, `cos`, `tan`, `exp`, `ln`, `sqrt` and `dot` (time derivative)"),
-                );
-                // still lower the argument to find errors inside it
-                let _ = self.lower_value(arg, depth + 1);
-                return None;
-            }
-        };
-        let a = self.lower(arg, depth + 1)?;
-        // a constant outside the function's domain
-        use std::cmp::Ordering::{Equal, Less};
-        let domain = match (fun, self.constant_sign(a)) {
-            (None, Some(Less)) => Some(format!(
-                "`sqrt` of a negative constant is not a real number{}",
-                self.value_note(arg, a)
-            )),
-            (Some(Fun::Ln), Some(Equal)) => {
-                Some("`ln(0)` is undefined (the logarithm tends to −∞ at 0)".to_string())
-            }
-            (Some(Fun::Ln), Some(Less)) => Some(format!(
-                "`ln` of a negative constant is not a real number{}",
-                self.value_note(arg, a)
-            )),
-            (Some(Fun::Tan), _) => self
-                .pi_multiple(a)
-                .and_then(|c| c.checked_sub(Rational::new(1, 2)?))
-                .filter(|d| d.is_integer())
-                .map(|_| {
-                    format!(
-                        "`tan` is undefined at odd multiples of π/2 (its cosine is 0){}",
-                        self.value_note(arg, a)
-                    )
-                }),
-            _ => None,
-        };
-        if let Some(msg) = domain {
-            self.cx.error(range, msg);
-            return None;
-        }
-        Some(match fun {
-            Some(fun) => self.e.func(fun, a),
-            None => self.e.pow(a, Rational::new(1, 2).unwrap_or(Rational::ONE)),
-        })
     }
 
     fn lower_dot(&mut self, arg: &Expr, range: SpanRange) -> Option<Value> {

@@ -1,5 +1,6 @@
-//! Spelling suggestions for unknown names ("did you mean `cos`?"), and the
-//! identity of names: `r#x` and `x` are one name, as they are to Rust.
+//! Spelling suggestions for unknown names ("did you mean `cos`?"), the
+//! functions of other notations with what to write instead (`arctan` is
+//! `atan`), and the identity of names: `r#x` and `x` are one name, as they are to Rust.
 
 use proc_macro2::Ident;
 
@@ -111,6 +112,66 @@ pub fn suggest(name: &str, candidates: &[&str]) -> String {
         Some(c) => format!(" (did you mean `{c}`?)"),
         None => String::new(),
     }
+}
+
+/// Functions of other languages and notations, each with what to write
+/// instead (by meaning: `arctan` is `atan`, `log` is `ln`, not by spelling).
+const FUNCTION_MEANINGS: [(&[&str], &str); 16] = [
+    (
+        &["arctan", "arctg", "atn"],
+        "the inverse tangent is `atan`; the angle of the point (x, y) is `atan2(y, x)`",
+    ),
+    (&["arcsin", "arcsine"], "the inverse sine is `asin`"),
+    (&["arccos", "arccosine"], "the inverse cosine is `acos`"),
+    (
+        &["arctan2", "atan2f", "arg", "angle"],
+        "the angle of the point (x, y) is `atan2(y, x)`",
+    ),
+    (
+        &["atan2d", "atand", "asind", "acosd", "sind", "cosd", "tand"],
+        "the functions work in radians: write `atan2(y, x)`, `sin(x)`, ... and convert degrees with `pi/180`",
+    ),
+    (&["log", "loge", "log_e"], "the natural logarithm is `ln`"),
+    (
+        &["log10", "lg", "log2"],
+        "there is only the natural logarithm `ln`: write `ln(x)/ln(10)` (or `ln(x)/ln(2)`)",
+    ),
+    (
+        &["sign", "sgn", "signum"],
+        "there is no sign function: `abs(x)` exists, and `x/abs(x)` is the sign where x ≠ 0",
+    ),
+    (&["tg"], "the tangent is `tan`"),
+    (&["ctg", "cotan", "cotg", "ctn"], "the cotangent is `cot`"),
+    (&["cosec"], "the cosecant is `csc`"),
+    (
+        &["sech", "csch", "coth"],
+        "write it with `sinh` and `cosh`: sech(x) = 1/cosh(x), csch(x) = 1/sinh(x), coth(x) = cosh(x)/sinh(x)",
+    ),
+    (
+        &[
+            "asinh", "acosh", "atanh", "arsinh", "arcosh", "artanh", "arcsinh", "arccosh",
+            "arctanh",
+        ],
+        "there are no inverse hyperbolic functions: asinh(x) = ln(x + sqrt(x^2 + 1)), acosh(x) = ln(x + sqrt(x^2 - 1)), atanh(x) = ln((1 + x)/(1 - x))/2",
+    ),
+    (
+        &["fabs", "absolute", "mag", "magnitude"],
+        "the absolute value is `abs`; the length of a vector is `norm`",
+    ),
+    (
+        &["pow", "powf", "powi", "sqr", "square", "cbrt"],
+        "powers are written with `^`: `x^2`, `x^(1/3)`, `x^y`",
+    ),
+    (&["hypot"], "write `sqrt(x^2 + y^2)`"),
+];
+
+/// What to write instead of a function of another notation (`arctan`,
+/// `log`, `sgn`, ...), if `name` is one.
+pub fn function_meaning(name: &str) -> Option<&'static str> {
+    FUNCTION_MEANINGS
+        .iter()
+        .find(|(names, _)| names.contains(&name))
+        .map(|(_, meaning)| *meaning)
 }
 
 #[cfg(test)]
