@@ -64,10 +64,52 @@
 //!
 //! Numeric literals, names, `+ - * /`, unary minus, parentheses and `^` (power,
 //! with mathematical precedence: `m*x^2` is m·(x²), `-x^2` is −(x²), `a^b^c` is
-//! a^(b^c)); the functions `sin cos tan exp ln sqrt`; the constant `pi`; `t` for
+//! a^(b^c)); the functions below; the constant `pi`; `t` for
 //! time. `dot(q)` is the velocity q̇ of coordinate `q`. `dot(NAME)` of a `let`
 //! without velocities is its total time derivative Σ ∂NAME/∂q_i q̇_i + ∂NAME/∂t:
 //! this is how kinetic energy is written from positions.
+//!
+//! | function | value | derivative; domain |
+//! |---|---|---|
+//! | `sin(x)`, `cos(x)`, `tan(x)` | sine, cosine, tangent (radians) | `tan` is undefined at odd multiples of π/2 |
+//! | `cot(x)`, `sec(x)`, `csc(x)` | cos x / sin x, 1 / cos x, 1 / sin x | written as quotients of `sin` and `cos`; undefined where the divisor is 0 |
+//! | `asin(x)`, `acos(x)` | inverse sine in [−π/2, π/2], inverse cosine in [0, π] | ±1/√(1 − x²); defined on [−1, 1] |
+//! | `atan(x)` | inverse tangent in (−π/2, π/2) | 1/(1 + x²) |
+//! | `atan2(y, x)` | the angle of the point (x, y), in (−π, π] | (x dy − y dx)/(x² + y²); undefined at the origin |
+//! | `sinh(x)`, `cosh(x)`, `tanh(x)` | hyperbolic sine, cosine, tangent | cosh, sinh, 1 − tanh² |
+//! | `exp(x)`, `ln(x)` | exponential, natural logarithm | `ln` on x > 0 |
+//! | `sqrt(x)` | x^(1/2), x ≥ 0 | an even power under it is one of \|x\|: `sqrt(x^2)` is `abs(x)` |
+//! | `abs(x)` | \|x\| | sign(x), taken as 0 at x = 0 |
+//!
+//! A constant argument outside a function's domain (`asin(2)`, `ln(0)`,
+//! `atan2(0, 0)`, `cot(pi)`) is a compile error at the argument, and exact
+//! values at constant arguments are folded (`acos(0)` is `pi/2`, `atan(1)`
+//! is `pi/4`). There is no sign function: the generated derivative of
+//! `abs(x)` is the sign of x, 0 at 0; where x ≠ 0 it is `x/abs(x)`. The
+//! names `abs`, `atan`, `sinh` and the other functions added after `sin cos
+//! tan exp ln sqrt` are not reserved: they are functions only where they
+//! are called, so a coordinate or parameter may be named `atan`.
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     /// A particle in the plane held by a torsion spring on its polar
+//!     /// angle and a V-shaped potential in y.
+//!     pub struct PolarSpring {
+//!         parameters { m, k, c }
+//!         coordinates { x, y }
+//!         lagrangian = m/2*(dot(x)^2 + dot(y)^2) - k/2*atan2(y, x)^2 - c*abs(y);
+//!     }
+//! }
+//!
+//! let s = PolarSpring::new(2.0, 3.0, 0.5);
+//! // at (1, 1) the angle is π/4, and its gradient (−y, x)/r² is (−1, 1)/2
+//! let a = s.accelerations(0.0, &SVector::from([1.0, 1.0]), &SVector::zeros());
+//! let angle = std::f64::consts::FRAC_PI_4;
+//! assert!((a[0] - 3.0 * angle / 2.0 / 2.0).abs() < 1e-14);
+//! assert!((a[1] - (-3.0 * angle / 2.0 - 0.5) / 2.0).abs() < 1e-14);
+//! ```
 //!
 //! Numbers are exact rationals of any size however written: `1/4` is one
 //! quarter (never integer division), `0.1` is 1/10, `6.62607015e-34` is
