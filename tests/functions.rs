@@ -16,6 +16,7 @@ nonholonomic_system! {
         lagrangian = m/2*(dot(x)^2 + cosh(y)^2*dot(y)^2)
             - k*(atan2(y, x + 2) + abs(x*y - 1/5) + cot(x + 1) + sec(y/2) + csc(x + 2)
                  + sinh(x*y) + tanh(x - y) + asin(x/3) + acos(y/4) + atan(x*y));
+        outputs { jacobian }
     }
 }
 
@@ -68,6 +69,31 @@ fn every_new_function_differentiates_as_sympy_does() {
         let a = s.accelerations(0.0, &SVector::from(q), &SVector::from(v));
         for i in 0..2 {
             assert_close(a[i], want[i], &format!("gauntlet q̈{i} at {q:?}"));
+        }
+    }
+}
+
+#[test]
+fn second_derivatives_agree_with_central_differences() {
+    // the Jacobian of the right side differentiates every function twice
+    // (the sign, the derivative of abs, has the derivative 0 away from 0)
+    let s = Gauntlet::new(1.5, 0.7);
+    for (q, v, _) in reference("gauntlet") {
+        let x = SVector::<f64, 4>::from([q[0], q[1], v[0], v[1]]);
+        let jac = s.jacobian(0.0, &x);
+        for c in 0..4 {
+            let h = 1e-6;
+            let (mut xp, mut xm) = (x, x);
+            xp[c] += h;
+            xm[c] -= h;
+            let column = (s.rhs(0.0, &xp) - s.rhs(0.0, &xm)) / (2.0 * h);
+            for r in 0..4 {
+                let (got, want) = (jac[(r, c)], column[r]);
+                assert!(
+                    (got - want).abs() <= 1e-6 * want.abs().max(1.0),
+                    "∂ẋ{r}/∂x{c} at {x:?}: {got} vs {want}"
+                );
+            }
         }
     }
 }
