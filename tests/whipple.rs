@@ -86,6 +86,52 @@ fn eigenvalues_match_table_2() {
     eprintln!("eigenvalues at v = 0..10 against Table 2: worst relative difference {worst:.1e}");
 }
 
+/// The eigenvalues from central differences of the generated right-hand
+/// side, which takes Kane's form body by body and solves the contact block
+/// numerically (DESIGN §9, §10), where `jacobian` differentiates the
+/// expanded derivation: both reproduce Table 2, to the differences' accuracy.
+#[test]
+fn the_right_hand_side_linearises_to_table_2() {
+    use nonholonomic::runtime::OdeSystem;
+    let data = published();
+    let b = model::benchmark();
+    let mut worst = 0.0_f64;
+    for row in data["eigenvalues"].as_array().unwrap() {
+        let v = row["v"].as_f64().unwrap();
+        let mut x0 = SVector::<f64, 11>::zeros();
+        x0[10] = v / b.rR;
+        let idx = [0, 1, 8, 9];
+        let h = 1e-6;
+        let a = SMatrix::<f64, 4, 4>::from_fn(|r, c| {
+            let (mut xp, mut xm) = (x0, x0);
+            xp[idx[c]] += h;
+            xm[idx[c]] -= h;
+            (b.rhs(0.0, &xp)[idx[r]] - b.rhs(0.0, &xm)[idx[r]]) / (2.0 * h)
+        });
+        let mut got: Vec<(f64, f64)> = a
+            .complex_eigenvalues()
+            .iter()
+            .map(|e| (e.re, e.im))
+            .collect();
+        got.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.total_cmp(&q.1)));
+        let mut want: Vec<(f64, f64)> = row["eigenvalues"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|e| (e[0].as_f64().unwrap(), e[1].as_f64().unwrap()))
+            .collect();
+        want.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.total_cmp(&q.1)));
+        for (g, w) in got.iter().zip(&want) {
+            let d = ((g.0 - w.0).powi(2) + (g.1 - w.1).powi(2)).sqrt() / (w.0.hypot(w.1));
+            worst = worst.max(d);
+            assert!(d < 1e-7, "v = {v}: {g:?} vs {w:?}");
+        }
+    }
+    eprintln!(
+        "eigenvalues of the differenced right-hand side against Table 2: worst relative difference {worst:.1e}"
+    );
+}
+
 #[test]
 fn weave_and_capsize_speeds() {
     let data = published();

@@ -12,6 +12,7 @@ use crate::sym::{ExprId, SymId, ZERO};
 use proc_macro2::{Ident, TokenStream};
 use quote::quote;
 
+mod block;
 mod speeds;
 
 /// Operations of r̈ beyond which other methods call `accelerations` (and
@@ -161,6 +162,7 @@ pub(crate) fn bound_dag(m: &Model, args: &Args) -> Dag {
         );
         d.bind(c.position, l);
     }
+    let mut rdot = Vec::with_capacity(m.k());
     for (j, &i) in m.independent().iter().enumerate() {
         let c = &m.coordinates[i];
         let l = d.leaf_named(
@@ -168,6 +170,7 @@ pub(crate) fn bound_dag(m: &Model, args: &Args) -> Dag {
             &format!("dot_{}", syn::ext::IdentExt::unraw(&c.name)),
         );
         d.bind(c.velocity, l);
+        rdot.push(l);
     }
     for p in &m.parameters {
         let name = &p.name;
@@ -192,6 +195,18 @@ pub(crate) fn bound_dag(m: &Model, args: &Args) -> Dag {
         bind_speeds(&mut d, m, sp, args);
     }
     // dependent velocities: computed from the constraints (5.3)
+    if let Some(bt) = &m.block {
+        let sdot = block::dependent_velocities(&mut d, m, bt, &rdot);
+        for (c, v) in m.constraints.iter().zip(sdot) {
+            let s = &m.coordinates[c.dependent];
+            d.label(
+                v,
+                format!("dot({}): the block of velocity rows solved by LU", s.name),
+            );
+            d.bind(s.velocity, v);
+        }
+        return d;
+    }
     for c in &m.constraints {
         let s = &m.coordinates[c.dependent];
         let v = d.expr(&m.engine, c.velocity);
@@ -264,40 +279,46 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
     for (j, &i) in m.independent().iter().enumerate() {
         c[i][j] = ONE_NODE;
     }
-    for con in &m.constraints {
-        for b in 0..k {
-            let x = d.expr(&m.engine, con.coefficients[b]);
-            c[con.dependent][b] = d.neg(x);
-        }
-    }
     // q̈ = C r̈ + acc_bias, acc_bias_s = −Ȧ ṙ
     let mut acc_bias = vec![ZERO_NODE; n];
-    for (a, &s) in m.dependent().iter().enumerate() {
-        acc_bias[s] = d.expr(&m.engine, r.dependent_bias[a]);
+    if let Some(bt) = &m.block {
+        let columns = block::velocity_columns(d, m, bt);
+        let bias = block::dependent_bias(d, m, bt);
+        for (a, con) in m.constraints.iter().enumerate() {
+            for b in 0..k {
+                c[con.dependent][b] = columns[b][a];
+            }
+            acc_bias[con.dependent] = bias[a];
+        }
+    } else {
+        for con in &m.constraints {
+            for b in 0..k {
+                let x = d.expr(&m.engine, con.coefficients[b]);
+                c[con.dependent][b] = d.neg(x);
+            }
+        }
+        for (a, &s) in m.dependent().iter().enumerate() {
+            acc_bias[s] = d.expr(&m.engine, r.dependent_bias[a]);
+        }
     }
     // Cᵀ M C r̈ = −Cᵀ (M acc_bias + h)   (5.9)
-    let mut mc = vec![vec![ZERO_NODE; k]; n];
-    for i in 0..n {
-        for b in 0..k {
-            mc[i][b] = dot(d, ZERO_NODE, (0..n).map(|j| (mass[i][j], c[j][b])));
+    // Kane's form where it is cheaper than the expanded Lagrangian's terms
+    let lagrange = projection(d, &mass, &bias, &c, &acc_bias);
+    let (mr, f) = match &r.bodies {
+        Some(bt) => {
+            let kane = body_projection(d, m, bt, &c, &acc_bias);
+            let ops = |d: &Dag, (mr, f): &(Vec<Vec<Node>>, Vec<Node>)| {
+                let all: Vec<Node> = mr.iter().flatten().chain(f).copied().collect();
+                d.op_count(&all)
+            };
+            if ops(d, &kane) < ops(d, &lagrange) {
+                kane
+            } else {
+                lagrange
+            }
         }
-    }
-    let mut mr = vec![vec![ZERO_NODE; k]; k];
-    for a in 0..k {
-        for b in a..k {
-            let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], mc[i][b])));
-            mr[a][b] = acc;
-            mr[b][a] = acc;
-        }
-    }
-    let g: Vec<Node> = (0..n)
-        .map(|i| dot(d, bias[i], (0..n).map(|j| (mass[i][j], acc_bias[j]))))
-        .collect();
-    let mut f = Vec::with_capacity(k);
-    for a in 0..k {
-        let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], g[i])));
-        f.push(d.neg(acc));
-    }
+        None => lagrange,
+    };
     for (a, row) in mr.iter().enumerate() {
         for (b, &x) in row.iter().enumerate().skip(a) {
             d.label(
@@ -320,6 +341,153 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
         pivots: fac.d.clone(),
         fac,
     }
+}
+
+/// Cᵀ M C and −Cᵀ (M acc_bias + h) of (5.9).
+fn projection(
+    d: &mut Dag,
+    mass: &[Vec<Node>],
+    bias: &[Node],
+    c: &[Vec<Node>],
+    acc_bias: &[Node],
+) -> (Vec<Vec<Node>>, Vec<Node>) {
+    let (n, k) = (c.len(), c.first().map_or(0, Vec::len));
+    let mut mc = vec![vec![ZERO_NODE; k]; n];
+    for i in 0..n {
+        for b in 0..k {
+            mc[i][b] = dot(d, ZERO_NODE, (0..n).map(|j| (mass[i][j], c[j][b])));
+        }
+    }
+    let mut mr = vec![vec![ZERO_NODE; k]; k];
+    for a in 0..k {
+        for b in a..k {
+            let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], mc[i][b])));
+            mr[a][b] = acc;
+            mr[b][a] = acc;
+        }
+    }
+    let g: Vec<Node> = (0..n)
+        .map(|i| dot(d, bias[i], (0..n).map(|j| (mass[i][j], acc_bias[j]))))
+        .collect();
+    let f = (0..k)
+        .map(|a| {
+            let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], g[i])));
+            d.neg(acc)
+        })
+        .collect();
+    (mr, f)
+}
+
+/// Cᵀ M C and −Cᵀ (M acc_bias + h) of (5.9) body by body (Kane's form,
+/// DESIGN §10): with the partial velocities V = J C and Ω = W C,
+/// Cᵀ M C = Σ m VᵀV + Ωᵀ I Ω, and the inertia forces at r̈ = 0 are
+/// m Vᵀ a + Ωᵀ (I α + ω × I ω) with a = J acc_bias + J̇ q̇,
+/// α = W acc_bias + Ẇ q̇; the rest of the Lagrangian as in (5.9).
+fn body_projection(
+    d: &mut Dag,
+    m: &Model,
+    bt: &crate::mechanics::BodyTerms,
+    c: &[Vec<Node>],
+    acc_bias: &[Node],
+) -> (Vec<Vec<Node>>, Vec<Node>) {
+    let rest_mass = matrix(d, m, &bt.rest_mass);
+    let rest_bias = exprs(d, m, &bt.rest_bias);
+    let (mut mr, mut f) = projection(d, &rest_mass, &rest_bias, c, acc_bias);
+    for f in f.iter_mut() {
+        *f = d.neg(*f);
+    }
+    for b in &bt.bodies {
+        let mass = d.expr(&m.engine, b.mass);
+        let j = matrix(d, m, &b.jacobian);
+        let accel0 = exprs(d, m, &b.accel0);
+        let (v, a) = partial_and_bias(d, &j, &accel0, c, acc_bias);
+        let mv: Vec<Vec<Node>> = v
+            .iter()
+            .map(|row| row.iter().map(|&x| d.mul(mass, x)).collect())
+            .collect();
+        let ma: Vec<Node> = a.iter().map(|&x| d.mul(mass, x)).collect();
+        add_inertia(d, &mut mr, &mut f, &v, &mv, &ma);
+        if let Some(rot) = &b.rotation {
+            let w = matrix(d, m, &rot.jacobian);
+            let alpha0 = exprs(d, m, &rot.accel0);
+            let (om, alpha) = partial_and_bias(d, &w, &alpha0, c, acc_bias);
+            let inertia = matrix(d, m, &rot.inertia.map(|r| r.to_vec()));
+            let omega = exprs(d, m, &rot.omega);
+            let i_om: Vec<Vec<Node>> = (0..3)
+                .map(|x| {
+                    (0..om[0].len())
+                        .map(|a| dot(d, ZERO_NODE, (0..3).map(|y| (inertia[x][y], om[y][a]))))
+                        .collect()
+                })
+                .collect();
+            let i_alpha: Vec<Node> = (0..3)
+                .map(|x| dot(d, ZERO_NODE, (0..3).map(|y| (inertia[x][y], alpha[y]))))
+                .collect();
+            let i_omega: Vec<Node> = (0..3)
+                .map(|x| dot(d, ZERO_NODE, (0..3).map(|y| (inertia[x][y], omega[y]))))
+                .collect();
+            let gyro = cross_nodes(d, &omega, &i_omega);
+            let torque: Vec<Node> = (0..3).map(|x| d.add(i_alpha[x], gyro[x])).collect();
+            add_inertia(d, &mut mr, &mut f, &om, &i_om, &torque);
+        }
+    }
+    let f = f.into_iter().map(|x| d.neg(x)).collect();
+    (mr, f)
+}
+
+/// The partial velocities P = J C (3 × k) and the rate at r̈ = 0,
+/// J acc_bias + rate0.
+fn partial_and_bias(
+    d: &mut Dag,
+    j: &[Vec<Node>],
+    rate0: &[Node],
+    c: &[Vec<Node>],
+    acc_bias: &[Node],
+) -> (Vec<Vec<Node>>, Vec<Node>) {
+    let (n, k) = (c.len(), c.first().map_or(0, Vec::len));
+    let p = (0..3)
+        .map(|x| {
+            (0..k)
+                .map(|a| dot(d, ZERO_NODE, (0..n).map(|i| (j[x][i], c[i][a]))))
+                .collect()
+        })
+        .collect();
+    let rate = (0..3)
+        .map(|x| dot(d, rate0[x], (0..n).map(|i| (j[x][i], acc_bias[i]))))
+        .collect();
+    (p, rate)
+}
+
+/// mr += Pᵀ Q (upper triangle mirrored) and f += Pᵀ force.
+fn add_inertia(
+    d: &mut Dag,
+    mr: &mut [Vec<Node>],
+    f: &mut [Node],
+    p: &[Vec<Node>],
+    q: &[Vec<Node>],
+    force: &[Node],
+) {
+    let k = f.len();
+    for a in 0..k {
+        for b in a..k {
+            let x = dot(d, mr[a][b], (0..3).map(|x| (p[x][a], q[x][b])));
+            mr[a][b] = x;
+            mr[b][a] = x;
+        }
+        f[a] = dot(d, f[a], (0..3).map(|x| (p[x][a], force[x])));
+    }
+}
+
+/// u × v.
+fn cross_nodes(d: &mut Dag, u: &[Node], v: &[Node]) -> Vec<Node> {
+    (0..3)
+        .map(|x| {
+            let (y, z) = ((x + 1) % 3, (x + 2) % 3);
+            let a = d.mul(u[y], v[z]);
+            let b = d.mul(u[z], v[y]);
+            d.sub(a, b)
+        })
+        .collect()
 }
 
 impl MultiplierNodes {

@@ -84,6 +84,8 @@ struct Lowerer<'a> {
     huge_constant: Option<SpanRange>,
     /// see [`Model::description`]
     description: Vec<String>,
+    /// the bodies whose kinetic energy the Lagrangian takes, with it
+    kinetic: Vec<(crate::model::KineticBody, ExprId)>,
 }
 
 /// The names declared so far, each with what it was declared as.
@@ -170,6 +172,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     if !lw.cx.is_empty() {
         return None;
     }
+    let kinetic = lw.kinetic_split(lagrangian);
     let mut constraints = lowered.constraints;
     let partition = match speeds {
         Some(_) => Partition::of(0, &mut constraints),
@@ -194,7 +197,11 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         description: lw.description,
         contacts: lowered.contacts,
         velocity_rows: lowered.velocity_rows,
+        contact_kinematics: lowered.contact_kinematics,
+        row_contacts: lowered.row_contacts,
+        block: None,
         huge_constant: lw.huge_constant,
+        kinetic,
     })
 }
 
@@ -278,6 +285,7 @@ impl<'a> Lowerer<'a> {
             poisoned,
             huge_constant: None,
             description: Vec::new(),
+            kinetic: Vec::new(),
         };
         (lw, let_ok)
     }

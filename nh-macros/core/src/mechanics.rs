@@ -17,6 +17,45 @@ pub struct MultiplierRoute {
     /// −(Ȧ ṙ)_a − β̇_a: the part of s̈_a that does not depend on r̈ (from
     /// differentiating (5.3), with ∂/∂t for time-dependent constraints).
     pub dependent_bias: Vec<ExprId>,
+    /// Kane's form of the same terms for a Lagrangian of bodies.
+    pub bodies: Option<BodyTerms>,
+}
+
+/// The Euler–Lagrange terms of a Lagrangian Σ_b T_b + L_rest, body by
+/// body: with v_b = J_b q̇ and ω_b = W_b q̇, d/dt ∂T_b/∂q̇ − ∂T_b/∂q =
+/// m J_bᵀ a_b + W_bᵀ (I α_b + ω_b × I ω_b), a_b = J_b q̈ + J̇_b q̇ and
+/// α_b = W_b q̈ + Ẇ_b q̇ (Kane's generalized inertia forces).
+pub struct BodyTerms {
+    /// The bodies.
+    pub bodies: Vec<BodyKinematics>,
+    /// M and h (forces included) of L_rest.
+    pub rest_mass: Vec<Vec<ExprId>>,
+    /// See `rest_mass`.
+    pub rest_bias: Vec<ExprId>,
+}
+
+/// One body's kinematics for [`BodyTerms`].
+pub struct BodyKinematics {
+    /// m.
+    pub mass: ExprId,
+    /// J = ∂C/∂q, 3 × n.
+    pub jacobian: [Vec<ExprId>; 3],
+    /// J̇ q̇ = Σ_i ∂(J q̇)/∂q_i q̇_i: the centre's acceleration at q̈ = 0.
+    pub accel0: [ExprId; 3],
+    /// Its rotation, unless it is a point mass.
+    pub rotation: Option<BodyRotation>,
+}
+
+/// A body's rotation for [`BodyKinematics`], in body axes.
+pub struct BodyRotation {
+    /// ω_b(q, q̇).
+    pub omega: [ExprId; 3],
+    /// W = ∂ω_b/∂q̇, 3 × n.
+    pub jacobian: [Vec<ExprId>; 3],
+    /// Ẇ q̇ = Σ_i ∂ω_b/∂q_i q̇_i: the angular acceleration at q̈ = 0.
+    pub accel0: [ExprId; 3],
+    /// I about the centre of mass.
+    pub inertia: [[ExprId; 3]; 3],
 }
 
 /// Whether every expression of `entries` vanishes at 16 random points in
@@ -84,11 +123,64 @@ pub struct CurvatureRoute {
     pub solution: Option<Vec<ExprId>>,
 }
 
+/// The block of velocity rows c_s ṡ + c_r ṙ = 0 of a system solved by
+/// elimination, for solving it numerically in the generated code with the
+/// pivots chosen here (DESIGN §9): its rows' coefficients and rates.
+pub struct BlockTerms {
+    /// For column b (the dependent velocity of constraint b), the row
+    /// that is its pivot.
+    pub pivots: Vec<usize>,
+    /// The rows, in the order of [`Model::velocity_rows`].
+    pub rows: Vec<RowTerms>,
+    /// The contacts the rows refer to.
+    pub contacts: Vec<ContactTerms>,
+}
+
+/// One velocity row g(q, q̇) = 0 of a [`BlockTerms`].
+pub enum RowTerms {
+    /// A row as written: ∂g/∂q̇_i for every coordinate, and Σ ∂g/∂q_i q̇_i.
+    Written {
+        /// ∂g/∂q̇_i.
+        coefficients: Vec<ExprId>,
+        /// Σ_i ∂g/∂q_i q̇_i.
+        along: ExprId,
+    },
+    /// Component `component` of contact `contact`'s material velocity.
+    Contact {
+        /// Index into [`BlockTerms::contacts`].
+        contact: usize,
+        /// 0, 1, 2: x, y, z.
+        component: usize,
+    },
+}
+
+/// A contact's terms: v = J_G q̇ + (W q̇) × o, its rate at q̈ = 0
+/// J̇_G q̇ + (Ẇ q̇) × o + ω × ȯ, with o = −r w − ρ e_z (DESIGN §10).
+pub struct ContactTerms {
+    /// J_G = ∂G/∂q, 3 × n.
+    pub centre_jacobian: [Vec<ExprId>; 3],
+    /// J̇_G q̇.
+    pub centre_accel0: [ExprId; 3],
+    /// ω (world components).
+    pub omega: [ExprId; 3],
+    /// W = ∂ω/∂q̇, 3 × n.
+    pub omega_jacobian: [Vec<ExprId>; 3],
+    /// Ẇ q̇.
+    pub omega_accel0: [ExprId; 3],
+    /// The world axle n and s = |e_z × n|, for a disc or torus.
+    pub axle: Option<([ExprId; 3], ExprId)>,
+    /// r.
+    pub radius: ExprId,
+    /// ρ.
+    pub tube: ExprId,
+}
+
 impl Model {
     /// The multiplier route, the curvature and the curvature route (only its
     /// reduced mass matrix unless `both_routes`), and whether the
     /// constraints are integrable.
     pub fn derive(&mut self, both_routes: bool) -> Derivation {
+        self.block = self.block_terms();
         let multiplier_route = self.multiplier_route();
         let curvature = self.curvature();
         let curvature_route = if both_routes {
@@ -164,66 +256,274 @@ impl Model {
     /// The multiplier route's symbolic pieces.
     pub fn multiplier_route(&mut self) -> MultiplierRoute {
         let n = self.n();
-        let l = self.lagrangian;
-        let e = &mut self.engine;
-        let q = &self.coordinates;
-        let momenta: Vec<ExprId> = (0..n).map(|j| e.diff(l, q[j].velocity)).collect();
+        let (mass, bias) = self.euler_lagrange_terms(self.lagrangian, true);
+        let bodies = self.body_terms();
+        let dependent_bias = if self.velocity_rows.is_empty() {
+            self.dependent_bias_from_solutions()
+        } else {
+            self.dependent_bias_from_rows()
+        };
+        debug_assert_eq!(mass.len(), n);
+        MultiplierRoute {
+            mass,
+            bias,
+            dependent_bias,
+            bodies,
+        }
+    }
+
+    /// M_ij = ∂²l/∂q̇_i∂q̇_j and h_j = Σ_i ∂²l/∂q̇_j∂q_i q̇_i + ∂²l/∂q̇_j∂t
+    /// − ∂l/∂q_j (− Q_j `with_forces`) of a Lagrangian (or part of one) l.
+    fn euler_lagrange_terms(
+        &mut self,
+        l: ExprId,
+        with_forces: bool,
+    ) -> (Vec<Vec<ExprId>>, Vec<ExprId>) {
+        let n = self.n();
+        let momenta: Vec<ExprId> = (0..n)
+            .map(|j| self.engine.diff(l, self.coordinates[j].velocity))
+            .collect();
         let mut mass = vec![vec![ZERO; n]; n];
         for i in 0..n {
             for j in i..n {
-                let m = e.diff(momenta[i], q[j].velocity);
+                let m = self.engine.diff(momenta[i], self.coordinates[j].velocity);
                 mass[i][j] = m;
                 mass[j][i] = m;
             }
         }
         let mut bias = Vec::with_capacity(n);
-        for j in 0..n {
-            let mut parts = Vec::new();
-            for i in 0..n {
-                let d = e.diff(momenta[j], q[i].position);
-                if d != ZERO {
-                    let v = e.sym(q[i].velocity);
-                    parts.push(e.mul(d, v));
-                }
-            }
-            parts.push(e.diff(momenta[j], self.time));
-            let dl = e.diff(l, q[j].position);
+        for (j, &p) in momenta.iter().enumerate() {
+            let mut parts = vec![self.along_motion(p)];
+            let e = &mut self.engine;
+            let q = &self.coordinates[j];
+            parts.push(e.diff(p, self.time));
+            let dl = e.diff(l, q.position);
             parts.push(e.neg(dl));
-            parts.push(e.neg(q[j].force));
+            if with_forces {
+                parts.push(e.neg(q.force));
+            }
             bias.push(e.sum(&parts));
         }
-        if !self.velocity_rows.is_empty() {
-            let dependent_bias = self.dependent_bias_from_rows();
-            return MultiplierRoute {
-                mass,
-                bias,
-                dependent_bias,
-            };
-        }
+        (mass, bias)
+    }
+
+    /// Σ_i ∂x/∂q_i q̇_i: the rate of x along the motion, t held fixed.
+    pub fn along_motion(&mut self, x: ExprId) -> ExprId {
         let e = &mut self.engine;
-        let q = &self.coordinates;
-        let mut dependent_bias = Vec::with_capacity(self.constraints.len());
-        for c in &self.constraints {
-            let sdot = c.velocity;
-            let mut parts = Vec::new();
-            for i in 0..n {
-                let d = e.diff(sdot, q[i].position);
-                if d != ZERO {
-                    let v = e.sym(q[i].velocity);
-                    parts.push(e.mul(d, v));
+        let mut parts = Vec::new();
+        for c in &self.coordinates {
+            let d = e.diff(x, c.position);
+            if d != ZERO {
+                let v = e.sym(c.velocity);
+                parts.push(e.mul(d, v));
+            }
+        }
+        e.sum(&parts)
+    }
+
+    /// Kane's form of the bodies' Euler–Lagrange terms (DESIGN §10), when
+    /// the Lagrangian adds up kinetic energies of bodies: per body the
+    /// Jacobians of its centre and angular velocity and their rates, and
+    /// the terms of the rest of the Lagrangian (with the forces).
+    fn body_terms(&mut self) -> Option<BodyTerms> {
+        if self.speeds.is_some() {
+            return None;
+        }
+        let split = self.kinetic.as_ref()?;
+        let rest = split.rest;
+        let parts: Vec<_> = split
+            .bodies
+            .iter()
+            .map(|b| (b.mass, b.centre, b.rotation))
+            .collect();
+        let bodies = parts
+            .into_iter()
+            .map(|(mass, centre, rotation)| {
+                let jacobian = centre.map(|x| self.positional_jacobian(x));
+                let velocity = jacobian.clone().map(|row| self.times_velocities(&row));
+                let accel0 = velocity.map(|v| self.along_motion(v));
+                let rotation = rotation.map(|(omega, inertia)| BodyRotation {
+                    jacobian: omega.map(|w| self.velocity_jacobian(w)),
+                    accel0: omega.map(|w| self.along_motion(w)),
+                    omega,
+                    inertia,
+                });
+                BodyKinematics {
+                    mass,
+                    jacobian,
+                    accel0,
+                    rotation,
+                }
+            })
+            .collect();
+        let (rest_mass, rest_bias) = self.euler_lagrange_terms(rest, true);
+        Some(BodyTerms {
+            bodies,
+            rest_mass,
+            rest_bias,
+        })
+    }
+
+    /// The block's terms, for a block of homogeneous velocity rows solved by
+    /// elimination (`None` otherwise, or if no pivot order is regular at
+    /// both test points).
+    fn block_terms(&mut self) -> Option<BlockTerms> {
+        if self.velocity_rows.is_empty() || self.affine || self.speeds.is_some() {
+            return None;
+        }
+        let pivots = self.block_pivots()?;
+        let contacts = self.contact_kinematics.clone();
+        let contacts = contacts
+            .into_iter()
+            .map(|c| {
+                let centre_jacobian = c.centre.map(|x| self.positional_jacobian(x));
+                let velocity = centre_jacobian
+                    .clone()
+                    .map(|row| self.times_velocities(&row));
+                ContactTerms {
+                    centre_accel0: velocity.map(|v| self.along_motion(v)),
+                    centre_jacobian,
+                    omega: c.omega,
+                    omega_jacobian: c.omega.map(|w| self.velocity_jacobian(w)),
+                    omega_accel0: c.omega.map(|w| self.along_motion(w)),
+                    axle: c.axle,
+                    radius: c.radius,
+                    tube: c.tube,
+                }
+            })
+            .collect();
+        let rows = self.velocity_rows.clone();
+        let rows = rows
+            .iter()
+            .zip(self.row_contacts.clone())
+            .map(|(&g, source)| match source {
+                Some((contact, component)) => RowTerms::Contact { contact, component },
+                None => RowTerms::Written {
+                    coefficients: self.velocity_jacobian(g),
+                    along: self.along_motion(g),
+                },
+            })
+            .collect();
+        Some(BlockTerms {
+            pivots,
+            rows,
+            contacts,
+        })
+    }
+
+    /// A pivot row for each column of the block c_s (columns: the
+    /// constraints' dependent velocities): partial pivoting at the
+    /// coordinates' zero (the usual operating point), where a column has no
+    /// nonzero candidate left at a random point; `None` if a pivot vanishes
+    /// at both.
+    fn block_pivots(&mut self) -> Option<Vec<usize>> {
+        use crate::sym::dd::Dd;
+        let deps: Vec<SymId> = self
+            .constraints
+            .iter()
+            .map(|c| self.coordinates[c.dependent].velocity)
+            .collect();
+        let rows = self.velocity_rows.clone();
+        let block: Vec<Vec<ExprId>> = rows
+            .iter()
+            .map(|&g| deps.iter().map(|&v| self.engine.diff(g, v)).collect())
+            .collect();
+        let mut rng = crate::sym::Rng::new(0x1319_8A2E_0370_7344);
+        let mut at = |zero: bool| -> Vec<Vec<f64>> {
+            let mut vals: Vec<Dd> = (0..self.engine.num_symbols())
+                .map(|_| Dd::from_f64(0.3 + 1.1 * rng.next_f64()))
+                .collect();
+            vals[self.pi.index()] = Dd::PI;
+            if zero {
+                for c in &self.coordinates {
+                    vals[c.position.index()] = Dd::ZERO;
                 }
             }
-            let dt = e.diff(sdot, self.time);
-            if dt != ZERO {
-                parts.push(dt);
+            block
+                .iter()
+                .map(|r| {
+                    r.iter()
+                        .map(|&x| self.engine.eval(x, &vals).to_f64())
+                        .collect()
+                })
+                .collect()
+        };
+        let (mut a0, mut a1) = (at(true), at(false));
+        let p = deps.len();
+        let mut used = vec![false; p];
+        let mut pivots = Vec::with_capacity(p);
+        for j in 0..p {
+            let best = |a: &[Vec<f64>]| {
+                (0..p)
+                    .filter(|&i| !used[i] && a[i][j].is_finite())
+                    .max_by(|&x, &y| a[x][j].abs().total_cmp(&a[y][j].abs()))
+                    .filter(|&i| a[i][j].abs() > 1e-9)
+            };
+            let r = best(&a0)
+                .filter(|&i| a1[i][j].abs() > 1e-12)
+                .or_else(|| best(&a1))?;
+            used[r] = true;
+            pivots.push(r);
+            for a in [&mut a0, &mut a1] {
+                let piv = a[r][j];
+                if piv == 0.0 || !piv.is_finite() {
+                    continue;
+                }
+                for i in (0..p).filter(|&i| !used[i]) {
+                    let f = a[i][j] / piv;
+                    for c in j..p {
+                        a[i][c] -= f * a[r][c];
+                    }
+                }
             }
-            dependent_bias.push(e.sum(&parts));
         }
-        MultiplierRoute {
-            mass,
-            bias,
-            dependent_bias,
-        }
+        Some(pivots)
+    }
+
+    /// ∂x/∂q_i for every coordinate.
+    fn positional_jacobian(&mut self, x: ExprId) -> Vec<ExprId> {
+        let e = &mut self.engine;
+        self.coordinates
+            .iter()
+            .map(|c| e.diff(x, c.position))
+            .collect()
+    }
+
+    /// ∂x/∂q̇_i for every coordinate.
+    fn velocity_jacobian(&mut self, x: ExprId) -> Vec<ExprId> {
+        let e = &mut self.engine;
+        self.coordinates
+            .iter()
+            .map(|c| e.diff(x, c.velocity))
+            .collect()
+    }
+
+    /// Σ_i row_i q̇_i.
+    fn times_velocities(&mut self, row: &[ExprId]) -> ExprId {
+        let e = &mut self.engine;
+        let parts: Vec<ExprId> = row
+            .iter()
+            .zip(&self.coordinates)
+            .filter(|(x, _)| **x != ZERO)
+            .map(|(&x, c)| {
+                let v = e.sym(c.velocity);
+                e.mul(x, v)
+            })
+            .collect();
+        e.sum(&parts)
+    }
+
+    /// −(Ȧ ṙ)_a − β̇_a from the solved velocities ṡ_a(q, ṙ, t).
+    fn dependent_bias_from_solutions(&mut self) -> Vec<ExprId> {
+        let sdots: Vec<ExprId> = self.constraints.iter().map(|c| c.velocity).collect();
+        sdots
+            .into_iter()
+            .map(|sdot| {
+                let along = self.along_motion(sdot);
+                let dt = self.engine.diff(sdot, self.time);
+                self.engine.add(along, dt)
+            })
+            .collect()
     }
 
     /// The part of s̈ that does not depend on r̈, from the velocity rows:

@@ -262,6 +262,56 @@ pub struct Model {
     /// the range of `f64` (where an error about such a constant in the
     /// generated code points).
     pub huge_constant: Option<SpanRange>,
+    /// The bodies whose `kinetic_energy(..)` the Lagrangian adds up, with
+    /// L − Σ T_b: Kane's form of their Euler–Lagrange terms (DESIGN §10).
+    pub kinetic: Option<KineticSplit>,
+    /// The kinematics of the `rolls(..)` lines, in order, for their rows'
+    /// derivatives in closed form (DESIGN §10).
+    pub contact_kinematics: Vec<ContactKinematics>,
+    /// Per entry of [`Model::velocity_rows`], the contact and component
+    /// (0: x, 1: y, 2: z) of its material velocity it is, if it comes from a
+    /// `rolls(..)` line.
+    pub row_contacts: Vec<Option<(usize, usize)>>,
+    /// The velocity rows' terms for solving their block numerically, once
+    /// derived (see [`crate::mechanics::BlockTerms`]).
+    pub block: Option<crate::mechanics::BlockTerms>,
+}
+
+/// A rolling contact: the material velocity of the contact point is
+/// v = Ġ + ω × o with o = P − G = −r w − ρ e_z, w = (e_z − n_z n)/s,
+/// s = |e_z × n| (w = e_z for a sphere).
+#[derive(Clone)]
+pub struct ContactKinematics {
+    /// The geometric centre G(q).
+    pub centre: [ExprId; 3],
+    /// The world components of the body's angular velocity ω(q, q̇).
+    pub omega: [ExprId; 3],
+    /// The axle n(q) in world components and s(q), for a disc or torus.
+    pub axle: Option<([ExprId; 3], ExprId)>,
+    /// r.
+    pub radius: ExprId,
+    /// ρ (zero but for a torus).
+    pub tube: ExprId,
+}
+
+/// A Lagrangian L = Σ_b T_b + L_rest, T_b the kinetic energies of bodies.
+pub struct KineticSplit {
+    /// The bodies, as their kinetic energies were formed.
+    pub bodies: Vec<KineticBody>,
+    /// L − Σ_b T_b (the potential and any other terms).
+    pub rest: ExprId,
+}
+
+/// One body of a [`KineticSplit`]: T = ½ m |Ċ|² + ½ ω_bᵀ I ω_b.
+pub struct KineticBody {
+    /// The mass m.
+    pub mass: ExprId,
+    /// The centre of mass C(q), world components.
+    pub centre: [ExprId; 3],
+    /// The body components ω_b(q, q̇) of its angular velocity and the
+    /// inertia I about the centre of mass in body axes; `None` for a point
+    /// mass.
+    pub rotation: Option<([ExprId; 3], [[ExprId; 3]; 3])>,
 }
 
 impl Model {

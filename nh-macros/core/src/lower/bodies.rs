@@ -53,6 +53,8 @@ pub(crate) struct Contact {
     pub(crate) point: Vec3,
     /// |e_z × n| of a wheel (zero when it lies flat), for the chart check.
     pub(crate) chart: Option<ExprId>,
+    /// Its kinematics, for the rows' derivatives.
+    pub(crate) kinematics: crate::model::ContactKinematics,
 }
 
 /// The state of a body's lowering (bodies are lowered on first use).
@@ -517,7 +519,45 @@ impl Lowerer<'_> {
             let rot = self.e.mul(half, rot);
             t = self.e.add(t, rot);
         }
+        if matches!(self.place, Place::Lagrangian) {
+            let body = crate::model::KineticBody {
+                mass: b.mass,
+                centre: b.centre,
+                rotation: b.rotation.as_ref().map(|(_, i)| (b.omega_body, *i)),
+            };
+            self.kinetic.push((body, t));
+        }
         Some(t)
+    }
+
+    /// L = Σ_b T_b + L_rest over the bodies whose kinetic energy the
+    /// Lagrangian took, when there are any and none depends on time
+    /// explicitly (Kane's form of their terms assumes Ċ = Σ ∂C/∂q q̇).
+    pub(super) fn kinetic_split(
+        &mut self,
+        lagrangian: ExprId,
+    ) -> Option<crate::model::KineticSplit> {
+        let kinetic = std::mem::take(&mut self.kinetic);
+        let t = self.t_sym;
+        let timed = kinetic.iter().any(|(b, _)| {
+            let omega = b.rotation.iter().flat_map(|r| r.0);
+            b.centre
+                .iter()
+                .copied()
+                .chain(omega)
+                .any(|x| self.e.depends_on(x, t))
+        });
+        if kinetic.is_empty() || timed {
+            return None;
+        }
+        let mut rest = lagrangian;
+        for (_, t) in &kinetic {
+            rest = self.e.sub(rest, *t);
+        }
+        Some(crate::model::KineticSplit {
+            bodies: kinetic.into_iter().map(|(b, _)| b).collect(),
+            rest,
+        })
     }
 
     /// The contact of a `rolls(..)` line: the lowest point of a round body
@@ -603,15 +643,15 @@ impl Lowerer<'_> {
         tube: Option<ExprId>,
     ) -> Contact {
         let ez = unit(2);
-        let (w, chart) = match axle {
-            None => (ez, None),
+        let (w, chart, world_axle) = match axle {
+            None => (ez, None, None),
             Some(a) => {
                 let n = mat_vec(&mut self.e, &rot.matrix, a);
                 let nz_n = scale3(&mut self.e, n[2], n);
                 let towards = sub3(&mut self.e, ez, nz_n);
                 let s = self.rim_scale(n[2]);
                 let inv = self.e.pow(s, Rational::MINUS_ONE);
-                (scale3(&mut self.e, inv, towards), Some(s))
+                (scale3(&mut self.e, inv, towards), Some(s), Some((n, s)))
             }
         };
         let mut offset = scale3(&mut self.e, radius, w);
@@ -633,6 +673,13 @@ impl Lowerer<'_> {
             height,
             point,
             chart,
+            kinematics: crate::model::ContactKinematics {
+                centre,
+                omega,
+                axle: world_axle,
+                radius,
+                tube: tube.unwrap_or(ZERO),
+            },
         }
     }
 

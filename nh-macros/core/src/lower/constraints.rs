@@ -33,7 +33,19 @@ pub struct Lowered {
     pub contacts: Vec<[ExprId; 3]>,
     /// See [`crate::model::Model::velocity_rows`].
     pub velocity_rows: Vec<ExprId>,
+    /// See [`crate::model::Model::contact_kinematics`].
+    pub contact_kinematics: Vec<crate::model::ContactKinematics>,
+    /// See [`crate::model::Model::row_contacts`].
+    pub row_contacts: Vec<Option<(usize, usize)>>,
+    /// Per velocity row, the index of its `rolls(..)` line in the
+    /// definition and the component, if it is one's.
+    row_sources: Vec<Option<(usize, usize)>>,
 }
+
+/// What the no-slip rows of a `rolls(..)` line say.
+const NO_SLIP_X: &str = "no slip along x";
+/// See [`NO_SLIP_X`].
+const NO_SLIP_Y: &str = "no slip along y";
 
 /// Where a constraint row comes from.
 #[derive(Clone, Copy)]
@@ -51,6 +63,22 @@ impl Source<'_> {
             Source::Written(c) => source_of(c),
             Source::Rolling(r, what) => format!("rolls({}, ..): {what}", r.body),
         }
+    }
+
+    /// The index of the `rolls(..)` line in `def` and the component of the
+    /// contact point's material velocity the row is (z for the height, whose
+    /// rate is that component), for a row of one.
+    fn contact_component(&self, def: &SystemDef) -> Option<(usize, usize)> {
+        let Source::Rolling(r, what) = self else {
+            return None;
+        };
+        let line = def.rolling.iter().position(|x| std::ptr::eq(x, *r))?;
+        let comp = match *what {
+            NO_SLIP_X => 0,
+            NO_SLIP_Y => 1,
+            _ => 2,
+        };
+        Some((line, comp))
     }
 
     /// The range to point at.
@@ -103,9 +131,14 @@ impl Lowerer<'_> {
         let mut sides = Vec::new();
         let mut wheels = Vec::new();
         let mut contacts = Vec::new();
+        let mut kinematics = Vec::new();
         for i in 0..=list.len() {
             for r in def.rolling.iter().filter(|r| r.position == i) {
-                contacts.extend(self.rolling_rows(r, &mut sides, &mut wheels));
+                if let Some((point, kin)) = self.rolling_rows(r, &mut sides, &mut wheels) {
+                    contacts.push(point);
+                    let line = def.rolling.iter().position(|x| std::ptr::eq(x, r));
+                    kinematics.push((line, kin));
+                }
             }
             let Some(c) = list.get(i) else { break };
             let lhs = self.lower(&c.lhs, 0);
@@ -126,6 +159,17 @@ impl Lowerer<'_> {
         }
         let mut lowered = self.solve_rows(def, rows).unwrap_or_default();
         lowered.contacts = contacts;
+        // each velocity row of a contact: which contact, which component
+        lowered.row_contacts = lowered
+            .row_sources
+            .iter()
+            .map(|src| {
+                let (r, comp) = (*src)?;
+                let c = kinematics.iter().position(|k| k.0 == Some(r))?;
+                Some((c, comp))
+            })
+            .collect();
+        lowered.contact_kinematics = kinematics.into_iter().map(|k| k.1).collect();
         for w in wheels {
             lowered.chart = Some(match lowered.chart {
                 Some(c) => self.e.mul(c, w),
@@ -142,16 +186,16 @@ impl Lowerer<'_> {
         r: &'d RollingDef,
         sides: &mut Vec<(Source<'d>, ExprId, ExprId)>,
         wheels: &mut Vec<ExprId>,
-    ) -> Option<[ExprId; 3]> {
+    ) -> Option<([ExprId; 3], crate::model::ContactKinematics)> {
         let contact = self.rolling_contact(r)?;
         if let Some(h) = contact.height {
             sides.push((Source::Rolling(r, "contact with the plane z = 0"), h, ZERO));
         }
         let [vx, vy] = contact.velocity;
-        sides.push((Source::Rolling(r, "no slip along x"), vx, ZERO));
-        sides.push((Source::Rolling(r, "no slip along y"), vy, ZERO));
+        sides.push((Source::Rolling(r, NO_SLIP_X), vx, ZERO));
+        sides.push((Source::Rolling(r, NO_SLIP_Y), vy, ZERO));
         wheels.extend(contact.chart);
-        Some(contact.point)
+        Some((contact.point, contact.kinematics))
     }
 
     /// For each constraint, the coordinate it makes dependent if it is
@@ -355,11 +399,15 @@ impl Lowerer<'_> {
         let (solved, det) = self.solve_block(&coef, &bias, &chosen, &free);
         // a block solved by elimination, with no explicit rows: its rows
         // as written, for the dependent accelerations (see Model::velocity_rows)
-        let velocity_rows = if explicit_deps.is_empty() && implicit.len() > linear::CRAMER_MAX {
-            implicit.iter().map(|&a| rows[a].value).collect()
-        } else {
-            Vec::new()
-        };
+        let (velocity_rows, row_sources) =
+            if explicit_deps.is_empty() && implicit.len() > linear::CRAMER_MAX {
+                implicit
+                    .iter()
+                    .map(|&a| (rows[a].value, rows[a].src.contact_component(def)))
+                    .unzip()
+            } else {
+                (Vec::new(), Vec::new())
+            };
         let chart = (!implicit.is_empty()).then(|| self.regularity(det, &coef));
         let back: HashMap<SymId, ExprId> = chosen
             .iter()
@@ -407,6 +455,8 @@ impl Lowerer<'_> {
             affine,
             contacts: Vec::new(),
             velocity_rows,
+            row_sources,
+            ..Lowered::default()
         })
     }
 

@@ -1,0 +1,251 @@
+//! A block of velocity rows solved numerically in the generated code
+//! (DESIGN §9): the coefficients c_s, c_r of its rows, an LU factorisation
+//! of c_s with the pivots chosen at expansion, the dependent velocities
+//! ṡ = −c_s⁻¹ c_r ṙ and accelerations at r̈ = 0, −c_s⁻¹ ġ. Rows of a rolling
+//! contact are assembled from the contact's kinematics (DESIGN §10), whose
+//! expanded forms would carry 1/|e_z × n| into every term.
+
+use super::{exprs, matrix};
+use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
+use crate::mechanics::{BlockTerms, ContactTerms, RowTerms};
+use crate::model::Model;
+
+/// c_s factored: for column j, its pivot row, 1/pivot and the multipliers
+/// of the rows below; the rows of U.
+pub(crate) struct Lu {
+    pivots: Vec<usize>,
+    inverse: Vec<Node>,
+    multipliers: Vec<Vec<(usize, Node)>>,
+    upper: Vec<Vec<Node>>,
+}
+
+/// A contact's offset o = P − G and, for a disc or torus, (n, s, w).
+struct Offset {
+    o: [Node; 3],
+    rim: Option<([Node; 3], Node, [Node; 3])>,
+}
+
+/// The coefficients ∂g_a/∂q̇_i of the block's rows, p × n.
+fn coefficients(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Vec<Node>> {
+    let offsets: Vec<Offset> = bt.contacts.iter().map(|c| offset(d, m, c)).collect();
+    bt.rows
+        .iter()
+        .map(|row| match row {
+            RowTerms::Written { coefficients, .. } => exprs(d, m, coefficients),
+            RowTerms::Contact { contact, component } => {
+                let c = &bt.contacts[*contact];
+                let jg = matrix(d, m, &c.centre_jacobian);
+                let w = matrix(d, m, &c.omega_jacobian);
+                let o = offsets[*contact].o;
+                (0..m.n())
+                    .map(|i| {
+                        let wi = [w[0][i], w[1][i], w[2][i]];
+                        let spin = cross_component(d, wi, o, *component);
+                        d.add(jg[*component][i], spin)
+                    })
+                    .collect()
+            }
+        })
+        .collect()
+}
+
+/// The rows' rates at q̈ = 0, Σ ∂g/∂q_i q̇_i.
+fn rates(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Node> {
+    let offsets: Vec<Offset> = bt.contacts.iter().map(|c| offset(d, m, c)).collect();
+    bt.rows
+        .iter()
+        .map(|row| match row {
+            RowTerms::Written { along, .. } => d.expr(&m.engine, *along),
+            RowTerms::Contact { contact, component } => {
+                let c = &bt.contacts[*contact];
+                let off = &offsets[*contact];
+                let omega = exprs(d, m, &c.omega);
+                let omega = [omega[0], omega[1], omega[2]];
+                let alpha0 = exprs(d, m, &c.omega_accel0);
+                let a0 = d.expr(&m.engine, c.centre_accel0[*component]);
+                let turn = cross_component(d, [alpha0[0], alpha0[1], alpha0[2]], off.o, *component);
+                let acc = d.add(a0, turn);
+                match &off.rim {
+                    None => acc,
+                    Some(rim) => {
+                        let radius = d.expr(&m.engine, c.radius);
+                        let wdot = rim_rate(d, omega, rim);
+                        let odot = wdot.map(|x| {
+                            let t = d.mul(radius, x);
+                            d.neg(t)
+                        });
+                        let roll = cross_component(d, omega, odot, *component);
+                        d.add(acc, roll)
+                    }
+                }
+            }
+        })
+        .collect()
+}
+
+/// o = −r w − ρ e_z with w = (e_z − n_z n)/s (w = e_z for a sphere).
+fn offset(d: &mut Dag, m: &Model, c: &ContactTerms) -> Offset {
+    let radius = d.expr(&m.engine, c.radius);
+    let tube = d.expr(&m.engine, c.tube);
+    let (w, rim) = match &c.axle {
+        None => ([ZERO_NODE, ZERO_NODE, ONE_NODE], None),
+        Some((n, s)) => {
+            let n = exprs(d, m, n);
+            let n = [n[0], n[1], n[2]];
+            let s = d.expr(&m.engine, *s);
+            let ez = [ZERO_NODE, ZERO_NODE, ONE_NODE];
+            let w = [0, 1, 2].map(|x| {
+                let nzn = d.mul(n[2], n[x]);
+                let t = d.sub(ez[x], nzn);
+                d.div(t, s)
+            });
+            (w, Some((n, s, w)))
+        }
+    };
+    let o = [0, 1, 2].map(|x| {
+        let rw = d.mul(radius, w[x]);
+        let rw = d.neg(rw);
+        if x == 2 { d.sub(rw, tube) } else { rw }
+    });
+    Offset { o, rim }
+}
+
+/// ẇ for w = (e_z − n_z n)/s, with ṅ = ω × n (the axle turns with the
+/// body) and ṡ = −n_z ṅ_z / s (s² = 1 − n_z²).
+fn rim_rate(d: &mut Dag, omega: [Node; 3], rim: &([Node; 3], Node, [Node; 3])) -> [Node; 3] {
+    let (n, s, w) = *rim;
+    let ndot = [0, 1, 2].map(|x| cross_component(d, omega, n, x));
+    let t = d.mul(n[2], ndot[2]);
+    let t = d.div(t, s);
+    let sdot = d.neg(t);
+    [0, 1, 2].map(|x| {
+        let a = d.mul(ndot[2], n[x]);
+        let b = d.mul(n[2], ndot[x]);
+        let c = d.mul(w[x], sdot);
+        let num = d.add(a, b);
+        let num = d.add(num, c);
+        let num = d.neg(num);
+        d.div(num, s)
+    })
+}
+
+/// Component `x` of u × v.
+fn cross_component(d: &mut Dag, u: [Node; 3], v: [Node; 3], x: usize) -> Node {
+    let (y, z) = ((x + 1) % 3, (x + 2) % 3);
+    let a = d.mul(u[y], v[z]);
+    let b = d.mul(u[z], v[y]);
+    d.sub(a, b)
+}
+
+/// LU of `a` (p × p) with the given pivot row per column.
+fn factor(d: &mut Dag, mut a: Vec<Vec<Node>>, pivots: &[usize]) -> Lu {
+    let p = pivots.len();
+    let mut used = vec![false; p];
+    let mut inverse = Vec::with_capacity(p);
+    let mut multipliers = Vec::with_capacity(p);
+    for (j, &r) in pivots.iter().enumerate() {
+        used[r] = true;
+        let inv = d.div(ONE_NODE, a[r][j]);
+        inverse.push(inv);
+        let mut step = Vec::new();
+        for i in (0..p).filter(|&i| !used[i]) {
+            if a[i][j] == ZERO_NODE {
+                continue;
+            }
+            let f = d.mul(a[i][j], inv);
+            for c in (j + 1)..p {
+                let t = d.mul(f, a[r][c]);
+                a[i][c] = d.sub(a[i][c], t);
+            }
+            step.push((i, f));
+        }
+        multipliers.push(step);
+    }
+    Lu {
+        pivots: pivots.to_vec(),
+        inverse,
+        multipliers,
+        upper: a,
+    }
+}
+
+/// x with c_s x = b.
+fn solve(d: &mut Dag, lu: &Lu, mut b: Vec<Node>) -> Vec<Node> {
+    for (j, step) in lu.multipliers.iter().enumerate() {
+        let r = lu.pivots[j];
+        for &(i, f) in step {
+            let t = d.mul(f, b[r]);
+            b[i] = d.sub(b[i], t);
+        }
+    }
+    let p = lu.pivots.len();
+    let mut x = vec![ZERO_NODE; p];
+    for j in (0..p).rev() {
+        let r = lu.pivots[j];
+        let mut v = b[r];
+        for c in (j + 1)..p {
+            let t = d.mul(lu.upper[r][c], x[c]);
+            v = d.sub(v, t);
+        }
+        x[j] = d.mul(v, lu.inverse[j]);
+    }
+    x
+}
+
+/// The block's coefficients split into c_s (columns: the constraints'
+/// dependent velocities) factored, and c_r (columns: the independent ones).
+fn factored(d: &mut Dag, m: &Model, bt: &BlockTerms) -> (Lu, Vec<Vec<Node>>) {
+    let coef = coefficients(d, m, bt);
+    let cs: Vec<Vec<Node>> = coef
+        .iter()
+        .map(|row| m.constraints.iter().map(|c| row[c.dependent]).collect())
+        .collect();
+    let cr = coef
+        .iter()
+        .map(|row| m.independent().iter().map(|&i| row[i]).collect())
+        .collect();
+    (factor(d, cs, &bt.pivots), cr)
+}
+
+/// −c_s⁻¹ c_r: column b gives the dependent velocities (in the order of
+/// the constraints) per unit of the independent velocity b.
+pub(crate) fn velocity_columns(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Vec<Node>> {
+    let (lu, cr) = factored(d, m, bt);
+    (0..m.k())
+        .map(|b| {
+            let rhs = cr.iter().map(|row: &Vec<Node>| d.neg(row[b])).collect();
+            solve(d, &lu, rhs)
+        })
+        .collect()
+}
+
+/// The dependent velocities −c_s⁻¹ c_r ṙ, in the order of the constraints.
+pub(crate) fn dependent_velocities(
+    d: &mut Dag,
+    m: &Model,
+    bt: &BlockTerms,
+    rdot: &[Node],
+) -> Vec<Node> {
+    let (lu, cr) = factored(d, m, bt);
+    let rhs = cr
+        .iter()
+        .map(|row| {
+            let mut acc = ZERO_NODE;
+            for (&c, &v) in row.iter().zip(rdot) {
+                let t = d.mul(c, v);
+                acc = d.sub(acc, t);
+            }
+            acc
+        })
+        .collect();
+    solve(d, &lu, rhs)
+}
+
+/// The dependent accelerations at r̈ = 0, −c_s⁻¹ ġ, in the order of the
+/// constraints (the dependent velocities bound in `d`).
+pub(crate) fn dependent_bias(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Node> {
+    let (lu, _) = factored(d, m, bt);
+    let rates = rates(d, m, bt);
+    let rhs = rates.into_iter().map(|x| d.neg(x)).collect();
+    solve(d, &lu, rhs)
+}
