@@ -187,6 +187,21 @@ mod tests {
     }
 
     #[test]
+    fn functions_of_other_notations_are_answered_by_meaning() {
+        assert!(function_meaning("arctan").is_some_and(|m| m.contains("`atan`")));
+        assert!(function_meaning("log").is_some_and(|m| m.contains("`ln`")));
+        assert!(function_meaning("sgn").is_some_and(|m| m.contains("`abs(x)`")));
+        assert!(function_meaning("ctg").is_some_and(|m| m.contains("`cot`")));
+        // the language's own functions have no other meaning
+        for f in crate::lower::FUNCTIONS {
+            assert_eq!(function_meaning(f), None, "{f}");
+        }
+        // spelling still finds the nearest function for a typo
+        assert_eq!(closest("cso", crate::lower::FUNCTIONS), Some("cos"));
+        assert_eq!(closest("atna", crate::lower::FUNCTIONS), Some("atan"));
+    }
+
+    #[test]
     fn raw_and_plain_identifiers_are_one_name() {
         let span = proc_macro2::Span::call_site();
         assert_eq!(canonical(Ident::new_raw("x", span)), "x");
