@@ -384,6 +384,13 @@ pub trait Bodies {
     fn description(&self) -> Vec<String> {
         Vec::new()
     }
+    /// Whether an output asked for gets its method even where the form of
+    /// the system has none (`multipliers` in generalized speeds): only the
+    /// stand-in, whose errors already say so, keeps the method the user
+    /// meant to call.
+    fn every_output_asked(&self) -> bool {
+        false
+    }
 }
 
 /// The facade's private module in generated code: a `use` in the block
@@ -635,7 +642,8 @@ fn field_names(params: &[Ident]) -> Vec<Ident> {
 fn inherent_methods(shape: &Shape, dims: Dims, bodies: &mut dyn Bodies) -> TokenStream {
     let mut methods = TokenStream::new();
     for spec in METHODS.iter().filter(|s| s.method != GeneratedMethod::Rhs) {
-        if !spec.is_requested(shape) {
+        let asked = spec.requested_by.is_some_and(|o| shape.outputs.contains(o));
+        if !(spec.is_requested(shape) || bodies.every_output_asked() && asked) {
             continue;
         }
         let Method { doc, body } = bodies.method(spec.method);
@@ -949,6 +957,10 @@ impl Bodies for StandIn {
             /// Not generated (the system has errors).
             pub const ROUTE: &'static str = "";
         }
+    }
+
+    fn every_output_asked(&self) -> bool {
+        true
     }
 }
 

@@ -1,7 +1,7 @@
 //! Assembly of the generated struct, its inherent methods and its runtime
 //! trait implementation (DESIGN §3), from the derived mechanics.
 
-use crate::api::{Bodies, GeneratedMethod, Method, Shape};
+use crate::api::{Bodies, GeneratedMethod, Method};
 use crate::check;
 use crate::ctxt::Ctxt;
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
@@ -14,6 +14,9 @@ use quote::quote;
 
 mod block;
 mod speeds;
+mod stand_in;
+
+pub use stand_in::shape_of;
 
 /// Operations of r̈ beyond which other methods call `accelerations` (and
 /// `reduced_system`) instead of repeating their code.
@@ -1309,98 +1312,6 @@ impl Bodies for Derived<'_> {
             /// The route [`Self::accelerations`] uses: `"multiplier"` or `"curvature"`.
             pub const ROUTE: &'static str = #chosen;
         }
-    }
-}
-
-/// The names of a declaration list as written (raw identifiers unraw).
-fn names_as_written(list: &Option<(Ident, Vec<Ident>)>) -> Vec<String> {
-    list.as_ref()
-        .map(|p| {
-            p.1.iter()
-                .map(|c| syn::ext::IdentExt::unraw(c).to_string())
-                .collect()
-        })
-        .unwrap_or_default()
-}
-
-/// The shape of the API for a definition, as far as it could be parsed
-/// (used for the stand-in of a system with errors).
-pub fn shape_of(def: &SystemDef) -> Shape<'_> {
-    let coords: Vec<Ident> = def
-        .coordinates
-        .as_ref()
-        .map(|c| c.1.clone())
-        .unwrap_or_default();
-    let mut dependent: Vec<usize> = Vec::new();
-    if let Some((_, list)) = &def.constraints {
-        for c in list {
-            if let Some(crate::parse::Expr::Name(id)) = c.lhs.call1("dot")
-                && let Some(i) = coords.iter().position(|x| x == id)
-                && !dependent.contains(&i)
-            {
-                dependent.push(i);
-            }
-        }
-    }
-    // the coordinates named for the implicit and holonomic constraints
-    if let Some((_, names)) = &def.dependent {
-        for id in names {
-            if let Some(i) = coords.iter().position(|x| x == id)
-                && !dependent.contains(&i)
-            {
-                dependent.push(i);
-            }
-        }
-    }
-    // one dependent coordinate per constraint: those the rule would choose
-    // are not known without lowering, but their number is, and the API's
-    // dimensions depend only on it (the last coordinates stand in)
-    // (a rolling contact: its two no-slip rows; a contact height that is
-    // not identically zero adds one, which only lowering can tell)
-    let wanted = def.constraints.as_ref().map_or(0, |(_, l)| l.len()) + 2 * def.rolling.len();
-    for i in (0..coords.len()).rev() {
-        if dependent.len() >= wanted.min(coords.len()) {
-            break;
-        }
-        if !dependent.contains(&i) {
-            dependent.push(i);
-        }
-    }
-    dependent.sort_unstable();
-    let independent = (0..coords.len())
-        .filter(|i| !dependent.contains(i))
-        .collect();
-    let mut outputs = crate::model::Outputs::default();
-    if let Some((_, list)) = &def.outputs {
-        for o in list {
-            outputs.set(&o.to_string());
-        }
-    }
-    // an unknown or malformed parameter list leaves no fields: fine for a stand-in
-    Shape {
-        attrs: &def.attrs,
-        krate: &def.krate,
-        vis: &def.vis,
-        name: &def.name,
-        params: def
-            .parameters
-            .as_ref()
-            .map(|p| p.1.clone())
-            .unwrap_or_default(),
-        coords: coords
-            .iter()
-            .map(|c| syn::ext::IdentExt::unraw(c).to_string())
-            .collect(),
-        inputs: names_as_written(&def.inputs),
-        independent,
-        dependent,
-        outputs,
-        integrable: false,
-        speeds: names_as_written(&def.speeds),
-        dependent_doc: None,
-        affine: false,
-        rheonomic: false,
-        contacts: def.rolling.len(),
     }
 }
 

@@ -278,11 +278,71 @@ pub struct SystemDef {
     pub poisoned: Vec<Ident>,
     /// Whether a `lagrangian` item was written, even if it failed to parse.
     pub lagrangian_written: bool,
+    /// What the rejected items were meant to declare, for the stand-in
+    /// emitted next to the errors (lowering does not see it).
+    pub rejected: Rejected,
     /// The path of the `nonholonomic` facade in the generated code: the
     /// facade's `macro_rules!` wrapper passes its `$crate` as `@crate($crate)`
     /// before the system, so a renamed dependency works; `::nonholonomic`
     /// when the engine is called without it (its own tests).
     pub krate: TokenStream,
+}
+
+/// What items rejected by the parser were meant to declare: the stand-in
+/// emitted next to the errors keeps the dimensions the user meant (a
+/// parameter list with a syntax error still gives `new` its arguments, a
+/// constraint that does not parse still removes an independent velocity),
+/// so the code that uses the system raises no follow-up errors.
+#[derive(Clone, Debug, Default)]
+pub struct Rejected {
+    /// The names of blocks of names that did not parse (or a misspelled
+    /// block's, under the block it was taken for), read leniently: every
+    /// identifier is a name, and a comma-separated entry without one (`2`)
+    /// a placeholder.
+    pub names: Vec<(&'static str, Vec<Ident>)>,
+    /// The lines of `constraints` (or of a block misspelled for it) that did
+    /// not parse.
+    pub constraint_lines: usize,
+}
+
+impl Rejected {
+    /// The names block `which` was meant to declare, if it was rejected.
+    pub fn names_of(&self, which: &str) -> Option<&[Ident]> {
+        self.names
+            .iter()
+            .find(|(w, _)| *w == which)
+            .map(|(_, n)| n.as_slice())
+    }
+}
+
+/// The names a block of names that failed to parse was meant to declare:
+/// each identifier, and a placeholder for each comma-separated entry with
+/// none (`parameters { m, 2 }` meant two parameters).
+fn names_meant(group: &proc_macro2::Group) -> Vec<Ident> {
+    let mut names = Vec::new();
+    let mut entry_named = false;
+    let mut entry_empty = true;
+    let close_entry = |named: bool, empty: bool, names: &mut Vec<Ident>| {
+        if !named && !empty {
+            let i = names.len();
+            names.push(quote::format_ident!("__nh_unnamed_{}", i));
+        }
+    };
+    for tt in group.stream() {
+        match tt {
+            TokenTree::Punct(p) if p.as_char() == ',' => {
+                close_entry(entry_named, entry_empty, &mut names);
+                (entry_named, entry_empty) = (false, true);
+            }
+            TokenTree::Ident(id) => {
+                names.push(names::canonical(id));
+                (entry_named, entry_empty) = (true, false);
+            }
+            _ => entry_empty = false,
+        }
+    }
+    close_entry(entry_named, entry_empty, &mut names);
+    names
 }
 
 /// Splits off the `@crate(path)` prefix the facade's wrapper puts before the
@@ -388,6 +448,7 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         kinematics: None,
         poisoned: Vec::new(),
         lagrangian_written: false,
+        rejected: Rejected::default(),
         krate,
     };
     for item in split_items(body.stream(), cx) {
@@ -550,7 +611,9 @@ fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &
         "constraints" => {
             let mut list = Vec::new();
             let mut rolling = Vec::new();
-            for line in parse_each(group, parse_constraint_line, cx) {
+            let lines = parse_each(group, parse_constraint_line, cx);
+            def.rejected.constraint_lines += split_statements(group).len() - lines.len();
+            for line in lines {
                 match line {
                     Line::Equation(c) => list.push(c),
                     Line::Rolling(mut r) => {
@@ -574,6 +637,7 @@ fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &
         }
         _ => {
             let hint = crate::names::suggest(&which, &BLOCKS);
+            reject_misspelled_block(&which, group, def);
             cx.error_at(
                 kw.span(),
                 format!(
@@ -581,6 +645,21 @@ fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &
                 ),
             );
         }
+    }
+}
+
+/// What a misspelled block (`constraint { .. }`) was meant to declare, for
+/// the stand-in: the names of a block of names, or the number of lines of
+/// `constraints`.
+fn reject_misspelled_block(which: &str, group: &proc_macro2::Group, def: &mut SystemDef) {
+    match crate::names::closest(which, BLOCKS) {
+        Some("constraints") => {
+            def.rejected.constraint_lines += split_statements(group).len();
+        }
+        Some(block @ ("parameters" | "coordinates" | "inputs" | "speeds" | "outputs")) => {
+            def.rejected.names.push((block, names_meant(group)));
+        }
+        _ => {}
     }
 }
 
@@ -596,6 +675,9 @@ fn parse_name_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, 
                 if let TokenTree::Ident(id) = tt {
                     def.poisoned.push(names::canonical(id));
                 }
+            }
+            if let Some(block) = BLOCKS.into_iter().find(|b| *b == which) {
+                def.rejected.names.push((block, names_meant(group)));
             }
             return;
         }

@@ -13,4 +13,13 @@ nonholonomic_system! {
     }
 }
 
-fn main() {}
+fn main() {
+    let disc = Disc::new(1.0, 0.5);
+    let q = SVector::<f64, 4>::from([0.1, 0.2, 0.3, 0.4]);
+    let rdot = SVector::<f64, 2>::from([0.5, 1.0]);
+    let inputs = SVector::<f64, 1>::from([1.0]);
+    let _: SVector<f64, 2> = disc.accelerations(0.0, &q, &rdot, &inputs);
+    let _: SVector<f64, 2> = disc.dependent_velocities(&q, &rdot);
+    let x0 = SVector::<f64, 6>::zeros();
+    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&Driven::new(&disc, inputs), 0.0, x0, 1.0);
+}

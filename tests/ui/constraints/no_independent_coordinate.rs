@@ -12,4 +12,12 @@ nonholonomic_system! {
     }
 }
 
-fn main() {}
+fn main() {
+    let pair = Pair::new(1.0);
+    let q = SVector::<f64, 2>::from([0.1, 0.2]);
+    let rdot = SVector::<f64, 0>::zeros();
+    let _: SVector<f64, 0> = pair.accelerations(0.0, &q, &rdot);
+    let _: SVector<f64, 2> = pair.dependent_velocities(&q, &rdot);
+    let x0 = SVector::<f64, 2>::zeros();
+    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&pair, 0.0, x0, 1.0);
+}

@@ -12,4 +12,12 @@ nonholonomic_system! {
     }
 }
 
-fn main() {}
+fn main() {
+    let sled = Sled::new(1.0, 0.5, 9.81, 0.2);
+    let q = SVector::<f64, 3>::from([0.1, 0.2, 0.3]);
+    let rdot = SVector::<f64, 1>::from([0.5]);
+    let _: SVector<f64, 1> = sled.accelerations(0.0, &q, &rdot);
+    let _: SVector<f64, 2> = sled.dependent_velocities(&q, &rdot);
+    let x0 = SVector::<f64, 4>::zeros();
+    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&sled, 0.0, x0, 1.0);
+}

@@ -19,4 +19,12 @@ nonholonomic_system! {
     }
 }
 
-fn main() {}
+fn main() {
+    let many = Many::new(1.0);
+    let q = SVector::<f64, 10>::from([0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0]);
+    let rdot = SVector::<f64, 1>::from([0.5]);
+    let _: SVector<f64, 1> = many.accelerations(0.0, &q, &rdot);
+    let _: SVector<f64, 9> = many.dependent_velocities(&q, &rdot);
+    let x0 = SVector::<f64, 11>::zeros();
+    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&many, 0.0, x0, 1.0);
+}

@@ -13,4 +13,12 @@ nonholonomic_system! {
     }
 }
 
-fn main() {}
+fn main() {
+    let sled = Sled::new(1.0, 0.5);
+    let q = SVector::<f64, 3>::from([0.1, 0.2, 0.3]);
+    let u = SVector::<f64, 2>::from([0.5, 1.0]);
+    let _: SVector<f64, 2> = sled.accelerations(0.0, &q, &u);
+    let _: SVector<f64, 3> = sled.velocities(0.0, &q, &u);
+    let x0 = SVector::<f64, 5>::zeros();
+    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&sled, 0.0, x0, 1.0);
+}
