@@ -1576,27 +1576,36 @@ impl ComparedRoutes {
     }
 }
 
-/// A compile-time warning on stable Rust (the deprecation-note technique):
-/// a deprecated constant used at the span of the `constraints` keyword.
+/// A compile-time warning on stable Rust, which has no warning a
+/// procedural macro can emit: the use of a deprecated item, whose note is
+/// the message. rustc words it "use of deprecated {kind} `{path}`: {note}";
+/// the item is a `macro_rules!` macro local to an anonymous constant,
+/// whose path is its bare name, so the warning's first words say what it is:
+/// "use of deprecated macro `LineWheel_has_integrable_constraints`: a
+/// warning, not a deprecation: ..." (a constant's path would read
+/// `_::name`). Its invocation carries the span of the `constraints`
+/// keyword, where the warning points; it is the lint `deprecated`, so
+/// `#[allow(deprecated)]` on the system silences it.
 fn integrability_warning(def: &SystemDef, span: proc_macro2::Span, proved: bool) -> TokenStream {
     let how = if proved {
         "every curvature coefficient B^b_αβ of (5.21) vanishes identically"
     } else {
         "every curvature coefficient B^b_αβ of (5.21) evaluates to zero (to 1e-24 of its terms, in 32-digit arithmetic) at 16 random points, though the simplifier could not prove it"
     };
+    let name = syn::ext::IdentExt::unraw(&def.name);
     let note = format!(
-        "the constraints of `{}` are integrable: {how}, so they are holonomic in disguise. Integrate them and eliminate the dependent coordinates (a smaller system with no constraints), or keep them: the equations of motion are still correct. `{}::INTEGRABLE` is `true`.",
-        def.name, def.name
+        "a warning, not a deprecation: {how}, so the constraints of `{name}` are holonomic in disguise. Integrate them and eliminate the dependent coordinates (a smaller system with no constraints), or keep them: the equations of motion are still correct. `{name}::INTEGRABLE` is `true`; `#[allow(deprecated)]` on the struct silences this warning."
     );
-    let item = proc_macro2::Ident::new("integrable_constraints", span);
+    let item = proc_macro2::Ident::new(&format!("{name}_has_integrable_constraints"), span);
     let inherited = crate::attrs::inherited(&def.attrs);
     quote::quote_spanned! {span=>
         #(#inherited)*
         const _: () = {
             #[deprecated(note = #note)]
-            #[allow(non_upper_case_globals)]
-            const integrable_constraints: () = ();
-            let _ = #item;
+            macro_rules! #item {
+                () => {};
+            }
+            #item!();
         };
     }
 }
