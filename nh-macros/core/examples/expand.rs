@@ -10,6 +10,12 @@
 //! With a file, every `nonholonomic_system! { .. }` in it is expanded; with
 //! standard input, the input is the macro's body. `--code` also prints the
 //! generated code. Expansion time is the median of 21 runs.
+//!
+//! A system with errors is not measured: its errors are printed the way the
+//! compiler prints them (message, `FILE:line:column`, the source line with
+//! the culprit underlined), and the tool exits with status 1 after the other
+//! systems.
+use nh_core::ReportedError;
 use proc_macro2::{TokenStream, TokenTree};
 use std::io::Read;
 use std::time::Instant;
@@ -72,7 +78,23 @@ fn main() {
     } else {
         vec![tokens]
     };
+    let source = file.map_or("<stdin>", String::as_str);
+    if bodies.is_empty() {
+        eprintln!("no `nonholonomic_system! {{ .. }}` in {source}");
+        std::process::exit(2);
+    }
+    let mut failed = false;
     for body in bodies {
+        let errors = nh_core::reported_errors(&nh_core::expand(body.clone()));
+        if !errors.is_empty() {
+            for e in &errors {
+                eprintln!("{}", render(e, source, &src));
+            }
+            let s = if errors.len() == 1 { "" } else { "s" };
+            eprintln!("{source}: the system has {} error{s}", errors.len());
+            failed = true;
+            continue;
+        }
         let mut times = Vec::new();
         let mut result = None;
         for _ in 0..runs {
@@ -96,4 +118,28 @@ fn main() {
             );
         }
     }
+    if failed {
+        std::process::exit(1);
+    }
+}
+
+/// An error as the compiler prints it: the message, where it is, and the
+/// source line with the culprit underlined (lines and columns from the
+/// spans of the parsed source).
+fn render(e: &ReportedError, source: &str, src: &str) -> String {
+    let (start, end) = (e.start.start(), e.end.end());
+    let num = start.line.to_string();
+    let pad = " ".repeat(num.len());
+    let (line, column) = (start.line, start.column + 1);
+    let mut out = format!("error: {}\n{pad}--> {source}:{line}:{column}", e.message);
+    if let Some(text) = src.lines().nth(start.line.wrapping_sub(1)) {
+        let width = if end.line == start.line {
+            end.column.saturating_sub(start.column).max(1)
+        } else {
+            text.chars().count().saturating_sub(start.column).max(1)
+        };
+        let (indent, marks) = (" ".repeat(start.column), "^".repeat(width));
+        out += &format!("\n{pad} |\n{num} | {text}\n{pad} | {indent}{marks}");
+    }
+    out + "\n"
 }

@@ -17,6 +17,7 @@ mod attrs;
 mod check;
 mod ctxt;
 mod emit;
+mod errors;
 mod generate;
 mod lower;
 mod maggi;
@@ -28,6 +29,7 @@ mod parse;
 pub mod sym;
 
 pub use emit::with_text_parser;
+pub use errors::{ReportedError, reported_errors};
 pub use generate::{Route, Stats};
 
 use proc_macro2::TokenStream;
