@@ -17,6 +17,11 @@
 //! Two expressions that are equal as polynomials in their atoms, modulo the
 //! Pythagorean identity, therefore have the same id, and zero is recognised
 //! exactly for the trigonometric polynomials that mechanics produces.
+//! `tan`, `cot`, `sec` and `csc` are quotients of `sin` and `cos`; odd
+//! functions take the sign out of their argument and even ones drop it;
+//! `|u|` distributes over the factors of a monomial, its even powers are
+//! powers of `u`, and an even power under a root is a power of `|u|`
+//! (`sqrt(x²)` is `|x|`).
 //!
 //! Coefficients are exact rationals of any size. Arithmetic never panics:
 //! expression swell or a constant power beyond [`Rational::MAX_DIGITS`] digits
