@@ -135,7 +135,7 @@ pub fn derivation(def: &SystemDef, m: &Model, dv: &Derivation, cx: &mut Ctxt) ->
         .unwrap_or(name.span());
     // a coordinate whose velocity is absent from the constrained Lagrangian
     for (a, &i) in m.independent().iter().enumerate() {
-        if dv.curvature_route.mass[a][a] == ZERO {
+        if dv.silent[a] {
             let c = &m.coordinates[i].name;
             cx.error_at(
                 c.span(),

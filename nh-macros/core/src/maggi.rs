@@ -104,7 +104,9 @@ impl Model {
                 e.neg(x)
             })
             .collect();
+        let silent = (0..k).map(|a| reduced[a][a] == ZERO).collect();
         let derivation = Derivation {
+            silent,
             multiplier_route,
             curvature: Vec::new(),
             curvature_route: CurvatureRoute {
