@@ -553,8 +553,9 @@
 //!
 //! A field named by a Rust keyword is a raw identifier (`r#type`). The
 //! names are the system's with a suffix: a type of that name already in the
-//! module is a compile error ("the name `SledCoordinates` is defined
-//! multiple times") at the system's name; rename one of them.
+//! module is one compile error ("the name `SledCoordinates` is defined
+//! multiple times") at the system's name, and nothing else; rename one of
+//! them.
 //! `NameCoordinates` and `NameVelocities` convert to and from the
 //! `SVector`s the methods take (`From`, `.into()`).
 //!
@@ -619,13 +620,13 @@
 //!
 //! A name taken twice:
 //!
-//! ```compile_fail,E0428
+//! ```compile_fail,E0255
 //! use nonholonomic::prelude::*;
 //!
 //! struct SledVelocities; // the user's own type of that name
 //!
 //! nonholonomic_system! {
-//!     pub struct Sled { // error[E0428]: the name `SledVelocities` is defined multiple times
+//!     pub struct Sled { // error[E0255]: the name `SledVelocities` is defined multiple times
 //!         parameters { m }
 //!         coordinates { x }
 //!         lagrangian = m*dot(x)^2/2;

@@ -52,8 +52,19 @@ fn methods(out: &str) -> BTreeMap<String, String> {
         map.insert(name, rest[..end].to_string());
     }
     // the constructor fills the cache of parameter-only values, which grows
-    // with the outputs' own hoisted values: not a method of the mechanics
-    map.remove("new");
+    // with the outputs' own hoisted values: not a method of the mechanics;
+    // nor are the helpers that build and read the state and the parameters
+    // by name, which every system has
+    for helper in [
+        "new",
+        "state",
+        "split",
+        "state_from_velocities",
+        "from_parameters",
+        "parameters",
+    ] {
+        map.remove(helper);
+    }
     map
 }
 

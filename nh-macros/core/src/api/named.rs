@@ -5,10 +5,13 @@
 //! state back (`state`, `split`, `state_from_velocities`,
 //! `from_parameters`, `parameters`).
 //!
-//! The companions are emitted next to the struct, with its visibility and
-//! the attributes it passes on to every item; their names are the
-//! system's with a suffix, spanned at the system's name, so that a name
-//! already taken is reported there (the name is defined twice).
+//! The companions are defined in a hidden module `__nh_Name` next to the
+//! struct and imported from it with the struct's visibility (and the
+//! attributes it passes on to every item). Their names are the system's
+//! with a suffix, spanned at the system's name: a name already taken in the
+//! module is reported there (the name is defined twice), and the generated
+//! code, which reaches the companions through the hidden module, is not
+//! affected, so no follow-up errors bury that one.
 
 use super::{Dims, Shape, svector};
 use proc_macro2::{Ident, Literal, Span, TokenStream};
@@ -24,10 +27,11 @@ pub struct Companions {
     pub methods: TokenStream,
 }
 
-/// One companion struct: its name, field names and the documentation of
-/// the struct and of each field.
+/// One companion struct: its name, its path from the generated code, field
+/// names and the documentation of the struct and of each field.
 struct Companion {
     name: Ident,
+    path: TokenStream,
     fields: Vec<Ident>,
     doc: String,
     field_docs: Vec<String>,
@@ -43,13 +47,11 @@ pub fn companions(shape: &Shape, dims: Dims, params: &[Ident]) -> Companions {
     let coordinates = coordinates(shape);
     let velocities = velocities(shape);
     let parameters = parameters(shape, params);
-    let vis = shape.vis;
-    let inherited = crate::attrs::inherited(shape.attrs);
-    let structs: TokenStream = [&coordinates, &velocities]
-        .into_iter()
-        .map(|c| c.definition(vis, &inherited, true))
-        .chain([parameters.definition(vis, &inherited, params.is_empty())])
-        .collect();
+    let structs = hidden_module(
+        shape,
+        [&coordinates, &velocities, &parameters],
+        params.is_empty(),
+    );
     let impls = [(&coordinates, dims.n), (&velocities, dims.k)]
         .into_iter()
         .map(|(c, len)| c.vector_conversions(len))
@@ -65,16 +67,69 @@ pub fn companions(shape: &Shape, dims: Dims, params: &[Ident]) -> Companions {
     }
 }
 
+/// The hidden module `__nh_Name` defining the companions, and the import
+/// of each under its own name, with the system's visibility.
+fn hidden_module(shape: &Shape, companions: [&Companion; 3], no_parameters: bool) -> TokenStream {
+    let (vis, module) = (shape.vis, module(shape.name));
+    let inherited = crate::attrs::inherited(shape.attrs);
+    let defaults = [true, true, no_parameters];
+    let definitions = companions
+        .iter()
+        .zip(defaults)
+        .map(|(c, d)| c.definition(d));
+    let names = companions.iter().map(|c| &c.name);
+    quote! {
+        #(#inherited)*
+        #[doc(hidden)]
+        #[allow(non_snake_case)]
+        mod #module {
+            #(#definitions)*
+        }
+
+        #(#inherited)*
+        #[doc(inline)]
+        #[allow(unused_imports)]
+        #vis use #module::{#(#names),*};
+    }
+}
+
+/// The name of the hidden module of the companions of `system`.
+fn module(system: &Ident) -> Ident {
+    format_ident!("__nh_{}", system, span = system.span())
+}
+
+/// A companion named `system` + `suffix`, spanned at the system's name,
+/// and its path through the hidden module.
+fn companion_name(system: &Ident, suffix: &str) -> (Ident, TokenStream) {
+    let name = format_ident!("{}{}", system, suffix, span = system.span());
+    let module = module(system);
+    (name.clone(), quote!(#module::#name))
+}
+
+/// An intra-doc link from the hidden module to `system` (`item` empty) or
+/// to its item `item`.
+fn link(system: &Ident, item: &str) -> String {
+    if item.is_empty() {
+        format!("[`{system}`](super::{system})")
+    } else {
+        format!("[`{system}::{item}`](super::{system}::{item})")
+    }
+}
+
 /// `NameCoordinates`: one field per coordinate, in coordinate order.
 fn coordinates(shape: &Shape) -> Companion {
     let name = shape.name;
+    let (id, path) = companion_name(name, "Coordinates");
+    let (system, state, split) = (link(name, ""), link(name, "state"), link(name, "split"));
+    let from_velocities = link(name, "state_from_velocities");
     Companion {
-        name: format_ident!("{}Coordinates", name),
+        name: id,
+        path,
         fields: field_names(&shape.coords),
         doc: format!(
-            "The coordinates of [`{name}`] by name, in its coordinate order (`{name}::COORDINATES`): \
-             the first part of its state, built by [`{name}::state`] and read by [`{name}::split`]. \
-             [`{name}::state_from_velocities`] takes the velocities of the coordinates in one of these too."
+            "The coordinates of {system} by name, in its coordinate order (`{name}::COORDINATES`): \
+             the first part of its state, built by {state} and read by {split}. \
+             {from_velocities} takes the velocities of the coordinates in one of these too."
         ),
         field_docs: shape
             .coords
@@ -88,11 +143,12 @@ fn coordinates(shape: &Shape) -> Companion {
 /// independent coordinate (named by it) or per generalized speed.
 fn velocities(shape: &Shape) -> Companion {
     let name = shape.name;
+    let system = link(name, "");
     let (names, doc, field_docs) = if shape.in_speeds() {
         (
             shape.speeds.clone(),
             format!(
-                "The generalized speeds of [`{name}`] by name, in the order of `{name}::SPEEDS`: \
+                "The generalized speeds of {system} by name, in the order of `{name}::SPEEDS`: \
                  the second part of its state x = [q, u]."
             ),
             shape
@@ -114,16 +170,19 @@ fn velocities(shape: &Shape) -> Companion {
         (
             independent,
             format!(
-                "The independent velocities of [`{name}`], each named by its coordinate, in the order of \
+                "The independent velocities of {system}, each named by its coordinate, in the order of \
                  `{name}::INDEPENDENT`: the second part of its state x = [q, ṙ]. The velocities of the \
                  dependent coordinates follow from the constraints; to give every velocity and have them \
-                 checked, use [`{name}::state_from_velocities`]."
+                 checked, use {}.",
+                link(name, "state_from_velocities")
             ),
             field_docs,
         )
     };
+    let (id, path) = companion_name(name, "Velocities");
     Companion {
-        name: format_ident!("{}Velocities", name),
+        name: id,
+        path,
         fields: field_names(&names),
         doc,
         field_docs,
@@ -133,13 +192,18 @@ fn velocities(shape: &Shape) -> Companion {
 /// `NameParameters`: one field per parameter, in declared order.
 fn parameters(shape: &Shape, params: &[Ident]) -> Companion {
     let name = shape.name;
+    let (id, path) = companion_name(name, "Parameters");
     Companion {
-        name: format_ident!("{}Parameters", name),
+        name: id,
+        path,
         fields: params.to_vec(),
         doc: format!(
-            "The parameters of [`{name}`] by name: a struct literal names every parameter and the \
-             compiler checks that none is missing. [`{name}::from_parameters`] (or `From`) builds the \
-             system from it, [`{name}::parameters`] reads them back."
+            "The parameters of {} by name: a struct literal names every parameter and the \
+             compiler checks that none is missing. {} (or `From`) builds the system from it, {} \
+             reads them back.",
+            link(name, ""),
+            link(name, "from_parameters"),
+            link(name, "parameters")
         ),
         field_docs: shape
             .params
@@ -185,28 +249,23 @@ fn field_name(name: &str) -> Option<Ident> {
 impl Companion {
     /// The struct: `T` defaults to `f64` as for the system; without fields
     /// it holds a hidden marker and derives `Default` to be built.
-    fn definition(
-        &self,
-        vis: &syn::Visibility,
-        inherited: &[TokenStream],
-        default: bool,
-    ) -> TokenStream {
+    fn definition(&self, default: bool) -> TokenStream {
         let Companion {
             name,
             fields,
             doc,
             field_docs,
+            ..
         } = self;
         let phantom = fields
             .is_empty()
             .then(|| quote!(#[doc(hidden)] pub __nh_scalar: ::core::marker::PhantomData<T>,));
         let default = default.then(|| quote!(::core::default::Default,));
         quote! {
-            #(#inherited)*
             #[doc = #doc]
             #[allow(non_snake_case, dead_code)]
             #[derive(::core::clone::Clone, ::core::marker::Copy, ::core::fmt::Debug, ::core::cmp::PartialEq, #default)]
-            #vis struct #name<T = ::core::primitive::f64> {
+            pub struct #name<T = ::core::primitive::f64> {
                 #(#[doc = #field_docs] pub #fields: T,)*
                 #phantom
             }
@@ -215,11 +274,11 @@ impl Companion {
 
     /// `Name { a: e0, b: e1, .. }` from the expressions `values`, in field order.
     fn literal(&self, values: &[TokenStream]) -> TokenStream {
-        let (name, fields) = (&self.name, &self.fields);
+        let (path, fields) = (&self.path, &self.fields);
         let phantom = fields
             .is_empty()
             .then(|| quote!(__nh_scalar: ::core::marker::PhantomData,));
-        quote!(#name { #(#fields: #values,)* #phantom })
+        quote!(#path { #(#fields: #values,)* #phantom })
     }
 
     /// The fields of the value `value` (an expression) as a list of `T`s.
@@ -229,7 +288,7 @@ impl Companion {
 
     /// `From` between the struct and `SVector<T, len>`, both ways.
     fn vector_conversions(&self, len: usize) -> TokenStream {
-        let name = &self.name;
+        let name = &self.path;
         let vty = svector(len);
         let values = self.values(&quote!(__nh_named));
         let components: Vec<TokenStream> = (0..len).map(|i| quote!(__nh_vector[#i])).collect();
@@ -257,7 +316,7 @@ impl Companion {
 
 /// `impl From<NameParameters<T>> for Name<T>`.
 fn parameters_conversion(system: &Ident, parameters: &Companion) -> TokenStream {
-    let name = &parameters.name;
+    let name = &parameters.path;
     quote! {
         #[automatically_derived]
         impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy> ::core::convert::From<#name<T>> for #system<T> {
@@ -272,7 +331,7 @@ fn parameters_conversion(system: &Ident, parameters: &Companion) -> TokenStream 
 
 /// `state` and `split`: the state from named parts and back.
 fn state_methods(shape: &Shape, dims: Dims, coords: &Companion, vels: &Companion) -> TokenStream {
-    let (cname, vname, xty) = (&coords.name, &vels.name, svector(dims.state));
+    let (cname, vname, xty) = (&coords.path, &vels.path, svector(dims.state));
     let values: Vec<TokenStream> = coords
         .values(&quote!(q))
         .into_iter()
@@ -316,7 +375,7 @@ fn state_methods(shape: &Shape, dims: Dims, coords: &Companion, vels: &Companion
 /// `state_from_velocities`: the state from the velocities of all
 /// coordinates, checked against the constraints.
 fn state_from_velocities(shape: &Shape, dims: Dims, coords: &Companion) -> TokenStream {
-    let (cname, xty, qty) = (&coords.name, svector(dims.state), svector(dims.n));
+    let (cname, xty, qty) = (&coords.path, svector(dims.state), svector(dims.n));
     let (n, k) = (dims.n, dims.k);
     let names: Vec<Literal> = shape.coords.iter().map(|c| Literal::string(c)).collect();
     let timed = shape.in_speeds() || shape.rheonomic;
@@ -406,7 +465,7 @@ fn implied_by_speeds(shape: &Shape, dims: Dims) -> (TokenStream, TokenStream, St
 
 /// `from_parameters` and `parameters`.
 fn parameter_methods(parameters: &Companion) -> TokenStream {
-    let name = &parameters.name;
+    let name = &parameters.path;
     let values = parameters.values(&quote!(parameters));
     let own: Vec<TokenStream> = parameters.values(&quote!(self));
     let literal = parameters.literal(&own);
