@@ -352,12 +352,14 @@ impl Model {
             .iter()
             .map(|b| (b.mass, b.centre, b.rotation))
             .collect();
+        let frame = self.heading_frame();
         let bodies = parts
             .into_iter()
             .map(|(mass, centre, rotation)| {
                 let jacobian = centre.map(|x| self.positional_jacobian(x));
                 let velocity = jacobian.clone().map(|row| self.times_velocities(&row));
                 let accel0 = velocity.map(|v| self.along_motion(v));
+                let (jacobian, accel0) = self.in_frame(&frame, jacobian, accel0);
                 let rotation = rotation.map(|(omega, inertia)| BodyRotation {
                     jacobian: omega.map(|w| self.velocity_jacobian(w)),
                     accel0: omega.map(|w| self.along_motion(w)),
@@ -388,6 +390,7 @@ impl Model {
             return None;
         }
         let pivots = self.block_pivots()?;
+        let frame = self.heading_frame();
         let contacts = self.contact_kinematics.clone();
         let contacts = contacts
             .into_iter()
@@ -396,13 +399,24 @@ impl Model {
                 let velocity = centre_jacobian
                     .clone()
                     .map(|row| self.times_velocities(&row));
+                let centre_accel0 = velocity.map(|v| self.along_motion(v));
+                let (centre_jacobian, centre_accel0) =
+                    self.in_frame(&frame, centre_jacobian, centre_accel0);
+                let omega_jacobian = c.omega.map(|w| self.velocity_jacobian(w));
+                let omega_accel0 = c.omega.map(|w| self.along_motion(w));
+                let (omega_jacobian, omega_accel0) =
+                    self.in_frame(&frame, omega_jacobian, omega_accel0);
+                let turn = |m: &mut Model, v: [ExprId; 3]| match &frame {
+                    Some(r) => crate::lower::values::mat_vec(&mut m.engine, r, v),
+                    None => v,
+                };
                 ContactTerms {
-                    centre_accel0: velocity.map(|v| self.along_motion(v)),
+                    centre_accel0,
                     centre_jacobian,
-                    omega: c.omega,
-                    omega_jacobian: c.omega.map(|w| self.velocity_jacobian(w)),
-                    omega_accel0: c.omega.map(|w| self.along_motion(w)),
-                    axle: c.axle,
+                    omega: turn(self, c.omega),
+                    omega_jacobian,
+                    omega_accel0,
+                    axle: c.axle.map(|(n, s)| (turn(self, n), s)),
                     radius: c.radius,
                     tube: c.tube,
                 }
@@ -494,6 +508,48 @@ impl Model {
             }
         }
         Some(pivots)
+    }
+
+    /// R_z(−ψ) for the heading ψ every rotating body's orientation starts
+    /// with (`rot_z(ψ) * ..`), if they agree. Kane's sums and the contact
+    /// rows are the same in any frame turned by a rotation R(q) applied to
+    /// every world vector (VᵀV, Vᵀa, and the rows' combinations); in the
+    /// heading's frame the bodies' and contacts' vectors are free of ψ.
+    fn heading_frame(&mut self) -> Option<[[ExprId; 3]; 3]> {
+        let split = self.kinetic.as_ref()?;
+        let mut headings = split
+            .bodies
+            .iter()
+            .filter(|b| b.rotation.is_some())
+            .map(|b| b.heading);
+        let first = headings.next()??;
+        if !headings.all(|h| h == Some(first)) {
+            return None;
+        }
+        let back = self.engine.neg(first);
+        Some(crate::lower::values::elementary(&mut self.engine, 2, back))
+    }
+
+    /// The columns of a 3 × n Jacobian and a rate, turned into `frame`.
+    fn in_frame(
+        &mut self,
+        frame: &Option<[[ExprId; 3]; 3]>,
+        jacobian: [Vec<ExprId>; 3],
+        rate: [ExprId; 3],
+    ) -> ([Vec<ExprId>; 3], [ExprId; 3]) {
+        let Some(r) = frame else {
+            return (jacobian, rate);
+        };
+        let e = &mut self.engine;
+        let mut turned: [Vec<ExprId>; 3] = [Vec::new(), Vec::new(), Vec::new()];
+        for i in 0..jacobian[0].len() {
+            let column = [jacobian[0][i], jacobian[1][i], jacobian[2][i]];
+            let column = crate::lower::values::mat_vec(e, r, column);
+            for (x, t) in turned.iter_mut().enumerate() {
+                t.push(column[x]);
+            }
+        }
+        (turned, crate::lower::values::mat_vec(e, r, rate))
     }
 
     /// ∂x/∂q_i for every coordinate.

@@ -312,6 +312,8 @@ pub struct KineticBody {
     /// inertia I about the centre of mass in body axes; `None` for a point
     /// mass.
     pub rotation: Option<([ExprId; 3], [[ExprId; 3]; 3])>,
+    /// The angle ψ of its orientation's leading `rot_z` factor, if any.
+    pub heading: Option<ExprId>,
 }
 
 impl Model {

@@ -524,6 +524,13 @@ impl Lowerer<'_> {
                 mass: b.mass,
                 centre: b.centre,
                 rotation: b.rotation.as_ref().map(|(_, i)| (b.omega_body, *i)),
+                heading: b
+                    .rotation
+                    .as_ref()
+                    .and_then(|(r, _)| match r.factors.first() {
+                        Some(&(2, angle)) => Some(angle),
+                        _ => None,
+                    }),
             };
             self.kinetic.push((body, t));
         }
