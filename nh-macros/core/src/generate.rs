@@ -430,7 +430,19 @@ fn body_projection(
                 .map(|x| dot(d, ZERO_NODE, (0..3).map(|y| (inertia[x][y], omega[y]))))
                 .collect();
             let gyro = cross_nodes(d, &omega, &i_omega);
-            let torque: Vec<Node> = (0..3).map(|x| d.add(i_alpha[x], gyro[x])).collect();
+            let mut torque: Vec<Node> = (0..3).map(|x| d.add(i_alpha[x], gyro[x])).collect();
+            if let Some((k, rate)) = rot.spin {
+                // −θ̇ I (e_k × ω'), from turning α by R_k(θ)
+                let rate = d.expr(&m.engine, rate);
+                let mut axis = [ZERO_NODE; 3];
+                axis[k] = ONE_NODE;
+                let ek_omega = cross_nodes(d, &axis, &omega);
+                for (x, t) in torque.iter_mut().enumerate() {
+                    let i_e = dot(d, ZERO_NODE, (0..3).map(|y| (inertia[x][y], ek_omega[y])));
+                    let s = d.mul(rate, i_e);
+                    *t = d.sub(*t, s);
+                }
+            }
             add_inertia(d, &mut mr, &mut f, &om, &i_om, &torque);
         }
     }

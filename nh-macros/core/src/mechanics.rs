@@ -56,6 +56,10 @@ pub struct BodyRotation {
     pub accel0: [ExprId; 3],
     /// I about the centre of mass.
     pub inertia: [[ExprId; 3]; 3],
+    /// For a body symmetric about axis k of its last factor R_k(θ) (a
+    /// wheel), the vectors above are turned by R_k(θ), which frees them of
+    /// θ, and the torque gains −θ̇ I (e_k × ω'): (k, θ̇).
+    pub spin: Option<(usize, ExprId)>,
 }
 
 /// Whether every expression of `entries` vanishes at 16 random points in
@@ -350,7 +354,7 @@ impl Model {
         let parts: Vec<_> = split
             .bodies
             .iter()
-            .map(|b| (b.mass, b.centre, b.rotation))
+            .map(|b| (b.mass, b.centre, b.rotation.map(|r| (r, b.spin))))
             .collect();
         let frame = self.heading_frame();
         let bodies = parts
@@ -360,11 +364,23 @@ impl Model {
                 let velocity = jacobian.clone().map(|row| self.times_velocities(&row));
                 let accel0 = velocity.map(|v| self.along_motion(v));
                 let (jacobian, accel0) = self.in_frame(&frame, jacobian, accel0);
-                let rotation = rotation.map(|(omega, inertia)| BodyRotation {
-                    jacobian: omega.map(|w| self.velocity_jacobian(w)),
-                    accel0: omega.map(|w| self.along_motion(w)),
-                    omega,
-                    inertia,
+                let rotation = rotation.map(|((omega, inertia), spin)| {
+                    let (omega, spin) = match spin {
+                        Some((k, angle)) => {
+                            let e = &mut self.engine;
+                            let turn = crate::lower::values::elementary(e, k, angle);
+                            let omega = crate::lower::values::mat_vec(e, &turn, omega);
+                            (omega, Some((k, self.along_motion(angle))))
+                        }
+                        None => (omega, None),
+                    };
+                    BodyRotation {
+                        jacobian: omega.map(|w| self.velocity_jacobian(w)),
+                        accel0: omega.map(|w| self.along_motion(w)),
+                        omega,
+                        inertia,
+                        spin,
+                    }
                 });
                 BodyKinematics {
                     mass,

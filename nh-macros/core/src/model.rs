@@ -314,6 +314,9 @@ pub struct KineticBody {
     pub rotation: Option<([ExprId; 3], [[ExprId; 3]; 3])>,
     /// The angle ψ of its orientation's leading `rot_z` factor, if any.
     pub heading: Option<ExprId>,
+    /// The axis k and angle θ of its orientation's last factor, when the
+    /// inertia is symmetric about that axis (a wheel's spin).
+    pub spin: Option<(usize, ExprId)>,
 }
 
 impl Model {

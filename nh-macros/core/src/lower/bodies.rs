@@ -531,6 +531,10 @@ impl Lowerer<'_> {
                         Some(&(2, angle)) => Some(angle),
                         _ => None,
                     }),
+                spin: b.rotation.as_ref().and_then(|(r, i)| {
+                    let &(k, angle) = r.factors.last()?;
+                    axisymmetric(i, k).then_some((k, angle))
+                }),
             };
             self.kinetic.push((body, t));
         }
@@ -715,6 +719,13 @@ impl Lowerer<'_> {
         }
         self.e.pow(s2, Rational::new(1, 2).unwrap_or(Rational::ONE))
     }
+}
+
+/// Whether an inertia (body axes) is symmetric about axis k: it commutes
+/// with every rotation about k.
+fn axisymmetric(i: &Mat3, k: usize) -> bool {
+    let (a, b) = ((k + 1) % 3, (k + 2) % 3);
+    i[a][a] == i[b][b] && [i[a][b], i[a][k], i[b][k]].iter().all(|&x| x == ZERO)
 }
 
 /// The range of entry (i, j) of a matrix written `[[..], [..], [..]]`.
