@@ -462,3 +462,23 @@ mod crowded {
         assert_eq!(s.state_from_velocities(at, given), Ok(x));
     }
 }
+
+#[test]
+fn a_system_inside_a_function() {
+    nonholonomic_system! {
+        /// A harmonic oscillator, local to this function.
+        struct Local {
+            parameters { k }
+            coordinates { x }
+            lagrangian = dot(x)^2/2 - k*x^2/2;
+        }
+    }
+    let s: Local = Local::from_parameters(LocalParameters { k: 4.0 });
+    let x0 = Local::state(LocalCoordinates { x: 1.0 }, LocalVelocities { x: 0.0 });
+    let out = Dop853::new(1e-12, 1e-14)
+        .integrate(&s, 0.0, x0, 1.0)
+        .unwrap();
+    let (q, v) = Local::split(&out.x);
+    // x = cos 2t
+    assert!((q.x - 2.0_f64.cos()).abs() < 1e-10 && (v.x + 2.0 * 2.0_f64.sin()).abs() < 1e-10);
+}
