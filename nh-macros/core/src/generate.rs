@@ -957,8 +957,19 @@ impl Derived<'_> {
         let p = self.m.p();
         let args = Args::vectors(self.m);
         let mut d = bound_dag(self.m, &args);
-        let sdot: Vec<ExprId> = self.m.constraints.iter().map(|c| c.velocity).collect();
-        let outs = exprs(&mut d, self.m, &sdot);
+        let outs: Vec<Node> = match self.m.block {
+            // solved numerically, bound in the graph
+            Some(_) => self
+                .m
+                .constraints
+                .iter()
+                .filter_map(|c| d.bound(self.m.coordinates[c.dependent].velocity))
+                .collect(),
+            None => {
+                let sdot: Vec<ExprId> = self.m.constraints.iter().map(|c| c.velocity).collect();
+                exprs(&mut d, self.m, &sdot)
+            }
+        };
         let (stmts, o) = self.emit_hoisted(&d, &outs);
         let ret = vector_expr(p, &o);
         let t = if self.m.rheonomic() {

@@ -197,6 +197,11 @@ impl Dag {
         self.sym_nodes.insert(s, n);
     }
 
+    /// The node bound to symbol `s`, if any.
+    pub fn bound(&self, s: SymId) -> Option<Node> {
+        self.sym_nodes.get(&s).copied()
+    }
+
     /// The node of π.
     pub fn pi(&mut self) -> Node {
         self.intern(Op::Pi)
