@@ -573,6 +573,15 @@
 //!   where the speeds are solved from q̇ = S(q, t) u + σ(q, t) by least
 //!   squares and q̇ is checked against S u + σ. The coordinates are taken
 //!   as given (the integrators project them onto holonomic constraints).
+//! * `state_from_known_velocities(&self, q, known)` takes the velocities
+//!   known for *some* coordinates (`Some` in a `NameCoordinates<Option<T>>`,
+//!   `None` for the others: a robot's forward speed and turn rate rather
+//!   than its wheel rates) and solves the constraints for the rest (least
+//!   squares on the known rows, then checked as above). It fails with
+//!   [`KnownVelocitiesError::TooFew`](runtime::KnownVelocitiesError) when
+//!   the known velocities leave the motion undetermined (fewer than the
+//!   state's velocities, or ones the constraints tie together, such as ẋ
+//!   and ẏ of a sled) and with `Violation` when they break the constraints.
 //! * `Name::from_parameters(NameParameters { .. })`, or `.into()`, builds
 //!   the system by parameter name: the compiler checks that every
 //!   parameter is given. `parameters(&self)` reads them back.
@@ -600,6 +609,10 @@
 //! // ... or from every velocity, checked against ẏ = tan θ ẋ
 //! let qdot = SledCoordinates { x: 0.4, theta: 0.9, y: 0.2_f64.tan() * 0.4 };
 //! assert_eq!(sled.state_from_velocities(q, qdot), Ok(x0));
+//! // ... or from the velocities known: θ̇ and ẏ, the rest solved for
+//! let known = SledCoordinates { x: None, theta: Some(0.9), y: Some(0.2_f64.tan() * 0.4) };
+//! let x1 = sled.state_from_known_velocities(q, known).unwrap();
+//! assert!((x1 - x0).norm() < 1e-15);
 //! let sliding = SledCoordinates { y: 0.3, ..qdot };
 //! let e = sled.state_from_velocities(q, sliding).unwrap_err();
 //! assert_eq!(e.coordinate, "y");

@@ -101,7 +101,9 @@ pub use gauss::GaussLegendre4;
 pub use outcome::{Outcome, SimError, Singularity, Stats};
 pub use rk4::Rk4;
 pub use rosenbrock::Rosenbrock;
-pub use state::{ConstraintViolation, speeds_from_velocities};
+pub use state::{
+    ConstraintViolation, KnownVelocitiesError, speeds_from_velocities, velocities_from_known,
+};
 pub use step::Step;
 pub use system::{
     ControlledJacobian, ControlledSystem, Driven, Integrator, OdeJacobian, OdeSystem,

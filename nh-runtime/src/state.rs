@@ -108,6 +108,138 @@ impl<T> std::error::Error for ConstraintViolation<T> where
 {
 }
 
+/// Why velocities given for some coordinates do not give a state: too
+/// few of them to fix the motion, or values that break the constraints.
+/// Returned by the generated `state_from_known_velocities`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum KnownVelocitiesError<T> {
+    /// The known velocities do not determine the state's velocities: fewer
+    /// than the system's independent velocities (`needed`), or some that
+    /// the constraints tie together (`known` counts those given).
+    TooFew {
+        /// How many velocities were given.
+        known: usize,
+        /// How many independent velocities the state has.
+        needed: usize,
+    },
+    /// The known velocities break the constraints.
+    Violation(ConstraintViolation<T>),
+}
+
+impl<T: fmt::Display + Copy + core::ops::Sub<Output = T>> fmt::Display for KnownVelocitiesError<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            KnownVelocitiesError::TooFew { known, needed } => write!(
+                f,
+                "{known} known velocities do not determine the motion: the state has {needed} \
+                 independent velocities; give the velocities of more coordinates (ones the \
+                 constraints do not tie to those given)"
+            ),
+            KnownVelocitiesError::Violation(v) => v.fmt(f),
+        }
+    }
+}
+
+#[cfg(feature = "std")]
+impl<T> std::error::Error for KnownVelocitiesError<T> where
+    T: fmt::Debug + fmt::Display + Copy + core::ops::Sub<Output = T>
+{
+}
+
+/// The velocity part of the state (independent velocities or speeds, `K`)
+/// from the velocities known for some of the `N` coordinates (`None` for
+/// the others). `velocities(v)` is the affine map from the state's velocity
+/// part to every coordinate's velocity at fixed coordinates and time (the
+/// generated code passes `dependent_velocities` or the kinematics).
+///
+/// The map is read off column by column (`K + 1` calls); the rows of the
+/// known coordinates are solved by least squares (LU of the normal
+/// equations), and the known velocities are then checked against the
+/// velocities that result, as [`ConstraintViolation::check`] does.
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::{Vector1, Vector2};
+/// use nh_runtime::{KnownVelocitiesError, velocities_from_known};
+///
+/// // ẏ = 2 ẋ; the state keeps ẋ; ẏ = 4 is known
+/// let map = |v: &Vector1<f64>| Vector2::new(v[0], 2.0 * v[0]);
+/// let v = velocities_from_known(&["x", "y"], map, &[None, Some(4.0)]).unwrap();
+/// assert_eq!(v[0], 2.0);
+/// let e = velocities_from_known(&["x", "y"], map, &[None, None]).unwrap_err();
+/// assert_eq!(e, KnownVelocitiesError::TooFew { known: 0, needed: 1 });
+/// ```
+pub fn velocities_from_known<T, const N: usize, const K: usize>(
+    names: &[&'static str; N],
+    velocities: impl Fn(&SVector<T, K>) -> SVector<T, N>,
+    known: &[Option<T>; N],
+) -> Result<SVector<T, K>, KnownVelocitiesError<T>>
+where
+    T: RealField + Copy,
+{
+    let count = known.iter().filter(|v| v.is_some()).count();
+    let too_few = KnownVelocitiesError::TooFew {
+        known: count,
+        needed: K,
+    };
+    if count < K {
+        return Err(too_few);
+    }
+    let offset = velocities(&SVector::zeros());
+    let map = SMatrix::<T, N, K>::from_fn(|i, j| {
+        let unit = SVector::<T, K>::from_fn(|l, _| if l == j { T::one() } else { T::zero() });
+        velocities(&unit)[i] - offset[i]
+    });
+    let (mut normal, mut rhs) = (SMatrix::<T, K, K>::zeros(), SVector::<T, K>::zeros());
+    for (i, v) in known.iter().enumerate() {
+        if let Some(v) = *v {
+            let row = map.row(i);
+            normal += row.transpose() * row;
+            rhs += row.transpose() * (v - offset[i]);
+        }
+    }
+    if !determined(normal) {
+        return Err(too_few);
+    }
+    let solution = Lu::new(normal).ok_or(too_few)?.solve(&rhs);
+    let implied = velocities(&solution);
+    let given = SVector::<T, N>::from_fn(|i, _| known[i].unwrap_or(implied[i]));
+    ConstraintViolation::check(names, &given, &implied).map_err(KnownVelocitiesError::Violation)?;
+    Ok(solution)
+}
+
+/// Whether the normal equations fix every direction: Gaussian elimination
+/// with partial pivoting finds no pivot at rounding level (64 ε of the
+/// largest diagonal entry), which a direction the known velocities leave
+/// free would give.
+fn determined<T: RealField + Copy, const K: usize>(mut a: SMatrix<T, K, K>) -> bool {
+    let scale = (0..K).fold(T::zero(), |m, i| m.max(a[(i, i)].abs()));
+    let tol = c::<T>(64.0) * machine_epsilon::<T>() * scale;
+    for k in 0..K {
+        let p = (k..K).fold(k, |p, i| {
+            if a[(i, k)].abs() > a[(p, k)].abs() {
+                i
+            } else {
+                p
+            }
+        });
+        let pivot = a[(p, k)].abs();
+        if pivot <= tol || !pivot.is_finite() {
+            return false;
+        }
+        a.swap_rows(p, k);
+        for i in k + 1..K {
+            let f = a[(i, k)] / a[(k, k)];
+            for j in k..K {
+                let t = a[(k, j)];
+                a[(i, j)] -= f * t;
+            }
+        }
+    }
+    true
+}
+
 /// The generalized speeds `u` whose kinematics `q̇ = S u + σ` comes closest
 /// to the velocities `qdot` (least squares; exact when `qdot` satisfies
 /// the constraints). `kinematics(u)` is `S u + σ` at fixed coordinates and

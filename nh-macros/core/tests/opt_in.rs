@@ -60,6 +60,7 @@ fn methods(out: &str) -> BTreeMap<String, String> {
         "state",
         "split",
         "state_from_velocities",
+        "state_from_known_velocities",
         "from_parameters",
         "parameters",
     ] {

@@ -39,7 +39,7 @@ struct Companion {
 
 /// The argument names the companions' methods introduce (the block around
 /// the impls shadows a user's constant of each name, see `argument_names`).
-pub const ARGUMENTS: [&str; 4] = ["v", "qdot", "parameters", "t"];
+pub const ARGUMENTS: [&str; 5] = ["v", "qdot", "parameters", "t", "known"];
 
 /// The companions of a system of this shape, whose parameters are the
 /// fields `params`.
@@ -59,6 +59,7 @@ pub fn companions(shape: &Shape, dims: Dims, params: &[Ident]) -> Companions {
         .collect();
     let mut methods = state_methods(shape, dims, &coordinates, &velocities);
     methods.extend(state_from_velocities(shape, dims, &coordinates));
+    methods.extend(state_from_known_velocities(shape, dims, &coordinates));
     methods.extend(parameter_methods(&parameters));
     Companions {
         structs,
@@ -374,6 +375,67 @@ fn state_methods(shape: &Shape, dims: Dims, coords: &Companion, vels: &Companion
 
 /// `state_from_velocities`: the state from the velocities of all
 /// coordinates, checked against the constraints.
+/// `state_from_known_velocities`: the state from the velocities known for
+/// some coordinates, the others solved from the constraints.
+fn state_from_known_velocities(shape: &Shape, dims: Dims, coords: &Companion) -> TokenStream {
+    let (cname, xty, qty, vty) = (
+        &coords.path,
+        svector(dims.state),
+        svector(dims.n),
+        svector(dims.k),
+    );
+    let (n, k) = (dims.n, dims.k);
+    let names: Vec<Literal> = shape.coords.iter().map(|c| Literal::string(c)).collect();
+    let fields = &coords.fields;
+    let timed = shape.in_speeds() || shape.rheonomic;
+    let (t_arg, t_val) = if timed {
+        (quote!(t: T,), quote!(t,))
+    } else {
+        (quote!(), quote!())
+    };
+    let map = if shape.in_speeds() {
+        quote!(|__nh_v: &#vty| self.velocities(t, &__nh_q, __nh_v))
+    } else {
+        let independent = &shape.independent;
+        let slots = 0..k;
+        let (at, dep): (Vec<usize>, Vec<usize>) =
+            shape.dependent.iter().copied().enumerate().unzip();
+        quote!(|__nh_v: &#vty| {
+            let __nh_sdot = self.dependent_velocities(#t_val &__nh_q, __nh_v);
+            let mut __nh_all = <#qty>::zeros();
+            #(__nh_all[#independent] = __nh_v[#slots];)*
+            #(__nh_all[#dep] = __nh_sdot[#at];)*
+            __nh_all
+        })
+    };
+    let doc = "The state from the coordinates `q` and the velocities known for some coordinates \
+               (`Some` in `known`, by name; `None` for the others), for initial conditions known as \
+               physical velocities (a wheel's rate, a heading rate): the velocities of the state are \
+               solved from the constraints so that every known velocity holds (least squares, then \
+               checked to 1e-9 of the largest velocity). Fails with `KnownVelocitiesError::TooFew` \
+               when the known velocities leave the motion undetermined (fewer than the independent \
+               velocities, or ones the constraints tie together) and with `Violation` when they \
+               break the constraints.";
+    quote! {
+        #[doc = #doc]
+        #[inline]
+        pub fn state_from_known_velocities(
+            &self,
+            #t_arg
+            q: #cname<T>,
+            known: #cname<::core::option::Option<T>>,
+        ) -> ::core::result::Result<#xty, __nh_private::nh_runtime::KnownVelocitiesError<T>> {
+            let __nh_q = <#qty>::from(q);
+            let __nh_known = [#(known.#fields),*];
+            let __nh_v = __nh_private::nh_runtime::velocities_from_known(&[#(#names),*], #map, &__nh_known)?;
+            let mut __nh_x = <#xty>::zeros();
+            __nh_x.fixed_rows_mut::<#n>(0).copy_from(&__nh_q);
+            __nh_x.fixed_rows_mut::<#k>(#n).copy_from(&__nh_v);
+            ::core::result::Result::Ok(__nh_x)
+        }
+    }
+}
+
 fn state_from_velocities(shape: &Shape, dims: Dims, coords: &Companion) -> TokenStream {
     let (cname, xty, qty) = (&coords.path, svector(dims.state), svector(dims.n));
     let (n, k) = (dims.n, dims.k);
