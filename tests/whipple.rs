@@ -62,26 +62,50 @@ fn linearisation_reproduces_the_benchmark_matrices() {
     }
 }
 
+/// Table 2 of the paper: (v, its four eigenvalues sorted) per row.
+fn table_2() -> Vec<(f64, Vec<(f64, f64)>)> {
+    let data = published();
+    data["eigenvalues"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|row| {
+            let want: Vec<(f64, f64)> = row["eigenvalues"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|e| (e[0].as_f64().unwrap(), e[1].as_f64().unwrap()))
+                .collect();
+            (row["v"].as_f64().unwrap(), sorted(want))
+        })
+        .collect()
+}
+
+/// Eigenvalues sorted by real part, then imaginary part.
+fn sorted(mut ev: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    ev.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.total_cmp(&q.1)));
+    ev
+}
+
+/// The largest relative distance between `got` and Table 2's `want` at
+/// speed `v`, asserting each is below `tol`.
+fn worst_against(v: f64, got: &[(f64, f64)], want: &[(f64, f64)], tol: f64) -> f64 {
+    let mut worst = 0.0_f64;
+    for (g, w) in got.iter().zip(want) {
+        let d = ((g.0 - w.0).powi(2) + (g.1 - w.1).powi(2)).sqrt() / (w.0.hypot(w.1));
+        worst = worst.max(d);
+        assert!(d < tol, "v = {v}: {g:?} vs {w:?}");
+    }
+    worst
+}
+
 #[test]
 fn eigenvalues_match_table_2() {
-    let data = published();
     let b = model::benchmark();
     let mut worst = 0.0_f64;
-    for row in data["eigenvalues"].as_array().unwrap() {
-        let v = row["v"].as_f64().unwrap();
-        let mut want: Vec<(f64, f64)> = row["eigenvalues"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|e| (e[0].as_f64().unwrap(), e[1].as_f64().unwrap()))
-            .collect();
-        want.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.total_cmp(&q.1)));
+    for (v, want) in table_2() {
         let got = model::eigenvalues(&b, v);
-        for (g, w) in got.iter().zip(&want) {
-            let d = ((g.0 - w.0).powi(2) + (g.1 - w.1).powi(2)).sqrt() / (w.0.hypot(w.1));
-            worst = worst.max(d);
-            assert!(d < 1e-10, "v = {v}: {g:?} vs {w:?}");
-        }
+        worst = worst.max(worst_against(v, &got, &want, 1e-10));
     }
     eprintln!("eigenvalues at v = 0..10 against Table 2: worst relative difference {worst:.1e}");
 }
@@ -93,11 +117,9 @@ fn eigenvalues_match_table_2() {
 #[test]
 fn the_right_hand_side_linearises_to_table_2() {
     use nonholonomic::runtime::OdeSystem;
-    let data = published();
     let b = model::benchmark();
     let mut worst = 0.0_f64;
-    for row in data["eigenvalues"].as_array().unwrap() {
-        let v = row["v"].as_f64().unwrap();
+    for (v, want) in table_2() {
         let mut x0 = SVector::<f64, 11>::zeros();
         x0[10] = v / b.rR;
         let idx = [0, 1, 8, 9];
@@ -108,24 +130,13 @@ fn the_right_hand_side_linearises_to_table_2() {
             xm[idx[c]] -= h;
             (b.rhs(0.0, &xp)[idx[r]] - b.rhs(0.0, &xm)[idx[r]]) / (2.0 * h)
         });
-        let mut got: Vec<(f64, f64)> = a
-            .complex_eigenvalues()
-            .iter()
-            .map(|e| (e.re, e.im))
-            .collect();
-        got.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.total_cmp(&q.1)));
-        let mut want: Vec<(f64, f64)> = row["eigenvalues"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|e| (e[0].as_f64().unwrap(), e[1].as_f64().unwrap()))
-            .collect();
-        want.sort_by(|p, q| p.0.total_cmp(&q.0).then(p.1.total_cmp(&q.1)));
-        for (g, w) in got.iter().zip(&want) {
-            let d = ((g.0 - w.0).powi(2) + (g.1 - w.1).powi(2)).sqrt() / (w.0.hypot(w.1));
-            worst = worst.max(d);
-            assert!(d < 1e-7, "v = {v}: {g:?} vs {w:?}");
-        }
+        let got = sorted(
+            a.complex_eigenvalues()
+                .iter()
+                .map(|e| (e.re, e.im))
+                .collect(),
+        );
+        worst = worst.max(worst_against(v, &got, &want, 1e-7));
     }
     eprintln!(
         "eigenvalues of the differenced right-hand side against Table 2: worst relative difference {worst:.1e}"
