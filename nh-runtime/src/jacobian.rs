@@ -23,6 +23,9 @@ pub(crate) trait JacobianSource<T: RealField + Copy, const D: usize> {
         out: &mut [T],
         stats: &mut Stats,
     );
+
+    /// [`OdeSystem::is_autonomous`] of the system.
+    fn is_autonomous(&self) -> bool;
 }
 
 /// The forward-difference increment for a variable of value `v`:
@@ -54,6 +57,11 @@ where
     #[inline]
     fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
         self.0.rhs(t, x)
+    }
+
+    #[inline]
+    fn is_autonomous(&self) -> bool {
+        self.0.is_autonomous()
     }
 
     fn jacobian(
@@ -93,6 +101,11 @@ where
         self.0.rhs(t, x)
     }
 
+    #[inline]
+    fn is_autonomous(&self) -> bool {
+        self.0.is_autonomous()
+    }
+
     fn jacobian(
         &self,
         t: T,
@@ -107,8 +120,8 @@ where
 }
 
 /// Forward-difference `∂f/∂t` at `(t, x)` with `f0 = f(t, x)` (one
-/// evaluation, counted), with the increment of [`increment`]; exactly zero
-/// for autonomous systems.
+/// evaluation, counted), with the increment of [`increment`]; zero, with
+/// no evaluation, for a system that says it is autonomous.
 pub(crate) fn time_derivative<T, J, const D: usize>(
     src: &J,
     t: T,
@@ -120,6 +133,9 @@ where
     T: RealField + Copy,
     J: JacobianSource<T, D> + ?Sized,
 {
+    if src.is_autonomous() {
+        return SVector::zeros();
+    }
     let (tp, delta) = increment(t);
     stats.rhs_evals += 1;
     (src.rhs(tp, x) - f0) / delta

@@ -75,6 +75,16 @@ pub trait OdeSystem<T, const D: usize> {
     fn project(&self, _t: T, _x: &mut SVector<T, D>) -> Result<bool, ProjectionFailure<T>> {
         Ok(false)
     }
+
+    /// Whether `f` depends on `t` only through `x` (an autonomous system):
+    /// then `∂f/∂t = 0`, and the implicit methods skip its finite difference
+    /// (one right-hand side per Jacobian less for `Rosenbrock`). `false` by
+    /// default; a generated system answers `true` when nothing in its
+    /// definition depends on `t`.
+    #[inline]
+    fn is_autonomous(&self) -> bool {
+        false
+    }
 }
 
 /// A projection onto holonomic constraints that did not converge.
@@ -178,6 +188,13 @@ pub trait ControlledSystem<T, const D: usize, const M: usize> {
     #[inline]
     fn project(&self, _t: T, _x: &mut SVector<T, D>) -> Result<bool, ProjectionFailure<T>> {
         Ok(false)
+    }
+
+    /// [`OdeSystem::is_autonomous`], for every fixed input: `f(t, x, u)`
+    /// depends on `t` only through `x` and `u`.
+    #[inline]
+    fn is_autonomous(&self) -> bool {
+        false
     }
 }
 
@@ -311,6 +328,12 @@ where
     #[inline]
     fn project(&self, t: T, x: &mut SVector<T, D>) -> Result<bool, ProjectionFailure<T>> {
         self.system.project(t, x)
+    }
+
+    /// The input is held, so the system's own answer holds.
+    #[inline]
+    fn is_autonomous(&self) -> bool {
+        self.system.is_autonomous()
     }
 }
 

@@ -1304,10 +1304,21 @@ impl Bodies for Derived<'_> {
     }
 
     fn runtime_hooks(&mut self, xty: &TokenStream) -> TokenStream {
-        if self.maggi.is_some() {
+        let hooks = if self.maggi.is_some() {
             self.chart_regularity()
         } else {
             crate::manifold::methods(self.m, xty)
+        };
+        if !self.m.autonomous() {
+            return hooks;
+        }
+        quote! {
+            #hooks
+            /// Nothing in the definition depends on `t` explicitly: ∂f/∂t = 0.
+            #[inline]
+            fn is_autonomous(&self) -> bool {
+                true
+            }
         }
     }
 

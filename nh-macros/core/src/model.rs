@@ -370,6 +370,27 @@ impl Model {
             .any(|c| self.engine.depends_on(c.velocity, self.time))
     }
 
+    /// Whether nothing in the definition depends on t explicitly (the
+    /// Lagrangian, the forces, the constraints, the kinematics), so that the
+    /// right-hand side is autonomous.
+    pub fn autonomous(&self) -> bool {
+        let t = self.time;
+        let forces = self.coordinates.iter().map(|c| c.force);
+        let constraints = self
+            .constraints
+            .iter()
+            .flat_map(|c| std::iter::once(c.velocity).chain(c.holonomic));
+        let kinematics = self
+            .speeds
+            .iter()
+            .flat_map(|sp| sp.velocities.iter().copied());
+        !std::iter::once(self.lagrangian)
+            .chain(forces)
+            .chain(constraints)
+            .chain(kinematics)
+            .any(|x| self.engine.depends_on(x, t))
+    }
+
     /// The holonomic constraints: (dependent coordinate, f).
     pub fn holonomic(&self) -> Vec<(usize, ExprId)> {
         self.constraints
