@@ -6,6 +6,9 @@
 //! analytic Jacobian against Dop853 at tight tolerances.
 use nonholonomic::prelude::*;
 
+#[path = "common/differences.rs"]
+mod central;
+
 nonholonomic_system! {
     /// A pushed and steered sled in a viscous medium: stiff for large `c`.
     pub struct PushedSled {
@@ -38,27 +41,6 @@ nonholonomic_system! {
     }
 }
 
-/// Max deviation of `jac` from central differences of `f` at `x`,
-/// relative to max(1, |column entry|).
-fn deviation<const D: usize>(
-    f: impl Fn(&SVector<f64, D>) -> SVector<f64, D>,
-    jac: &SMatrix<f64, D, D>,
-    x: &SVector<f64, D>,
-) -> f64 {
-    let mut worst = 0.0f64;
-    for c in 0..D {
-        let h = 1e-6 * x[c].abs().max(1.0);
-        let (mut xp, mut xm) = (*x, *x);
-        xp[c] += h;
-        xm[c] -= h;
-        let col = (f(&xp) - f(&xm)) / (2.0 * h);
-        for r in 0..D {
-            worst = worst.max((jac[(r, c)] - col[r]).abs() / col[r].abs().max(1.0));
-        }
-    }
-    worst
-}
-
 fn pushed_sled() -> (PushedSled, SVector<f64, 5>) {
     let sled = PushedSled::from_parameters(PushedSledParameters {
         m: 2.0,
@@ -86,7 +68,7 @@ fn the_held_jacobian_is_the_generated_one_and_matches_differences() {
         let x = SVector::<f64, 5>::from([0.3 * i as f64, th, -0.2, 0.7 - 0.3 * i as f64, 1.5 * th]);
         let j = driven.jacobian(0.5, &x);
         assert_eq!(j, sled.jacobian(0.5, &x, &u));
-        let worst = deviation(|x| driven.rhs(0.5, x), &j, &x);
+        let worst = central::jacobian_deviation(|x| driven.rhs(0.5, x), &j, &x);
         assert!(worst < 1e-6, "{worst:e} at {x}");
     }
 }
@@ -158,7 +140,7 @@ fn a_control_loop_on_rosenbrock_in_generalized_speeds() {
         let tau = SVector::from([20.0 * (target - SteeredSled::split(&x).0.theta)]);
         let driven = Driven::new(&sled, tau);
         let j = driven.jacobian(t0, &x);
-        assert!(deviation(|x| driven.rhs(t0, x), &j, &x) < 1e-6);
+        assert!(central::jacobian_deviation(|x| driven.rhs(t0, x), &j, &x) < 1e-6);
         x = Rosenbrock::new(1e-9, 1e-11)
             .integrate_with_jacobian(&driven, t0, x, t1)
             .unwrap()

@@ -2,6 +2,9 @@
 //! agrees with central differences of the generated right side.
 use nonholonomic::prelude::*;
 
+#[path = "common/differences.rs"]
+mod central;
+
 nonholonomic_system! {
     /// The thesis's disc with the Jacobian for stiff solvers.
     pub struct ThesisDisc {
@@ -66,26 +69,6 @@ impl Rng {
     }
 }
 
-/// Max relative deviation of `jac` from central differences of `f` at `x`.
-fn check<const D: usize>(
-    f: impl Fn(&SVector<f64, D>) -> SVector<f64, D>,
-    jac: &SMatrix<f64, D, D>,
-    x: &SVector<f64, D>,
-) -> f64 {
-    let mut worst = 0.0f64;
-    for c in 0..D {
-        let h = 1e-6 * x[c].abs().max(1.0);
-        let (mut xp, mut xm) = (*x, *x);
-        xp[c] += h;
-        xm[c] -= h;
-        let col = (f(&xp) - f(&xm)) / (2.0 * h);
-        for r in 0..D {
-            worst = worst.max((jac[(r, c)] - col[r]).abs() / col[r].abs().max(1.0));
-        }
-    }
-    worst
-}
-
 #[test]
 fn thesis_disc_jacobian_matches_central_differences() {
     let d: ThesisDisc = ThesisDisc::new(1.7, 0.35, 9.81);
@@ -100,7 +83,7 @@ fn thesis_disc_jacobian_matches_central_differences() {
             }
         });
         let j = OdeJacobian::jacobian(&d, 0.0, &x);
-        worst = worst.max(check(|x| d.rhs(0.0, x), &j, &x));
+        worst = worst.max(central::jacobian_deviation(|x| d.rhs(0.0, x), &j, &x));
     }
     println!("ThesisDisc: max relative deviation {worst:e}");
     assert!(worst < 1e-6, "{worst:e}");
@@ -114,7 +97,7 @@ fn coupled_system_jacobian_matches_central_differences() {
     for _ in 0..50 {
         let x = SVector::<f64, 10>::from_fn(|_, _| rng.uniform(-1.2, 1.2));
         let j = s.jacobian(0.0, &x);
-        worst = worst.max(check(|x| s.rhs(0.0, x), &j, &x));
+        worst = worst.max(central::jacobian_deviation(|x| s.rhs(0.0, x), &j, &x));
     }
     println!("Random03: max relative deviation {worst:e}");
     assert!(worst < 1e-6, "{worst:e}");
@@ -135,7 +118,11 @@ fn jacobian_with_inputs_and_velocity_dependent_forces() {
             }
         });
         let j = s.jacobian(0.0, &x, &u);
-        worst = worst.max(check(|x| s.rhs_with_input(0.0, x, &u), &j, &x));
+        worst = worst.max(central::jacobian_deviation(
+            |x| s.rhs_with_input(0.0, x, &u),
+            &j,
+            &x,
+        ));
     }
     println!("PushedSled: max relative deviation {worst:e}");
     assert!(worst < 1e-6, "{worst:e}");
@@ -157,7 +144,11 @@ fn linearization_matches_central_differences_in_state_and_input() {
         let u = SVector::<f64, 2>::from_fn(|_, _| rng.uniform(-1.0, 1.0));
         let (a, b) = s.linearization(0.0, &x, &u);
         assert_eq!(a, s.jacobian(0.0, &x, &u));
-        worst_a = worst_a.max(check(|x| s.rhs_with_input(0.0, x, &u), &a, &x));
+        worst_a = worst_a.max(central::jacobian_deviation(
+            |x| s.rhs_with_input(0.0, x, &u),
+            &a,
+            &x,
+        ));
         for c in 0..2 {
             let h = 1e-6;
             let (mut up, mut um) = (u, u);
@@ -180,7 +171,7 @@ fn large_jacobian_in_blocks_matches_central_differences() {
     for _ in 0..5 {
         let x = SVector::<f64, 20>::from_fn(|_, _| rng.uniform(-1.0, 1.0));
         let jac = sys.jacobian(0.0, &x);
-        let err = check(|x| sys.rhs(0.0, x), &jac, &x);
+        let err = central::jacobian_deviation(|x| sys.rhs(0.0, x), &jac, &x);
         assert!(err < 1e-6, "deviation {err:e}");
     }
 }
