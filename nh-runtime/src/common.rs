@@ -455,6 +455,26 @@ macro_rules! integrator_impl {
                 let span = (t0, x0, t1);
                 crate::sink::outputs(span, times, on_output, |k| self.run(sys, t0, x0, t1, k))
             }
+
+            fn integrate_with_events<S, G, F, const D: usize, const N: usize>(
+                &mut self,
+                sys: &S,
+                t0: T,
+                x0: nalgebra::SVector<T, D>,
+                t1: T,
+                events: &crate::Events<T, G, N>,
+                on_event: F,
+            ) -> Result<crate::Outcome<T, D>, crate::SimError<T, D>>
+            where
+                S: crate::OdeSystem<T, D> + ?Sized,
+                G: Fn(T, &nalgebra::SVector<T, D>) -> nalgebra::SVector<T, N>,
+                F: FnMut(&crate::EventHit<T, D>),
+            {
+                let mut tracker = crate::events::Tracker::new(events, on_event);
+                let result = self.run(sys, t0, x0, t1, &mut tracker);
+                let record = &mut self.$field.record.stats;
+                crate::events::counted(result, tracker.evals, record)
+            }
         }
     };
 }

@@ -12,7 +12,7 @@ use nalgebra::{RealField, SVector};
 use crate::common::{all_finite, c, check_arguments, check_positive, initial_step, min_step};
 use crate::sink::Sink;
 use crate::step::Poly;
-use crate::{OdeSystem, Outcome, SimError, Singularity, Stats, Step};
+use crate::{EventHit, OdeSystem, Outcome, SimError, Singularity, Stats, Step};
 
 /// Why a trial step could not be computed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -236,6 +236,8 @@ struct Run<'r, T, H: ?Sized, const D: usize> {
     /// The chart regularity at the accepted point (`None`: no chart test).
     chart: Option<T>,
     rec: &'r mut Record<T>,
+    /// The terminal event that ended the run, if one did.
+    event: Option<EventHit<T, D>>,
 }
 
 /// Integrates `sys` from `(t0, x0)` to `t1` with `method` (which evaluates
@@ -269,6 +271,7 @@ where
         project: settings.project,
         chart: None,
         rec,
+        event: None,
     };
     run.chart = run.regular_chart(t0, &x0)?;
     run.rec.max_residual = sys.constraint_residual(t0, &x0);
@@ -404,6 +407,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             x: self.x,
             stats: self.rec.stats,
             max_residual: self.rec.max_residual,
+            event: self.event,
         }
     }
 
@@ -506,22 +510,23 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
         self.settle(self.t1, &mut x_new)?;
         self.rec.stats.steps += 1;
         let line = Poly::from_monomial(&[x, x_new - x]);
-        sink.step(&Step::new(t, &x, self.t1, &x_new, Some(&line)));
+        let stop = sink.step_or_stop(&Step::new(t, &x, self.t1, &x_new, Some(&line)));
         self.t = self.t1;
         self.x = x_new;
+        self.stop_at(stop);
         Ok(self.outcome())
     }
 
     /// Completes an acceptable trial from `(t, x)` of size `h`: `complete`,
     /// and the dense output if the sink needs it (checked to be finite).
-    fn finish<M, K>(&mut self, m: &mut M, sink: &K, h: T, t_new: T) -> Result<bool, Failure>
+    fn finish<M, K>(&mut self, m: &mut M, sink: &mut K, h: T, t_new: T) -> Result<bool, Failure>
     where
         M: Method<T, D>,
         K: Sink<T, D> + ?Sized,
     {
         let stats = &mut self.rec.stats;
         m.complete(t_new, stats)?;
-        let dense = sink.wants_dense(self.t, t_new);
+        let dense = sink.wants_dense_at((self.t, &self.x), (t_new, m.x_new()));
         if dense && !m.build_dense(self.t, &self.x, h, stats) {
             return Err(Failure::NonFinite);
         }
@@ -530,7 +535,9 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
 
     /// Settles the end of the accepted step (projection, chart, residual),
     /// hands the step to the sink and moves to its end; the method restarts
-    /// there if the projection moved the state.
+    /// there if the projection moved the state. `true` when a terminal
+    /// event inside the step ended the run (at the event), also one found
+    /// before an end that could not be settled.
     fn accept<M, K>(
         &mut self,
         m: &mut M,
@@ -538,15 +545,26 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
         t_new: T,
         dense: bool,
         last: bool,
-    ) -> Result<(), SimError<T, D>>
+    ) -> Result<bool, SimError<T, D>>
     where
         M: Method<T, D>,
         K: Sink<T, D> + ?Sized,
     {
         let mut x_new = *m.x_new();
-        let moved = self.settle(t_new, &mut x_new)?;
+        let moved = match self.settle(t_new, &mut x_new) {
+            Ok(moved) => moved,
+            Err(e) if dense => {
+                let step = Step::new(self.t, &self.x, t_new, m.x_new(), Some(m.dense()));
+                let stop = sink.salvage(&step);
+                return if self.stop_at(stop) { Ok(true) } else { Err(e) };
+            }
+            Err(e) => return Err(e),
+        };
         let poly = if dense { Some(m.dense()) } else { None };
-        sink.step(&Step::new(self.t, &self.x, t_new, &x_new, poly));
+        let stop = sink.step_or_stop(&Step::new(self.t, &self.x, t_new, &x_new, poly));
+        if self.stop_at(stop) {
+            return Ok(true);
+        }
         self.t = t_new;
         self.x = x_new;
         let stats = &mut self.rec.stats;
@@ -555,7 +573,17 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             (true, false) => m.start(t_new, &self.x, stats),
             (false, _) => m.advance(t_new, &self.x, last, stats),
         };
-        next.map_err(|f| f.at(t_new, self.x, T::zero()))
+        next.map(|()| false)
+            .map_err(|f| f.at(t_new, self.x, T::zero()))
+    }
+
+    /// Ends the run at the terminal event `stop`, if there is one.
+    fn stop_at(&mut self, stop: Option<EventHit<T, D>>) -> bool {
+        let Some(hit) = stop else {
+            return false;
+        };
+        (self.t, self.x, self.event) = (hit.t, hit.x, Some(hit));
+        true
     }
 
     /// The fixed-step loop: step `k` ends at `t0 + k·h`, a remainder below a
@@ -600,8 +628,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             let dense = self.finish(m, sink, hk, t_new).map_err(|f| fail(f, self))?;
             self.rec.stats.steps += 1;
             self.rec.last_step = Some(h_abs);
-            self.accept(m, sink, t_new, dense, last)?;
-            if last {
+            if self.accept(m, sink, t_new, dense, last)? || last {
                 return Ok(self.outcome());
             }
         }
@@ -738,8 +765,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             }
             h = ctl.accepted(err, h, h_new, hmax, self.dir);
             self.rec.last_step = Some(h.abs());
-            self.accept(m, sink, t_new, dense, last)?;
-            if last {
+            if self.accept(m, sink, t_new, dense, last)? || last {
                 return Ok(self.outcome());
             }
         }

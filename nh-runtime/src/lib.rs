@@ -31,6 +31,9 @@
 //!   [`Integrator::integrate_with_steps`] hands it out, and
 //!   [`Integrator::integrate_with_outputs`] samples the solution at
 //!   requested times without changing the steps.
+//! * Events ([`Events`]): the sign changes of functions `g(t, x)`, located
+//!   on the dense output, filtered by [`Direction`], terminal or not,
+//!   reported as [`EventHit`]s by [`Integrator::integrate_with_events`].
 //! * Results: [`Outcome`] with [`Stats`], or a [`SimError`] that carries the
 //!   last good state.
 //! * One step driver runs every integrator: a method supplies only its
@@ -82,6 +85,7 @@ mod common;
 mod dop853;
 mod dopri5;
 mod driver;
+mod events;
 #[cfg(feature = "alloc")]
 mod gauss;
 mod jacobian;
@@ -96,6 +100,7 @@ mod system;
 
 pub use dop853::Dop853;
 pub use dopri5::DormandPrince;
+pub use events::{Direction, EventHit, Events};
 #[cfg(feature = "alloc")]
 pub use gauss::GaussLegendre4;
 pub use outcome::{Outcome, SimError, Singularity, Stats};

@@ -4,6 +4,8 @@ use core::fmt;
 
 use nalgebra::SVector;
 
+use crate::EventHit;
+
 /// Work counters of one integration call.
 ///
 /// # Example
@@ -44,11 +46,18 @@ pub struct Stats {
     /// LU decompositions of iteration matrices (implicit methods; 0 for the
     /// explicit ones).
     pub lu_decompositions: usize,
+    /// Evaluations of the event functions
+    /// ([`Integrator::integrate_with_events`](crate::Integrator::integrate_with_events);
+    /// 0 for the other entry points).
+    pub event_evals: usize,
 }
 
 /// A successful integration: the final time and state, plus work counters.
 ///
-/// `t` equals the requested end time exactly.
+/// `t` equals the requested end time exactly, unless a terminal event
+/// ([`Integrator::integrate_with_events`](crate::Integrator::integrate_with_events))
+/// ended the run earlier: then `t` and `x` are the event's, and
+/// [`Outcome::event`] says which.
 ///
 /// # Example
 ///
@@ -65,7 +74,8 @@ pub struct Stats {
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Outcome<T, const D: usize> {
-    /// Final time (equal to the requested `t1`).
+    /// Final time: the requested `t1`, or the time of the terminal event
+    /// that ended the run.
     pub t: T,
     /// State at `t`.
     pub x: SVector<T, D>,
@@ -76,6 +86,8 @@ pub struct Outcome<T, const D: usize> {
     /// over the initial state and every accepted state (after projection,
     /// when it is on); `None` for a system without holonomic constraints.
     pub max_residual: Option<T>,
+    /// The terminal event that ended the run before `t1`, if one did.
+    pub event: Option<EventHit<T, D>>,
 }
 
 /// What was singular when a run ended in [`SimError::Singular`].

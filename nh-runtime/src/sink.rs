@@ -6,7 +6,7 @@
 use nalgebra::{RealField, SVector};
 
 use crate::common::check_arguments;
-use crate::{Outcome, SimError, Step};
+use crate::{EventHit, Outcome, SimError, Step};
 
 /// A consumer of accepted steps.
 pub(crate) trait Sink<T, const D: usize> {
@@ -17,8 +17,32 @@ pub(crate) trait Sink<T, const D: usize> {
         false
     }
 
+    /// Whether the trial step from `(t_prev, x_prev)` to `(t, x_new)` (its
+    /// end before projection) will be interpolated: [`Sink::wants_dense`]
+    /// unless the sink needs to see the end (events look at the sign of
+    /// their functions there).
+    fn wants_dense_at(&mut self, prev: (T, &SVector<T, D>), end: (T, &SVector<T, D>)) -> bool {
+        self.wants_dense(prev.0, end.0)
+    }
+
     /// One accepted step.
     fn step(&mut self, step: &Step<'_, T, D>);
+
+    /// One accepted step; `Some` when a terminal event inside it ends the
+    /// run there (the driver then stops at the event's time and state).
+    fn step_or_stop(&mut self, step: &Step<'_, T, D>) -> Option<EventHit<T, D>> {
+        self.step(step);
+        None
+    }
+
+    /// A completed trial, with its dense output, whose end the driver
+    /// could not accept (its projection failed, or it lies across a
+    /// singularity of the chart): `Some` when a terminal event inside it
+    /// ends the run before that end, `None` (the default) to let the run
+    /// fail.
+    fn salvage(&mut self, _step: &Step<'_, T, D>) -> Option<EventHit<T, D>> {
+        None
+    }
 }
 
 /// Discards every step.

@@ -4,7 +4,7 @@ use core::fmt;
 
 use nalgebra::{RealField, SMatrix, SVector};
 
-use crate::{Outcome, SimError, Step};
+use crate::{EventHit, Events, Outcome, SimError, Step};
 
 /// An autonomous or time-dependent first-order ODE `x' = f(t, x)` with a
 /// state of fixed dimension `D`.
@@ -538,5 +538,82 @@ pub trait Integrator<T: RealField + Copy> {
         crate::sink::outputs((t0, x0, t1), times, on_output, |k| {
             self.integrate_with_steps(sys, t0, x0, t1, |s| k.step(s))
         })
+    }
+
+    /// Integrates from `(t0, x0)` to `t1` and locates the [`Events`]: the
+    /// sign changes of `g(t, x)`, on the dense output of the steps across
+    /// which they happen (see [`Events`] for the rules). Every event found
+    /// is handed to `on_event` in time order, a terminal one last; a
+    /// terminal event ends the run there: [`Outcome::t`] and
+    /// [`Outcome::x`] are then its time and state (the dense output's,
+    /// exactly `hit.t` and `hit.x`) and [`Outcome::event`] is `Some(hit)`.
+    /// Otherwise the run ends at `t1` as [`Integrator::integrate`] would:
+    /// the events do not change the steps. The evaluations of `g` are
+    /// counted in [`Stats::event_evals`](crate::Stats::event_evals).
+    ///
+    /// With projection onto holonomic constraints on, the events are
+    /// located on the step's dense output as it is (before projection);
+    /// its end is the projected state.
+    ///
+    /// A step whose end cannot be accepted (a singular chart there, a
+    /// failed projection) still ends the run at a terminal event inside
+    /// it, since the dense output before that end is finite: a system
+    /// that falls into the singularity of its coordinates stops at its
+    /// event rather than with [`SimError::Singular`].
+    ///
+    /// The integrators of this crate stop at a terminal event. The default
+    /// body, for other implementors, runs to `t1` with
+    /// [`Integrator::integrate_with_steps`] and reports the state at the
+    /// first terminal event (a failure after it does not count; the work
+    /// counters are then zero).
+    ///
+    /// # Example
+    ///
+    /// ```rust
+    /// use nalgebra::{Vector2, Vector3};
+    /// use nh_runtime::{Direction, Dop853, Events, Integrator};
+    ///
+    /// // A ball thrown up at 10 m/s from the ground: (height, velocity).
+    /// let ball = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -9.81);
+    /// // Passing 2 m (either way), the top (velocity falling through 0),
+    /// // the landing (terminal).
+    /// let events = Events::new(|_t: f64, x: &Vector2<f64>| Vector3::new(x[0] - 2.0, x[1], x[0]))
+    ///     .direction([Direction::Either, Direction::Falling, Direction::Falling])
+    ///     .terminal([false, false, true]);
+    /// let mut seen = Vec::new();
+    /// let out = Dop853::new(1e-10, 1e-12)
+    ///     .integrate_with_events(&ball, 0.0, Vector2::new(0.0, 10.0), 10.0, &events, |hit| {
+    ///         seen.push((hit.index, hit.t));
+    ///     })
+    ///     .unwrap();
+    /// let order: Vec<usize> = seen.iter().map(|s| s.0).collect();
+    /// assert_eq!(order, [0, 1, 0, 2]);
+    /// assert!((seen[1].1 - 10.0 / 9.81).abs() < 1e-12); // the top
+    /// assert_eq!(out.t, seen[3].1); // the landing ended the run
+    /// assert!((out.t - 20.0 / 9.81).abs() < 1e-12);
+    /// assert_eq!(out.event.unwrap().index, 2);
+    /// ```
+    fn integrate_with_events<S, G, F, const D: usize, const N: usize>(
+        &mut self,
+        sys: &S,
+        t0: T,
+        x0: SVector<T, D>,
+        t1: T,
+        events: &Events<T, G, N>,
+        on_event: F,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        S: OdeSystem<T, D> + ?Sized,
+        G: Fn(T, &SVector<T, D>) -> SVector<T, N>,
+        F: FnMut(&EventHit<T, D>),
+    {
+        let mut tracker = crate::events::Tracker::new(events, on_event);
+        let mut hit = None;
+        let result = self.integrate_with_steps(sys, t0, x0, t1, |s| {
+            if hit.is_none() {
+                hit = tracker.step(s);
+            }
+        });
+        crate::events::after_the_fact(result, hit, tracker.evals)
     }
 }

@@ -1,0 +1,470 @@
+//! Event location: the sign changes of a user function `g(t, x)`, found on
+//! the dense output of the accepted steps ([`Events`], [`EventHit`],
+//! [`Integrator::integrate_with_events`](crate::Integrator::integrate_with_events)).
+
+use core::cmp::Ordering;
+
+use nalgebra::{RealField, SVector};
+
+use crate::common::{c, machine_epsilon};
+use crate::sink::Sink;
+use crate::{Outcome, SimError, Stats, Step};
+
+/// Which sign changes of an event function count.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub enum Direction {
+    /// From negative to zero or positive.
+    Rising,
+    /// From positive to zero or negative.
+    Falling,
+    /// Either way (the default).
+    #[default]
+    Either,
+}
+
+impl Direction {
+    /// Whether a step from `g_prev` to `g_new` crosses zero this way.
+    ///
+    /// A value exactly zero at the start of a step (at `t0`, or at an event
+    /// found exactly at the end of the previous step) starts no crossing.
+    fn crossed<T: RealField + Copy>(self, g_prev: T, g_new: T) -> bool {
+        let zero = T::zero();
+        let rising = g_prev < zero && g_new >= zero;
+        let falling = g_prev > zero && g_new <= zero;
+        match self {
+            Direction::Rising => rising,
+            Direction::Falling => falling,
+            Direction::Either => rising || falling,
+        }
+    }
+}
+
+/// `N` event functions `g(t, x)`, evaluated together (one call returns all
+/// `N` values), each with a [`Direction`] filter and a terminal flag.
+///
+/// Event `i` happens where `g(t, x(t))[i]` changes sign in the chosen
+/// direction. The integrators look at the sign of `g` at the end of every
+/// accepted step; a step across which it changes is interpolated by its
+/// dense output ([`Step::interpolate`]) and the time of the zero is located
+/// there by the Anderson–Björck method to within the time tolerance
+/// ([`Events::with_tolerance`], default `4·eps·max(|t|, |h|)` for a step
+/// `h`). A non-terminal event is reported and the run goes on; a terminal
+/// one ends it there, at the located time with the dense output's state.
+///
+/// Two sign changes of the same `g_i` within one step cancel and go
+/// unnoticed (cap the step with `with_max_step` if `g` oscillates faster
+/// than the solution). A zero of `g_i` exactly at `t0` is not an event; nor
+/// is a non-finite value of `g`.
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::{Vector1, Vector2};
+/// use nh_runtime::{Direction, DormandPrince, Events, Integrator};
+///
+/// // A ball thrown up at 10 m/s: (height, velocity).
+/// let ball = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -9.81);
+/// // It lands (falling through height 0): terminal.
+/// let landing = Events::new(|_t: f64, x: &Vector2<f64>| Vector1::new(x[0]))
+///     .direction([Direction::Falling])
+///     .terminal([true]);
+/// let out = DormandPrince::new(1e-10, 1e-12)
+///     .integrate_with_events(&ball, 0.0, Vector2::new(0.0, 10.0), 5.0, &landing, |_| {})
+///     .unwrap();
+/// let hit = out.event.expect("the ball lands");
+/// assert_eq!((hit.index, hit.t), (0, out.t));
+/// assert!((out.t - 20.0 / 9.81).abs() < 1e-12);
+/// assert!(out.x[0].abs() < 1e-12);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Events<T, G, const N: usize> {
+    g: G,
+    direction: [Direction; N],
+    terminal: [bool; N],
+    tolerance: Option<T>,
+}
+
+impl<T: RealField + Copy, G, const N: usize> Events<T, G, N> {
+    /// The events `g(t, x) = 0` (all `N` at once): every direction, none
+    /// terminal, the default time tolerance.
+    pub fn new<const D: usize>(g: G) -> Self
+    where
+        G: Fn(T, &SVector<T, D>) -> SVector<T, N>,
+    {
+        Events {
+            g,
+            direction: [Direction::Either; N],
+            terminal: [false; N],
+            tolerance: None,
+        }
+    }
+
+    /// The direction filter of each event.
+    pub fn direction(mut self, direction: [Direction; N]) -> Self {
+        self.direction = direction;
+        self
+    }
+
+    /// Which events end the run.
+    pub fn terminal(mut self, terminal: [bool; N]) -> Self {
+        self.terminal = terminal;
+        self
+    }
+
+    /// Locates the times of the events to within `tol` (a time, > 0)
+    /// instead of the default `4·eps·max(|t|, |h|)` (a few ulps of `t` or
+    /// of the step `h`). A non-positive or non-finite `tol` keeps the
+    /// default.
+    pub fn with_tolerance(mut self, tol: T) -> Self {
+        self.tolerance = (tol.is_finite() && tol > T::zero()).then_some(tol);
+        self
+    }
+
+    /// The event functions at `(t, x)`.
+    pub fn values<const D: usize>(&self, t: T, x: &SVector<T, D>) -> SVector<T, N>
+    where
+        G: Fn(T, &SVector<T, D>) -> SVector<T, N>,
+    {
+        (self.g)(t, x)
+    }
+}
+
+/// An event that happened: which one, when, in which state.
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::{Vector1, Vector2};
+/// use nh_runtime::{Direction, Events, Integrator, Rk4};
+///
+/// // The oscillator q = cos t passes through 0 at π/2, 3π/2, 5π/2.
+/// let oscillator = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -x[0]);
+/// let zero = Events::new(|_t: f64, x: &Vector2<f64>| Vector1::new(x[0]));
+/// let mut hits = Vec::new();
+/// Rk4::new(0.01)
+///     .integrate_with_events(&oscillator, 0.0, Vector2::new(1.0, 0.0), 9.0, &zero, |h| hits.push(*h))
+///     .unwrap();
+/// assert_eq!(hits.len(), 3);
+/// assert_eq!(hits[0].direction, Direction::Falling);
+/// assert_eq!(hits[1].direction, Direction::Rising);
+/// assert!((hits[2].t - 2.5 * std::f64::consts::PI).abs() < 1e-8);
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EventHit<T, const D: usize> {
+    /// Which event function, `0..N`.
+    pub index: usize,
+    /// The located time.
+    pub t: T,
+    /// The state there, from the step's dense output.
+    pub x: SVector<T, D>,
+    /// Which way `g` crossed zero: [`Direction::Rising`] or
+    /// [`Direction::Falling`].
+    pub direction: Direction,
+    /// Whether the event ended the run.
+    pub terminal: bool,
+}
+
+/// The events' view of a run: `g` at the last accepted point, the
+/// candidate step end, the count of evaluations.
+pub(crate) struct Tracker<'e, T, G, F, const D: usize, const N: usize> {
+    events: &'e Events<T, G, N>,
+    on_event: F,
+    /// `g` at the last accepted point (`None` before the first step).
+    g_prev: Option<SVector<T, N>>,
+    /// `g` at the end of the trial the driver asked about.
+    candidate: Option<(T, SVector<T, D>, SVector<T, N>)>,
+    /// Evaluations of `g`.
+    pub(crate) evals: usize,
+}
+
+impl<'e, T, G, F, const D: usize, const N: usize> Tracker<'e, T, G, F, D, N>
+where
+    T: RealField + Copy,
+    G: Fn(T, &SVector<T, D>) -> SVector<T, N>,
+    F: FnMut(&EventHit<T, D>),
+{
+    pub(crate) fn new(events: &'e Events<T, G, N>, on_event: F) -> Self {
+        Tracker {
+            events,
+            on_event,
+            g_prev: None,
+            candidate: None,
+            evals: 0,
+        }
+    }
+
+    fn g(&mut self, t: T, x: &SVector<T, D>) -> SVector<T, N> {
+        self.evals += 1;
+        (self.events.g)(t, x)
+    }
+
+    /// `g` at the start of a step from `(t, x)` (evaluated once, at `t0`).
+    fn start(&mut self, t: T, x: &SVector<T, D>) -> SVector<T, N> {
+        match self.g_prev {
+            Some(g) => g,
+            None => {
+                let g = self.g(t, x);
+                self.g_prev = Some(g);
+                g
+            }
+        }
+    }
+
+    /// Whether a step `(t_prev, x_prev) → (t, x_new)` has a sign change of
+    /// some `g_i` in its direction; `g` at the end is kept for
+    /// [`Tracker::step`].
+    pub(crate) fn crosses(
+        &mut self,
+        (t_prev, x_prev): (T, &SVector<T, D>),
+        (t, x_new): (T, &SVector<T, D>),
+    ) -> bool {
+        let g_prev = self.start(t_prev, x_prev);
+        let g_new = self.g(t, x_new);
+        self.candidate = Some((t, *x_new, g_new));
+        self.any_crossing(&g_prev, &g_new)
+    }
+
+    fn any_crossing(&self, g_prev: &SVector<T, N>, g_new: &SVector<T, N>) -> bool {
+        (0..N).any(|i| self.events.direction[i].crossed(g_prev[i], g_new[i]))
+    }
+
+    /// `g` at the end of an accepted step: the value kept by
+    /// [`Tracker::crosses`] if the end is the same point.
+    fn at_end(&mut self, step: &Step<'_, T, D>) -> SVector<T, N> {
+        match self.candidate.take() {
+            Some((t, x, g)) if t == step.t() && x == *step.x() => g,
+            _ => self.g(step.t(), step.x()),
+        }
+    }
+
+    /// Reports the events inside an accepted step, in time order, up to and
+    /// including the first terminal one, which it returns.
+    pub(crate) fn step(&mut self, step: &Step<'_, T, D>) -> Option<EventHit<T, D>> {
+        let g_prev = self.start(step.t_prev(), step.x_prev());
+        let g_new = self.at_end(step);
+        self.g_prev = Some(g_new);
+        if !self.any_crossing(&g_prev, &g_new) {
+            return None;
+        }
+        let found = self.locate_all(step, &g_prev, &g_new);
+        self.report(step, &found)
+    }
+
+    /// A step that the driver could not accept (its end could not be
+    /// settled): if a terminal event lies inside, reports the events up to
+    /// it and returns it; otherwise reports nothing.
+    pub(crate) fn salvage(&mut self, step: &Step<'_, T, D>) -> Option<EventHit<T, D>> {
+        let g_prev = self.start(step.t_prev(), step.x_prev());
+        let g_new = self.at_end(step);
+        if !self.any_crossing(&g_prev, &g_new) {
+            return None;
+        }
+        let found = self.locate_all(step, &g_prev, &g_new);
+        let terminal = |&(_, i, _): &(T, usize, Direction)| self.events.terminal[i];
+        if found.iter().flatten().any(terminal) {
+            self.report(step, &found)
+        } else {
+            None
+        }
+    }
+
+    /// The located crossings `(t, index, direction)`, sorted in the
+    /// direction of integration (ties by index); `None` entries last.
+    fn locate_all(
+        &mut self,
+        step: &Step<'_, T, D>,
+        g_prev: &SVector<T, N>,
+        g_new: &SVector<T, N>,
+    ) -> [Option<Crossing<T>>; N] {
+        let mut found = [None; N];
+        for (i, slot) in found.iter_mut().enumerate() {
+            if self.events.direction[i].crossed(g_prev[i], g_new[i]) {
+                let t = self.locate(step, i, g_prev[i], g_new[i]);
+                let way = if g_prev[i] < T::zero() {
+                    Direction::Rising
+                } else {
+                    Direction::Falling
+                };
+                *slot = Some((t, i, way));
+            }
+        }
+        let dir = if step.h() < T::zero() {
+            -T::one()
+        } else {
+            T::one()
+        };
+        let key = |e: &Option<Crossing<T>>| e.map(|(t, i, _)| (t * dir, i));
+        found.sort_unstable_by(|a, b| match (key(a), key(b)) {
+            (Some((ta, ia)), Some((tb, ib))) => ta
+                .partial_cmp(&tb)
+                .unwrap_or(Ordering::Equal)
+                .then(ia.cmp(&ib)),
+            (Some(_), None) => Ordering::Less,
+            (None, Some(_)) => Ordering::Greater,
+            (None, None) => Ordering::Equal,
+        });
+        found
+    }
+
+    /// Calls back the located events in order, up to and including the
+    /// first terminal one, which is returned.
+    fn report(
+        &mut self,
+        step: &Step<'_, T, D>,
+        found: &[Option<Crossing<T>>; N],
+    ) -> Option<EventHit<T, D>> {
+        for &(t, index, direction) in found.iter().flatten() {
+            let hit = EventHit {
+                index,
+                t,
+                x: step.interpolate(t),
+                direction,
+                terminal: self.events.terminal[index],
+            };
+            (self.on_event)(&hit);
+            if hit.terminal {
+                return Some(hit);
+            }
+        }
+        None
+    }
+
+    /// The time where `g_i` crosses zero inside `step`, between the values
+    /// `g0` at its start and `g1` at its end (of opposite signs, or `g1`
+    /// zero), by the Anderson–Björck method on the dense output: the end of
+    /// the final bracket on the far side of the zero (where `g_i` has
+    /// crossed, or is zero), within the time tolerance of the zero.
+    fn locate(&mut self, step: &Step<'_, T, D>, i: usize, g0: T, g1: T) -> T {
+        let h = step.h();
+        let tol = self.events.tolerance.unwrap_or_else(|| {
+            let scale = step.t_prev().abs().max(step.t().abs()).max(h.abs());
+            c::<T>(4.0) * machine_epsilon::<T>() * scale
+        });
+        // The bracket: `(b, fb)` the latest point, `(a, fa)` the end kept.
+        let (mut a, mut fa) = (step.t_prev(), g0);
+        let (mut b, mut fb) = (step.t(), g1);
+        let (mut slow, mut kept) = (0, 0);
+        for _ in 0..MAX_ITERATIONS {
+            let width = (b - a).abs();
+            if fb == T::zero() || width <= tol {
+                break;
+            }
+            let secant = b - fb * (b - a) / (fb - fa);
+            let (lo, hi) = (a.min(b), a.max(b));
+            let inside = secant >= lo && secant <= hi;
+            let t = if slow >= SLOW || !inside {
+                (a + b) * c(0.5)
+            } else {
+                secant
+            };
+            // At least half the tolerance from either end, so that the
+            // bracket closes on the zero from both sides.
+            let least = tol * c(0.5);
+            let t = t.max(lo + least).min(hi - least);
+            if t == a || t == b {
+                break; // the bracket is down to adjacent numbers
+            }
+            let v = self.g(t, &step.interpolate(t))[i];
+            if !v.is_finite() {
+                break;
+            }
+            if v * fb > T::zero() {
+                // `a` stays: Anderson–Björck's factor shrinks its value,
+                // halved (Illinois) when `a` stays again, so that the
+                // iterates soon land on its side too.
+                kept += 1;
+                let m = T::one() - v / fb;
+                fa *= if m > T::zero() && kept < 2 { m } else { c(0.5) };
+            } else {
+                kept = 0;
+                (a, fa) = (b, fb);
+            }
+            (b, fb) = (t, v);
+            slow = if (b - a).abs() > width * c(0.5) {
+                slow + 1
+            } else {
+                0
+            };
+        }
+        if fb * g0 <= T::zero() { b } else { a }
+    }
+}
+
+/// A located crossing: its time, its event, the way it went.
+type Crossing<T> = (T, usize, Direction);
+
+/// Consecutive iterations that do not halve the bracket before the root
+/// finder bisects it.
+const SLOW: usize = 4;
+
+/// Iterations of the root finder per event (bisection alone would reach
+/// the resolution of `f64` in about 60).
+const MAX_ITERATIONS: usize = 200;
+
+/// The events as a consumer of the driver's steps: the dense output of a
+/// trial is built only when some `g_i` changes sign across it.
+impl<T, G, F, const D: usize, const N: usize> Sink<T, D> for Tracker<'_, T, G, F, D, N>
+where
+    T: RealField + Copy,
+    G: Fn(T, &SVector<T, D>) -> SVector<T, N>,
+    F: FnMut(&EventHit<T, D>),
+{
+    fn wants_dense_at(&mut self, prev: (T, &SVector<T, D>), end: (T, &SVector<T, D>)) -> bool {
+        self.crosses(prev, end)
+    }
+
+    fn step(&mut self, step: &Step<'_, T, D>) {
+        Tracker::step(self, step);
+    }
+
+    fn step_or_stop(&mut self, step: &Step<'_, T, D>) -> Option<EventHit<T, D>> {
+        Tracker::step(self, step)
+    }
+
+    fn salvage(&mut self, step: &Step<'_, T, D>) -> Option<EventHit<T, D>> {
+        Tracker::salvage(self, step)
+    }
+}
+
+/// The result of a run with events: the evaluations of `g` counted in the
+/// outcome and in the integrator's record of the call.
+pub(crate) fn counted<T, const D: usize>(
+    result: Result<Outcome<T, D>, SimError<T, D>>,
+    evals: usize,
+    record: &mut Stats,
+) -> Result<Outcome<T, D>, SimError<T, D>> {
+    record.event_evals = evals;
+    result.map(|mut out| {
+        out.stats.event_evals = evals;
+        out
+    })
+}
+
+/// The default [`Integrator::integrate_with_events`](crate::Integrator::integrate_with_events)
+/// of an integrator that only has `integrate_with_steps`: the result of a
+/// run to `t1` whose steps went through the events until a terminal one,
+/// which then ends it (a failure after the event does not count; the work
+/// counters are then those of the run, zero if it failed).
+pub(crate) fn after_the_fact<T: Copy, const D: usize>(
+    result: Result<Outcome<T, D>, SimError<T, D>>,
+    hit: Option<EventHit<T, D>>,
+    evals: usize,
+) -> Result<Outcome<T, D>, SimError<T, D>> {
+    let out = match (result, hit) {
+        (Ok(out), Some(hit)) => Ok(Outcome {
+            t: hit.t,
+            x: hit.x,
+            event: Some(hit),
+            ..out
+        }),
+        (Err(_), Some(hit)) => Ok(Outcome {
+            t: hit.t,
+            x: hit.x,
+            stats: Stats::default(),
+            max_residual: None,
+            event: Some(hit),
+        }),
+        (result, None) => result,
+    };
+    counted(out, evals, &mut Stats::default())
+}
