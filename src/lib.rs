@@ -841,7 +841,8 @@ pub use nalgebra;
 pub mod prelude {
     pub use crate::nonholonomic_system;
     pub use nalgebra::{
-        self, Matrix2, Matrix3, Matrix4, RealField, SMatrix, SVector, Vector2, Vector3, Vector4,
+        self, Matrix2, Matrix3, Matrix4, RealField, SMatrix, SVector, Vector1, Vector2, Vector3,
+        Vector4,
     };
     #[cfg(feature = "std")]
     pub use nalgebra::{DMatrix, DVector};

@@ -13,9 +13,9 @@ use std::alloc::{GlobalAlloc, Layout, System};
 use std::cell::Cell;
 
 use common::Oscillators3;
-use nalgebra::SVector;
+use nalgebra::{SVector, Vector1};
 use nh_runtime::OdeSystem as _;
-use nh_runtime::{Dop853, DormandPrince, GaussLegendre4, Integrator, Rk4, Rosenbrock};
+use nh_runtime::{Dop853, DormandPrince, Events, GaussLegendre4, Integrator, Rk4, Rosenbrock};
 
 struct Counting;
 
@@ -148,6 +148,17 @@ fn check_no_alloc<I: Integrator<f64>>(
     });
     out.unwrap();
     assert!(seen >= min_steps);
+
+    // Events: the zeros of x[0] (two in the long span), located on the
+    // dense output of the steps across them.
+    let zeros = Events::new(|_t: f64, x: &SVector<f64, 6>| Vector1::new(x[0]));
+    let mut hits = 0usize;
+    let (_, out) = per_step(name, workspace, |t1| {
+        hits = 0;
+        make().integrate_with_events(&Oscillators3, 0.0, x0, t1, &zeros, |_| hits += 1)
+    });
+    assert!(out.unwrap().stats.event_evals > 0);
+    assert_eq!(hits, 2, "{name}");
 
     // An error path: a right-hand side that turns NaN after a fifth of
     // the span.
