@@ -53,7 +53,9 @@ fn each(mut f: impl FnMut(&str, &mut dyn FnMut(&Events3) -> Run)) {
     f("DormandPrince", &mut |e| {
         hits(&mut DormandPrince::new(1e-8, 1e-10), span, e)
     });
-    f("Dop853", &mut |e| hits(&mut Dop853::new(1e-8, 1e-10), span, e));
+    f("Dop853", &mut |e| {
+        hits(&mut Dop853::new(1e-8, 1e-10), span, e)
+    });
     f("Rosenbrock", &mut |e| {
         hits(&mut Rosenbrock::new(1e-8, 1e-10), span, e)
     });
@@ -109,8 +111,8 @@ fn the_direction_filter_keeps_the_chosen_crossings() {
         (Direction::Rising, passes(2.0).0),
         (Direction::Falling, passes(2.0).1),
     ] {
-        let events = Events::new(|_t: f64, x: &Vector2<f64>| Vector1::new(x[0] - 2.0))
-            .direction([way]);
+        let events =
+            Events::new(|_t: f64, x: &Vector2<f64>| Vector1::new(x[0] - 2.0)).direction([way]);
         let span = (0.0, Vector2::new(0.0, V), 2.5);
         let (_, seen) = hits(&mut DormandPrince::new(1e-8, 1e-10), span, &events);
         assert_eq!(seen.len(), 1, "{way:?}");
@@ -123,7 +125,11 @@ fn the_direction_filter_keeps_the_chosen_crossings() {
 fn several_events_in_one_step_come_in_time_order() {
     // One Rk4 step over [0, 1] crosses the heights 1, 2 and 3 on the way up.
     let events: Events3 = Events::new(heights as fn(_, &_) -> _);
-    let (out, seen) = hits(&mut Rk4::new(1.0), (0.0, Vector2::new(0.0, V), 1.0), &events);
+    let (out, seen) = hits(
+        &mut Rk4::new(1.0),
+        (0.0, Vector2::new(0.0, V), 1.0),
+        &events,
+    );
     assert_eq!(out.stats.steps, 1);
     let order: Vec<usize> = seen.iter().map(|h| h.index).collect();
     assert_eq!(order, [1, 2, 0]);
@@ -134,7 +140,11 @@ fn several_events_in_one_step_come_in_time_order() {
     // A terminal event in the middle of the step ends it there: the
     // earlier event is reported, the later one is not.
     let events: Events3 = Events::new(heights as fn(_, &_) -> _).terminal([false, false, true]);
-    let (out, seen) = hits(&mut Rk4::new(1.0), (0.0, Vector2::new(0.0, V), 1.0), &events);
+    let (out, seen) = hits(
+        &mut Rk4::new(1.0),
+        (0.0, Vector2::new(0.0, V), 1.0),
+        &events,
+    );
     let order: Vec<usize> = seen.iter().map(|h| h.index).collect();
     assert_eq!(order, [1, 2]);
     assert_eq!(out.event, Some(seen[1]));
@@ -308,7 +318,11 @@ fn the_default_body_finds_the_same_terminal_event() {
         .terminal([true]);
     let span = (0.0, Vector2::new(0.0, V), 5.0);
     let (own, _) = hits(&mut DormandPrince::new(1e-8, 1e-10), span, &landing);
-    let (outside, seen) = hits(&mut Outside(DormandPrince::new(1e-8, 1e-10)), span, &landing);
+    let (outside, seen) = hits(
+        &mut Outside(DormandPrince::new(1e-8, 1e-10)),
+        span,
+        &landing,
+    );
     assert_eq!(seen.len(), 1);
     assert_eq!((outside.t, outside.x), (own.t, own.x));
     assert_eq!(outside.event, own.event);
