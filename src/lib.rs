@@ -781,6 +781,44 @@
 //! [`Outcome`](runtime::Outcome) or a [`SimError`](runtime::SimError) that
 //! carries the time and the last good state; no integrator allocates per step.
 //! Without the default `std` feature the facade is `no_std`.
+//!
+//! ## Events
+//!
+//! [`integrate_with_events`](runtime::Integrator::integrate_with_events)
+//! locates the sign changes of functions g(t, x) ([`Events`](runtime::Events),
+//! all of them returned by one closure) on the dense output of every
+//! integrator, filtered by [`Direction`](runtime::Direction), terminal or
+//! not; each hit is an [`EventHit`](runtime::EventHit) (which, when, the
+//! state), and a terminal one ends the run with its time and state in the
+//! [`Outcome`](runtime::Outcome). A disc falling flat or a bicycle falling
+//! over ends at its event rather than at the singularity of its equations.
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     /// A pendulum of length l.
+//!     pub struct Pendulum {
+//!         parameters { m, l, g }
+//!         coordinates { q }
+//!         lagrangian = m*l^2/2*dot(q)^2 + m*g*l*cos(q);
+//!     }
+//! }
+//!
+//! let p = Pendulum::new(1.0, 1.0, 9.81);
+//! // Released at 0.1 rad; it reaches the bottom (q falling through 0)
+//! // after a quarter period, about π/2·√(l/g).
+//! let bottom = Events::new(|_t: f64, x: &SVector<f64, 2>| Vector1::new(x[0]))
+//!     .direction([Direction::Falling])
+//!     .terminal([true]);
+//! let out = DormandPrince::new(1e-10, 1e-12)
+//!     .integrate_with_events(&p, 0.0, SVector::from([0.1, 0.0]), 10.0, &bottom, |_| {})
+//!     .unwrap();
+//! assert_eq!(out.event.map(|hit| hit.index), Some(0));
+//! assert!(out.x[0].abs() < 1e-12 && out.x[1] < 0.0);
+//! let quarter = std::f64::consts::FRAC_PI_2 / 9.81f64.sqrt();
+//! assert!((out.t - quarter).abs() < 1e-3 * quarter);
+//! ```
 #![forbid(unsafe_code)]
 #![cfg_attr(not(feature = "std"), no_std)]
 

@@ -41,7 +41,7 @@ fn flat() -> Events<f64, impl Fn(f64, &SVector<f64, 8>) -> Vector1<f64>, 1> {
 /// t* = ∫ dψ/ψ̇ from ψ0 = 1.2 to π/2 (mpmath, 40 digits, with
 /// cos ψ0 − cos ψ = u²) with ψ̇ = √(8g/(5R)·cos ψ0) there.
 const FLAT_TIME: f64 = 0.186_594_100_746_641_68;
-const FLAT_RATE: f64 = 4.031_152_729_241_836_8;
+const FLAT_RATE: f64 = 4.031_152_729_241_837;
 
 #[test]
 fn a_disc_falling_flat_ends_at_its_event_with_every_integrator() {

@@ -10,7 +10,7 @@ use common::Oscillator;
 use nalgebra::{SVector, Vector1, Vector2, Vector3};
 use nh_runtime::{
     Direction, Dop853, DormandPrince, EventHit, Events, GaussLegendre4, Integrator, OdeSystem,
-    Outcome, Rk4, Rosenbrock, SimError, Step,
+    Outcome, ProjectionFailure, Rk4, Rosenbrock, SimError, Step,
 };
 
 const G: f64 = 9.81;
@@ -364,4 +364,47 @@ fn a_terminal_event_before_a_chart_singularity_ends_the_run_there() {
     // Without a terminal event the run ends at the singularity, typed.
     let err = run(&near(false)).unwrap_err();
     assert!(matches!(err, SimError::Singular { .. }), "{err}");
+}
+
+/// Rotation on the unit circle, projected back onto it after every step.
+struct Circle;
+
+impl OdeSystem<f64, 2> for Circle {
+    fn rhs(&self, _t: f64, x: &Vector2<f64>) -> Vector2<f64> {
+        Vector2::new(-x[1], x[0])
+    }
+
+    fn constraint_residual(&self, _t: f64, x: &Vector2<f64>) -> Option<f64> {
+        Some((x.norm() - 1.0).abs())
+    }
+
+    fn project(&self, _t: f64, x: &mut Vector2<f64>) -> Result<bool, ProjectionFailure<f64>> {
+        let projected = *x / x.norm();
+        let moved = projected != *x;
+        *x = projected;
+        Ok(moved)
+    }
+}
+
+#[test]
+fn with_projection_events_are_located_on_the_dense_output_of_the_step() {
+    // (cos t, sin t) passes y = 1/2 at π/6 and 5π/6.
+    let half = Events::new(|_t: f64, x: &Vector2<f64>| Vector1::new(x[1] - 0.5));
+    let mut seen = Vec::new();
+    let out = DormandPrince::new(1e-10, 1e-12)
+        .integrate_with_events(&Circle, 0.0, Vector2::new(1.0, 0.0), 3.0, &half, |h| {
+            seen.push(*h)
+        })
+        .unwrap();
+    assert!(out.max_residual.unwrap() <= 2.0 * f64::EPSILON);
+    let pi = std::f64::consts::PI;
+    assert_eq!(seen.len(), 2);
+    for (hit, want) in seen.iter().zip([pi / 6.0, 5.0 * pi / 6.0]) {
+        assert!((hit.t - want).abs() < 1e-9, "{} vs {want}", hit.t);
+        assert!((hit.x[1] - 0.5).abs() < 1e-14);
+    }
+    // g at the end of a step whose state the projection moved is
+    // evaluated again there: at most two evaluations per step besides the
+    // search.
+    assert!(out.stats.event_evals <= 2 * out.stats.steps + 1 + 2 * 12);
 }
