@@ -521,6 +521,30 @@ macro_rules! jacobian_entry_points {
                 let mut sink = crate::sink::Steps(on_step);
                 self.$field.run(&mut $method, $sys, (t0, x0, t1), &mut sink)
             }
+
+            /// Like [`Integrator::integrate_with_events`](crate::Integrator::integrate_with_events),
+            /// but with the analytic Jacobian
+            /// [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) instead of finite differences.
+            pub fn integrate_with_jacobian_and_events<S, G, F, const D: usize, const N: usize>(
+                &mut self,
+                $sys: &S,
+                t0: T,
+                x0: nalgebra::SVector<T, D>,
+                t1: T,
+                events: &crate::Events<T, G, N>,
+                on_event: F,
+            ) -> Result<crate::Outcome<T, D>, crate::SimError<T, D>>
+            where
+                S: crate::OdeJacobian<T, D> + ?Sized,
+                G: Fn(T, &nalgebra::SVector<T, D>) -> nalgebra::SVector<T, N>,
+                F: FnMut(&crate::EventHit<T, D>),
+            {
+                let mut tracker = crate::events::Tracker::new(events, on_event);
+                let span = (t0, x0, t1);
+                let result = self.$field.run(&mut $method, $sys, span, &mut tracker);
+                let record = &mut self.$field.record.stats;
+                crate::events::counted(result, tracker.evals, record)
+            }
         }
     };
 }

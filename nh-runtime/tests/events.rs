@@ -408,3 +408,53 @@ fn with_projection_events_are_located_on_the_dense_output_of_the_step() {
     // search.
     assert!(out.stats.event_evals <= 2 * out.stats.steps + 1 + 2 * 12);
 }
+
+/// The ball with its (constant) Jacobian.
+struct Ball;
+
+impl OdeSystem<f64, 2> for Ball {
+    fn rhs(&self, t: f64, x: &Vector2<f64>) -> Vector2<f64> {
+        ball(t, x)
+    }
+}
+
+impl nh_runtime::OdeJacobian<f64, 2> for Ball {
+    fn jacobian(&self, _t: f64, _x: &Vector2<f64>) -> nalgebra::Matrix2<f64> {
+        nalgebra::Matrix2::new(0.0, 1.0, 0.0, 0.0)
+    }
+}
+
+#[test]
+fn the_implicit_methods_locate_events_with_the_analytic_jacobian_too() {
+    let landing = Events::new(|_t: f64, x: &Vector2<f64>| Vector1::new(x[0]))
+        .direction([Direction::Falling])
+        .terminal([true]);
+    let x0 = Vector2::new(0.0, V);
+    let want = 2.0 * V / G;
+    let ros = Rosenbrock::new(1e-8, 1e-10)
+        .integrate_with_jacobian_and_events(&Ball, 0.0, x0, 5.0, &landing, |_| {})
+        .unwrap();
+    let gauss = GaussLegendre4::new(0.1)
+        .integrate_with_jacobian_and_events(&Ball, 0.0, x0, 5.0, &landing, |_| {})
+        .unwrap();
+    for out in [ros, gauss] {
+        assert!((out.t - want).abs() <= 1e-12, "{}", out.t);
+        assert_eq!(out.event.map(|h| h.index), Some(0));
+        assert!(out.stats.jacobian_evals > 0 && out.stats.event_evals > 0);
+    }
+}
+
+#[test]
+fn events_work_in_single_precision() {
+    let ball32 = |_t: f32, x: &Vector2<f32>| Vector2::new(x[1], -9.81);
+    let landing = Events::new(|_t: f32, x: &Vector2<f32>| Vector1::new(x[0])).terminal([true]);
+    let out = DormandPrince::new(1e-5f32, 1e-7)
+        .integrate_with_events(&ball32, 0.0, Vector2::new(0.0, 10.0), 5.0, &landing, |_| {})
+        .unwrap();
+    // 20/9.81 to the resolution of f32.
+    assert!(
+        (out.t - 20.0 / 9.81).abs() <= 4.0 * f32::EPSILON * 2.1,
+        "{}",
+        out.t
+    );
+}
