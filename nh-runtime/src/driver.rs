@@ -4,8 +4,8 @@
 //! dense output; [`drive`] owns everything else: argument checks, the step
 //! layout (a fixed step, or the PI controller of Hairer's codes),
 //! acceptance and rejection, step budgets, stiffness detection, handing
-//! accepted steps to a [`Sink`] (observers, output times, step callbacks)
-//! and the typed failures ([`SimError`]).
+//! accepted steps to a [`Sink`] (observers, output times, step callbacks,
+//! events, which may end the run) and the typed failures ([`SimError`]).
 
 use nalgebra::{RealField, SVector};
 

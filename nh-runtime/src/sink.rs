@@ -1,7 +1,7 @@
-//! Where accepted steps go: nowhere, an observer, requested output times or
-//! a step callback. Each consumer is written once and used both by the
-//! integrators of this crate (through the step driver) and by the default
-//! methods of [`Integrator`](crate::Integrator).
+//! Where accepted steps go: nowhere, an observer, requested output times,
+//! a step callback or the events (`events::Tracker`). Each consumer is
+//! written once and used both by the integrators of this crate (through the
+//! step driver) and by the default methods of [`Integrator`](crate::Integrator).
 
 use nalgebra::{RealField, SVector};
 
