@@ -36,6 +36,11 @@
 //!   reported as [`EventHit`]s by [`Integrator::integrate_with_events`].
 //! * Results: [`Outcome`] with [`Stats`], or a [`SimError`] that carries the
 //!   last good state.
+//! * Many runs: [`Ensemble`] runs a job per index of a parameter or
+//!   initial-state sweep and returns the results in index order,
+//!   sequentially or (feature `rayon`) on all cores with identical results;
+//!   [`Shard`] cuts a sweep into contiguous index ranges for a batch
+//!   scheduler's job array (feature `std`).
 //! * One step driver runs every integrator: a method supplies only its
 //!   stages, error estimate and dense output; acceptance, step-size control
 //!   (Hairer's PI controller, or a fixed step for [`Rk4`],
@@ -86,6 +91,8 @@ mod dop853;
 mod dopri5;
 mod driver;
 mod events;
+#[cfg(feature = "std")]
+mod ensemble;
 #[cfg(feature = "alloc")]
 mod gauss;
 mod jacobian;
@@ -101,6 +108,8 @@ mod system;
 pub use dop853::Dop853;
 pub use dopri5::DormandPrince;
 pub use events::{Direction, EventHit, Events};
+#[cfg(feature = "std")]
+pub use ensemble::{Ensemble, Shard, ShardError};
 #[cfg(feature = "alloc")]
 pub use gauss::GaussLegendre4;
 pub use outcome::{Outcome, SimError, Singularity, Stats};
