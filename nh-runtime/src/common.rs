@@ -269,9 +269,10 @@ impl<T: RealField + Copy> Adaptive<T> {
 }
 
 /// The builder and query methods shared by the adaptive integrators (their
-/// settings live in an [`Adaptive`] field named `a`), written once.
+/// settings live in an [`Adaptive`] field named `a`; further fields, listed
+/// after the type, start as their `Default`), written once.
 macro_rules! adaptive_builders {
-    ($ty:ident) => {
+    ($ty:ident $(, $extra:ident)*) => {
         impl<T: nalgebra::RealField + Copy> $ty<T> {
             /// An adaptive integrator with relative tolerance `rtol` (> 0)
             /// and absolute tolerance `atol` (≥ 0), applied to every
@@ -279,6 +280,7 @@ macro_rules! adaptive_builders {
             pub fn new(rtol: T, atol: T) -> Self {
                 Self {
                     a: crate::common::Adaptive::new(rtol, atol),
+                    $($extra: Default::default(),)*
                 }
             }
 
@@ -358,10 +360,11 @@ pub(crate) use fixed_builders;
 
 /// The [`Integrator`](crate::Integrator) implementation of an integrator
 /// whose settings live in `$field` (an [`Adaptive`]) and whose
-/// method for a system `$sys` is `$method`: every entry point goes through
-/// the step driver with the matching [`Sink`].
+/// method for a system `$sys` is `$method` (which may borrow the further
+/// fields named after `$sys` mutably): every entry point goes through the
+/// step driver with the matching [`Sink`].
 macro_rules! integrator_impl {
-    ($ty:ident, $field:ident, |$sys:ident| $method:expr) => {
+    ($ty:ident, $field:ident, |$sys:ident $(, $extra:ident)*| $method:expr) => {
         impl<T: nalgebra::RealField + Copy> $ty<T> {
             /// Turns the projection of accepted states onto the system's
             /// holonomic constraints ([`OdeSystem::project`](crate::OdeSystem::project))
@@ -394,6 +397,7 @@ macro_rules! integrator_impl {
                 S: crate::OdeSystem<T, D> + ?Sized,
                 K: crate::sink::Sink<T, D> + ?Sized,
             {
+                $(let $extra = &mut self.$extra;)*
                 self.$field.run(&mut $method, $sys, (t0, x0, t1), sink)
             }
         }
@@ -482,10 +486,11 @@ pub(crate) use integrator_impl;
 
 /// `integrate_with_jacobian` and `integrate_with_jacobian_and_steps` of an
 /// implicit integrator whose method for an [`OdeJacobian`](crate::OdeJacobian)
-/// system `$sys` is `$method` (documented by the given attributes).
+/// system `$sys` is `$method` (documented by the given attributes; further
+/// fields as in [`integrator_impl`]).
 macro_rules! jacobian_entry_points {
     (
-        $ty:ident, $field:ident, |$sys:ident| $method:expr,
+        $ty:ident, $field:ident, |$sys:ident $(, $extra:ident)*| $method:expr,
         $(#[$plain:meta])* integrate_with_jacobian;
         $(#[$steps:meta])* integrate_with_jacobian_and_steps;
     ) => {
@@ -501,6 +506,7 @@ macro_rules! jacobian_entry_points {
             where
                 S: crate::OdeJacobian<T, D> + ?Sized,
             {
+                $(let $extra = &mut self.$extra;)*
                 self.$field
                     .run(&mut $method, $sys, (t0, x0, t1), &mut crate::sink::Discard)
             }
@@ -519,6 +525,7 @@ macro_rules! jacobian_entry_points {
                 F: FnMut(&crate::Step<'_, T, D>),
             {
                 let mut sink = crate::sink::Steps(on_step);
+                $(let $extra = &mut self.$extra;)*
                 self.$field.run(&mut $method, $sys, (t0, x0, t1), &mut sink)
             }
 

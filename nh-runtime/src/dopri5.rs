@@ -131,7 +131,7 @@ adaptive_builders!(DormandPrince);
 integrator_impl!(DormandPrince, a, |sys| Dopri5::new(sys));
 
 /// The stages of one Dormand–Prince step (`k[6]` is the next step's `k[0]`).
-struct Dopri5<'a, S: ?Sized, T, const D: usize> {
+pub(crate) struct Dopri5<'a, S: ?Sized, T, const D: usize> {
     sys: &'a S,
     k: [SVector<T, D>; 7],
     x6: SVector<T, D>,
@@ -140,7 +140,7 @@ struct Dopri5<'a, S: ?Sized, T, const D: usize> {
 }
 
 impl<'a, S: ?Sized, T: RealField + Copy, const D: usize> Dopri5<'a, S, T, D> {
-    fn new(sys: &'a S) -> Self {
+    pub(crate) fn new(sys: &'a S) -> Self {
         Dopri5 {
             sys,
             k: [SVector::zeros(); 7],

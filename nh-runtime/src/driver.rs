@@ -117,6 +117,20 @@ pub(crate) trait Method<T: RealField + Copy, const D: usize> {
         None
     }
 
+    /// The step-size controller in use: [`Method::PI`], unless the method
+    /// changes its nature within a run (stiffness switching).
+    fn pi(&self) -> Pi {
+        Self::PI
+    }
+
+    /// `Some(factor)` when the last [`Method::advance`] switched the method
+    /// over (stiffness switching): the driver restarts its step-size
+    /// controller with [`Method::pi`], and the next step is `factor` times
+    /// the one just accepted.
+    fn switched(&self) -> Option<f64> {
+        None
+    }
+
     /// Moves to the accepted point `(t, x)` (the end of the completed
     /// trial); `last` when the integration ends there.
     fn advance(
@@ -174,7 +188,8 @@ pub(crate) enum Control<T> {
     /// last one lands on `t1`.
     Fixed(T),
     /// Error control with the method's step-size controller
-    /// ([`Method::PI`], a constant, so that it folds into the loop).
+    /// ([`Method::pi`], by default the constant [`Method::PI`], so that it
+    /// folds into the loop).
     Adaptive,
 }
 
@@ -324,6 +339,16 @@ struct Controller<T> {
 }
 
 impl<T: RealField + Copy> Controller<T> {
+    /// A controller with no history.
+    fn new(pi: Pi) -> Self {
+        Controller {
+            pi,
+            facold: c(1e-4),
+            hacc: None,
+            reject: false,
+        }
+    }
+
     /// Whether `err` is acceptable, and the next step after `h`.
     #[inline(always)]
     fn propose(&self, err: T, h: T) -> (bool, T) {
@@ -683,12 +708,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
     {
         let hmax = s.max_step.unwrap_or((self.t1 - self.t).abs());
         let mut h = self.first_step(m, s, hmax);
-        let mut ctl = Controller {
-            pi: M::PI,
-            facold: c(1e-4),
-            hacc: None,
-            reject: false,
-        };
+        let mut ctl = Controller::new(m.pi());
         let mut stiff = Stiffness {
             hlamb: None,
             iasti: 0,
@@ -763,10 +783,16 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             if stiff.test(m, self.rec.stats.steps, h) {
                 self.rec.stats.stiffness_detected = true;
             }
+            let h_accepted = h.abs();
             h = ctl.accepted(err, h, h_new, hmax, self.dir);
             self.rec.last_step = Some(h.abs());
             if self.accept(m, sink, t_new, dense, last)? || last {
                 return Ok(self.outcome());
+            }
+            if let Some(factor) = m.switched() {
+                ctl = Controller::new(m.pi());
+                h = (h_accepted * c(factor)).min(hmax) * self.dir;
+                self.rec.last_step = Some(h.abs());
             }
         }
     }

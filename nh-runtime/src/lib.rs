@@ -18,12 +18,15 @@
 //!   * [`Rosenbrock`]: RODAS4, adaptive, L-stable, linearly implicit
 //!     (order 4), for stiff problems;
 //!   * [`GaussLegendre4`]: 2-stage Gauss–Legendre collocation, fixed step,
-//!     implicit, symplectic (order 4).
+//!     implicit, symplectic (order 4);
+//!   * [`AutoSwitch`]: [`DormandPrince`] while the problem is not stiff,
+//!     RODAS4 while it is, switching automatically both ways.
 //!
 //!   Which to use: [`DormandPrince`] for everyday non-stiff problems at
 //!   moderate tolerances, [`Dop853`] when tolerances are tight, [`Rosenbrock`]
 //!   when the problem is stiff (explicit methods crawl, or `DormandPrince`
-//!   reports [`Stats::stiffness_detected`]), and [`GaussLegendre4`] for long
+//!   reports [`Stats::stiffness_detected`]), [`AutoSwitch`] when it is stiff
+//!   only at times or you do not know, and [`GaussLegendre4`] for long
 //!   runs of conservative (Hamiltonian) systems, where it keeps the energy
 //!   error bounded; [`Rk4`] when a fixed, cheap, explicit step is wanted
 //!   (e.g. real-time loops).
@@ -86,6 +89,7 @@
 #[cfg(feature = "alloc")]
 extern crate alloc;
 
+mod auto;
 mod common;
 mod dop853;
 mod dopri5;
@@ -105,6 +109,7 @@ mod state;
 mod step;
 mod system;
 
+pub use auto::{AutoSwitch, Regime, Switch};
 pub use dop853::Dop853;
 pub use dopri5::DormandPrince;
 pub use events::{Direction, EventHit, Events};

@@ -38,7 +38,8 @@ pub struct Stats {
     /// [`DormandPrince`](crate::DormandPrince) and [`Dop853`](crate::Dop853)
     /// perform one, and only under error control, not with
     /// `with_fixed_step`). The integration still continues; a stiff problem
-    /// is merely slow for an explicit method.
+    /// is merely slow for an explicit method. [`AutoSwitch`](crate::AutoSwitch)
+    /// sets it at its first switch to the implicit member.
     pub stiffness_detected: bool,
     /// Newton iterations (implicit Runge–Kutta methods such as
     /// [`GaussLegendre4`](crate::GaussLegendre4); 0 for the others).
@@ -50,6 +51,16 @@ pub struct Stats {
     /// ([`Integrator::integrate_with_events`](crate::Integrator::integrate_with_events);
     /// 0 for the other entry points).
     pub event_evals: usize,
+    /// Switches from the explicit to the implicit member of
+    /// [`AutoSwitch`](crate::AutoSwitch) (0 for the other integrators).
+    pub switches_to_stiff: usize,
+    /// Switches from the implicit back to the explicit member of
+    /// [`AutoSwitch`](crate::AutoSwitch).
+    pub switches_to_nonstiff: usize,
+    /// Accepted steps taken by the implicit member of
+    /// [`AutoSwitch`](crate::AutoSwitch); the explicit member took
+    /// `steps − stiff_steps`.
+    pub stiff_steps: usize,
 }
 
 /// A successful integration: the final time and state, plus work counters.

@@ -181,7 +181,7 @@ jacobian_entry_points! {
 
 /// The state of RODAS4 at an accepted point (derivative, Jacobian, `∂f/∂t`)
 /// and the stages `U_1 … U_5` of the last trial.
-struct Rodas<J, T, const D: usize> {
+pub(crate) struct Rodas<J, T, const D: usize> {
     src: J,
     f0: SVector<T, D>,
     jac: SMatrix<T, D, D>,
@@ -197,7 +197,7 @@ where
     T: RealField + Copy,
     J: JacobianSource<T, D>,
 {
-    fn new(src: J) -> Self {
+    pub(crate) fn new(src: J) -> Self {
         Rodas {
             src,
             f0: SVector::zeros(),
@@ -330,5 +330,15 @@ where
         } else {
             self.linearise(t, x, stats)
         }
+    }
+}
+
+impl<J, T, const D: usize> crate::auto::Linearised<T, D> for Rodas<J, T, D>
+where
+    T: RealField + Copy,
+    J: JacobianSource<T, D>,
+{
+    fn jacobian(&self) -> &SMatrix<T, D, D> {
+        &self.jac
     }
 }
