@@ -15,7 +15,9 @@ use std::cell::Cell;
 use common::Oscillators3;
 use nalgebra::{SVector, Vector1};
 use nh_runtime::OdeSystem as _;
-use nh_runtime::{Dop853, DormandPrince, Events, GaussLegendre4, Integrator, Rk4, Rosenbrock};
+use nh_runtime::{
+    AutoSwitch, Dop853, DormandPrince, Events, GaussLegendre4, Integrator, Rk4, Rosenbrock,
+};
 
 struct Counting;
 
@@ -182,6 +184,26 @@ fn no_integrator_allocates_per_step() {
     check_no_alloc("dop853", || Dop853::new(1e-9, 1e-11), 20, false);
     check_no_alloc("rosenbrock", || Rosenbrock::new(1e-6, 1e-8), 20, false);
     check_no_alloc("gauss4", || GaussLegendre4::new(1e-2), 500, true);
+    check_no_alloc("auto", || AutoSwitch::new(1e-9, 1e-11), 50, false);
+}
+
+#[test]
+fn switching_does_not_allocate() {
+    // Stiff (λ up to 1e5) around t = 3 only: two switches on [0, 6].
+    let bump = |t: f64, x: &nalgebra::Vector1<f64>| {
+        let lambda = 1.0 + 1e5 * (-((t - 3.0) / 0.8).powi(8)).exp();
+        nalgebra::Vector1::new(-lambda * (x[0] - t.cos()) - t.sin())
+    };
+    let x0 = nalgebra::Vector1::new(1.0);
+    let mut auto = AutoSwitch::new(1e-6, 1e-9);
+    let (n, out) = allocations_during(|| auto.integrate(&bump, 0.0, x0, 6.0));
+    let out = out.unwrap();
+    assert_eq!(
+        out.stats.switches_to_stiff + out.stats.switches_to_nonstiff,
+        2
+    );
+    assert_eq!(auto.last_switches().len(), 2);
+    assert_eq!(n, 0, "AutoSwitch allocated {n} times");
 }
 
 #[test]
