@@ -49,9 +49,9 @@ struct Scene<S, const D: usize> {
 }
 
 impl<S, const D: usize> Scene<S, D> {
-    /// The number of runs of the scene (three adaptive methods per tolerance).
+    /// The number of runs of the scene (four adaptive methods per tolerance).
     fn runs(&self) -> usize {
-        3 * self.rtols.len() + self.rk4_steps.len() + self.gauss_steps.len()
+        4 * self.rtols.len() + self.rk4_steps.len() + self.gauss_steps.len()
     }
 }
 
@@ -114,6 +114,11 @@ where
         });
         timed(scene, runs, bar, "Rosenbrock (Rodas)", rtol, || {
             Rosenbrock::new(rtol, atol)
+                .with_max_steps(budget)
+                .integrate_with_jacobian(sys, 0.0, x0, t1)
+        });
+        timed(scene, runs, bar, "AutoSwitch (DP5/Rodas)", rtol, || {
+            AutoSwitch::new(rtol, atol)
                 .with_max_steps(budget)
                 .integrate_with_jacobian(sys, 0.0, x0, t1)
         });

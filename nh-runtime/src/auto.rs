@@ -420,7 +420,7 @@ where
         }
         let ok = self.implicit.build_dense(t, x, h, stats);
         if !ok {
-            stats.stiff_steps -= 1;
+            stats.stiff_steps = stats.stiff_steps.saturating_sub(1);
         }
         ok
     }
