@@ -548,6 +548,7 @@ macro_rules! jacobian_entry_points {
             {
                 let mut tracker = crate::events::Tracker::new(events, on_event);
                 let span = (t0, x0, t1);
+                $(let $extra = &mut self.$extra;)*
                 let result = self.$field.run(&mut $method, $sys, span, &mut tracker);
                 let record = &mut self.$field.record.stats;
                 crate::events::counted(result, tracker.evals, record)
