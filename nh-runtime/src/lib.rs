@@ -94,9 +94,9 @@ mod common;
 mod dop853;
 mod dopri5;
 mod driver;
-mod events;
 #[cfg(feature = "std")]
 mod ensemble;
+mod events;
 #[cfg(feature = "alloc")]
 mod gauss;
 mod jacobian;
@@ -112,9 +112,9 @@ mod system;
 pub use auto::{AutoSwitch, Regime, Switch};
 pub use dop853::Dop853;
 pub use dopri5::DormandPrince;
-pub use events::{Direction, EventHit, Events};
 #[cfg(feature = "std")]
 pub use ensemble::{Ensemble, Shard, ShardError};
+pub use events::{Direction, EventHit, Events};
 #[cfg(feature = "alloc")]
 pub use gauss::GaussLegendre4;
 pub use outcome::{Outcome, SimError, Singularity, Stats};
