@@ -3,6 +3,7 @@
 
 use nalgebra::{RealField, SMatrix, SVector};
 
+use crate::ScalarTolerance;
 use crate::Stats;
 use crate::common::{Adaptive, adaptive_builders, c, integrator_impl, jacobian_entry_points};
 use crate::dopri5::Dopri5;
@@ -139,20 +140,20 @@ impl<T: Copy> SwitchLog<T> {
 /// assert!(switch.t > 1.0 && switch.t < 1.1);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct AutoSwitch<T> {
-    a: Adaptive<T>,
+pub struct AutoSwitch<T, Tol = ScalarTolerance<T>> {
+    a: Adaptive<T, Tol>,
     log: SwitchLog<T>,
 }
 
 adaptive_builders!(AutoSwitch, log);
-integrator_impl!(AutoSwitch, a, |sys, log| Switching::new(
+integrator_impl!(AutoSwitch<T, Tol>, a, |sys, log| Switching::new(
     Dopri5::new(sys),
     Rodas::new(FiniteDifference(sys)),
     log
 ));
 
 jacobian_entry_points! {
-    AutoSwitch, a, |sys, log| Switching::new(Dopri5::new(sys), Rodas::new(Analytic(sys)), log),
+    AutoSwitch<T, Tol>, a, |sys, log| Switching::new(Dopri5::new(sys), Rodas::new(Analytic(sys)), log),
     /// Like [`Integrator::integrate`](crate::Integrator::integrate), but the
     /// implicit member uses the analytic Jacobian
     /// [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) instead of
@@ -193,7 +194,7 @@ jacobian_entry_points! {
     integrate_with_jacobian_and_steps;
 }
 
-impl<T: RealField + Copy> AutoSwitch<T> {
+impl<T: RealField + Copy, Tol> AutoSwitch<T, Tol> {
     /// How many switches [`AutoSwitch::last_switches`] records per call
     /// (further ones are only counted in [`Stats`]).
     pub const LOG_CAPACITY: usize = 64;
@@ -383,7 +384,7 @@ where
         x: &SVector<T, D>,
         h: T,
         t_new: T,
-        tol: &Tolerance<T>,
+        tol: &Tolerance<T, D>,
         stats: &mut Stats,
     ) -> Result<T, Failure> {
         self.h = h;

@@ -4,7 +4,8 @@ use nalgebra::{RealField, SVector};
 
 use crate::driver::{Control, Method, Record, Settings, Tolerance, drive};
 use crate::sink::Sink;
-use crate::{OdeSystem, Outcome, SimError, Stats};
+pub(crate) use crate::tolerance::{error_norm, scaled};
+use crate::{ErrorTolerance, OdeSystem, Outcome, ScalarTolerance, SimError, Stats};
 
 /// Converts an `f64` constant to `T`.
 #[inline(always)]
@@ -47,37 +48,6 @@ pub(crate) fn all_finite_in<T: RealField + Copy, const D: usize>(vs: &[SVector<T
         zero += v * T::zero();
     }
     all_finite(&zero)
-}
-
-/// `e / sk` with `0 / 0 = 0`: a component whose error is exactly zero meets
-/// any tolerance, also a zero one (`atol = 0` on a component that is exactly
-/// zero, such as a coordinate of a system at rest), instead of turning the
-/// error norm into NaN and the step into a spurious non-finite rejection.
-#[inline]
-pub(crate) fn scaled<T: RealField + Copy>(e: T, sk: T) -> T {
-    if e == T::zero() { T::zero() } else { e / sk }
-}
-
-/// Hairer's error norm: the RMS over components of
-/// `err_i / (atol + rtol * max(|x_i|, |x_new_i|))` (with `0 / 0 = 0`, see
-/// [`scaled`]).
-pub(crate) fn error_norm<T: RealField + Copy, const D: usize>(
-    err: &SVector<T, D>,
-    x: &SVector<T, D>,
-    x_new: &SVector<T, D>,
-    rtol: T,
-    atol: T,
-) -> T {
-    if D == 0 {
-        return T::zero();
-    }
-    let mut sum = T::zero();
-    for i in 0..D {
-        let sk = atol + rtol * x[i].abs().max(x_new[i].abs());
-        let r = scaled(err[i], sk);
-        sum += r * r;
-    }
-    (sum / c::<T>(D as f64)).sqrt()
 }
 
 /// Validates the arguments common to every integrator and returns the
@@ -146,15 +116,14 @@ pub(crate) fn initial_step<T, S, const D: usize>(
     f0: &SVector<T, D>,
     dir: T,
     hmax: T,
-    rtol: T,
-    atol: T,
+    tol: &Tolerance<T, D>,
     order: u32,
 ) -> T
 where
     T: RealField + Copy,
     S: OdeSystem<T, D> + ?Sized,
 {
-    let sk = x.map(|xi| atol + rtol * xi.abs());
+    let sk = tol.weights_at(x);
     let ratio = |v: &SVector<T, D>| v.zip_map(&sk, scaled).norm_squared();
     let (dnf, dny) = (ratio(f0), ratio(x));
     let tiny = c::<T>(1e-10);
@@ -190,9 +159,8 @@ pub(crate) const FIXED_MAX_STEPS: usize = 1_000_000;
 /// step limits, the counters of the last call); see the builder methods that
 /// [`adaptive_builders`] gives each of them.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Adaptive<T> {
-    pub(crate) rtol: T,
-    pub(crate) atol: T,
+pub(crate) struct Adaptive<T, Tol = ScalarTolerance<T>> {
+    pub(crate) tol: Tol,
     pub(crate) max_steps: usize,
     pub(crate) initial_step: Option<T>,
     pub(crate) max_step: Option<T>,
@@ -205,8 +173,7 @@ impl<T: RealField + Copy> Adaptive<T> {
     /// Tolerances `rtol`, `atol`; at most 100 000 step attempts.
     pub(crate) fn new(rtol: T, atol: T) -> Self {
         Adaptive {
-            rtol,
-            atol,
+            tol: ScalarTolerance::new(rtol, atol),
             max_steps: ADAPTIVE_MAX_STEPS,
             initial_step: None,
             max_step: None,
@@ -216,10 +183,36 @@ impl<T: RealField + Copy> Adaptive<T> {
         }
     }
 
+    /// The settings of a fixed-step integrator: step `h`, at most
+    /// [`FIXED_MAX_STEPS`] steps (the tolerances are not used).
+    pub(crate) fn fixed(h: T) -> Self {
+        Adaptive {
+            max_steps: FIXED_MAX_STEPS,
+            fixed_step: Some(h),
+            ..Adaptive::new(T::one(), T::one())
+        }
+    }
+}
+
+impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Adaptive<T, Tol> {
+    /// These settings with the tolerance `tol` instead.
+    pub(crate) fn with_tolerance<U: ErrorTolerance<T>>(self, tol: U) -> Adaptive<T, U> {
+        Adaptive {
+            tol,
+            max_steps: self.max_steps,
+            initial_step: self.initial_step,
+            max_step: self.max_step,
+            fixed_step: self.fixed_step,
+            project: self.project,
+            record: self.record,
+        }
+    }
+
     /// Runs `method` under these settings with its step-size controller
-    /// (or the fixed step of `with_fixed_step`). A positive `rtol`
+    /// (or the fixed step of `with_fixed_step`). A positive `rtol_i`
     /// below `10·eps` is raised to `10·eps`, the smallest relative error the
-    /// scalar can resolve in a step.
+    /// scalar can resolve in a step; tolerances for another dimension than
+    /// `D` are `InvalidInput`.
     pub(crate) fn run<M, H, K, const D: usize>(
         &mut self,
         method: &mut M,
@@ -232,39 +225,24 @@ impl<T: RealField + Copy> Adaptive<T> {
         H: OdeSystem<T, D> + ?Sized,
         K: Sink<T, D> + ?Sized,
     {
-        let floor = c::<T>(10.0) * machine_epsilon::<T>();
-        let rtol = if self.rtol > T::zero() {
-            self.rtol.max(floor)
-        } else {
-            self.rtol
+        let Some(tol) = self.tol.for_dimension::<D>() else {
+            self.record = Record::default();
+            return Err(SimError::InvalidInput {
+                what: "the per-component tolerances have another dimension than the state",
+            });
         };
         let settings = Settings {
             control: match self.fixed_step {
                 Some(h) => Control::Fixed(h),
                 None => Control::Adaptive,
             },
-            tol: Tolerance {
-                rtol,
-                atol: self.atol,
-            },
+            tol: tol.floored(c::<T>(10.0) * machine_epsilon::<T>()),
             initial_step: self.initial_step,
             max_step: self.max_step,
             max_steps: self.max_steps,
             project: self.project,
         };
         drive(method, sys, &settings, span, sink, &mut self.record)
-    }
-}
-
-impl<T: RealField + Copy> Adaptive<T> {
-    /// The settings of a fixed-step integrator: step `h`, at most
-    /// [`FIXED_MAX_STEPS`] steps (the tolerances are not used).
-    pub(crate) fn fixed(h: T) -> Self {
-        Adaptive {
-            max_steps: FIXED_MAX_STEPS,
-            fixed_step: Some(h),
-            ..Adaptive::new(T::one(), T::one())
-        }
     }
 }
 
@@ -276,11 +254,32 @@ macro_rules! adaptive_builders {
         impl<T: nalgebra::RealField + Copy> $ty<T> {
             /// An adaptive integrator with relative tolerance `rtol` (> 0)
             /// and absolute tolerance `atol` (≥ 0), applied to every
-            /// component.
+            /// component (see [`Self::with_tolerances`] for a pair per
+            /// component).
             pub fn new(rtol: T, atol: T) -> Self {
                 Self {
                     a: crate::common::Adaptive::new(rtol, atol),
                     $($extra: Default::default(),)*
+                }
+            }
+        }
+
+        impl<T: nalgebra::RealField + Copy, Tol: crate::ErrorTolerance<T>> $ty<T, Tol> {
+            /// The same integrator with a relative tolerance `rtol[i]`
+            /// (> 0) and an absolute tolerance `atol[i]` (≥ 0) for each
+            /// component `i` of the state (whose dimension must be `N`),
+            /// replacing the tolerances given so far; see
+            /// [`PerComponentTolerance`](crate::PerComponentTolerance).
+            /// Equal entries give exactly the steps of `new(rtol, atol)`.
+            pub fn with_tolerances<const N: usize>(
+                self,
+                rtol: nalgebra::SVector<T, N>,
+                atol: nalgebra::SVector<T, N>,
+            ) -> $ty<T, crate::PerComponentTolerance<T, N>> {
+                let tol = crate::PerComponentTolerance::new(rtol, atol);
+                $ty {
+                    a: self.a.with_tolerance(tol),
+                    $($extra: self.$extra,)*
                 }
             }
 
@@ -364,8 +363,8 @@ pub(crate) use fixed_builders;
 /// fields named after `$sys` mutably): every entry point goes through the
 /// step driver with the matching [`Sink`].
 macro_rules! integrator_impl {
-    ($ty:ident, $field:ident, |$sys:ident $(, $extra:ident)*| $method:expr) => {
-        impl<T: nalgebra::RealField + Copy> $ty<T> {
+    ($ty:ident $(<T, $tol:ident>)?, $field:ident, |$sys:ident $(, $extra:ident)*| $method:expr) => {
+        impl<T: nalgebra::RealField + Copy $(, $tol: crate::ErrorTolerance<T>)?> $ty<T $(, $tol)?> {
             /// Turns the projection of accepted states onto the system's
             /// holonomic constraints ([`OdeSystem::project`](crate::OdeSystem::project))
             /// on or off (default on; systems without holonomic constraints
@@ -402,7 +401,9 @@ macro_rules! integrator_impl {
             }
         }
 
-        impl<T: nalgebra::RealField + Copy> crate::Integrator<T> for $ty<T> {
+        impl<T: nalgebra::RealField + Copy $(, $tol: crate::ErrorTolerance<T>)?> crate::Integrator<T>
+            for $ty<T $(, $tol)?>
+        {
             fn integrate_with_steps<S, F, const D: usize>(
                 &mut self,
                 sys: &S,
@@ -490,11 +491,11 @@ pub(crate) use integrator_impl;
 /// fields as in [`integrator_impl`]).
 macro_rules! jacobian_entry_points {
     (
-        $ty:ident, $field:ident, |$sys:ident $(, $extra:ident)*| $method:expr,
+        $ty:ident $(<T, $tol:ident>)?, $field:ident, |$sys:ident $(, $extra:ident)*| $method:expr,
         $(#[$plain:meta])* integrate_with_jacobian;
         $(#[$steps:meta])* integrate_with_jacobian_and_steps;
     ) => {
-        impl<T: nalgebra::RealField + Copy> $ty<T> {
+        impl<T: nalgebra::RealField + Copy $(, $tol: crate::ErrorTolerance<T>)?> $ty<T $(, $tol)?> {
             $(#[$plain])*
             pub fn integrate_with_jacobian<S, const D: usize>(
                 &mut self,
@@ -567,36 +568,6 @@ mod tests {
     fn machine_epsilon_matches_std() {
         assert_eq!(machine_epsilon::<f64>(), f64::EPSILON);
         assert_eq!(machine_epsilon::<f32>(), f32::EPSILON);
-    }
-
-    #[test]
-    fn error_norm_is_hairer_rms() {
-        let err = Vector2::new(1e-6, 2e-6);
-        let x = Vector2::new(1.0, -3.0);
-        let x_new = Vector2::new(2.0, 0.5);
-        // sk = atol + rtol * max(|x|, |x_new|) = 1e-6 * (1 + [2, 3]).
-        let n = error_norm(&err, &x, &x_new, 1e-6, 1e-6);
-        let expected = (((1.0f64 / 3.0).powi(2) + (2.0f64 / 4.0).powi(2)) / 2.0).sqrt();
-        assert!((n - expected).abs() < 1e-12, "{n} vs {expected}");
-    }
-
-    #[test]
-    fn zero_error_meets_a_zero_tolerance() {
-        // atol = 0 on a component that is exactly zero before and after.
-        let err = Vector2::new(0.0, 1e-9);
-        let x = Vector2::new(0.0, 1.0);
-        let n = error_norm(&err, &x, &x, 1e-6, 0.0);
-        assert!((n - (0.5e-6f64).sqrt()).abs() < 1e-12, "{n}");
-        assert_eq!(
-            error_norm(
-                &Vector2::zeros(),
-                &Vector2::zeros(),
-                &Vector2::zeros(),
-                1e-6,
-                0.0
-            ),
-            0.0
-        );
     }
 
     #[test]

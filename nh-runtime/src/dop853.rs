@@ -2,6 +2,7 @@
 
 use nalgebra::{RealField, SVector};
 
+use crate::ScalarTolerance;
 use crate::common::{Adaptive, adaptive_builders, all_finite_in, c, integrator_impl, scaled};
 use crate::driver::{Failure, Method, Pi, Tolerance, counted, stiffness_estimate};
 use crate::step::{Poly, hermite_terms};
@@ -187,7 +188,8 @@ const PI: Pi = Pi {
 ///   error estimate combines the 5th- and 3rd-order estimators as in
 ///   Hairer: `err = |h|·E5² / sqrt(D·(E5² + 0.01·E3²))` where `E5`, `E3` are
 ///   the sums of squares of the scaled estimators (scale
-///   `atol + rtol·max(|x_i|, |x_new_i|)`); a step is accepted when `err ≤ 1`.
+///   `atol_i + rtol_i·max(|x_i|, |x_new_i|)`, per component with
+///   [`Dop853::with_tolerances`]); a step is accepted when `err ≤ 1`.
 /// * Hairer's step-size control: `h_new = h·min(6, max(0.333, 0.9·err^(−1/8)))`
 ///   (no PI term: DOP853's default `β = 0`); after a rejection the step may
 ///   not grow in the next accepted step. Automatic initial step (`hinit`)
@@ -233,13 +235,19 @@ const PI: Pi = Pi {
 /// let s = out.stats;
 /// assert_eq!(s.rhs_evals, 11 * (s.steps + s.rejected) + s.steps + 2);
 /// ```
+///
+/// The type parameter `Tol` is how errors are weighed: [`ScalarTolerance`]
+/// (the default, from [`Dop853::new`]) or
+/// [`PerComponentTolerance`](crate::PerComponentTolerance) (from
+/// [`Dop853::with_tolerances`]); see [Tolerances and the error
+/// norm](crate#tolerances-and-the-error-norm).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Dop853<T> {
-    a: Adaptive<T>,
+pub struct Dop853<T, Tol = ScalarTolerance<T>> {
+    a: Adaptive<T, Tol>,
 }
 
 adaptive_builders!(Dop853);
-integrator_impl!(Dop853, a, |sys| Dop853Stages::new(sys));
+integrator_impl!(Dop853<T, Tol>, a, |sys| Dop853Stages::new(sys));
 
 /// The stages of one DOP853 step: `k[0..12]` are `k1 … k12`, `k[12]` the
 /// derivative at the new point (the next step's `k1`).
@@ -270,7 +278,7 @@ where
 {
     /// Hairer's error estimate: the 5th-order estimator damped by the 3rd,
     /// `|h|·E5² / sqrt(D·(E5² + 0.01·E3²))`.
-    fn error(&self, x: &SVector<T, D>, kb: &SVector<T, D>, h: T, tol: &Tolerance<T>) -> T {
+    fn error(&self, x: &SVector<T, D>, kb: &SVector<T, D>, h: T, tol: &Tolerance<T, D>) -> T {
         let cc = |v: f64| c::<T>(v);
         let [k1, _, _, _, _, k6, k7, k8, k9, k10, k11, k12, _] = self.k;
         let e3 = kb - k1 * cc(BHH1) - k9 * cc(BHH2) - k12 * cc(BHH3);
@@ -284,7 +292,7 @@ where
             + k12 * cc(ER12);
         let (mut err5, mut err3) = (T::zero(), T::zero());
         for i in 0..D {
-            let sk = tol.atol + tol.rtol * x[i].abs().max(self.x_new[i].abs());
+            let sk = tol.weight(i, x[i], self.x_new[i]);
             let (r3, r5) = (scaled(e3[i], sk), scaled(e5[i], sk));
             err3 += r3 * r3;
             err5 += r5 * r5;
@@ -330,7 +338,7 @@ where
         x: &SVector<T, D>,
         h: T,
         t_new: T,
-        tol: &Tolerance<T>,
+        tol: &Tolerance<T, D>,
         stats: &mut Stats,
     ) -> Result<T, Failure> {
         let (sys, k1) = (self.sys, self.k[0]);

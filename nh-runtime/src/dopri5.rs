@@ -2,6 +2,7 @@
 
 use nalgebra::{RealField, SVector};
 
+use crate::ScalarTolerance;
 use crate::common::{Adaptive, adaptive_builders, all_finite_in, c, error_norm, integrator_impl};
 use crate::driver::{Failure, Method, Pi, Tolerance, counted, stiffness_estimate};
 use crate::step::{Poly, hermite_terms};
@@ -66,8 +67,11 @@ const PI: Pi = Pi {
 /// * the solution is advanced with the 5th-order weights (local
 ///   extrapolation), the 4th-order embedded solution gives the error estimate;
 /// * error norm: RMS over components of
-///   `err_i / (atol + rtol·max(|x_i|, |x_new_i|))`, a step is accepted when it
-///   is ≤ 1;
+///   `err_i / (atol_i + rtol_i·max(|x_i|, |x_new_i|))`, a step is accepted
+///   when it is ≤ 1 (see [Tolerances and the error
+///   norm](crate#tolerances-and-the-error-norm); the tolerances are the same
+///   for every component with [`DormandPrince::new`], per component with
+///   [`DormandPrince::with_tolerances`]);
 /// * PI step-size control with `β = 0.04`, `α = 0.2 − 0.75β`, safety factor
 ///   0.9 and step ratio limits `0.2 ..= 10`; after a rejection the step may
 ///   not grow in the next accepted step;
@@ -98,8 +102,9 @@ const PI: Pi = Pi {
 ///   ends the run there.
 /// * More than `max_steps` step attempts (accepted plus rejected, default
 ///   100 000) returns [`SimError::MaxSteps`](crate::SimError::MaxSteps).
-/// * `rtol` must be finite and > 0, `atol` finite and ≥ 0, the initial and
-///   maximal step (when given) finite and > 0; otherwise
+/// * `rtol` (every component) must be finite and > 0, `atol` finite and
+///   ≥ 0, per-component tolerances of the state's dimension, the initial
+///   and maximal step (when given) finite and > 0; otherwise
 ///   [`SimError::InvalidInput`](crate::SimError::InvalidInput) is returned
 ///   before anything is evaluated. An `rtol` below `10·eps` (what the
 ///   scalar can resolve in one step) is raised to `10·eps`.
@@ -122,13 +127,18 @@ const PI: Pi = Pi {
 /// assert_eq!(out.stats.rhs_evals, 6 * (out.stats.steps + out.stats.rejected) + 2);
 /// assert!(!out.stats.stiffness_detected);
 /// ```
+///
+/// The type parameter `Tol` is how errors are weighed: [`ScalarTolerance`]
+/// (the default, from [`DormandPrince::new`]) or
+/// [`PerComponentTolerance`](crate::PerComponentTolerance) (from
+/// [`DormandPrince::with_tolerances`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DormandPrince<T> {
-    a: Adaptive<T>,
+pub struct DormandPrince<T, Tol = ScalarTolerance<T>> {
+    a: Adaptive<T, Tol>,
 }
 
 adaptive_builders!(DormandPrince);
-integrator_impl!(DormandPrince, a, |sys| Dopri5::new(sys));
+integrator_impl!(DormandPrince<T, Tol>, a, |sys| Dopri5::new(sys));
 
 /// The stages of one Dormand–Prince step (`k[6]` is the next step's `k[0]`).
 pub(crate) struct Dopri5<'a, S: ?Sized, T, const D: usize> {
@@ -179,7 +189,7 @@ where
         x: &SVector<T, D>,
         h: T,
         t_new: T,
-        tol: &Tolerance<T>,
+        tol: &Tolerance<T, D>,
         stats: &mut Stats,
     ) -> Result<T, Failure> {
         let (sys, k1) = (self.sys, self.k[0]);
@@ -228,7 +238,7 @@ where
             + k6 * c::<T>(E6)
             + k7 * c::<T>(E7))
             * h;
-        Ok(error_norm(&err_vec, x, &x_new, tol.rtol, tol.atol))
+        Ok(error_norm(&err_vec, x, &x_new, tol))
     }
 
     fn x_new(&self) -> &SVector<T, D> {

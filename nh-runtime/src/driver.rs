@@ -41,12 +41,7 @@ impl Failure {
     }
 }
 
-/// Relative and absolute tolerance of the error norm.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Tolerance<T> {
-    pub(crate) rtol: T,
-    pub(crate) atol: T,
-}
+pub(crate) use crate::tolerance::Tolerance;
 
 /// What an integration method supplies to the driver: the stages of one
 /// step from an accepted point, their error estimate and dense output.
@@ -90,7 +85,7 @@ pub(crate) trait Method<T: RealField + Copy, const D: usize> {
         x: &SVector<T, D>,
         h: T,
         t_new: T,
-        tol: &Tolerance<T>,
+        tol: &Tolerance<T, D>,
         stats: &mut Stats,
     ) -> Result<T, Failure>;
 
@@ -195,9 +190,9 @@ pub(crate) enum Control<T> {
 
 /// Everything [`drive`] needs besides the method.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Settings<T> {
+pub(crate) struct Settings<T, const D: usize> {
     pub(crate) control: Control<T>,
-    pub(crate) tol: Tolerance<T>,
+    pub(crate) tol: Tolerance<T, D>,
     /// The first trial step (magnitude) instead of Hairer's `hinit`.
     pub(crate) initial_step: Option<T>,
     /// The largest step magnitude (default `|t1 − t0|`).
@@ -261,7 +256,7 @@ struct Run<'r, T, H: ?Sized, const D: usize> {
 pub(crate) fn drive<T, M, H, K, const D: usize>(
     method: &mut M,
     sys: &H,
-    settings: &Settings<T>,
+    settings: &Settings<T, D>,
     (t0, x0, t1): (T, SVector<T, D>, T),
     sink: &mut K,
     rec: &mut Record<T>,
@@ -308,14 +303,9 @@ where
 
 /// `InvalidInput` unless the tolerances and step settings are usable.
 fn check_settings<T: RealField + Copy, const D: usize>(
-    s: &Settings<T>,
+    s: &Settings<T, D>,
 ) -> Result<(), SimError<T, D>> {
-    check_positive(s.tol.rtol, "rtol must be positive and finite")?;
-    if !(s.tol.atol.is_finite() && s.tol.atol >= T::zero()) {
-        return Err(SimError::InvalidInput {
-            what: "atol must be non-negative and finite",
-        });
-    }
+    s.tol.check()?;
     if let Control::Fixed(h) = s.control {
         check_positive(h, "step size h must be positive and finite")?;
     }
@@ -616,7 +606,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
     fn fixed<M, K>(
         &mut self,
         m: &mut M,
-        s: &Settings<T>,
+        s: &Settings<T, D>,
         h_abs: T,
         sink: &mut K,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
@@ -669,7 +659,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
 
     /// The first trial step of an adaptive run (signed): `initial` (capped
     /// at `hmax`) or Hairer's `hinit` from the method's derivative at `t0`.
-    fn first_step<M: Method<T, D>>(&mut self, m: &M, s: &Settings<T>, hmax: T) -> T {
+    fn first_step<M: Method<T, D>>(&mut self, m: &M, s: &Settings<T, D>, hmax: T) -> T {
         let h = match (s.initial_step, m.slope()) {
             (Some(h0), _) => h0.min(hmax),
             (None, Some(f0)) => {
@@ -677,7 +667,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
                 let (tol, order) = (&s.tol, M::ORDER);
                 let stats = &mut self.rec.stats;
                 let (t, x, dir) = (self.t, &self.x, self.dir);
-                initial_step(&rhs, stats, t, x, f0, dir, hmax, tol.rtol, tol.atol, order)
+                initial_step(&rhs, stats, t, x, f0, dir, hmax, tol, order)
             }
             (None, None) => hmax,
         };
@@ -699,7 +689,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
     fn adaptive<M, K>(
         &mut self,
         m: &mut M,
-        s: &Settings<T>,
+        s: &Settings<T, D>,
         sink: &mut K,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
     where

@@ -322,7 +322,7 @@ where
         x: &SVector<T, D>,
         h: T,
         t_new: T,
-        _tol: &Tolerance<T>,
+        _tol: &Tolerance<T, D>,
         stats: &mut Stats,
     ) -> Result<T, Failure> {
         // (A Newton matrix or a guess for a step within 0.1 % of `h` is as good.)

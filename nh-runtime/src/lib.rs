@@ -52,6 +52,43 @@
 //!   ones, both `with_max_steps`), stiffness detection, observers, output
 //!   times and the typed failures are the same for all of them.
 //!
+//! # Tolerances and the error norm
+//!
+//! The adaptive integrators ([`DormandPrince`], [`Dop853`], [`Rosenbrock`])
+//! take a relative tolerance `rtol` (> 0) and an absolute tolerance `atol`
+//! (≥ 0): one pair for every component with `new(rtol, atol)`
+//! ([`ScalarTolerance`]), or one pair per component with
+//! `with_tolerances(rtol, atol)` (vectors of the state's dimension,
+//! [`PerComponentTolerance`]). A positive `rtol_i` below `10·eps` is raised
+//! to `10·eps`. A step from `x` to `x_new` with local error estimate `err`
+//! (its solution minus the embedded one) is accepted when Hairer's
+//! root-mean-square norm
+//!
+//! ```text
+//! ‖err‖ = sqrt( (1/D) · Σ_i (err_i / sk_i)² ),   sk_i = atol_i + rtol_i · max(|x_i|, |x_new_i|)
+//! ```
+//!
+//! is at most 1 (a component whose error is exactly zero counts as zero,
+//! also with `sk_i = 0`). [`Dop853`] weighs its two estimators (orders 5
+//! and 3) with the same `sk_i`, as Hairer's `DOP853` does. Being an
+//! average, the norm lets one component's error exceed its `sk_i` by up to
+//! `√D` in a step; give a component that must be held tighter a smaller
+//! tolerance. Since `sk_i` is the error allowed per step, the global error
+//! is typically a small multiple of it.
+//!
+//! ```rust
+//! use nalgebra::Vector2;
+//! use nh_runtime::{Dop853, Integrator};
+//!
+//! // A position in metres (≈ 1e3) and a small angle in radians (≈ 1e-4).
+//! let sys = |_t: f64, x: &Vector2<f64>| Vector2::new(-0.5 * x[0], -2.0 * x[1]);
+//! let mut dop = Dop853::new(1e-9, 0.0)
+//!     .with_tolerances(Vector2::new(1e-9, 1e-9), Vector2::new(1e-6, 1e-15));
+//! let out = dop.integrate(&sys, 0.0, Vector2::new(1e3, 1e-4), 3.0).unwrap();
+//! assert!((out.x[0] - 1e3 * (-1.5f64).exp()).abs() < 1e-5);
+//! assert!((out.x[1] - 1e-4 * (-6.0f64).exp()).abs() < 1e-14);
+//! ```
+//!
 //! Everything is generic over `T: nalgebra::RealField + Copy` (`f64`, `f32`,
 //! ...) and works on stack-allocated `SVector`s; no integrator allocates per
 //! step, and only [`GaussLegendre4`] allocates at all (its `D×D` Newton
@@ -108,6 +145,7 @@ mod sink;
 mod state;
 mod step;
 mod system;
+mod tolerance;
 
 pub use auto::{AutoSwitch, Regime, Switch};
 pub use dop853::Dop853;
@@ -128,3 +166,4 @@ pub use system::{
     ControlledJacobian, ControlledSystem, Driven, Integrator, OdeJacobian, OdeSystem,
     ProjectionFailure,
 };
+pub use tolerance::{ErrorTolerance, PerComponentTolerance, ScalarTolerance};

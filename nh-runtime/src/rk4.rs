@@ -85,7 +85,7 @@ where
         x: &SVector<T, D>,
         h: T,
         _t_new: T,
-        _tol: &Tolerance<T>,
+        _tol: &Tolerance<T, D>,
         stats: &mut Stats,
     ) -> Result<T, Failure> {
         let sys = self.sys;

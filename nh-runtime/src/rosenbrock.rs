@@ -3,6 +3,7 @@
 
 use nalgebra::{RealField, SMatrix, SVector};
 
+use crate::ScalarTolerance;
 use crate::Stats;
 use crate::common::{
     Adaptive, adaptive_builders, all_finite, all_finite_in, c, error_norm, integrator_impl,
@@ -96,7 +97,8 @@ const PI: Pi = Pi {
 ///   [`Stats::jacobian_evals`](crate::Stats::jacobian_evals) counts Jacobians (analytic or finite
 ///   difference), [`Stats::lu_decompositions`](crate::Stats::lu_decompositions) the LU factorisations.
 /// * Error norm as [`DormandPrince`](crate::DormandPrince) (RMS of
-///   `err_i/(atol + rtol·max(|x_i|, |x_new_i|))`) applied to the embedded
+///   `err_i/(atol_i + rtol_i·max(|x_i|, |x_new_i|))`, per component with
+///   [`Rosenbrock::with_tolerances`]) applied to the embedded
 ///   estimate `U_6`; step control of `RODAS`:
 ///   `h_new = h·clamp(0.9·err^(−1/4), 1/5, 6)` with Gustafsson's predictive
 ///   correction; automatic initial step (`hinit`, order 4) unless
@@ -135,16 +137,22 @@ const PI: Pi = Pi {
 /// assert!((out.x[0] - 10.0f64.cos()).abs() < 1e-6);
 /// assert!(out.stats.steps < 100);
 /// ```
+///
+/// The type parameter `Tol` is how errors are weighed: [`ScalarTolerance`]
+/// (the default, from [`Rosenbrock::new`]) or
+/// [`PerComponentTolerance`](crate::PerComponentTolerance) (from
+/// [`Rosenbrock::with_tolerances`]); see [Tolerances and the error
+/// norm](crate#tolerances-and-the-error-norm).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Rosenbrock<T> {
-    a: Adaptive<T>,
+pub struct Rosenbrock<T, Tol = ScalarTolerance<T>> {
+    a: Adaptive<T, Tol>,
 }
 
 adaptive_builders!(Rosenbrock);
-integrator_impl!(Rosenbrock, a, |sys| Rodas::new(FiniteDifference(sys)));
+integrator_impl!(Rosenbrock<T, Tol>, a, |sys| Rodas::new(FiniteDifference(sys)));
 
 jacobian_entry_points! {
-    Rosenbrock, a, |sys| Rodas::new(Analytic(sys)),
+    Rosenbrock<T, Tol>, a, |sys| Rodas::new(Analytic(sys)),
     /// Like [`Integrator::integrate`](crate::Integrator::integrate), but with the analytic Jacobian
     /// [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) instead of finite differences.
     ///
@@ -250,7 +258,7 @@ where
         x: &SVector<T, D>,
         h: T,
         t_new: T,
-        tol: &Tolerance<T>,
+        tol: &Tolerance<T, D>,
         stats: &mut Stats,
     ) -> Result<T, Failure> {
         let cc = |v: f64| c::<T>(v);
@@ -288,7 +296,7 @@ where
         if !(all_finite_in(&self.u) && all_finite_in(&[u6, self.x_new])) {
             return Err(Failure::NonFinite);
         }
-        Ok(error_norm(&u6, x, &self.x_new, tol.rtol, tol.atol))
+        Ok(error_norm(&u6, x, &self.x_new, tol))
     }
 
     /// The derivative at the new point (for the next step); a non-finite
