@@ -5,8 +5,10 @@
 
 use core::cell::Cell;
 
-use nalgebra::{SVector, Vector2, Vector3, Vector4};
-use nh_runtime::{Dop853, DormandPrince, Integrator, Outcome, Rosenbrock, SimError};
+use nalgebra::{Matrix3, SVector, Vector2, Vector3, Vector4};
+use nh_runtime::{
+    Dop853, DormandPrince, Integrator, OdeJacobian, OdeSystem, Outcome, Rosenbrock, SimError,
+};
 
 /// Two harmonic oscillators, `ω = 1` in `(x1, x2)` and `ω = 10` in
 /// `(x3, x4)`, each component multiplied by `scale[i]`:
@@ -44,7 +46,7 @@ type Trace<const D: usize> = (
 fn trace<I, S, const D: usize>(mut integrator: I, sys: &S, x0: SVector<f64, D>, t1: f64) -> Trace<D>
 where
     I: Integrator<f64>,
-    S: nh_runtime::OdeSystem<f64, D>,
+    S: OdeSystem<f64, D>,
 {
     let mut steps = Vec::new();
     let out = integrator.integrate_with_steps(sys, 0.0, x0, t1, |s| steps.push((s.t(), *s.x())));
@@ -270,6 +272,23 @@ fn invalid_per_component_tolerances_are_invalid_input() {
     assert!(dp.integrate(&sys, 0.0, x0, 1.0).is_ok());
 }
 
+/// `x' = -x` in three dimensions with its Jacobian, counting evaluations.
+struct Linear3<'a>(&'a Cell<usize>);
+
+impl OdeSystem<f64, 3> for Linear3<'_> {
+    fn rhs(&self, _t: f64, x: &Vector3<f64>) -> Vector3<f64> {
+        self.0.set(self.0.get() + 1);
+        -x
+    }
+}
+
+impl OdeJacobian<f64, 3> for Linear3<'_> {
+    fn jacobian(&self, _t: f64, _x: &Vector3<f64>) -> Matrix3<f64> {
+        self.0.set(self.0.get() + 1);
+        -Matrix3::identity()
+    }
+}
+
 /// Tolerances for another dimension than the state's are `InvalidInput`
 /// (nothing evaluated, the counters of the previous run cleared).
 #[test]
@@ -301,6 +320,8 @@ fn a_dimension_mismatch_is_invalid_input() {
     let mut ros =
         Rosenbrock::new(1.0, 1.0).with_tolerances(Vector2::repeat(1e-6), Vector2::repeat(1e-8));
     let r = ros.integrate(&sys3, 0.0, Vector3::new(1.0, 2.0, 3.0), 1.0);
+    assert_eq!(r, Err(SimError::InvalidInput { what }));
+    let r = ros.integrate_with_jacobian(&Linear3(&calls), 0.0, Vector3::new(1.0, 2.0, 3.0), 1.0);
     assert_eq!(r, Err(SimError::InvalidInput { what }));
     assert_eq!(calls.get(), 0);
 }
