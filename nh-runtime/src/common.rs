@@ -208,11 +208,33 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Adaptive<T, Tol> {
         }
     }
 
+    /// The settings of a run in dimension `D`: the tolerances per
+    /// component, each positive `rtol_i` below `10·eps` (the smallest
+    /// relative error the scalar can resolve in a step) raised to `10·eps`;
+    /// tolerances for another dimension are `InvalidInput` (and clear the
+    /// counters of the previous run).
+    pub(crate) fn settings<const D: usize>(&mut self) -> Result<Settings<T, D>, SimError<T, D>> {
+        let Some(tol) = self.tol.for_dimension::<D>() else {
+            self.record = Record::default();
+            return Err(SimError::InvalidInput {
+                what: "the per-component tolerances have another dimension than the state",
+            });
+        };
+        Ok(Settings {
+            control: match self.fixed_step {
+                Some(h) => Control::Fixed(h),
+                None => Control::Adaptive,
+            },
+            tol: tol.floored(c::<T>(10.0) * machine_epsilon::<T>()),
+            initial_step: self.initial_step,
+            max_step: self.max_step,
+            max_steps: self.max_steps,
+            project: self.project,
+        })
+    }
+
     /// Runs `method` under these settings with its step-size controller
-    /// (or the fixed step of `with_fixed_step`). A positive `rtol_i`
-    /// below `10·eps` is raised to `10·eps`, the smallest relative error the
-    /// scalar can resolve in a step; tolerances for another dimension than
-    /// `D` are `InvalidInput`.
+    /// (or the fixed step of `with_fixed_step`).
     pub(crate) fn run<M, H, K, const D: usize>(
         &mut self,
         method: &mut M,
@@ -225,23 +247,7 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Adaptive<T, Tol> {
         H: OdeSystem<T, D> + ?Sized,
         K: Sink<T, D> + ?Sized,
     {
-        let Some(tol) = self.tol.for_dimension::<D>() else {
-            self.record = Record::default();
-            return Err(SimError::InvalidInput {
-                what: "the per-component tolerances have another dimension than the state",
-            });
-        };
-        let settings = Settings {
-            control: match self.fixed_step {
-                Some(h) => Control::Fixed(h),
-                None => Control::Adaptive,
-            },
-            tol: tol.floored(c::<T>(10.0) * machine_epsilon::<T>()),
-            initial_step: self.initial_step,
-            max_step: self.max_step,
-            max_steps: self.max_steps,
-            project: self.project,
-        };
+        let settings = self.settings()?;
         drive(method, sys, &settings, span, sink, &mut self.record)
     }
 }

@@ -42,7 +42,7 @@ pub struct ScalarTolerance<T> {
 impl<T: RealField + Copy> ScalarTolerance<T> {
     /// Relative tolerance `rtol` (finite, > 0) and absolute tolerance
     /// `atol` (finite, ≥ 0), checked when an integration starts.
-    pub fn new(rtol: T, atol: T) -> Self {
+    pub(crate) fn new(rtol: T, atol: T) -> Self {
         ScalarTolerance { rtol, atol }
     }
 }
@@ -94,7 +94,7 @@ impl<T: RealField + Copy, const N: usize> PerComponentTolerance<T, N> {
     /// Relative tolerances `rtol` (each finite, > 0) and absolute
     /// tolerances `atol` (each finite, ≥ 0), checked when an integration
     /// starts.
-    pub fn new(rtol: SVector<T, N>, atol: SVector<T, N>) -> Self {
+    pub(crate) fn new(rtol: SVector<T, N>, atol: SVector<T, N>) -> Self {
         PerComponentTolerance { rtol, atol }
     }
 }
@@ -158,6 +158,17 @@ impl<T: RealField + Copy, const D: usize> Tolerance<T, D> {
         self.atol[i] + self.rtol[i] * x_i.abs().max(x_new_i.abs())
     }
 
+    /// The weights `atol_i + rtol_i·max(|x_i|, |x_new_i|)` of a step from
+    /// `x` to `x_new`.
+    #[inline(always)]
+    pub(crate) fn weights(&self, x: &SVector<T, D>, x_new: &SVector<T, D>) -> SVector<T, D> {
+        let mut sk = self.atol;
+        for i in 0..D {
+            sk[i] = self.weight(i, x[i], x_new[i]);
+        }
+        sk
+    }
+
     /// The weights `atol_i + rtol_i·|x_i|` at one point `x` (for the
     /// initial-step heuristic).
     pub(crate) fn weights_at(&self, x: &SVector<T, D>) -> SVector<T, D> {
@@ -204,6 +215,7 @@ pub(crate) fn scaled<T: RealField + Copy>(e: T, sk: T) -> T {
 /// Hairer's error norm: the RMS over components of
 /// `err_i / (atol_i + rtol_i·max(|x_i|, |x_new_i|))` (with `0 / 0 = 0`, see
 /// [`scaled`]).
+#[inline(always)]
 pub(crate) fn error_norm<T: RealField + Copy, const D: usize>(
     err: &SVector<T, D>,
     x: &SVector<T, D>,
@@ -213,9 +225,13 @@ pub(crate) fn error_norm<T: RealField + Copy, const D: usize>(
     if D == 0 {
         return T::zero();
     }
+    // The weights first, as one vector: the loop below then compiles to the
+    // same vectorised code as with scalar tolerances (within 1 % of the
+    // instructions per DOPRI5 step at D = 6 and 12; a fused loop cost 7–12 %).
+    let sk = tol.weights(x, x_new);
     let mut sum = T::zero();
     for i in 0..D {
-        let r = scaled(err[i], tol.weight(i, x[i], x_new[i]));
+        let r = scaled(err[i], sk[i]);
         sum += r * r;
     }
     (sum / nalgebra::convert::<f64, T>(D as f64)).sqrt()
