@@ -11,7 +11,8 @@ use crate::SimError;
 /// [`ScalarTolerance`] (the same `rtol`, `atol` for every component, what
 /// `new(rtol, atol)` gives) or [`PerComponentTolerance`] (what
 /// `with_tolerances(rtol, atol)` gives). The norm they define is described
-/// in the [module documentation](crate#tolerances-and-the-error-norm).
+/// in the crate documentation, [Tolerances and the error
+/// norm](crate#tolerances-and-the-error-norm).
 ///
 /// The trait is sealed: these two types are its only implementations.
 pub trait ErrorTolerance<T: RealField + Copy>:
@@ -81,7 +82,8 @@ impl<T: RealField + Copy> ScalarTolerance<T> {
 /// assert!(relative(out.x) > 1e-6);
 ///
 /// // The tolerances have two components, the state three.
-/// let r = dp.integrate(&|_t: f64, x: &nalgebra::Vector3<f64>| -x, 0.0, nalgebra::Vector3::zeros(), 1.0);
+/// let decay3 = |_t: f64, x: &nalgebra::Vector3<f64>| -x;
+/// let r = dp.integrate(&decay3, 0.0, nalgebra::Vector3::zeros(), 1.0);
 /// assert!(matches!(r, Err(SimError::InvalidInput { .. })));
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
