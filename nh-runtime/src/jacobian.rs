@@ -26,6 +26,13 @@ pub(crate) trait JacobianSource<T: RealField + Copy, const D: usize> {
 
     /// [`OdeSystem::is_autonomous`] of the system.
     fn is_autonomous(&self) -> bool;
+
+    /// The system's own `∂f/∂t` ([`OdeJacobian::time_derivative`]), if it
+    /// has one; `None` (the default) for a finite-difference source.
+    #[inline]
+    fn analytic_time_derivative(&self, _t: T, _x: &SVector<T, D>) -> Option<SVector<T, D>> {
+        None
+    }
 }
 
 /// The forward-difference increment for a variable of value `v`:
@@ -106,6 +113,11 @@ where
         self.0.is_autonomous()
     }
 
+    #[inline]
+    fn analytic_time_derivative(&self, t: T, x: &SVector<T, D>) -> Option<SVector<T, D>> {
+        self.0.time_derivative(t, x)
+    }
+
     fn jacobian(
         &self,
         t: T,
@@ -119,9 +131,11 @@ where
     }
 }
 
-/// Forward-difference `∂f/∂t` at `(t, x)` with `f0 = f(t, x)` (one
-/// evaluation, counted), with the increment of [`increment`]; zero, with
-/// no evaluation, for a system that says it is autonomous.
+/// `∂f/∂t` at `(t, x)` with `f0 = f(t, x)`: zero, with no evaluation, for
+/// a system that says it is autonomous; the system's own (analytic) one
+/// where it has it ([`OdeJacobian::time_derivative`], no evaluation of
+/// `f`); otherwise a forward difference (one evaluation, counted) with the
+/// increment of [`increment`].
 pub(crate) fn time_derivative<T, J, const D: usize>(
     src: &J,
     t: T,
@@ -135,6 +149,9 @@ where
 {
     if src.is_autonomous() {
         return SVector::zeros();
+    }
+    if let Some(ft) = src.analytic_time_derivative(t, x) {
+        return ft;
     }
     let (tp, delta) = increment(t);
     stats.rhs_evals += 1;
@@ -160,5 +177,40 @@ mod tests {
         assert!((ft - Vector2::new(1.0, -12.0)).amax() < 1e-6, "{ft}");
         assert_eq!(stats.rhs_evals, 3);
         assert_eq!(stats.jacobian_evals, 1);
+    }
+
+    /// `f(t, x) = (x₁, −x₀ + sin 3t)` with its own `∂f/∂t = (0, 3 cos 3t)`.
+    struct Forced;
+
+    impl OdeSystem<f64, 2> for Forced {
+        fn rhs(&self, t: f64, x: &Vector2<f64>) -> Vector2<f64> {
+            Vector2::new(x[1], -x[0] + (3.0 * t).sin())
+        }
+    }
+
+    impl OdeJacobian<f64, 2> for Forced {
+        fn jacobian(&self, _t: f64, _x: &Vector2<f64>) -> Matrix2<f64> {
+            Matrix2::new(0.0, 1.0, -1.0, 0.0)
+        }
+
+        fn time_derivative(&self, t: f64, _x: &Vector2<f64>) -> Option<Vector2<f64>> {
+            Some(Vector2::new(0.0, 3.0 * (3.0 * t).cos()))
+        }
+    }
+
+    #[test]
+    fn the_analytic_time_derivative_replaces_the_difference() {
+        let x = Vector2::new(0.7, -1.3);
+        let f0 = Forced.rhs(0.4, &x);
+        let mut stats = Stats::default();
+        let analytic = time_derivative(&Analytic(&Forced), 0.4, &x, &f0, &mut stats);
+        assert_eq!(analytic, Vector2::new(0.0, 3.0 * (3.0 * 0.4f64).cos()));
+        assert_eq!(stats.rhs_evals, 0, "no evaluation of f");
+        let differenced = time_derivative(&FiniteDifference(&Forced), 0.4, &x, &f0, &mut stats);
+        assert_eq!(stats.rhs_evals, 1);
+        assert!(
+            (differenced - analytic).amax() < 1e-6,
+            "{differenced} vs {analytic}"
+        );
     }
 }

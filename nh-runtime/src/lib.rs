@@ -8,6 +8,9 @@
 //!   [`ControlledJacobian`] and the [`Driven`] adapter (a controlled system
 //!   with a held input, with its Jacobian at that input). Closures
 //!   `Fn(T, &SVector<T, D>) -> SVector<T, D>` are `OdeSystem`s too.
+//! * Forward sensitivities: [`ParameterJacobian`] (`∂f/∂p` and the
+//!   variational equations) and [`Sensitivities`], the system augmented
+//!   with `∂x/∂p` and `∂x/∂x0`, which any integrator integrates.
 //! * States from velocities: [`ConstraintViolation`] (velocities that break
 //!   the constraints) and [`speeds_from_velocities`], behind the generated
 //!   `state_from_velocities`.
@@ -141,6 +144,7 @@ mod linalg;
 mod outcome;
 mod rk4;
 mod rosenbrock;
+mod sensitivity;
 mod sink;
 mod state;
 mod step;
@@ -158,6 +162,7 @@ pub use gauss::GaussLegendre4;
 pub use outcome::{Outcome, SimError, Singularity, Stats};
 pub use rk4::Rk4;
 pub use rosenbrock::Rosenbrock;
+pub use sensitivity::{ParameterJacobian, Sensitivities};
 pub use state::{
     ConstraintViolation, KnownVelocitiesError, speeds_from_velocities, velocities_from_known,
 };
