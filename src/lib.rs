@@ -659,7 +659,8 @@
 //! | `constraint_matrix` | `constraint_matrix(&self, q) -> SMatrix<T, p, k>` | A^a_α, minus the coefficient of ṙ_α in the solved constraint of s_a (time-independent constraints) |
 //! | `contact_points` | `contact_points(&self, q) -> SMatrix<T, 3, c>` | the contact points of the c rolling contacts (`rolls(..)` lines, in order), world components, one per column |
 //! | `mass_matrix` | `mass_matrix(&self, q) -> SMatrix<T, n, n>` | ∂²L/∂q̇_i∂q̇_j |
-//! | `jacobian` | `jacobian(&self, t, x[, u]) -> SMatrix<T, n+k, n+k>` and `impl OdeJacobian` (with inputs `impl ControlledJacobian`, which makes `Driven` an `OdeJacobian` at the held input) | ∂f/∂x of the first-order system, for the stiff integrators (`integrate_with_jacobian`; without this output they tell you to add it) |
+//! | `jacobian` | `jacobian(&self, t, x[, u]) -> SMatrix<T, n+k, n+k>`, `time_derivative(&self, t, x[, u]) -> SVector<T, n+k>` and `impl OdeJacobian` (with inputs `impl ControlledJacobian`, which makes `Driven` an `OdeJacobian` at the held input) | ∂f/∂x and ∂f/∂t of the first-order system, for the stiff integrators (`integrate_with_jacobian`; without this output they tell you to add it; `Rosenbrock` takes ∂f/∂t from here instead of a difference in t) |
+//! | `sensitivities` or `sensitivities(p1, p2, ..)` (no inputs; implies `jacobian`) | `parameter_jacobian(&self, t, x) -> SMatrix<T, n+k, P>`, `variational_rhs(&self, t, x, s_p, s_x0)`, `sensitivities(&self)`, `SENSITIVITY_PARAMETERS`, `SENSITIVITY_DIM` and `impl ParameterJacobian` | ∂f/∂p for the P parameters (all, or those listed, in that order), and the system augmented with ∂x/∂p and ∂x/∂x0 (the variational equations), an `OdeSystem` of dimension (n+k)(1 + P + n+k) that any integrator integrates: forward sensitivities, with the error of the sensitivities controlled with the state's (full error control) |
 //! | `linearization` | `linearization(&self, t, x, u) -> (A, B)` | A = ∂f/∂x and B = ∂f/∂u of ẋ = f(t, x, u), for controller design |
 //! | `routes` (homogeneous, time-independent velocity constraints) | `accelerations_multiplier_route`, `accelerations_curvature_route`, `reduced_system`, `OPS_MULTIPLIER_ROUTE`, `OPS_CURVATURE_ROUTE`, `ROUTE` | both derivations of r̈ as separate methods with their operation counts, and the reduced system M_c r̈ = f |
 //!
@@ -697,6 +698,36 @@
 //! let (q1, r1) = (out.x.fixed_rows::<3>(0).into_owned(), out.x.fixed_rows::<2>(3).into_owned());
 //! assert!((s.energy(&q1, &r1) - s.energy(&q, &rdot)).abs() < 1e-7);
 //! assert!(s.multipliers(out.t, &q1, &r1)[0].is_finite());
+//! ```
+//!
+//! Forward sensitivities of a whole motion with respect to the parameters and
+//! the initial state:
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     /// A damped oscillator, sensitive to its stiffness and damping.
+//!     pub struct Oscillator {
+//!         parameters { m, c, k }
+//!         coordinates { x }
+//!         lagrangian = m*dot(x)^2/2 - k*x^2/2;
+//!         forces { x: -c*dot(x); }
+//!         outputs { sensitivities(k, c) }
+//!     }
+//! }
+//!
+//! let osc = Oscillator::new(1.0, 0.3, 4.0);
+//! assert_eq!(Oscillator::SENSITIVITY_PARAMETERS, ["k", "c"]);
+//! let sens = osc.sensitivities(); // an OdeSystem of dimension SENSITIVITY_DIM = 2·(1 + 2 + 2)
+//! let x0 = SVector::from([1.0, 0.0]);
+//! let out = Dop853::new(1e-11, 1e-13).integrate(&sens, 0.0, sens.initial_state(&x0), 3.0).unwrap();
+//! let (x, dx_dp, dx_dx0) = sens.split(&out.x); // x(3), ∂x/∂(k, c) (2 × 2), ∂x/∂x0 (2 × 2)
+//! // ∂x/∂k against two whole runs
+//! let at_k = |k: f64| Dop853::new(1e-13, 1e-15).integrate(&Oscillator::new(1.0, 0.3, k), 0.0, x0, 3.0).unwrap().x;
+//! let fd = (at_k(4.0 + 1e-5) - at_k(4.0 - 1e-5)) / 2e-5;
+//! assert!((dx_dp.column(0) - fd).amax() < 1e-7);
+//! assert!((x - at_k(4.0)).amax() < 1e-9 && dx_dx0[(0, 0)].is_finite());
 //! ```
 //!
 //! Of the two derivations of r̈ — projecting the full Euler–Lagrange equations

@@ -59,6 +59,9 @@ pub struct Shape<'a> {
     pub speeds: Vec<String>,
     /// Number of rolling contacts (`rolls(..)` lines).
     pub contacts: usize,
+    /// The parameters `sensitivities` differentiates by, in order (all of
+    /// them unless listed, `sensitivities(m, k)`).
+    pub sensitivity_params: Vec<Ident>,
 }
 
 impl Shape<'_> {
@@ -102,6 +105,14 @@ pub enum GeneratedMethod {
     Linearization,
     /// `jacobian`
     Jacobian,
+    /// `time_derivative`: ∂f/∂t
+    TimeDerivative,
+    /// `parameter_jacobian`: ∂f/∂p
+    ParameterJacobian,
+    /// `variational_rhs`: f with the right sides of the variational equations
+    VariationalRhs,
+    /// `sensitivities`: the system augmented with its sensitivities
+    SensitivitySystem,
     /// `rhs` (or `rhs_with_input`) of the runtime trait implementation.
     Rhs,
 }
@@ -121,6 +132,10 @@ pub enum Arguments {
     State,
     /// `t, q, speeds` (no inputs).
     Kinematics,
+    /// `t, x, s_p, s_x0`: a state and its sensitivities.
+    Variational,
+    /// Nothing but `&self`.
+    Receiver,
 }
 
 /// Which systems have a generated method.
@@ -161,6 +176,13 @@ pub enum Returns {
     StateAndInputMatrices,
     /// A vector of n + k values, the state's derivative.
     State,
+    /// An (n + k) × P matrix, P the parameters of `sensitivities`.
+    ParameterMatrix,
+    /// A vector of n + k values, an (n + k) × P and an (n + k) × (n + k)
+    /// matrix: the state's derivative and its sensitivities'.
+    Variational,
+    /// The runtime's `Sensitivities` of the system.
+    SensitivitySystem,
 }
 
 /// One row of the table of generated methods.
@@ -185,7 +207,7 @@ pub struct MethodSpec {
 
 /// Every generated method, in the order they are emitted and derived in
 /// (`rhs` last: the runtime trait calls the others).
-pub const METHODS: [MethodSpec; 16] = [
+pub const METHODS: [MethodSpec; 20] = [
     MethodSpec {
         method: GeneratedMethod::DependentVelocities,
         name: "dependent_velocities",
@@ -322,6 +344,42 @@ pub const METHODS: [MethodSpec; 16] = [
         form: Form::Any,
     },
     MethodSpec {
+        method: GeneratedMethod::TimeDerivative,
+        name: "time_derivative",
+        doc: "The partial derivative ∂f/∂t of the first-order system at fixed x (zero for a system whose definition does not depend on `t`), derived symbolically like the Jacobian; the implicit integrators take it from here instead of differencing f in t.",
+        takes: Arguments::State,
+        returns: Returns::State,
+        requested_by: Some(Output::Jacobian),
+        form: Form::Any,
+    },
+    MethodSpec {
+        method: GeneratedMethod::ParameterJacobian,
+        name: "parameter_jacobian",
+        doc: "The derivative ∂f/∂p of the first-order system with respect to the parameters of [`Self::SENSITIVITY_PARAMETERS`] (one column each, in that order), derived symbolically through the reduced solve: ∂r̈/∂p = Mc⁻¹ (∂f/∂p − (∂Mc/∂p) r̈).",
+        takes: Arguments::State,
+        returns: Returns::ParameterMatrix,
+        requested_by: Some(Output::Sensitivities),
+        form: Form::Any,
+    },
+    MethodSpec {
+        method: GeneratedMethod::VariationalRhs,
+        name: "variational_rhs",
+        doc: "The right-hand side of the variational equations at (t, x) with the sensitivities `s_p` = ∂x/∂p and `s_x0` = ∂x/∂x0: (f, (∂f/∂x) s_p + ∂f/∂p, (∂f/∂x) s_x0), in one body with common subexpressions shared and the structural zeros of ∂f/∂x pruned from the products.",
+        takes: Arguments::Variational,
+        returns: Returns::Variational,
+        requested_by: Some(Output::Sensitivities),
+        form: Form::Any,
+    },
+    MethodSpec {
+        method: GeneratedMethod::SensitivitySystem,
+        name: "sensitivities",
+        doc: "The system with its forward sensitivities, ∂x/∂p (the parameters of [`Self::SENSITIVITY_PARAMETERS`]) and ∂x/∂x0: an `OdeSystem` of dimension [`Self::SENSITIVITY_DIM`] that any integrator integrates (adaptive methods then control the error of the sensitivities too). Start it from `initial_state(&x0)`, read a result with `split(&x)`.",
+        takes: Arguments::Receiver,
+        returns: Returns::SensitivitySystem,
+        requested_by: Some(Output::Sensitivities),
+        form: Form::Any,
+    },
+    MethodSpec {
         method: GeneratedMethod::Rhs,
         name: "rhs",
         doc: "ẋ for the state x = [q, ṙ]: ẋ = [q̇(q, ṙ), r̈], with the dependent velocities from the constraints.",
@@ -427,6 +485,8 @@ struct Dims {
     speeds: bool,
     /// Number of rolling contacts.
     contacts: usize,
+    /// Number of parameters of the sensitivities.
+    sens: usize,
 }
 
 impl Dims {
@@ -445,7 +505,13 @@ impl Dims {
             state: n + k,
             speeds: shape.in_speeds(),
             contacts: shape.contacts,
+            sens: shape.sensitivity_params.len(),
         }
+    }
+
+    /// The augmented state's length of the sensitivities, D·(1 + P + D).
+    fn augmented(self) -> usize {
+        self.state * (1 + self.sens + self.state)
     }
 
     /// `, u: &SVector<T, m>` for a system with inputs.
@@ -474,6 +540,14 @@ impl Dims {
             Arguments::Motion => quote!(&self, t: T, q: &#qty, #vel: &#rty #u_arg),
             Arguments::State => quote!(&self, t: T, x: &#xty #u_arg),
             Arguments::Kinematics => quote!(&self, t: T, q: &#qty, #vel: &#rty),
+            Arguments::Variational => {
+                let (dp, dd) = (
+                    smatrix(self.state, self.sens),
+                    smatrix(self.state, self.state),
+                );
+                quote!(&self, t: T, x: &#xty, s_p: &#dp, s_x0: &#dd)
+            }
+            Arguments::Receiver => quote!(&self),
         }
     }
 
@@ -504,6 +578,16 @@ impl Dims {
                 quote!((#dd, #du))
             }
             Returns::State => svector(dim),
+            Returns::ParameterMatrix => smatrix(dim, self.sens),
+            Returns::Variational => {
+                let (dp, dd) = (smatrix(dim, self.sens), smatrix(dim, dim));
+                let xty = svector(dim);
+                quote!((#xty, #dp, #dd))
+            }
+            Returns::SensitivitySystem => {
+                let (p, a) = (self.sens, self.augmented());
+                quote!(__nh_private::nh_runtime::Sensitivities<'_, Self, #dim, #p, #a>)
+            }
         }
     }
 }
@@ -521,6 +605,7 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     let rhs = bodies.method(GeneratedMethod::Rhs);
     let runtime_impl = runtime_impl(shape, dims, rhs, bodies.runtime_hooks(&svector(dims.state)));
     let jacobian_impl = jacobian_impl(shape, dims);
+    let (sensitivity_consts, sensitivity_impl) = sensitivities(shape, dims);
     let cache = Cache::new(&params, bodies.hoisting());
     let constants = constants(shape, dims);
     let new_fn = new_fn(&params, &cache);
@@ -595,6 +680,7 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
             impl #name<::core::primitive::f64> {
                 #constants
                 #route_consts
+                #sensitivity_consts
             }
 
             #allow
@@ -615,6 +701,7 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
 
             #runtime_impl
             #jacobian_impl
+            #sensitivity_impl
             #companion_impls
         };
     }
@@ -719,6 +806,12 @@ fn jacobian_impl(shape: &Shape, dims: Dims) -> TokenStream {
                 fn jacobian_with_input(&self, t: T, x: &#xty, u: &#uty) -> #dd {
                     #name::jacobian(self, t, x, u)
                 }
+
+                /// ∂f/∂t at the input `u`, derived symbolically (see the inherent `time_derivative`).
+                #[inline]
+                fn time_derivative_with_input(&self, t: T, x: &#xty, u: &#uty) -> ::core::option::Option<#xty> {
+                    ::core::option::Option::Some(#name::time_derivative(self, t, x, u))
+                }
             }
         };
     }
@@ -732,8 +825,60 @@ fn jacobian_impl(shape: &Shape, dims: Dims) -> TokenStream {
             fn jacobian(&self, t: T, x: &#xty) -> #dd {
                 #name::jacobian(self, t, x)
             }
+
+            /// ∂f/∂t, derived symbolically (see the inherent `time_derivative`).
+            #[inline]
+            fn time_derivative(&self, t: T, x: &#xty) -> ::core::option::Option<#xty> {
+                ::core::option::Option::Some(#name::time_derivative(self, t, x))
+            }
         }
     }
+}
+
+/// For a system with `sensitivities`: its constants (the parameters and
+/// the augmented dimension) and the runtime's `ParameterJacobian` (not
+/// with inputs, which `sensitivities` rejects).
+fn sensitivities(shape: &Shape, dims: Dims) -> (TokenStream, TokenStream) {
+    if !shape.outputs.contains(Output::Sensitivities) {
+        return (quote!(), quote!());
+    }
+    let (dim, p, a) = (dims.state, dims.sens, dims.augmented());
+    let names: Vec<Literal> = shape
+        .sensitivity_params
+        .iter()
+        .map(|p| Literal::string(&syn::ext::IdentExt::unraw(p).to_string()))
+        .collect();
+    let consts = quote! {
+        /// The parameters of [`Self::parameter_jacobian`] and [`Self::sensitivities`], in the order of their columns.
+        pub const SENSITIVITY_PARAMETERS: [&'static ::core::primitive::str; #p] = [#(#names),*];
+        /// Length of the augmented state of [`Self::sensitivities`], [x, ∂x/∂p, ∂x/∂x0] (columns stacked): D·(1 + P + D) with D = [`Self::STATE_DIM`] and P the number of [`Self::SENSITIVITY_PARAMETERS`].
+        pub const SENSITIVITY_DIM: ::core::primitive::usize = #a;
+    };
+    if dims.inputs > 0 {
+        return (consts, quote!());
+    }
+    let name = shape.name;
+    let (xty, dp, dd) = (svector(dim), smatrix(dim, p), smatrix(dim, dim));
+    let allow = allow_lints();
+    let imp = quote! {
+        #allow
+        impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy>
+            __nh_private::nh_runtime::ParameterJacobian<T, #dim, #p> for #name<T>
+        {
+            /// ∂f/∂p, derived symbolically (see the inherent `parameter_jacobian`).
+            #[inline]
+            fn parameter_jacobian(&self, t: T, x: &#xty) -> #dp {
+                #name::parameter_jacobian(self, t, x)
+            }
+
+            /// The variational equations in one body (see the inherent `variational_rhs`).
+            #[inline]
+            fn variational_rhs(&self, t: T, x: &#xty, s_p: &#dp, s_x0: &#dd) -> (#xty, #dp, #dd) {
+                #name::variational_rhs(self, t, x, s_p, s_x0)
+            }
+        }
+    };
+    (consts, imp)
 }
 
 /// The associated constants: the coordinates, their partition, the inputs,
@@ -902,7 +1047,7 @@ fn new_fn(params: &[Ident], cache: &Cache) -> TokenStream {
 /// static or unit struct of that name, which the argument pattern would
 /// match instead of binding (functions do not take part in patterns).
 fn argument_names(params: &[Ident], speeds: bool) -> Vec<Ident> {
-    let mut arg_names: Vec<Ident> = ["t", "q", "rdot", "x", "u"]
+    let mut arg_names: Vec<Ident> = ["t", "q", "rdot", "x", "u", "s_p", "s_x0"]
         .iter()
         .map(|a| format_ident!("{a}"))
         .collect();

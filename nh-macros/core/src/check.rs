@@ -72,7 +72,66 @@ pub fn outputs(def: &SystemDef, cx: &mut Ctxt) -> Outputs {
             }
         }
     }
-    outputs
+    output_arguments(def, cx);
+    outputs.with_implied()
+}
+
+/// The lists of outputs written with one, `sensitivities(m, k)`: only
+/// `sensitivities` takes one, a non-empty list of declared parameters, each
+/// once; and `sensitivities` is for systems without inputs.
+fn output_arguments(def: &SystemDef, cx: &mut Ctxt) {
+    for (output, list) in &def.output_arguments {
+        if output != "sensitivities" {
+            if Output::ALL.iter().any(|o| output == o.name()) {
+                cx.error_at(
+                    output.span(),
+                    format!("output `{output}` takes no list of names: write `{output}` alone"),
+                );
+            }
+            continue;
+        }
+        if list.is_empty() {
+            cx.error_at(
+                output.span(),
+                "`sensitivities()` lists no parameter: name the parameters to differentiate by, `sensitivities(m, k)`, or write `sensitivities` for all of them",
+            );
+        }
+        let params: Vec<String> = def
+            .parameters
+            .iter()
+            .flat_map(|(_, names)| names.iter().map(|p| p.to_string()))
+            .collect();
+        let candidates: Vec<&str> = params.iter().map(String::as_str).collect();
+        for (i, p) in list.iter().enumerate() {
+            let name = p.to_string();
+            if list[..i].contains(p) {
+                cx.error_at(
+                    p.span(),
+                    format!(
+                        "parameter `{name}` is listed twice in `sensitivities(..)`: remove one"
+                    ),
+                );
+            } else if !candidates.contains(&name.as_str()) {
+                let hint = names::suggest(&name, &candidates);
+                let known = if candidates.is_empty() {
+                    "the system declares none".to_string()
+                } else {
+                    format!(
+                        "the parameters are {}",
+                        candidates
+                            .iter()
+                            .map(|c| format!("`{c}`"))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    )
+                };
+                cx.error_at(
+                    p.span(),
+                    format!("`{name}` in `sensitivities(..)` is not a parameter{hint}; {known}"),
+                );
+            }
+        }
+    }
 }
 
 /// The outputs requested fit the system's form: `reaction_forces` only in
@@ -99,6 +158,9 @@ pub fn outputs_for_form(def: &SystemDef, cx: &mut Ctxt) {
             }
             ("contact_points", _) if def.rolling.is_empty() => {
                 "`contact_points` gives the points of the rolling contacts, and this system has none (`rolls(BODY, radius: .., ..);` in `constraints`)"
+            }
+            ("sensitivities", _) if def.inputs.as_ref().is_some_and(|(_, l)| !l.is_empty()) => {
+                "the sensitivities are derived for systems without inputs, x' = f(t, x; p); to differentiate a motion under a constant input, declare the input as a parameter instead"
             }
             ("reaction_forces", false) => {
                 "`reaction_forces` is for systems in generalized speeds (`speeds` and `kinematics`); with `constraints`, the constraint forces are the `multipliers`"

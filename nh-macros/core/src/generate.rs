@@ -625,6 +625,8 @@ struct Derived<'a> {
     graphs: RouteGraphs,
     /// Maggi's terms, for a system in generalized speeds.
     maggi: Option<crate::maggi::MaggiTerms>,
+    /// The parameters of `sensitivities`, in order.
+    sensitivity_params: Vec<Ident>,
 }
 
 impl Derived<'_> {
@@ -1138,6 +1140,102 @@ impl Derived<'_> {
         quote! { let _ = (t, x); #u #stmts #dd::from_row_slice(&[#(#o),*]) }
     }
 
+    /// `time_derivative`: ∂f/∂t at fixed x (zero, not derived, for an
+    /// autonomous system).
+    fn time_derivative_body(&mut self) -> TokenStream {
+        let dim = self.m.n() + self.m.k();
+        let u = if self.m.inputs.is_empty() {
+            quote!()
+        } else {
+            quote!(let _ = u;)
+        };
+        if self.m.autonomous() {
+            return quote! { let _ = (t, x); #u __nh_private::nalgebra::SVector::<T, #dim>::zeros() };
+        }
+        let mut d = bound_dag(self.m, &Args::state(self.m));
+        let column = self.derivative_columns(&mut d, &[self.m.time]);
+        let flat: Vec<Node> = column.iter().flatten().copied().collect();
+        let (stmts, o) = self.emit_hoisted(&d, &flat);
+        let ret = vector_expr(dim, &o);
+        quote! { let _ = (t, x); #u #stmts #ret }
+    }
+
+    /// The symbols of the parameters of `sensitivities`, in their order.
+    fn sensitivity_syms(&self) -> Vec<SymId> {
+        self.sensitivity_params
+            .iter()
+            .filter_map(|p| self.m.parameters.iter().find(|q| q.name == *p))
+            .map(|p| p.sym)
+            .collect()
+    }
+
+    /// `parameter_jacobian`: ∂f/∂p.
+    fn parameter_jacobian_body(&mut self) -> TokenStream {
+        let dim = self.m.n() + self.m.k();
+        let mut d = bound_dag(self.m, &Args::state(self.m));
+        let vars = self.sensitivity_syms();
+        let cols = self.derivative_columns(&mut d, &vars);
+        let flat: Vec<Node> = cols.iter().flatten().copied().collect();
+        let (stmts, o) = self.emit_hoisted(&d, &flat);
+        let p = vars.len();
+        let dp = quote!(__nh_private::nalgebra::SMatrix::<T, #dim, #p>);
+        quote! { let _ = (t, x); #stmts #dp::from_row_slice(&[#(#o),*]) }
+    }
+
+    /// `variational_rhs`: f, (∂f/∂x) S_p + ∂f/∂p and (∂f/∂x) S_x0 in one
+    /// graph: the products are sums over the entries of ∂f/∂x that are not
+    /// structurally zero, and every value is computed once.
+    fn variational_rhs_body(&mut self) -> TokenStream {
+        let dim = self.m.n() + self.m.k();
+        let mut d = bound_dag(self.m, &Args::state(self.m));
+        let state = self.state_vars();
+        let params = self.sensitivity_syms();
+        let p = params.len();
+        let mut vars = state.clone();
+        vars.extend(&params);
+        let cols = self.derivative_columns(&mut d, &vars);
+        let mut outs = self.rhs_nodes(&mut d);
+        let s_p: Vec<Vec<Node>> = (0..dim)
+            .map(|i| (0..p).map(|j| d.leaf(quote!(s_p[(#i, #j)]))).collect())
+            .collect();
+        let s_x0: Vec<Vec<Node>> = (0..dim)
+            .map(|i| (0..dim).map(|j| d.leaf(quote!(s_x0[(#i, #j)]))).collect())
+            .collect();
+        for (sens, bias) in [(&s_p, true), (&s_x0, false)] {
+            let width = sens.first().map_or(0, Vec::len);
+            for row in &cols {
+                for j in 0..width {
+                    let init = if bias { row[dim + j] } else { ZERO_NODE };
+                    let pairs = (0..dim).map(|i| (row[i], sens[i][j]));
+                    outs.push(dot(&mut d, init, pairs));
+                }
+            }
+        }
+        let (stmts, o) = self.emit_hoisted(&d, &outs);
+        let (f, rest) = o.split_at(dim);
+        let (dsp, dsx) = rest.split_at(dim * p);
+        let xty = vector_expr(dim, f);
+        let dp = quote!(__nh_private::nalgebra::SMatrix::<T, #dim, #p>);
+        let dd = quote!(__nh_private::nalgebra::SMatrix::<T, #dim, #dim>);
+        quote! {
+            let _ = (t, x, s_p, s_x0);
+            #stmts
+            (#xty, #dp::from_row_slice(&[#(#dsp),*]), #dd::from_row_slice(&[#(#dsx),*]))
+        }
+    }
+
+    /// f = [q̇, r̈] as nodes of `d` (bound to the state).
+    fn rhs_nodes(&mut self, d: &mut Dag) -> Vec<Node> {
+        let mut f: Vec<Node> = self
+            .m
+            .coordinates
+            .iter()
+            .map(|c| d.bound(c.velocity).unwrap_or(ZERO_NODE))
+            .collect();
+        f.extend(self.acc_nodes(d, self.route));
+        f
+    }
+
     /// `linearization`: A = ∂f/∂x and B = ∂f/∂u.
     fn linearization_body(&mut self) -> TokenStream {
         let (n, k) = (self.m.n(), self.m.k());
@@ -1292,6 +1390,13 @@ impl Bodies for Derived<'_> {
                 );
                 (doc, self.jacobian_body())
             }
+            GeneratedMethod::TimeDerivative => (static_doc(), self.time_derivative_body()),
+            GeneratedMethod::ParameterJacobian => (static_doc(), self.parameter_jacobian_body()),
+            GeneratedMethod::VariationalRhs => (static_doc(), self.variational_rhs_body()),
+            GeneratedMethod::SensitivitySystem => (
+                static_doc(),
+                quote!(__nh_private::nh_runtime::Sensitivities::new(self)),
+            ),
             // q̇ and r̈ from their methods, inlined (one copy of the code;
             // measured as fast as a fused body)
             GeneratedMethod::Rhs if self.maggi.is_some() => (
@@ -1409,6 +1514,7 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
         hoist_seen: rustc_hash::FxHashMap::default(),
         graphs,
         maggi: None,
+        sensitivity_params: shape.sensitivity_params.clone(),
     };
     let mut tokens = crate::api::expand(&shape, &mut bodies);
     let velocity_constraints = m.constraints.iter().any(|c| c.holonomic.is_none());
@@ -1516,6 +1622,7 @@ fn generate_speeds(
             curvature: Some((d, udot)),
         },
         maggi: Some(terms),
+        sensitivity_params: shape.sensitivity_params.clone(),
     };
     let tokens = crate::api::expand(&shape, &mut bodies);
     finish(def, &m, cx, tokens, stats)

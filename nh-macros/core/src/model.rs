@@ -29,11 +29,14 @@ pub enum Output {
     ReactionForces,
     /// `contact_points`: the contact points of the rolling contacts (DESIGN §10)
     ContactPoints,
+    /// `sensitivities` (or `sensitivities(p, ..)`): ∂f/∂p and the variational
+    /// equations, for forward sensitivities; implies `jacobian`
+    Sensitivities,
 }
 
 impl Output {
     /// Every output, in the order the messages list them.
-    pub const ALL: [Output; 10] = [
+    pub const ALL: [Output; 11] = [
         Output::Multipliers,
         Output::Curvature,
         Output::Energy,
@@ -44,6 +47,7 @@ impl Output {
         Output::Routes,
         Output::ReactionForces,
         Output::ContactPoints,
+        Output::Sensitivities,
     ];
 
     /// The name written in `outputs { .. }`.
@@ -59,6 +63,7 @@ impl Output {
             Output::Routes => "routes",
             Output::ReactionForces => "reaction_forces",
             Output::ContactPoints => "contact_points",
+            Output::Sensitivities => "sensitivities",
         }
     }
 }
@@ -74,6 +79,15 @@ impl Outputs {
     /// Whether `output` was asked for.
     pub fn contains(&self, output: Output) -> bool {
         self.requested[output as usize]
+    }
+
+    /// With the outputs the requested ones imply: `sensitivities` needs the
+    /// Jacobian (`jacobian`).
+    pub fn with_implied(mut self) -> Outputs {
+        if self.contains(Output::Sensitivities) {
+            self.requested[Output::Jacobian as usize] = true;
+        }
+        self
     }
 
     /// Sets the flag of output `name`; `Some(previous)` if the name is known.

@@ -265,6 +265,9 @@ pub struct SystemDef {
     pub constraints: Option<(Ident, Vec<Constraint>)>,
     /// `outputs { .. }`
     pub outputs: Option<(Ident, Vec<Ident>)>,
+    /// The outputs of `outputs { .. }` written with a list of names,
+    /// `sensitivities(m, k)`: (the output, the names), in order
+    pub output_arguments: Vec<(Ident, Vec<Ident>)>,
     /// `dependent { .. }`: the coordinates the implicit and holonomic
     /// constraints are solved for, in the order of those constraints
     pub dependent: Option<(Ident, Vec<Ident>)>,
@@ -443,6 +446,7 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         forces: None,
         constraints: None,
         outputs: None,
+        output_arguments: Vec::new(),
         dependent: None,
         speeds: None,
         kinematics: None,
@@ -666,7 +670,19 @@ fn reject_misspelled_block(which: &str, group: &proc_macro2::Group, def: &mut Sy
 /// A block of names: `parameters`, `coordinates`, `inputs` or `outputs`.
 fn parse_name_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &mut Ctxt) {
     let which = kw.to_string();
-    let list = match parse_name_list.parse2(group.stream()) {
+    let parsed = if which == "outputs" {
+        parse_output_list
+            .parse2(group.stream())
+            .map(|(names, arguments)| {
+                if def.outputs.is_none() {
+                    def.output_arguments = arguments;
+                }
+                names
+            })
+    } else {
+        parse_name_list.parse2(group.stream())
+    };
+    let list = match parsed {
         Ok(n) => n,
         Err(e) => {
             cx.syn_error(e);
@@ -854,6 +870,43 @@ fn parse_name_list(input: ParseStream) -> syn::Result<Vec<Ident>> {
             .map_err(|e| syn::Error::new(e.span(), "expected `,` between names"))?;
     }
     Ok(names)
+}
+
+/// The list of `outputs { .. }`: names, each optionally with a
+/// parenthesised list of names (`sensitivities(m, k)`); returns the names
+/// and those lists.
+#[allow(clippy::type_complexity)]
+fn parse_output_list(input: ParseStream) -> syn::Result<(Vec<Ident>, Vec<(Ident, Vec<Ident>)>)> {
+    let mut names = Vec::new();
+    let mut arguments = Vec::new();
+    while !input.is_empty() {
+        let id: Ident = input.call(IdentExt::parse_any).map_err(|e| {
+            syn::Error::new(
+                e.span(),
+                "expected the name of an output: this block is a comma-separated list of outputs, such as `energy, jacobian` or `sensitivities(m, k)`",
+            )
+        })?;
+        let id = names::canonical(id);
+        if input.peek(syn::token::Paren) {
+            let content;
+            syn::parenthesized!(content in input);
+            let list = parse_name_list(&content).map_err(|e| {
+                syn::Error::new(
+                    e.span(),
+                    format!("expected names in `{id}(..)`: a comma-separated list of parameters"),
+                )
+            })?;
+            arguments.push((id.clone(), list));
+        }
+        names.push(id);
+        if input.is_empty() {
+            break;
+        }
+        let _: Token![,] = input
+            .parse()
+            .map_err(|e| syn::Error::new(e.span(), "expected `,` between outputs"))?;
+    }
+    Ok((names, arguments))
 }
 
 /// A line of `constraints`: an equation or a rolling contact.

@@ -42,6 +42,22 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
         affine: false,
         rheonomic: constraints_mention_time(def),
         contacts: def.rolling.len(),
+        sensitivity_params: sensitivity_parameters(def),
+    }
+}
+
+/// The parameters `sensitivities` differentiates by: those listed,
+/// `sensitivities(m, k)` (as written, known or not: the stand-in keeps the
+/// dimensions meant), or every parameter.
+fn sensitivity_parameters(def: &SystemDef) -> Vec<Ident> {
+    let names = crate::model::Output::ALL.map(|o| o.name());
+    let listed = def.output_arguments.iter().find(|(o, _)| {
+        let o = o.to_string();
+        o == "sensitivities" || crate::names::closest(&o, names) == Some("sensitivities")
+    });
+    match listed {
+        Some((_, list)) => list.clone(),
+        None => declared(def, &def.parameters, "parameters"),
     }
 }
 
@@ -115,7 +131,7 @@ fn outputs_meant(def: &SystemDef) -> crate::model::Outputs {
             outputs.set(meant);
         }
     }
-    outputs
+    outputs.with_implied()
 }
 
 /// The speeds: as declared, or, for `kinematics` without `speeds`, the
