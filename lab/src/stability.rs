@@ -51,7 +51,7 @@
 //! | step (or initial/maximal step) larger than the span | `Ok`: one step, shortened to land on `t1` |
 //! | `rtol ≤ 0` or NaN, `atol < 0`, step `h ≤ 0` | `InvalidInput` |
 //! | `atol = 0` with a component that stays exactly zero (a disc at rest) | `Ok` (fixed in this suite's runtime change: the error norm took `0/0` as NaN and reported `NonFinite`) |
-//! | `rtol` below machine precision (1e-20) | `Ok` accurate, or `MaxSteps` within the step budget |
+//! | `rtol` below machine precision (1e-20) | `Ok` accurate, `MaxSteps` within the step budget, or `ToleranceTooTight` at the start (the Rosenbrock methods) |
 //!
 //! [`ThesisDisc`]: crate::systems::ThesisDisc
 //! [`RollingDisc`]: crate::systems::RollingDisc
@@ -249,6 +249,8 @@ pub enum Kind {
     Singular,
     /// [`SimError::ProjectionFailed`].
     ProjectionFailed,
+    /// [`SimError::ToleranceTooTight`].
+    ToleranceTooTight,
     /// [`SimError::InvalidInput`].
     InvalidInput,
 }
@@ -264,6 +266,7 @@ impl Kind {
             Err(SimError::MaxSteps { .. }) => Kind::MaxSteps,
             Err(SimError::Singular { .. }) => Kind::Singular,
             Err(SimError::ProjectionFailed { .. }) => Kind::ProjectionFailed,
+            Err(SimError::ToleranceTooTight { .. }) => Kind::ToleranceTooTight,
             Err(SimError::InvalidInput { .. }) => Kind::InvalidInput,
         }
     }
@@ -278,6 +281,7 @@ impl Kind {
             Kind::MaxSteps => "MaxSteps",
             Kind::Singular => "Singular",
             Kind::ProjectionFailed => "ProjectionFailed",
+            Kind::ToleranceTooTight => "ToleranceTooTight",
             Kind::InvalidInput => "InvalidInput",
         }
     }
@@ -1318,13 +1322,14 @@ fn bad_tolerances(c: &BadInput) -> Vec<Row> {
     rows.push(all_methods(
         budget,
         "rtol = 1e-20 (< eps)",
-        "Ok err ≤ 1e-12 or MaxSteps within the budget",
+        "Ok err ≤ 1e-12, MaxSteps within the budget, or ToleranceTooTight at t0",
         &disc,
         (0.0, c.x0, 1.0),
         &with_tol(1e-20, 1e-22),
         |_, r| match &r.result {
             Ok(o) => mixed_error(&o.x, &reference1) <= 1e-12,
             Err(SimError::MaxSteps { steps, .. }) => *steps <= budget,
+            Err(SimError::ToleranceTooTight { t, x, .. }) => *t == 0.0 && *x == c.x0,
             Err(_) => false,
         },
     ));

@@ -135,6 +135,17 @@ macro_rules! orders_on {
             },
         );
         check_order(
+            concat!($label, ": Rodas5P"),
+            5.0,
+            &[0.4, 0.2, 0.1, 0.05, 0.025],
+            &case,
+            |h, s, x, t| {
+                Rodas5P::new(1.0, 1.0)
+                    .with_fixed_step(h)
+                    .integrate_with_jacobian(s, 0.0, x, t)
+            },
+        );
+        check_order(
             concat!($label, ": GaussLegendre4"),
             4.0,
             &[0.1, 0.05, 0.025, 0.0125],

@@ -9,7 +9,7 @@ use crate::common::{Adaptive, adaptive_builders, c, integrator_impl, jacobian_en
 use crate::dopri5::Dopri5;
 use crate::driver::{Failure, Method, Pi, Tolerance};
 use crate::jacobian::{Analytic, FiniteDifference};
-use crate::rosenbrock::Rodas;
+use crate::rosenbrock::rodas4;
 use crate::step::Poly;
 
 /// Consecutive accepted explicit steps held at the stability boundary
@@ -148,12 +148,12 @@ pub struct AutoSwitch<T, Tol = ScalarTolerance<T>> {
 adaptive_builders!(AutoSwitch, log);
 integrator_impl!(AutoSwitch<T, Tol>, a, |sys, log| Switching::new(
     Dopri5::new(sys),
-    Rodas::new(FiniteDifference(sys)),
+    rodas4(FiniteDifference(sys)),
     log
 ));
 
 jacobian_entry_points! {
-    AutoSwitch<T, Tol>, a, |sys, log| Switching::new(Dopri5::new(sys), Rodas::new(Analytic(sys)), log),
+    AutoSwitch<T, Tol>, a, |sys, log| Switching::new(Dopri5::new(sys), rodas4(Analytic(sys)), log),
     /// Like [`Integrator::integrate`](crate::Integrator::integrate), but the
     /// implicit member uses the analytic Jacobian
     /// [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) instead of

@@ -234,7 +234,10 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Adaptive<T, Tol> {
     }
 
     /// Runs `method` under these settings with its step-size controller
-    /// (or the fixed step of `with_fixed_step`).
+    /// (or the fixed step of `with_fixed_step`). A positive `rtol`
+    /// below the method's [`Method::MIN_RTOL_EPS`] ends the run in
+    /// `ToleranceTooTight`; otherwise one below `10·eps` is raised to
+    /// `10·eps`, the smallest relative error the scalar can resolve in a step.
     pub(crate) fn run<M, H, K, const D: usize>(
         &mut self,
         method: &mut M,
@@ -247,6 +250,17 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Adaptive<T, Tol> {
         H: OdeSystem<T, D> + ?Sized,
         K: Sink<T, D> + ?Sized,
     {
+        if let (Some(units), None) = (M::MIN_RTOL_EPS, self.fixed_step) {
+            let rtol_min = c::<T>(units) * machine_epsilon::<T>();
+            let too_tight = self
+                .tol
+                .for_dimension::<D>()
+                .is_some_and(|raw| raw.rtol.iter().any(|&r| r > T::zero() && r < rtol_min));
+            if too_tight {
+                let (t, x, _) = span;
+                return Err(SimError::ToleranceTooTight { t, x, rtol_min });
+            }
+        }
         let settings = self.settings()?;
         drive(method, sys, &settings, span, sink, &mut self.record)
     }

@@ -51,6 +51,11 @@ pub(crate) trait Method<T: RealField + Copy, const D: usize> {
     /// `h·λ` above which Hairer's stiffness test counts a step as being at
     /// the stability boundary; `None` for methods without the test.
     const STIFF_LIMIT: Option<f64> = None;
+    /// The smallest relative tolerance, in units of the machine epsilon,
+    /// at which the method's error still follows the tolerance; a smaller
+    /// one ends the run in [`SimError::ToleranceTooTight`] before the first
+    /// step. `None`: smaller tolerances are raised to `10·eps`.
+    const MIN_RTOL_EPS: Option<f64> = None;
     /// The step-size controller of the method's reference code (unused by
     /// the fixed-step methods, which keep this default).
     const PI: Pi = Pi {

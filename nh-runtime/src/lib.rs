@@ -20,6 +20,8 @@
 //!   * [`Dop853`]: adaptive 8(5,3), after Hairer's `DOP853`;
 //!   * [`Rosenbrock`]: RODAS4, adaptive, L-stable, linearly implicit
 //!     (order 4), for stiff problems;
+//!   * [`Rodas5P`]: Steinebach's Rodas5P, the same kind of method of order
+//!     5, for stiff problems at tight tolerances;
 //!   * [`GaussLegendre4`]: 2-stage Gauss–Legendre collocation, fixed step,
 //!     implicit, symplectic (order 4);
 //!   * [`AutoSwitch`]: [`DormandPrince`] while the problem is not stiff,
@@ -28,8 +30,9 @@
 //!   Which to use: [`DormandPrince`] for everyday non-stiff problems at
 //!   moderate tolerances, [`Dop853`] when tolerances are tight, [`Rosenbrock`]
 //!   when the problem is stiff (explicit methods crawl, or `DormandPrince`
-//!   reports [`Stats::stiffness_detected`]), [`AutoSwitch`] when it is stiff
-//!   only at times or you do not know, and [`GaussLegendre4`] for long
+//!   reports [`Stats::stiffness_detected`]), [`Rodas5P`] when it is stiff and
+//!   the tolerance tight (below about `1e-7`), [`AutoSwitch`] when it is
+//!   stiff only at times or you do not know, and [`GaussLegendre4`] for long
 //!   runs of conservative (Hamiltonian) systems, where it keeps the energy
 //!   error bounded; [`Rk4`] when a fixed, cheap, explicit step is wanted
 //!   (e.g. real-time loops).
@@ -143,6 +146,7 @@ mod jacobian;
 mod linalg;
 mod outcome;
 mod rk4;
+mod rodas_tableau;
 mod rosenbrock;
 mod sensitivity;
 mod sink;
@@ -161,7 +165,7 @@ pub use events::{Direction, EventHit, Events};
 pub use gauss::GaussLegendre4;
 pub use outcome::{Outcome, SimError, Singularity, Stats};
 pub use rk4::Rk4;
-pub use rosenbrock::Rosenbrock;
+pub use rosenbrock::{Rodas5P, Rosenbrock};
 pub use sensitivity::{ParameterJacobian, Sensitivities};
 pub use state::{
     ConstraintViolation, KnownVelocitiesError, speeds_from_velocities, velocities_from_known,

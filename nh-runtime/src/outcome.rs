@@ -196,6 +196,18 @@ pub enum SimError<T, const D: usize> {
         /// The constraint residual the projection reached.
         residual: T,
     },
+    /// The relative tolerance is below what the method can deliver in the
+    /// scalar type (rounding, not truncation, would set the error); nothing
+    /// was integrated. `t` and `x` are the start; rerun with
+    /// `rtol ≥ rtol_min`.
+    ToleranceTooTight {
+        /// The start time.
+        t: T,
+        /// The start state.
+        x: SVector<T, D>,
+        /// The smallest relative tolerance the method accepts.
+        rtol_min: T,
+    },
     /// The arguments or the integrator's settings are invalid; nothing was
     /// integrated. `what` names the offending value.
     InvalidInput {
@@ -213,7 +225,8 @@ impl<T: Copy, const D: usize> SimError<T, D> {
             | Self::MaxSteps { t, .. }
             | Self::NoConvergence { t, .. }
             | Self::Singular { t, .. }
-            | Self::ProjectionFailed { t, .. } => Some(*t),
+            | Self::ProjectionFailed { t, .. }
+            | Self::ToleranceTooTight { t, .. } => Some(*t),
             Self::InvalidInput { .. } => None,
         }
     }
@@ -226,7 +239,8 @@ impl<T: Copy, const D: usize> SimError<T, D> {
             | Self::MaxSteps { x, .. }
             | Self::NoConvergence { x, .. }
             | Self::Singular { x, .. }
-            | Self::ProjectionFailed { x, .. } => Some(x),
+            | Self::ProjectionFailed { x, .. }
+            | Self::ToleranceTooTight { x, .. } => Some(x),
             Self::InvalidInput { .. } => None,
         }
     }
@@ -268,6 +282,11 @@ impl<T: fmt::Display, const D: usize> fmt::Display for SimError<T, D> {
                 f,
                 "projection onto the holonomic constraints did not converge after t = {t} \
                  (residual {residual})"
+            ),
+            Self::ToleranceTooTight { rtol_min, .. } => write!(
+                f,
+                "the relative tolerance is below what this method resolves in this scalar \
+                 type (rounding would dominate the error); use rtol >= {rtol_min}"
             ),
             Self::InvalidInput { what } => write!(f, "invalid input: {what}"),
         }

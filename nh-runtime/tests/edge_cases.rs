@@ -9,8 +9,8 @@ mod common;
 use common::{Decay, Oscillator};
 use nalgebra::{SVector, Vector1, Vector2};
 use nh_runtime::{
-    Dop853, DormandPrince, GaussLegendre4, Integrator, OdeSystem, Outcome, Rk4, Rosenbrock,
-    SimError,
+    Dop853, DormandPrince, GaussLegendre4, Integrator, OdeSystem, Outcome, Rk4, Rodas5P,
+    Rosenbrock, SimError,
 };
 
 type Run<const D: usize> = Result<Outcome<f64, D>, SimError<f64, D>>;
@@ -211,12 +211,35 @@ fn tolerances_below_resolution_are_raised_to_ten_eps() {
             Dop853::new(floor, 1e-300).integrate(&Oscillator, 0.0, x0, 1.0),
         );
         assert!((out.x[0] - 1.0f64.cos()).abs() < 1e-13, "{out:?}");
-        let out = same(
+        // The Rosenbrock methods say so instead: below 50·eps rounding in
+        // their stage combinations, not the tolerance, would set the error.
+        let rtol_min = 50.0 * f64::EPSILON;
+        let too_tight = Err(SimError::ToleranceTooTight {
+            t: 0.0,
+            x: x0,
+            rtol_min,
+        });
+        assert_eq!(
             Rosenbrock::new(rtol, 1e-300).integrate(&Oscillator, 0.0, x0, 1.0),
-            Rosenbrock::new(floor, 1e-300).integrate(&Oscillator, 0.0, x0, 1.0),
+            too_tight
         );
-        assert!((out.x[0] - 1.0f64.cos()).abs() < 1e-12, "{out:?}");
+        assert_eq!(
+            Rodas5P::new(rtol, 1e-300).integrate(&Oscillator, 0.0, x0, 1.0),
+            too_tight
+        );
     }
+    for rtol in [50.0 * f64::EPSILON, floor] {
+        let tight = Rosenbrock::new(rtol, 1e-300).integrate(&Oscillator, 0.0, x0, 1.0);
+        assert_eq!(
+            tight.is_ok(),
+            rtol >= 50.0 * f64::EPSILON,
+            "{rtol:e}: {tight:?}"
+        );
+    }
+    let out = Rodas5P::new(50.0 * f64::EPSILON, 1e-300)
+        .integrate(&Oscillator, 0.0, x0, 1.0)
+        .unwrap();
+    assert!((out.x[0] - 1.0f64.cos()).abs() < 1e-13, "{out:?}");
     // In f32 the floor is 10·eps(f32).
     let osc32 = |_t: f32, x: &Vector2<f32>| Vector2::new(x[1], -x[0]);
     let out = Dop853::new(1e-30f32, 1e-30)
