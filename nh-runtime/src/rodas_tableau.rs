@@ -406,6 +406,7 @@ mod tests {
     }
 
     /// The inverse of a lower triangular matrix by forward substitution.
+    #[allow(clippy::needless_range_loop)] // indices as in the formula
     fn lower_inverse<const S: usize>(l: &Mat<S>) -> Mat<S> {
         let mut inv = [[0.0; S]; S];
         for col in 0..S {
