@@ -165,7 +165,7 @@ fn orders_on_the_knife_edge() {
     orders_on!(knife_case(), "knife edge", &[1.0, 0.5, 0.25, 0.125]);
 }
 
-/// The relative final-time errors of the three adaptive methods at `rtol`,
+/// The relative final-time errors of the four adaptive methods at `rtol`,
 /// `atol` on one case, labelled `"{label} {method}"`.
 fn adaptive_errors<S: OdeJacobian<f64, D>, const D: usize>(
     label: &str,
@@ -178,12 +178,17 @@ fn adaptive_errors<S: OdeJacobian<f64, D>, const D: usize>(
     let dp = DormandPrince::new(rtol, atol).integrate(sys, 0.0, *x0, *t1);
     let dop = Dop853::new(rtol, atol).integrate(sys, 0.0, *x0, *t1);
     let rodas = Rosenbrock::new(rtol, atol).integrate_with_jacobian(sys, 0.0, *x0, *t1);
+    let rodas5 = Rodas5P::new(rtol, atol).integrate_with_jacobian(sys, 0.0, *x0, *t1);
     vec![
         (format!("{label} DormandPrince"), error(dp.expect("dp").x)),
         (format!("{label} Dop853"), error(dop.expect("dop853").x)),
         (
             format!("{label} Rosenbrock"),
             error(rodas.expect("rodas").x),
+        ),
+        (
+            format!("{label} Rodas5P"),
+            error(rodas5.expect("rodas5p").x),
         ),
     ]
 }

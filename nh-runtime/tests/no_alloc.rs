@@ -16,7 +16,7 @@ use common::Oscillators3;
 use nalgebra::{SVector, Vector1};
 use nh_runtime::OdeSystem as _;
 use nh_runtime::{
-    AutoSwitch, Dop853, DormandPrince, Events, GaussLegendre4, Integrator, Rk4, Rosenbrock,
+    AutoSwitch, Dop853, DormandPrince, Events, GaussLegendre4, Integrator, Rk4, Rodas5P, Rosenbrock,
 };
 
 struct Counting;
@@ -183,6 +183,7 @@ fn no_integrator_allocates_per_step() {
     check_no_alloc("dopri5", || DormandPrince::new(1e-9, 1e-11), 50, false);
     check_no_alloc("dop853", || Dop853::new(1e-9, 1e-11), 20, false);
     check_no_alloc("rosenbrock", || Rosenbrock::new(1e-6, 1e-8), 20, false);
+    check_no_alloc("rodas5p", || Rodas5P::new(1e-6, 1e-8), 20, false);
     check_no_alloc("gauss4", || GaussLegendre4::new(1e-2), 500, true);
     check_no_alloc("auto", || AutoSwitch::new(1e-9, 1e-11), 50, false);
 }
@@ -234,6 +235,10 @@ fn analytic_jacobian_paths_do_not_allocate() {
         n, 0,
         "Rosenbrock::integrate_with_jacobian allocated {n} times"
     );
+    let mut rodas5 = Rodas5P::new(1e-6, 1e-8);
+    let (n, out) = allocations_during(|| rodas5.integrate_with_jacobian(&Osc3, 0.0, x0, 5.0));
+    out.unwrap();
+    assert_eq!(n, 0, "Rodas5P::integrate_with_jacobian allocated {n} times");
     // The Gauss method allocates its Newton workspace (Jacobian, LU,
     // permutation) once per call, whatever the number of steps.
     let (_, out) = per_step("GaussLegendre4::integrate_with_jacobian", true, |t1| {
