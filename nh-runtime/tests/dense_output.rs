@@ -4,7 +4,9 @@ mod common;
 
 use common::{Oscillator, max_err, oscillator_exact};
 use nalgebra::{SVector, Vector2};
-use nh_runtime::{Dop853, DormandPrince, Integrator, Rk4, SimError, Stats, Step};
+use nh_runtime::{
+    Dop853, DormandPrince, Integrator, Rk4, Rodas5P, Rosenbrock, SimError, Stats, Step,
+};
 
 /// Largest interpolation error over 7 interior points of every step, and the
 /// number of steps.
@@ -60,6 +62,25 @@ fn interpolation_orders() {
     let q = (e1 / e2).log2();
     println!("dop853 dense: {e1:.3e} {e2:.3e}, local order {q:.3}");
     assert!((q - 8.0).abs() < 0.3, "dop853 dense output local order {q}");
+
+    // RODAS4's dense output is of order 3, Rodas5P's of order 4.
+    let rodas4 = |h: f64| {
+        worst_interpolation_error(&mut Rosenbrock::new(1.0, 1.0).with_fixed_step(h), 2.0).0
+    };
+    let rodas5 =
+        |h: f64| worst_interpolation_error(&mut Rodas5P::new(1.0, 1.0).with_fixed_step(h), 2.0).0;
+    for (name, f, local) in [
+        ("rodas4", &rodas4 as &dyn Fn(f64) -> f64, 4.0),
+        ("rodas5p", &rodas5, 5.0),
+    ] {
+        let (e1, e2) = (f(0.2), f(0.1));
+        let q = (e1 / e2).log2();
+        println!("{name} dense: {e1:.3e} {e2:.3e}, local order {q:.3}");
+        assert!(
+            (q - local).abs() < 0.3,
+            "{name} dense output local order {q}"
+        );
+    }
 }
 
 #[test]
@@ -138,11 +159,12 @@ fn outputs_vs_plain<I: Integrator<f64>>(name: &str, mut make: impl FnMut() -> I,
 
 #[test]
 fn output_times_do_not_change_the_steps() {
-    use nh_runtime::{GaussLegendre4, Rosenbrock};
+    use nh_runtime::GaussLegendre4;
     outputs_vs_plain("rk4", || Rk4::new(0.07), 1e-5);
     outputs_vs_plain("dopri5", || DormandPrince::new(1e-9, 1e-12), 1e-8);
     outputs_vs_plain("dop853", || Dop853::new(1e-9, 1e-12), 1e-8);
     outputs_vs_plain("rosenbrock", || Rosenbrock::new(1e-7, 1e-10), 1e-5);
+    outputs_vs_plain("rodas5p", || Rodas5P::new(1e-7, 1e-10), 1e-5);
     outputs_vs_plain("gauss4", || GaussLegendre4::new(0.05), 1e-5);
 }
 
