@@ -13,6 +13,7 @@ use proc_macro2::{Ident, TokenStream};
 use quote::quote;
 
 mod block;
+mod motion;
 mod speeds;
 mod stand_in;
 
@@ -309,11 +310,11 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
     let lagrange = projection(d, &mass, &bias, &c, &acc_bias);
     let (mr, f) = match &r.bodies {
         Some(bt) => {
-            let kane = body_projection(d, m, bt, &c, &acc_bias);
             let ops = |d: &Dag, (mr, f): &(Vec<Vec<Node>>, Vec<Node>)| {
                 let all: Vec<Node> = mr.iter().flatten().chain(f).copied().collect();
                 d.op_count(&all)
             };
+            let kane = body_projection(d, m, bt, &c, &acc_bias);
             if ops(d, &kane) < ops(d, &lagrange) {
                 kane
             } else {
@@ -399,10 +400,11 @@ fn body_projection(
     for f in f.iter_mut() {
         *f = d.neg(*f);
     }
+    let motion = motion::Motion::of(d, m, bt.heading_rate);
     for b in &bt.bodies {
         let mass = d.expr(&m.engine, b.mass);
         let j = matrix(d, m, &b.jacobian);
-        let accel0 = exprs(d, m, &b.accel0);
+        let accel0 = motion.rate_of_jacobian(d, &j, true);
         let (v, a) = partial_and_bias(d, &j, &accel0, c, acc_bias);
         let mv: Vec<Vec<Node>> = v
             .iter()
@@ -412,10 +414,10 @@ fn body_projection(
         add_inertia(d, &mut mr, &mut f, &v, &mv, &ma);
         if let Some(rot) = &b.rotation {
             let w = matrix(d, m, &rot.jacobian);
-            let alpha0 = exprs(d, m, &rot.accel0);
+            let omega = exprs(d, m, &rot.omega);
+            let alpha0 = motion.rate(d, [omega[0], omega[1], omega[2]], false);
             let (om, alpha) = partial_and_bias(d, &w, &alpha0, c, acc_bias);
             let inertia = matrix(d, m, &rot.inertia.map(|r| r.to_vec()));
-            let omega = exprs(d, m, &rot.omega);
             let i_om: Vec<Vec<Node>> = (0..3)
                 .map(|x| {
                     (0..om[0].len())

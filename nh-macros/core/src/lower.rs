@@ -439,7 +439,7 @@ impl Lowerer<'_> {
         let src = short(arg.to_source());
         let val = match self.e.as_constant(v) {
             Some(c) => show(c),
-            None => short(self.e.display(v)),
+            None => short(self.e.display_capped(v, 60)),
         };
         if src == val {
             String::new()

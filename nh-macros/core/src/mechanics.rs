@@ -3,7 +3,7 @@
 //! the constrained Lagrangian and the curvature route (5.12)–(5.21), and the
 //! energy. Every function derives only what it is asked for.
 
-use crate::model::Model;
+use crate::model::{Model, Output};
 use crate::sym::{Engine, ExprId, SymId, ZERO};
 use rustc_hash::FxHashMap as HashMap;
 
@@ -32,16 +32,18 @@ pub struct BodyTerms {
     pub rest_mass: Vec<Vec<ExprId>>,
     /// See `rest_mass`.
     pub rest_bias: Vec<ExprId>,
+    /// ψ̇ when the centres' Jacobians are in the heading's frame (see
+    /// [`BlockTerms::heading_rate`]).
+    pub heading_rate: Option<ExprId>,
 }
 
 /// One body's kinematics for [`BodyTerms`].
 pub struct BodyKinematics {
     /// m.
     pub mass: ExprId,
-    /// J = ∂C/∂q, 3 × n.
+    /// J = ∂C/∂q, 3 × n (the centre's rate J̇ q̇ at q̈ = 0 is computed on
+    /// the graph: `generate::motion`).
     pub jacobian: [Vec<ExprId>; 3],
-    /// J̇ q̇ = Σ_i ∂(J q̇)/∂q_i q̇_i: the centre's acceleration at q̈ = 0.
-    pub accel0: [ExprId; 3],
     /// Its rotation, unless it is a point mass.
     pub rotation: Option<BodyRotation>,
 }
@@ -52,8 +54,6 @@ pub struct BodyRotation {
     pub omega: [ExprId; 3],
     /// W = ∂ω_b/∂q̇, 3 × n.
     pub jacobian: [Vec<ExprId>; 3],
-    /// Ẇ q̇ = Σ_i ∂ω_b/∂q_i q̇_i: the angular acceleration at q̈ = 0.
-    pub accel0: [ExprId; 3],
     /// I about the centre of mass.
     pub inertia: [[ExprId; 3]; 3],
     /// For a body symmetric about axis k of its last factor R_k(θ) (a
@@ -142,6 +142,9 @@ pub struct BlockTerms {
     pub rows: Vec<RowTerms>,
     /// The contacts the rows refer to.
     pub contacts: Vec<ContactTerms>,
+    /// ψ̇ when the contacts' vectors are in the heading's frame
+    /// (`heading_frame`): a world rate ȧ is then R ȧ = (R a)˙ + ψ̇ e_z × R a.
+    pub heading_rate: Option<ExprId>,
 }
 
 /// One velocity row g(q, q̇) = 0 of a [`BlockTerms`].
@@ -167,14 +170,10 @@ pub enum RowTerms {
 pub struct ContactTerms {
     /// J_G = ∂G/∂q, 3 × n.
     pub centre_jacobian: [Vec<ExprId>; 3],
-    /// J̇_G q̇.
-    pub centre_accel0: [ExprId; 3],
     /// ω (world components).
     pub omega: [ExprId; 3],
     /// W = ∂ω/∂q̇, 3 × n.
     pub omega_jacobian: [Vec<ExprId>; 3],
-    /// Ẇ q̇.
-    pub omega_accel0: [ExprId; 3],
     /// The world axle n and s = |e_z × n|, for a disc or torus.
     pub axle: Option<([ExprId; 3], ExprId)>,
     /// r.
@@ -190,7 +189,16 @@ impl Model {
     pub fn derive(&mut self, both_routes: bool) -> Derivation {
         self.block = self.block_terms();
         let multiplier_route = self.multiplier_route();
-        let curvature = self.curvature();
+        // the full curvature when a route or the output uses it; otherwise
+        // only as many entries as it takes to see that one does not vanish
+        let (curvature, (integrable, integrable_proved)) =
+            if both_routes || self.outputs.contains(Output::Curvature) {
+                let curvature = self.curvature();
+                let integrability = self.integrability(&curvature);
+                (curvature, integrability)
+            } else {
+                (Vec::new(), self.integrability_entry_by_entry())
+            };
         let curvature_route = if both_routes {
             self.curvature_route(&curvature)
         } else {
@@ -207,7 +215,6 @@ impl Model {
         } else {
             self.silent_velocities(&multiplier_route.mass)
         };
-        let (integrable, integrable_proved) = self.integrability(&curvature);
         Derivation {
             silent,
             multiplier_route,
@@ -361,9 +368,7 @@ impl Model {
             .into_iter()
             .map(|(mass, centre, rotation)| {
                 let jacobian = centre.map(|x| self.positional_jacobian(x));
-                let velocity = jacobian.clone().map(|row| self.times_velocities(&row));
-                let accel0 = velocity.map(|v| self.along_motion(v));
-                let (jacobian, accel0) = self.in_frame(&frame, jacobian, accel0);
+                let jacobian = self.in_frame(&frame, jacobian);
                 let rotation = rotation.map(|((omega, inertia), spin)| {
                     let (omega, spin) = match spin {
                         Some((k, angle)) => {
@@ -376,7 +381,6 @@ impl Model {
                     };
                     BodyRotation {
                         jacobian: omega.map(|w| self.velocity_jacobian(w)),
-                        accel0: omega.map(|w| self.along_motion(w)),
                         omega,
                         inertia,
                         spin,
@@ -385,7 +389,6 @@ impl Model {
                 BodyKinematics {
                     mass,
                     jacobian,
-                    accel0,
                     rotation,
                 }
             })
@@ -395,6 +398,7 @@ impl Model {
             bodies,
             rest_mass,
             rest_bias,
+            heading_rate: self.heading_rate(),
         })
     }
 
@@ -412,26 +416,17 @@ impl Model {
             .into_iter()
             .map(|c| {
                 let centre_jacobian = c.centre.map(|x| self.positional_jacobian(x));
-                let velocity = centre_jacobian
-                    .clone()
-                    .map(|row| self.times_velocities(&row));
-                let centre_accel0 = velocity.map(|v| self.along_motion(v));
-                let (centre_jacobian, centre_accel0) =
-                    self.in_frame(&frame, centre_jacobian, centre_accel0);
+                let centre_jacobian = self.in_frame(&frame, centre_jacobian);
                 let omega_jacobian = c.omega.map(|w| self.velocity_jacobian(w));
-                let omega_accel0 = c.omega.map(|w| self.along_motion(w));
-                let (omega_jacobian, omega_accel0) =
-                    self.in_frame(&frame, omega_jacobian, omega_accel0);
+                let omega_jacobian = self.in_frame(&frame, omega_jacobian);
                 let turn = |m: &mut Model, v: [ExprId; 3]| match &frame {
                     Some(r) => crate::lower::values::mat_vec(&mut m.engine, r, v),
                     None => v,
                 };
                 ContactTerms {
-                    centre_accel0,
                     centre_jacobian,
                     omega: turn(self, c.omega),
                     omega_jacobian,
-                    omega_accel0,
                     axle: c.axle.map(|(n, s)| (turn(self, n), s)),
                     radius: c.radius,
                     tube: c.tube,
@@ -454,6 +449,7 @@ impl Model {
             pivots,
             rows,
             contacts,
+            heading_rate: self.heading_rate(),
         })
     }
 
@@ -532,6 +528,19 @@ impl Model {
     /// every world vector (VᵀV, Vᵀa, and the rows' combinations); in the
     /// heading's frame the bodies' and contacts' vectors are free of ψ.
     fn heading_frame(&mut self) -> Option<[[ExprId; 3]; 3]> {
+        let back = self.heading()?;
+        let back = self.engine.neg(back);
+        Some(crate::lower::values::elementary(&mut self.engine, 2, back))
+    }
+
+    /// ψ̇ of [`Model::heading_frame`]'s heading, if there is one.
+    fn heading_rate(&mut self) -> Option<ExprId> {
+        let psi = self.heading()?;
+        Some(self.along_motion(psi))
+    }
+
+    /// The heading ψ every rotating body's orientation starts with.
+    fn heading(&self) -> Option<ExprId> {
         let split = self.kinetic.as_ref()?;
         let mut headings = split
             .bodies
@@ -539,22 +548,17 @@ impl Model {
             .filter(|b| b.rotation.is_some())
             .map(|b| b.heading);
         let first = headings.next()??;
-        if !headings.all(|h| h == Some(first)) {
-            return None;
-        }
-        let back = self.engine.neg(first);
-        Some(crate::lower::values::elementary(&mut self.engine, 2, back))
+        headings.all(|h| h == Some(first)).then_some(first)
     }
 
-    /// The columns of a 3 × n Jacobian and a rate, turned into `frame`.
+    /// The columns of a 3 × n Jacobian turned into `frame`.
     fn in_frame(
         &mut self,
         frame: &Option<[[ExprId; 3]; 3]>,
         jacobian: [Vec<ExprId>; 3],
-        rate: [ExprId; 3],
-    ) -> ([Vec<ExprId>; 3], [ExprId; 3]) {
+    ) -> [Vec<ExprId>; 3] {
         let Some(r) = frame else {
-            return (jacobian, rate);
+            return jacobian;
         };
         let e = &mut self.engine;
         let mut turned: [Vec<ExprId>; 3] = [Vec::new(), Vec::new(), Vec::new()];
@@ -565,7 +569,7 @@ impl Model {
                 t.push(column[x]);
             }
         }
-        (turned, crate::lower::values::mat_vec(e, r, rate))
+        turned
     }
 
     /// ∂x/∂q_i for every coordinate.
@@ -584,21 +588,6 @@ impl Model {
             .iter()
             .map(|c| e.diff(x, c.velocity))
             .collect()
-    }
-
-    /// Σ_i row_i q̇_i.
-    fn times_velocities(&mut self, row: &[ExprId]) -> ExprId {
-        let e = &mut self.engine;
-        let parts: Vec<ExprId> = row
-            .iter()
-            .zip(&self.coordinates)
-            .filter(|(x, _)| **x != ZERO)
-            .map(|(&x, c)| {
-                let v = e.sym(c.velocity);
-                e.mul(x, v)
-            })
-            .collect();
-        e.sum(&parts)
     }
 
     /// −(Ȧ ṙ)_a − β̇_a from the solved velocities ṡ_a(q, ṙ, t).
@@ -653,40 +642,59 @@ impl Model {
     pub fn curvature(&mut self) -> Vec<Vec<Vec<ExprId>>> {
         let (k, p) = (self.k(), self.p());
         let mut b = vec![vec![vec![ZERO; k]; k]; p];
-        let r = self.of_independent(|c| c.position);
-        let s_syms: Vec<SymId> = self
-            .constraints
-            .iter()
-            .map(|c| self.coordinates[c.dependent].position)
-            .collect();
-        let a: Vec<&[ExprId]> = self
-            .constraints
-            .iter()
-            .map(|c| &c.coefficients[..])
-            .collect();
         for bb in 0..p {
             for al in 0..k {
                 for be in (al + 1)..k {
-                    let e = &mut self.engine;
-                    let (r_al, r_be) = (r[al], r[be]);
-                    let d1 = e.diff(a[bb][al], r_be);
-                    let d2 = e.diff(a[bb][be], r_al);
-                    let mut parts = vec![d1, e.neg(d2)];
-                    for (aa, &s_sym) in s_syms.iter().enumerate() {
-                        let x = e.diff(a[bb][be], s_sym);
-                        let x = e.mul(a[aa][al], x);
-                        let y = e.diff(a[bb][al], s_sym);
-                        let y = e.mul(a[aa][be], y);
-                        parts.push(x);
-                        parts.push(e.neg(y));
-                    }
-                    let v = e.sum(&parts);
+                    let v = self.curvature_entry(bb, al, be);
                     b[bb][al][be] = v;
-                    b[bb][be][al] = e.neg(v);
+                    b[bb][be][al] = self.engine.neg(v);
                 }
             }
         }
         b
+    }
+
+    /// B^b_{αβ} of (5.21) for α < β.
+    fn curvature_entry(&mut self, bb: usize, al: usize, be: usize) -> ExprId {
+        let r = self.of_independent(|c| c.position);
+        let (r_al, r_be) = (r[al], r[be]);
+        let e = &mut self.engine;
+        let a = |aa: usize, x: usize| self.constraints[aa].coefficients[x];
+        let d1 = e.diff(a(bb, al), r_be);
+        let d2 = e.diff(a(bb, be), r_al);
+        let mut parts = vec![d1, e.neg(d2)];
+        for (aa, c) in self.constraints.iter().enumerate() {
+            let s_sym = self.coordinates[c.dependent].position;
+            let x = e.diff(a(bb, be), s_sym);
+            let x = e.mul(a(aa, al), x);
+            let y = e.diff(a(bb, al), s_sym);
+            let y = e.mul(a(aa, be), y);
+            parts.push(x);
+            parts.push(e.neg(y));
+        }
+        e.sum(&parts)
+    }
+
+    /// [`Model::integrability`] without the whole curvature: entry by
+    /// entry, stopping at the first that does not vanish.
+    fn integrability_entry_by_entry(&mut self) -> (bool, bool) {
+        let (k, p) = (self.k(), self.p());
+        let mut proved = true;
+        for bb in 0..p {
+            for al in 0..k {
+                for be in (al + 1)..k {
+                    let v = self.curvature_entry(bb, al, be);
+                    if v == ZERO {
+                        continue;
+                    }
+                    if !vanish_at_random_points(&self.engine, self.pi, &[v]) {
+                        return (false, false);
+                    }
+                    proved = false;
+                }
+            }
+        }
+        (true, proved)
     }
 
     /// The curvature route (5.12)–(5.20): Lc, its reduced mass matrix and the

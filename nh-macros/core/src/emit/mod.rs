@@ -20,6 +20,7 @@ mod fold;
 mod from_sym;
 mod ldlt;
 mod live;
+mod tangent;
 mod text;
 
 use crate::sym::{AtomId, ExprId, Fun, Rational, SymId};

@@ -5,6 +5,7 @@
 //! contact are assembled from the contact's kinematics (DESIGN §10), whose
 //! expanded forms would carry 1/|e_z × n| into every term.
 
+use super::motion::Motion;
 use super::{exprs, matrix};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::{BlockTerms, ContactTerms, RowTerms};
@@ -52,6 +53,8 @@ fn coefficients(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Vec<Node>> {
 /// The rows' rates at q̈ = 0, Σ ∂g/∂q_i q̇_i.
 fn rates(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Node> {
     let offsets: Vec<Offset> = bt.contacts.iter().map(|c| offset(d, m, c)).collect();
+    let motion = Motion::of(d, m, bt.heading_rate);
+    let turned = bt.heading_rate.is_some();
     bt.rows
         .iter()
         .map(|row| match row {
@@ -61,8 +64,9 @@ fn rates(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Node> {
                 let off = &offsets[*contact];
                 let omega = exprs(d, m, &c.omega);
                 let omega = [omega[0], omega[1], omega[2]];
-                let alpha0 = exprs(d, m, &c.omega_accel0);
-                let a0 = d.expr(&m.engine, c.centre_accel0[*component]);
+                let alpha0 = motion.rate(d, omega, turned);
+                let jg = matrix(d, m, &c.centre_jacobian);
+                let a0 = motion.rate_of_jacobian(d, &jg, turned)[*component];
                 let turn = cross_component(d, [alpha0[0], alpha0[1], alpha0[2]], off.o, *component);
                 let acc = d.add(a0, turn);
                 match &off.rim {

@@ -309,7 +309,7 @@ impl Lowerer<'_> {
 
     /// Components as text for the docs, shortened past 240 characters.
     fn show3(&self, v: Vec3) -> String {
-        let parts: Vec<String> = v.iter().map(|&c| self.e.display(c)).collect();
+        let parts: Vec<String> = v.iter().map(|&c| self.e.display_capped(c, 240)).collect();
         let text = format!("({})", parts.join(", "));
         if text.chars().count() <= 240 {
             return text;
@@ -609,7 +609,7 @@ impl Lowerer<'_> {
         let height = match contact.height {
             Some(h) => format!(
                 "; its height `{}` = 0 is a holonomic constraint",
-                self.e.display(h)
+                self.e.display_capped(h, 240)
             ),
             None => String::new(),
         };
@@ -617,8 +617,8 @@ impl Lowerer<'_> {
             "- `rolls({}, ..)`: contact point P = {}; no slip: the x and y components of its material velocity, `{}` and `{}`, vanish{height}",
             def.body,
             self.show3(contact.point),
-            self.e.display(contact.velocity[0]),
-            self.e.display(contact.velocity[1]),
+            self.e.display_capped(contact.velocity[0], 240),
+            self.e.display_capped(contact.velocity[1], 240),
         );
         self.description.push(line);
         Some(contact)
