@@ -285,7 +285,12 @@ impl Model {
         let n = self.n();
         let (mass, bias) = self.euler_lagrange_terms(self.lagrangian, true);
         let bodies = self.body_terms();
-        let dependent_bias = if self.velocity_rows.is_empty() {
+        // with a block solved numerically, the accelerations take its rates
+        // on the graph; the symbolic −Ȧṙ serves only outputs that
+        // differentiate it
+        let dependent_bias = if self.block.is_some() && !self.outputs.differentiate_derivation() {
+            Vec::new()
+        } else if self.velocity_rows.is_empty() {
             self.dependent_bias_from_solutions()
         } else {
             self.dependent_bias_from_rows()

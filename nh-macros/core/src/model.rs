@@ -90,6 +90,26 @@ impl Outputs {
         self
     }
 
+    /// Whether an output differentiates the derivation's symbolic terms
+    /// (today `jacobian` and `linearization`; an output not listed as
+    /// free of them counts as one).
+    pub fn differentiate_derivation(&self) -> bool {
+        Output::ALL.into_iter().any(|o| {
+            self.contains(o)
+                && !matches!(
+                    o,
+                    Output::Multipliers
+                        | Output::Curvature
+                        | Output::Energy
+                        | Output::ConstraintMatrix
+                        | Output::MassMatrix
+                        | Output::Routes
+                        | Output::ReactionForces
+                        | Output::ContactPoints
+                )
+        })
+    }
+
     /// Sets the flag of output `name`; `Some(previous)` if the name is known.
     pub fn set(&mut self, name: &str) -> Option<bool> {
         let output = Output::ALL.into_iter().find(|o| o.name() == name)?;
