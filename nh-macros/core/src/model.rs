@@ -91,7 +91,7 @@ impl Outputs {
     }
 
     /// Whether an output differentiates the derivation's symbolic terms
-    /// (today `jacobian` and `linearization`; an output not listed as
+    /// (today `jacobian`, `linearization` and `sensitivities`; an output not listed as
     /// free of them counts as one).
     pub fn differentiate_derivation(&self) -> bool {
         Output::ALL.into_iter().any(|o| {
