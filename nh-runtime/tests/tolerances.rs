@@ -95,8 +95,17 @@ fn equal_entries_are_bit_identical_to_scalar_tolerances() {
             // below 50·eps the Rosenbrock methods end at once in
             // ToleranceTooTight, given either way
             let too_tight = k == 2 && rtol < 50.0 * f64::EPSILON;
-            assert_eq!(too_tight, scalar.0.is_empty(), "case {k}, rtol {rtol}: {:?}", scalar.1);
-            assert!(too_tight || scalar.0.len() > 5, "case {k}, rtol {rtol}: {:?}", scalar.1);
+            assert_eq!(
+                too_tight,
+                scalar.0.is_empty(),
+                "case {k}, rtol {rtol}: {:?}",
+                scalar.1
+            );
+            assert!(
+                too_tight || scalar.0.len() > 5,
+                "case {k}, rtol {rtol}: {:?}",
+                scalar.1
+            );
             assert_eq!(scalar, vector, "integrator {k}, rtol {rtol}, atol {atol}");
         }
     }
