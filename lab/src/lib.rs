@@ -17,6 +17,16 @@
 //! The benchmarks live in `benches/`: `routes` (per-call times of both
 //! derivation routes) and `accelerations` (generated against hand-written
 //! code, interleaved in one run).
+//!
+//! The side-by-side against other Rust ODE solvers (ode_solvers, diffsol,
+//! russell_ode) at equal error, and against the physical limit, is the
+//! separate unpublished crate `lab/peers` (`nh-peers`), kept outside the
+//! workspace so that its dependencies are never compiled by the workspace's
+//! builds and tests:
+//!
+//! ```text
+//! cargo run --release --manifest-path lab/peers/Cargo.toml
+//! ```
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
 
