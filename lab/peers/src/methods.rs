@@ -2,7 +2,7 @@
 //! (ode_solvers, diffsol, russell_ode), each behind the same signature and
 //! handed the same generated right-hand side and Jacobian.
 //!
-//! Adding one of ours is one entry in [`ours`].
+//! Adding one of ours is one entry in [`our_methods`].
 
 use std::cell::RefCell;
 
