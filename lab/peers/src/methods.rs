@@ -142,6 +142,20 @@ pub fn our_methods<S: Sys<D>, const D: usize>() -> Vec<Method<S, D>> {
                     .integrate_with_jacobian(s, 0.0, p.x0, p.t1),
             )
         }),
+        ours("Rodas5P", Tolerance, |s, p, v| {
+            done(
+                Rodas5P::new(v, atol(v))
+                    .with_max_steps(p.max_steps)
+                    .integrate_with_jacobian(s, 0.0, p.x0, p.t1),
+            )
+        }),
+        ours("AutoSwitch (DP5/Rodas4)", Tolerance, |s, p, v| {
+            done(
+                AutoSwitch::new(v, atol(v))
+                    .with_max_steps(p.max_steps)
+                    .integrate_with_jacobian(s, 0.0, p.x0, p.t1),
+            )
+        }),
         ours("Rk4", StepSize, |s, p, v| {
             done(
                 Rk4::new(v)
