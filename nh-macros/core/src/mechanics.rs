@@ -728,7 +728,7 @@ impl Model {
                 *v = Dd::from_f64(0.3 + 1.1 * rng.next_f64());
             }
             vals[self.pi.index()] = Dd::PI;
-            let mut memo = HashMap::default();
+            let mut memo = crate::sym::EvalMemo::default();
             let mut column = |a: usize| -> Vec<Dd> {
                 let mut c = vec![Dd::ZERO; n];
                 c[self.independent()[a]] = Dd::from_f64(1.0);

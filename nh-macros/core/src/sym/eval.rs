@@ -3,7 +3,7 @@
 //! cancellation to zero has to be judged beyond `f64` precision.
 
 use super::dd::Dd;
-use super::{Atom, Engine, ExprId, Fun, MonoId, Rational};
+use super::{Atom, AtomId, Engine, ExprId, Fun, MonoId, Rational};
 use rustc_hash::FxHashMap as HashMap;
 use std::ops::{Add, Div, Mul, Sub};
 
@@ -188,30 +188,67 @@ fn call<S: Scalar>(f: Fun, x: S) -> S {
     }
 }
 
+/// The values of expressions and of function atoms already evaluated at one
+/// point (a function such as `sin(roll)` occurs in many monomials).
+pub struct EvalMemo<S> {
+    exprs: HashMap<ExprId, S>,
+    atoms: HashMap<AtomId, S>,
+}
+
+impl<S> Default for EvalMemo<S> {
+    fn default() -> Self {
+        EvalMemo {
+            exprs: HashMap::default(),
+            atoms: HashMap::default(),
+        }
+    }
+}
+
 impl Engine {
     /// Evaluates `e` with `vals[s]` the value of symbol `s`.
     pub fn eval<S: Scalar>(&self, e: ExprId, vals: &[S]) -> S {
-        let mut memo = HashMap::default();
+        let mut memo = EvalMemo::default();
         self.eval_memo(e, vals, &mut memo)
     }
 
     /// Evaluates with a caller-held memo (for many expressions at one point).
-    pub fn eval_memo<S: Scalar>(&self, e: ExprId, vals: &[S], memo: &mut HashMap<ExprId, S>) -> S {
-        if let Some(&v) = memo.get(&e) {
+    pub fn eval_memo<S: Scalar>(&self, e: ExprId, vals: &[S], memo: &mut EvalMemo<S>) -> S {
+        if let Some(&v) = memo.exprs.get(&e) {
             return v;
         }
         let mut acc = S::ZERO;
         for &(m, c) in &self.exprs[e.index()] {
             acc = acc + self.eval_term(m, c, vals, memo);
         }
-        memo.insert(e, acc);
+        memo.exprs.insert(e, acc);
         acc
+    }
+
+    /// The value of atom `a` (memoised unless it is a symbol).
+    fn eval_atom<S: Scalar>(&self, a: AtomId, vals: &[S], memo: &mut EvalMemo<S>) -> S {
+        if let Atom::Sym(s) = &self.atoms[a.index()] {
+            return vals[s.index()];
+        }
+        if let Some(&v) = memo.atoms.get(&a) {
+            return v;
+        }
+        let v = match &self.atoms[a.index()] {
+            Atom::Sym(s) => vals[s.index()],
+            Atom::Func(f, u) => call(*f, self.eval_memo(*u, vals, memo)),
+            Atom::Base(b) => self.eval_memo(*b, vals, memo),
+            Atom::Atan2(y, x) => {
+                let y = self.eval_memo(*y, vals, memo);
+                y.atan2(self.eval_memo(*x, vals, memo))
+            }
+        };
+        memo.atoms.insert(a, v);
+        v
     }
 
     /// Evaluates `e` and the sum of the absolute values of its terms (the
     /// scale against which cancellation to zero is judged).
     pub fn eval_with_scale<S: Scalar>(&self, e: ExprId, vals: &[S]) -> (S, S) {
-        let mut memo = HashMap::default();
+        let mut memo = EvalMemo::default();
         let mut value = S::ZERO;
         let mut scale = S::ZERO;
         for &(m, c) in &self.exprs[e.index()] {
@@ -228,19 +265,11 @@ impl Engine {
         m: MonoId,
         c: Rational,
         vals: &[S],
-        memo: &mut HashMap<ExprId, S>,
+        memo: &mut EvalMemo<S>,
     ) -> S {
         let mut t = S::from_rational(c);
         for &(a, ex) in &self.monos[m.index()] {
-            let b = match &self.atoms[a.index()] {
-                Atom::Sym(s) => vals[s.index()],
-                Atom::Func(f, u) => call(*f, self.eval_memo(*u, vals, memo)),
-                Atom::Base(b) => self.eval_memo(*b, vals, memo),
-                Atom::Atan2(y, x) => {
-                    let y = self.eval_memo(*y, vals, memo);
-                    y.atan2(self.eval_memo(*x, vals, memo))
-                }
-            };
+            let b = self.eval_atom(a, vals, memo);
             t = t * match ex.to_integer() {
                 Some(k) if k.abs() < i32::MAX as i64 => b.powi(k),
                 _ => b.powq(ex),

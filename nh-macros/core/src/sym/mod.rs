@@ -53,7 +53,7 @@ mod subst;
 
 use rustc_hash::FxHashMap as HashMap;
 
-pub use eval::Scalar;
+pub use eval::{EvalMemo, Scalar};
 pub use funcs::{exact_atan2, exact_value};
 pub(crate) use graph::id_type;
 pub use graph::{Atom, AtomId, ExprId, Fun, MonoId, SymId};
