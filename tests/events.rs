@@ -75,6 +75,8 @@ fn a_disc_falling_flat_ends_at_its_event_with_every_integrator() {
     let mut dp = DormandPrince::new(1e-10, 1e-12);
     let mut dop = Dop853::new(1e-10, 1e-12);
     let mut ros = Rosenbrock::new(1e-8, 1e-10);
+    let mut rodas5 = Rodas5P::new(1e-8, 1e-10);
+    let mut auto = AutoSwitch::new(1e-10, 1e-12);
     let (mut rk4, mut gauss) = (Rk4::new(1e-3), GaussLegendre4::new(1e-3));
     check(
         "DormandPrince",
@@ -90,6 +92,16 @@ fn a_disc_falling_flat_ends_at_its_event_with_every_integrator() {
         "Rosenbrock",
         ros.integrate_with_events(&disc, 0.0, x0, 1.0, &events, |_| {}),
         1e-7,
+    );
+    check(
+        "Rodas5P",
+        rodas5.integrate_with_events(&disc, 0.0, x0, 1.0, &events, |_| {}),
+        1e-7,
+    );
+    check(
+        "AutoSwitch",
+        auto.integrate_with_events(&disc, 0.0, x0, 1.0, &events, |_| {}),
+        1e-9,
     );
     check(
         "Rk4",
