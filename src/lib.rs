@@ -435,7 +435,12 @@
 //! constraints, solved for dependent velocities by the rule of DESIGN §9.
 //! If the contact's height P_z is not identically zero in the coordinates
 //! (a front wheel whose pitch follows from the lean and steer), P_z = 0 is
-//! added as a holonomic constraint. |e_z × n| vanishes when the wheel lies
+//! added as a holonomic constraint. A row of a `rolls(..)` line that the
+//! constraint rows before it already imply is dropped and listed in the
+//! struct's documentation: two wheels on one axle of a cart or
+//! differential-drive robot, each written as `rolls(..)`, say the same
+//! thing sideways, so the second wheel adds one row, not two (a written
+//! constraint that repeats others stays an error). |e_z × n| vanishes when the wheel lies
 //! flat; it enters the chart check, so a run that reaches that ends with
 //! `SimError::Singular` instead of dividing by zero. Sliding is not
 //! modelled, and the ground is the plane z = 0.

@@ -16,6 +16,34 @@ mod example;
 use example::{DiffDrive, DiffDriveCoordinates, DiffDriveParameters, DiffDriveVelocities};
 use nonholonomic::prelude::*;
 
+nonholonomic_system! {
+    /// The example's robot as a new user might write it: each wheel rolls
+    /// (`rolls(..)`), instead of the constraints written out. The wheels'
+    /// sideways rows coincide (one axle); the second is implied and dropped.
+    pub struct RollingWheels {
+        parameters { m, Ic, d, mw, Iw, Id, r, b, c }
+        coordinates { x, y, theta, phi_l, phi_r }
+        inputs { tau_l, tau_r }
+        let heading = [cos(theta), sin(theta), 0];
+        let axle = [-sin(theta), cos(theta), 0];
+        let O = [x, y, r];
+        body chassis { mass: m, centre: O + d*heading, orientation: rot_z(theta), inertia: diag(0, 0, Ic) }
+        body wheel_l { mass: mw, centre: O + b*axle, orientation: rot_z(theta)*rot_y(phi_l), inertia: diag(Id, Iw, Id) }
+        body wheel_r { mass: mw, centre: O - b*axle, orientation: rot_z(theta)*rot_y(phi_r), inertia: diag(Id, Iw, Id) }
+        lagrangian = kinetic_energy(chassis) + kinetic_energy(wheel_l) + kinetic_energy(wheel_r);
+        constraints {
+            rolls(wheel_l, radius: r, axle: [0, 1, 0]);
+            rolls(wheel_r, radius: r, axle: [0, 1, 0]);
+        }
+        dependent { x, y, theta }
+        forces {
+            phi_l: tau_l - c*dot(phi_l);
+            phi_r: tau_r - c*dot(phi_r);
+        }
+        outputs { energy }
+    }
+}
+
 fn from_json(v: &serde_json::Value) -> Vec<f64> {
     v.as_array()
         .expect("array")
@@ -90,6 +118,42 @@ fn accelerations_and_constraint_forces_agree_with_sympy() {
         worst_force < 1e-12,
         "constraint forces off by {worst_force:.1e}"
     );
+}
+
+/// Both wheels written as rolling bodies: the implied sideways row of the
+/// second wheel is dropped, and the accelerations are SymPy's.
+#[test]
+fn two_rolling_wheels_on_one_axle_give_sympys_accelerations() {
+    let data: serde_json::Value =
+        serde_json::from_str(include_str!("data/diff_drive.json")).expect("json");
+    let p = &data["parameters"];
+    let get = |name: &str| p[name].as_f64().expect(name);
+    let robot = RollingWheels::new(
+        get("m"),
+        get("Ic"),
+        get("d"),
+        get("mw"),
+        get("Iw"),
+        get("Id"),
+        get("r"),
+        get("b"),
+        get("c"),
+    );
+    assert_eq!(RollingWheels::INDEPENDENT, [3, 4]);
+    assert_eq!(RollingWheels::P, 3);
+    let mut worst = 0.0_f64;
+    for case in data["cases"].as_array().expect("cases") {
+        let q = SVector::<f64, 5>::from_column_slice(&from_json(&case["q"]));
+        let rdot = SVector::<f64, 2>::from_column_slice(&from_json(&case["rdot"]));
+        let u = SVector::<f64, 2>::from_column_slice(&from_json(&case["inputs"]));
+        let expect = from_json(&case["accelerations"]);
+        let a = robot.accelerations(0.0, &q, &rdot, &u);
+        for i in 0..2 {
+            worst = worst.max((a[i] - expect[i]).abs() / expect[i].abs().max(1.0));
+        }
+    }
+    println!("two rolling wheels against SymPy: accelerations {worst:.1e}");
+    assert!(worst < 1e-12, "accelerations off by {worst:.1e}");
 }
 
 /// Equal torques τ from rest: the robot runs straight, and each wheel obeys

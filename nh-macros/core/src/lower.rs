@@ -158,6 +158,11 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     let lagrangian = lw.lower_lagrangian(def);
     lw.lower_forces(def);
     let lowered = lw.lower_constraints(def);
+    for text in &lowered.implied {
+        lw.description.push(format!(
+            "- `{text}`: implied by the constraint rows before it (as for two wheels on one axle), so dropped: it has no dependent coordinate and no multiplier"
+        ));
+    }
     let speeds = lw.lower_speeds(def);
     lw.lower_unused_bodies();
     let outputs = check::outputs(def, lw.cx);

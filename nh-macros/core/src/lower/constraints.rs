@@ -40,6 +40,9 @@ pub struct Lowered {
     /// Per velocity row, the index of its `rolls(..)` line in the
     /// definition and the component, if it is one's.
     row_sources: Vec<Option<(usize, usize)>>,
+    /// The rows of `rolls(..)` lines implied by the rows before them, which
+    /// were dropped (their text).
+    pub implied: Vec<String>,
 }
 
 /// What the no-slip rows of a `rolls(..)` line say.
@@ -374,6 +377,21 @@ impl Lowerer<'_> {
             );
             bias.push(self.velocity_free_part(v));
         }
+        let implied = self.implied_rolling_rows(&rows, &implicit, &coef, &bias);
+        if !implied.is_empty() {
+            // rows of `rolls(..)` lines that the rows before them imply (two
+            // wheels on one axle): dropped, and the rest solved without them
+            let texts: Vec<String> = implied.iter().map(|&a| rows[a].src.text()).collect();
+            let kept = rows
+                .into_iter()
+                .enumerate()
+                .filter(|(a, _)| !implied.contains(a))
+                .map(|(_, r)| r)
+                .collect();
+            let mut lowered = self.solve_rows(def, kept)?;
+            lowered.implied = texts;
+            return Some(lowered);
+        }
         if implicit.len() > MAX_IMPLICIT {
             let c = rows[implicit[MAX_IMPLICIT]].src;
             self.cx.error(c.range(), format!("at most {MAX_IMPLICIT} constraints may be implicit or holonomic (their block of dependent velocities is solved symbolically): write the others explicitly, `dot(s) = ..`"));
@@ -529,6 +547,65 @@ impl Lowerer<'_> {
         parts
             .into_iter()
             .fold(crate::sym::ONE, |acc, x| e.mul(acc, x))
+    }
+
+    /// The rows (indices into `rows`) of `rolls(..)` lines that the
+    /// implicit rows before them imply: rows [c_a | b_a] (coefficients of
+    /// the free velocities, then the velocity-free part) in the span of the
+    /// earlier kept rows at each of 4 random points, to 1e-9 of their size.
+    /// A written row is never dropped (the singular block's error says it
+    /// repeats others), nor a row whose coefficients are implied but whose
+    /// velocity-free part is not (then the rows contradict each other).
+    fn implied_rolling_rows(
+        &mut self,
+        rows: &[Row<'_>],
+        implicit: &[usize],
+        coef: &[Vec<ExprId>],
+        bias: &[ExprId],
+    ) -> Vec<usize> {
+        if !implicit
+            .iter()
+            .any(|&a| matches!(rows[a].src, Source::Rolling(..)))
+        {
+            return Vec::new();
+        }
+        let points: Vec<Vec<Vec<f64>>> = (0..4u64)
+            .map(|k| self.rows_at_random_point(coef, bias, k))
+            .collect();
+        let mut kept: Vec<usize> = Vec::new();
+        let mut implied = Vec::new();
+        for (a, &ra) in implicit.iter().enumerate() {
+            let candidates = [&kept[..], &[a]].concat();
+            let in_span = points
+                .iter()
+                .all(|m| linear::in_span_numerically(m, &kept, a));
+            if in_span && matches!(rows[ra].src, Source::Rolling(..)) {
+                implied.push(ra);
+            } else {
+                kept = candidates;
+            }
+        }
+        implied
+    }
+
+    /// The rows [c_a | b_a] at a random point (the `k`-th of a fixed
+    /// sequence; every symbol in [0.3, 1.4], π itself).
+    fn rows_at_random_point(&self, coef: &[Vec<ExprId>], bias: &[ExprId], k: u64) -> Vec<Vec<f64>> {
+        use crate::sym::dd::Dd;
+        let mut rng = crate::sym::Rng::new(0x9E37_79B9_7F4A_7C15 ^ k);
+        let mut vals: Vec<Dd> = (0..self.e.num_symbols())
+            .map(|_| Dd::from_f64(0.3 + 1.1 * rng.next_f64()))
+            .collect();
+        vals[self.pi_sym.index()] = Dd::PI;
+        coef.iter()
+            .zip(bias)
+            .map(|(row, &b)| {
+                row.iter()
+                    .chain([&b])
+                    .map(|&x| self.e.eval(x, &vals).to_f64())
+                    .collect()
+            })
+            .collect()
     }
 
     /// Whether a block of dependent-velocity coefficients is singular at

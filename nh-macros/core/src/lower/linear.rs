@@ -201,8 +201,49 @@ fn permutation_is_odd(order: &[(usize, usize)]) -> bool {
     inversions % 2 == 1
 }
 
+/// Whether row `a` of `m` lies in the span of the rows `basis` (numbers at
+/// one point): its residual after least-squares projection onto them, by
+/// modified Gram–Schmidt, is at most 1e-9 of its size. A non-finite entry
+/// answers `false`.
+pub(crate) fn in_span_numerically(m: &[Vec<f64>], basis: &[usize], a: usize) -> bool {
+    let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+    let mut ortho: Vec<Vec<f64>> = Vec::with_capacity(basis.len());
+    for &b in basis {
+        let mut v = m[b].clone();
+        for u in &ortho {
+            let d: f64 = v.iter().zip(u).map(|(x, y)| x * y).sum();
+            v.iter_mut().zip(u).for_each(|(x, y)| *x -= d * y);
+        }
+        let n = norm(&v);
+        if n > 0.0 {
+            ortho.push(v.iter().map(|x| x / n).collect());
+        }
+    }
+    let size = norm(&m[a]);
+    let mut r = m[a].clone();
+    for u in &ortho {
+        let d: f64 = r.iter().zip(u).map(|(x, y)| x * y).sum();
+        r.iter_mut().zip(u).for_each(|(x, y)| *x -= d * y);
+    }
+    size.is_finite() && norm(&r) <= 1e-9 * size
+}
+
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_row_in_the_span_of_others_is_found_numerically() {
+        let m = vec![
+            vec![1.0, 2.0, 0.0, 0.5],
+            vec![0.0, 1.0, 3.0, 0.0],
+            vec![2.0, 5.0, 3.0, 1.0],
+            vec![2.0, 5.0, 3.0, 1.0 + 1e-6],
+        ];
+        assert!(super::in_span_numerically(&m, &[0, 1], 2));
+        assert!(!super::in_span_numerically(&m, &[0, 1], 3));
+        assert!(!super::in_span_numerically(&m, &[0], 1));
+        assert!(!super::in_span_numerically(&m, &[], 0));
+    }
+
     use super::*;
     use crate::mechanics::vanish_at_random_points;
     use crate::sym::Fun;
