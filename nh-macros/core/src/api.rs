@@ -988,14 +988,11 @@ impl Cache {
                     __nh_hoisted
                 }
 
-                /// The cache, or the values afresh if a parameter changed since.
+                /// Whether the cache holds the values of the current
+                /// parameters (a public parameter may have changed since).
                 #[inline(always)]
-                fn __nh_cached(&self) -> [T; #len] {
-                    if self.__nh_cache_for == [#(self.#params),*] {
-                        self.__nh_cache
-                    } else {
-                        self.__nh_compute_cache()
-                    }
+                fn __nh_cache_current(&self) -> bool {
+                    self.__nh_cache_for == [#(self.#params),*]
                 }
             },
         }

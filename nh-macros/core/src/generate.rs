@@ -673,7 +673,18 @@ impl Derived<'_> {
             })
             .collect();
         let (stmts, o) = d.emit_with(outs, &given);
-        (quote!(let __nh_cache = self.__nh_cached(); #stmts), o)
+        // the cache read in place (no copy), or the values afresh if a
+        // parameter changed since it was filled
+        let read = quote! {
+            let __nh_fresh;
+            let __nh_cache = if self.__nh_cache_current() {
+                &self.__nh_cache
+            } else {
+                __nh_fresh = self.__nh_compute_cache();
+                &__nh_fresh
+            };
+        };
+        (quote!(#read #stmts), o)
     }
 
     fn acc_nodes(&self, d: &mut Dag, route: Route) -> Vec<Node> {
