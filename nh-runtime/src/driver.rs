@@ -131,6 +131,14 @@ pub(crate) trait Method<T: RealField + Copy, const D: usize> {
         None
     }
 
+    /// The signed step proposed by a method that chooses its own steps (a
+    /// multistep method, which also changes its order): read after a
+    /// rejected trial and after [`Method::advance`]. `None` (the default):
+    /// the driver's step-size controller chooses.
+    fn proposed_step(&self) -> Option<T> {
+        None
+    }
+
     /// Moves to the accepted point `(t, x)` (the end of the completed
     /// trial); `last` when the integration ends there.
     fn advance(
@@ -771,7 +779,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             let Some(dense) = dense else {
                 self.rec.stats.rejected += 1;
                 ctl.reject = true;
-                h = h_new;
+                h = m.proposed_step().unwrap_or(h_new);
                 continue;
             };
             self.rec.stats.steps += 1;
@@ -783,6 +791,10 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             self.rec.last_step = Some(h.abs());
             if self.accept(m, sink, t_new, dense, last)? || last {
                 return Ok(self.outcome());
+            }
+            if let Some(proposed) = m.proposed_step() {
+                h = proposed.abs().min(hmax) * self.dir;
+                self.rec.last_step = Some(h.abs());
             }
             if let Some(factor) = m.switched() {
                 ctl = Controller::new(m.pi());

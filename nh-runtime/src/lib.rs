@@ -133,6 +133,7 @@
 extern crate alloc;
 
 mod auto;
+mod bdf;
 mod common;
 mod dop853;
 mod dopri5;
@@ -156,6 +157,7 @@ mod system;
 mod tolerance;
 
 pub use auto::{AutoSwitch, Regime, Switch};
+pub use bdf::Bdf;
 pub use dop853::Dop853;
 pub use dopri5::DormandPrince;
 #[cfg(feature = "std")]
