@@ -22,22 +22,32 @@ const MAX_ORDER: usize = 5;
 /// Backward differences kept: orders 0..=MAX_ORDER+2.
 const NDIFF: usize = MAX_ORDER + 3;
 /// Newton iterations allowed per solve.
-const NEWTON_MAXITER: usize = 4;
-/// The smallest step factor after a rejected step.
+const NEWTON_MAXITER: usize = 10;
+/// The Newton iteration has converged when its remaining error, estimated
+/// from the contraction rate, is below this fraction of the error weights.
+const NEWTON_TOL: f64 = 0.2;
+/// The contraction estimate `η = ρ/(1 − ρ)` assumed with a new iteration
+/// matrix (`20^1.25`) and after a change of step (`100^1.25`); the first
+/// iteration of a solve uses `η^0.8` (Hairer's `RADAU`, as diffsol).
+const ETA_NEW_MATRIX: f64 = 42.294_627_058_970_836;
+const ETA_NEW_STEP: f64 = 316.227_766_016_837_94;
+/// The LU decomposition is kept while `c = h/α_q` stays within 30 % of the
+/// one it was made for and for at most 20 accepted steps.
+const LU_C_CHANGE: f64 = 0.3;
+const LU_MAX_AGE: usize = 20;
+/// The step factor after a rejected step is at least this.
 const MIN_FACTOR: f64 = 0.2;
-/// The largest step factor after an accepted step.
-const MAX_FACTOR: f64 = 10.0;
+/// The step factor after an accepted step is at most this; the step only
+/// changes (the differences are only rescaled) when the proposed factor
+/// reaches it or falls to [`SHRINK`], or the order changes.
+const MAX_FACTOR: f64 = 2.0;
+const SHRINK: f64 = 0.9;
+/// An accepted step shrinks by at most this factor.
+const MIN_ACCEPTED_FACTOR: f64 = 0.5;
 /// The NDF coefficients κ_q of Shampine & Reichelt (order 5: plain BDF).
 const KAPPA: [f64; MAX_ORDER + 1] = [0.0, -0.1850, -1.0 / 9.0, -0.0823, -0.0415, 0.0];
 /// γ_q = Σ_{j=1..q} 1/j.
-const GAMMA: [f64; MAX_ORDER + 1] = [
-    0.0,
-    1.0,
-    1.5,
-    11.0 / 6.0,
-    25.0 / 12.0,
-    137.0 / 60.0,
-];
+const GAMMA: [f64; MAX_ORDER + 1] = [0.0, 1.0, 1.5, 11.0 / 6.0, 25.0 / 12.0, 137.0 / 60.0];
 
 /// α_q = (1 − κ_q) γ_q: the leading coefficient of the order-q formula.
 fn alpha(q: usize) -> f64 {
@@ -58,7 +68,14 @@ const DENSE_BASIS: [[f64; MAX_ORDER + 1]; MAX_ORDER + 1] = [
     [0.0, -1.0 / 2.0, 1.0 / 2.0, 0.0, 0.0, 0.0],
     [0.0, -1.0 / 6.0, 0.0, 1.0 / 6.0, 0.0, 0.0],
     [0.0, -1.0 / 12.0, -1.0 / 24.0, 1.0 / 12.0, 1.0 / 24.0, 0.0],
-    [0.0, -1.0 / 20.0, -1.0 / 24.0, 1.0 / 24.0, 1.0 / 24.0, 1.0 / 120.0],
+    [
+        0.0,
+        -1.0 / 20.0,
+        -1.0 / 24.0,
+        1.0 / 24.0,
+        1.0 / 24.0,
+        1.0 / 120.0,
+    ],
 ];
 
 /// A variable-order (1–5), variable-step BDF integrator for stiff problems,
@@ -177,8 +194,17 @@ struct Newton<T, const D: usize> {
     x: SVector<T, D>,
     /// `x − x_pred`.
     d: SVector<T, D>,
-    /// The contraction rate measured (two iterations or more).
-    rate: Option<T>,
+    /// `f(t_new, x_pred)`, the first evaluation.
+    f_pred: SVector<T, D>,
+}
+
+/// The LU decomposition of the iteration matrix `I − c J`.
+#[derive(Clone, Copy)]
+struct Factored<T, const D: usize> {
+    lu: Lu<T, D>,
+    c: T,
+    /// Accepted steps since it was made.
+    age: usize,
 }
 
 /// The state of the BDF method: the backward differences at the accepted
@@ -200,13 +226,9 @@ pub(crate) struct BdfMethod<J, T, const D: usize> {
     jac: SMatrix<T, D, D>,
     /// Whether the Jacobian was evaluated since the last accepted point.
     jac_fresh: bool,
-    /// The LU decomposition of `I − c J` and its `c = h/α_q`.
-    lu: Option<(Lu<T, D>, T)>,
-    /// The Newton tolerance (in the error norm), set at the first trial.
-    newton_tol: Option<T>,
-    /// The last contraction rate of the Newton iteration with this LU
-    /// decomposition.
-    rate: Option<T>,
+    lu: Option<Factored<T, D>>,
+    /// The contraction estimate `ρ/(1 − ρ)` of the Newton iteration.
+    eta: T,
     // The last trial:
     x_new: SVector<T, D>,
     /// `x_new − x_pred`, the correction.
@@ -237,8 +259,7 @@ where
             jac: SMatrix::zeros(),
             jac_fresh: false,
             lu: None,
-            newton_tol: None,
-            rate: None,
+            eta: c(ETA_NEW_MATRIX),
             x_new: SVector::zeros(),
             d: SVector::zeros(),
             sk: SVector::zeros(),
@@ -288,32 +309,50 @@ where
         }
         self.h_diff *= factor;
         self.equal_steps = 0;
-        self.lu = None;
+        self.eta = self.eta.max(c(ETA_NEW_STEP));
+    }
+
+    /// The LU decomposition of `I − c J`: the stored one while its `c` is
+    /// within 30 % and it is young enough (`fresh`: only an exact `c`).
+    fn factored(&mut self, cc: T, fresh: bool, stats: &mut Stats) -> Result<Lu<T, D>, Failure> {
+        if let Some(f) = self.lu {
+            let close = ((cc - f.c) / f.c).abs() <= c(LU_C_CHANGE) && f.age < LU_MAX_AGE;
+            if f.c == cc || (close && !fresh) {
+                return Ok(f.lu);
+            }
+        }
+        stats.lu_decompositions += 1;
+        let m = SMatrix::<T, D, D>::identity() - self.jac * cc;
+        let lu = Lu::new(m).ok_or(Failure::Singular)?;
+        self.lu = Some(Factored { lu, c: cc, age: 0 });
+        self.eta = c(ETA_NEW_MATRIX);
+        Ok(lu)
     }
 
     /// Newton's method for `x = x_pred + d`, `d = c f(t_new, x) − ψ`, with
-    /// the stored LU decomposition; converged when the remaining error,
-    /// estimated from the contraction rate, is below `tol` (in the error
-    /// norm). The first iteration may converge on the rate of the previous
-    /// solve with the same matrix.
+    /// the LU decomposition `lu`; converged when `η·‖Δx‖ < NEWTON_TOL`,
+    /// `η = ρ/(1 − ρ)` from the mean contraction rate `ρ` of this solve, or
+    /// at its first iteration from the previous solves (`η^0.8`); diverged
+    /// when `ρ > 0.9` or the rate cannot reach the tolerance in the
+    /// iterations left.
     fn newton(
-        &self,
+        &mut self,
         lu: &Lu<T, D>,
         t_new: T,
         (pred, psi, cc): (&SVector<T, D>, &SVector<T, D>, T),
         sk: &SVector<T, D>,
-        tol: T,
         stats: &mut Stats,
     ) -> Newton<T, D> {
+        let tol = c::<T>(NEWTON_TOL);
         let mut sol = Newton {
             converged: false,
             nonfinite: false,
             iterations: 0,
             x: *pred,
             d: SVector::zeros(),
-            rate: None,
+            f_pred: SVector::zeros(),
         };
-        let mut norm_old: Option<T> = None;
+        let mut norm_first = T::zero();
         for k in 0..NEWTON_MAXITER {
             sol.iterations = k + 1;
             let f = self.src.rhs(t_new, &sol.x);
@@ -323,39 +362,48 @@ where
                 sol.nonfinite = true;
                 break;
             }
+            if k == 0 {
+                sol.f_pred = f;
+            }
             let dx = lu.solve(&(f * cc - psi - sol.d));
             let norm = rms(&dx, sk);
-            if let Some(old) = norm_old {
-                let rate = norm / old;
-                sol.rate = Some(rate);
-                let left = c::<T>((NEWTON_MAXITER - k) as f64);
-                if !(rate < T::one()) || rate.powf(left) / (T::one() - rate) * norm > tol {
+            if k == 0 {
+                let floor = c::<T>(1e4) * machine_epsilon::<T>();
+                self.eta = self.eta.max(floor).powf(c(0.8));
+                norm_first = norm;
+            } else {
+                let ratio = norm / norm_first;
+                let rate = if k == 1 {
+                    ratio
+                } else {
+                    ratio.powf(T::one() / c::<T>(k as f64))
+                };
+                let left = (NEWTON_MAXITER - k - 1) as i32;
+                if !(rate <= c(0.9)) || rate.powi(left) / (T::one() - rate) * norm > tol {
                     break;
                 }
+                self.eta = rate / (T::one() - rate);
             }
             sol.x += dx;
             sol.d += dx;
-            let rate = sol.rate.or(self.rate);
-            let small = |r: T| r < T::one() && r / (T::one() - r) * norm < tol;
-            if norm == T::zero() || rate.is_some_and(small) {
+            if self.eta * norm < tol || norm == T::zero() {
                 sol.converged = true;
                 break;
             }
-            norm_old = Some(norm);
         }
         sol
     }
 
     /// The Newton solution of the step to `t_new` of size `h` at the
-    /// current order, refreshing the Jacobian once if the iteration fails
-    /// with an old one.
+    /// current order. After a failure the Jacobian is evaluated again at
+    /// the prediction (once per accepted step) or the matrix made for the
+    /// exact `c`, and the solve repeated.
     fn solve(
         &mut self,
         t_new: T,
         h: T,
         pred: &SVector<T, D>,
         sk: &SVector<T, D>,
-        tol: T,
         stats: &mut Stats,
     ) -> Result<Newton<T, D>, Failure> {
         let q = self.order;
@@ -365,34 +413,27 @@ where
             psi += self.diff[j] * c::<T>(GAMMA[j]);
         }
         psi /= c::<T>(alpha(q));
+        let mut fresh = false;
         loop {
-            let lu = match self.lu {
-                Some((lu, c_lu)) if c_lu == cc => lu,
-                _ => {
-                    stats.lu_decompositions += 1;
-                    let m = SMatrix::<T, D, D>::identity() - self.jac * cc;
-                    let lu = Lu::new(m).ok_or(Failure::Singular)?;
-                    self.lu = Some((lu, cc));
-                    self.rate = None;
-                    lu
-                }
-            };
-            let sol = self.newton(&lu, t_new, (pred, &psi, cc), sk, tol, stats);
+            let lu = self.factored(cc, fresh, stats)?;
+            let sol = self.newton(&lu, t_new, (pred, &psi, cc), sk, stats);
             if sol.converged {
-                if sol.rate.is_some() {
-                    self.rate = sol.rate;
-                }
                 return Ok(sol);
             }
-            if self.jac_fresh {
+            let exact = self.lu.is_some_and(|f| f.c == cc);
+            if sol.iterations == 1 && sol.nonfinite {
+                return Err(Failure::NonFinite);
+            }
+            if !self.jac_fresh {
+                self.linearise(t_new, pred, &sol.f_pred, stats)?;
+            } else if exact {
                 return Err(if sol.nonfinite {
                     Failure::NonFinite
                 } else {
                     Failure::NoConvergence
                 });
             }
-            let f = counted(self.src.rhs(t_new, pred), stats)?;
-            self.linearise(t_new, pred, &f, stats)?;
+            fresh = true;
         }
     }
 
@@ -410,26 +451,32 @@ where
     }
 
     /// The order and step after an accepted step: from the error estimates
-    /// at orders `q − 1`, `q`, `q + 1` once `q + 1` steps had the same size.
+    /// at orders `q − 1`, `q`, `q + 1` once `q + 1` steps had the same size;
+    /// the step changes only when the order does or the factor reaches
+    /// [`MAX_FACTOR`] or falls to [`SHRINK`].
     fn choose_next(&mut self) -> T {
         let q = self.order;
         let h = self.h_diff;
         if self.equal_steps < q + 1 {
             return h;
         }
+        let huge = T::max_value().unwrap_or_else(T::one);
         let err_m = if q > 1 {
             rms(&(self.diff[q] * c::<T>(error_constant(q - 1))), &self.sk)
         } else {
-            T::max_value().unwrap_or_else(T::one)
+            huge
         };
         let err_p = if q < MAX_ORDER {
-            rms(&(self.diff[q + 2] * c::<T>(error_constant(q + 1))), &self.sk)
+            rms(
+                &(self.diff[q + 2] * c::<T>(error_constant(q + 1))),
+                &self.sk,
+            )
         } else {
-            T::max_value().unwrap_or_else(T::one)
+            huge
         };
         let factor = |e: T, p: usize| {
             let f = e.powf(-T::one() / c::<T>(p as f64));
-            if f.is_finite() { f } else { c(MAX_FACTOR) }
+            if f.is_finite() { f } else { huge }
         };
         let candidates = [
             (q.saturating_sub(1).max(1), factor(err_m, q)),
@@ -442,9 +489,15 @@ where
                 (best_q, best) = (order, f);
             }
         }
+        let factor = (self.safety * best)
+            .min(c(MAX_FACTOR))
+            .max(c(MIN_ACCEPTED_FACTOR));
+        if best_q == q && factor < c(MAX_FACTOR) && factor > c(SHRINK) {
+            return h;
+        }
         self.order = best_q;
         self.equal_steps = 0;
-        h * (self.safety * best).min(c(MAX_FACTOR))
+        h * factor
     }
 }
 
@@ -482,8 +535,10 @@ where
     T: RealField + Copy,
     J: JacobianSource<T, D>,
 {
-    /// The first step is of order 1.
-    const ORDER: u32 = 1;
+    /// For the initial step heuristic (`hinit`, whose `h ~ (0.01/‖x''‖)^(1/ORDER)`
+    /// is meant for a local error `O(h^ORDER)`): the first step is of
+    /// order 1, its local error `O(h²)`.
+    const ORDER: u32 = 2;
 
     fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
         self.src.rhs(t, x)
@@ -500,6 +555,7 @@ where
         self.order = 1;
         self.equal_steps = 0;
         self.proposal = None;
+        self.lu = None;
         let f0 = self.f0;
         self.linearise(t, x, &f0, stats)
     }
@@ -522,18 +578,13 @@ where
             self.rescale(h / self.h_diff);
             self.h_diff = h;
         }
-        let tol_newton = *self.newton_tol.get_or_insert_with(|| {
-            let rtol = tol.rtol.min();
-            let eps = machine_epsilon::<T>();
-            (c::<T>(10.0) * eps / rtol).max(c::<T>(0.03).min(rtol.sqrt()))
-        });
         let q = self.order;
         let mut pred = self.diff[0];
         for j in 1..=q {
             pred += self.diff[j];
         }
-        let sk_pred = tol.weights_at(&pred);
-        let sol = self.solve(t_new, h, &pred, &sk_pred, tol_newton, stats)?;
+        let sk_pred = tol.weights(x, &pred);
+        let sol = self.solve(t_new, h, &pred, &sk_pred, stats)?;
         if !all_finite(&sol.x) {
             return Err(Failure::NonFinite);
         }
@@ -601,6 +652,9 @@ where
         self.diff[0] = *x;
         self.equal_steps += 1;
         self.jac_fresh = false;
+        if let Some(f) = self.lu.as_mut() {
+            f.age += 1;
+        }
         self.proposal = Some(self.choose_next());
         Ok(())
     }
