@@ -1,5 +1,5 @@
 //! Zero heap allocations inside `integrate` for generated systems, with every
-//! integrator (the Rosenbrock and Gauss methods with the generated Jacobian
+//! integrator (the Rosenbrock, BDF and Gauss methods with the generated Jacobian
 //! and with finite differences), and inside the generated methods themselves.
 //! The one exception is `GaussLegendre4`, which allocates its Newton
 //! workspace once per call: its allocations must not depend on the number
@@ -52,6 +52,17 @@ fn integrators_allocate_nothing_on_a_generated_system() {
                 n,
                 r.expect("Rosenbrock FD").stats.steps,
             )
+        },
+        {
+            let (n, r) = allocations_during(|| {
+                Bdf::new(1e-6, 1e-8).integrate_with_jacobian(&disc, 0.0, x0(), 1.0)
+            });
+            ("Bdf, generated Jacobian", n, r.expect("Bdf").stats.steps)
+        },
+        {
+            let (n, r) =
+                allocations_during(|| Bdf::new(1e-6, 1e-8).integrate(&disc, 0.0, x0(), 1.0));
+            ("Bdf, finite differences", n, r.expect("Bdf FD").stats.steps)
         },
         {
             let times = [0.1, 0.2, 0.5, 0.9];

@@ -149,6 +149,13 @@ pub fn our_methods<S: Sys<D>, const D: usize>() -> Vec<Method<S, D>> {
                     .integrate_with_jacobian(s, 0.0, p.x0, p.t1),
             )
         }),
+        ours("Bdf (NDF 1-5)", Tolerance, |s, p, v| {
+            done(
+                Bdf::new(v, atol(v))
+                    .with_max_steps(p.max_steps)
+                    .integrate_with_jacobian(s, 0.0, p.x0, p.t1),
+            )
+        }),
         ours("AutoSwitch (DP5/Rodas4)", Tolerance, |s, p, v| {
             done(
                 AutoSwitch::new(v, atol(v))

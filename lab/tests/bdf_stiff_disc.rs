@@ -1,0 +1,100 @@
+//! The BDF integrator on the stiff disc (k = 1e6 on the lean, critically
+//! damped, t ∈ [0, 1], as in `tight_tolerances.rs` and the side-by-side
+//! benchmark), against the independent 16-digit reference of
+//! `tests/data/stiff_disc_reference.py`.
+#![allow(clippy::excessive_precision)] // the reference's digits, kept as computed
+use nh_lab::systems::StiffDisc;
+use nonholonomic::prelude::*;
+
+type State = SVector<f64, 8>;
+
+fn stiff_disc() -> StiffDisc {
+    let (m, r, k) = (1.7, 0.35, 1e6);
+    let inertia = 1.25 * m * r * r;
+    StiffDisc::new(m, r, 9.81, k, 2.0 * (k * inertia).sqrt(), 0.2)
+}
+
+fn x0() -> State {
+    State::from([0.0, 0.0, 0.3, 0.0, 0.0, 6.0, 20.0, 0.5])
+}
+
+/// The state at t = 1 (see `tight_tolerances.rs`).
+fn reference() -> State {
+    State::from([
+        3.5396566823792241,
+        21.211305486216771,
+        0.20000409189806110,
+        0.042010152020332791,
+        0.099871982988029790,
+        3.5370733851093618,
+        21.212485074748761,
+        0.0,
+    ])
+}
+
+/// Right-hand sides plus Jacobians of a run.
+fn evaluations(stats: &Stats) -> usize {
+    stats.rhs_evals + stats.jacobian_evals
+}
+
+/// A run with the side-by-side benchmark's `atol = rtol/100`.
+fn run(rtol: f64) -> Outcome<f64, 8> {
+    Bdf::new(rtol, rtol * 1e-2)
+        .with_max_steps(1_000_000)
+        .integrate_with_jacobian(&stiff_disc(), 0.0, x0(), 1.0)
+        .expect("BDF")
+}
+
+/// Measured (debug or release, the counts are the same): error / (rtol·21.2)
+/// is 0.036, 0.075, 0.28, 0.79 at rtol 1e-6, 1e-8, 1e-10, 1e-12.
+#[test]
+fn the_error_is_within_ten_times_the_tolerance() {
+    for rtol in [1e-6, 1e-8, 1e-10, 1e-12] {
+        let out = run(rtol);
+        let error = (out.x - reference()).amax();
+        let ratio = error / (rtol * reference().amax());
+        println!(
+            "rtol {rtol:.0e}: error/tolerance {ratio:.3}, {:?}",
+            out.stats
+        );
+        assert!(ratio <= 10.0, "rtol {rtol:e}: {ratio}");
+    }
+}
+
+/// What an error of 1e-6, 1e-8 and 1e-10 costs, on the benchmark's ladder
+/// of tolerances (rtol = 10^(−k/4)): right-hand sides plus Jacobians (one
+/// Jacobian in each of these runs: the disc's changes too little to slow
+/// the Newton iteration down).
+///
+/// | error | rtol | error reached | evaluations | steps | diffsol's BDF (RHS, side-by-side) |
+/// |---|---|---|---|---|---|
+/// | 1e-6 | 1.778e-6 | 5.9e-7 | 444 | 392 | 399 |
+/// | 1e-8 | 3.162e-9 | 6.2e-9 | 1,084 | 984 | 1,176 |
+/// | 1e-10 | 5.623e-12 | 4.2e-11 | 3,128 | 2,664 | 2,544 |
+///
+/// Interpolated on the ladder, an error of exactly 1e-6, 1e-8, 1e-10 costs
+/// about 415, 1,050 and 2,600 evaluations.
+#[test]
+fn an_error_costs_about_what_diffsols_bdf_needs() {
+    for (target, rtol, budget) in [
+        (1e-6, 1.778e-6, 470),
+        (1e-8, 3.162e-9, 1150),
+        (1e-10, 5.623e-12, 3300),
+    ] {
+        let out = run(rtol);
+        let error = (out.x - reference()).amax();
+        let evals = evaluations(&out.stats);
+        println!(
+            "rtol {rtol:.2e}: error {error:.2e}, {evals} evaluations, {:?}",
+            out.stats
+        );
+        assert!(error <= target, "rtol {rtol:e}: {error:e}");
+        assert!(evals <= budget, "rtol {rtol:e}: {evals}");
+        // About one Newton iteration (one right-hand side) per step.
+        assert!(
+            out.stats.newton_iterations * 10 <= out.stats.steps * 12,
+            "{:?}",
+            out.stats
+        );
+    }
+}
