@@ -12,7 +12,7 @@ use crate::common::{
     Adaptive, adaptive_builders, all_finite, c, integrator_impl, jacobian_entry_points,
     machine_epsilon, scaled,
 };
-use crate::driver::{Failure, Method, Tolerance, counted};
+use crate::driver::{Failure, Method, Pi, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource};
 use crate::linalg::Lu;
 use crate::step::Poly;
@@ -312,38 +312,42 @@ where
         self.eta = self.eta.max(c(ETA_NEW_STEP));
     }
 
-    /// The LU decomposition of `I − c J`: the stored one while its `c` is
-    /// within 30 % and it is young enough (`fresh`: only an exact `c`).
-    fn factored(&mut self, cc: T, fresh: bool, stats: &mut Stats) -> Result<Lu<T, D>, Failure> {
-        if let Some(f) = self.lu {
+    /// Makes sure [`BdfMethod::lu`] decomposes `I − c J` for a `c` within
+    /// 30 % of `cc` (`exact`: for `cc` itself), and is young enough.
+    fn factor(&mut self, cc: T, exact: bool, stats: &mut Stats) -> Result<(), Failure> {
+        if let Some(f) = &self.lu {
             let close = ((cc - f.c) / f.c).abs() <= c(LU_C_CHANGE) && f.age < LU_MAX_AGE;
-            if f.c == cc || (close && !fresh) {
-                return Ok(f.lu);
+            if f.c == cc || (close && !exact) {
+                return Ok(());
             }
         }
         stats.lu_decompositions += 1;
         let m = SMatrix::<T, D, D>::identity() - self.jac * cc;
+        self.lu = None;
         let lu = Lu::new(m).ok_or(Failure::Singular)?;
         self.lu = Some(Factored { lu, c: cc, age: 0 });
         self.eta = c(ETA_NEW_MATRIX);
-        Ok(lu)
+        Ok(())
     }
 
     /// Newton's method for `x = x_pred + d`, `d = c f(t_new, x) − ψ`, with
     /// the LU decomposition `lu`; converged when `η·‖Δx‖ < NEWTON_TOL`,
     /// `η = ρ/(1 − ρ)` from the mean contraction rate `ρ` of this solve, or
-    /// at its first iteration from the previous solves (`η^0.8`); diverged
+    /// at its first iteration from the previous solves (`η^(3/4)`); diverged
     /// when `ρ > 0.9` or the rate cannot reach the tolerance in the
     /// iterations left.
     fn newton(
         &mut self,
-        lu: &Lu<T, D>,
         t_new: T,
         (pred, psi, cc): (&SVector<T, D>, &SVector<T, D>, T),
         sk: &SVector<T, D>,
         stats: &mut Stats,
     ) -> Newton<T, D> {
         let tol = c::<T>(NEWTON_TOL);
+        let Some(Factored { lu, .. }) = &self.lu else {
+            unreachable!("factored before the solve")
+        };
+        let mut eta = self.eta;
         let mut sol = Newton {
             converged: false,
             nonfinite: false,
@@ -368,29 +372,31 @@ where
             let dx = lu.solve(&(f * cc - psi - sol.d));
             let norm = rms(&dx, sk);
             if k == 0 {
-                let floor = c::<T>(1e4) * machine_epsilon::<T>();
-                self.eta = self.eta.max(floor).powf(c(0.8));
+                // η^(3/4) (RADAU and diffsol take η^0.8), without a `powf`.
+                let root = eta.max(c::<T>(1e4) * machine_epsilon::<T>()).sqrt();
+                eta = root * root.sqrt();
                 norm_first = norm;
             } else {
                 let ratio = norm / norm_first;
-                let rate = if k == 1 {
-                    ratio
-                } else {
-                    ratio.powf(T::one() / c::<T>(k as f64))
+                let rate = match k {
+                    1 => ratio,
+                    2 => ratio.sqrt(),
+                    _ => ratio.powf(T::one() / c::<T>(k as f64)),
                 };
-                let left = (NEWTON_MAXITER - k - 1) as i32;
-                if !(rate <= c(0.9)) || rate.powi(left) / (T::one() - rate) * norm > tol {
+                let left = power(rate, NEWTON_MAXITER - k - 1);
+                if !(rate <= c(0.9)) || left / (T::one() - rate) * norm > tol {
                     break;
                 }
-                self.eta = rate / (T::one() - rate);
+                eta = rate / (T::one() - rate);
             }
             sol.x += dx;
             sol.d += dx;
-            if self.eta * norm < tol || norm == T::zero() {
+            if eta * norm < tol || norm == T::zero() {
                 sol.converged = true;
                 break;
             }
         }
+        self.eta = eta;
         sol
     }
 
@@ -413,27 +419,27 @@ where
             psi += self.diff[j] * c::<T>(GAMMA[j]);
         }
         psi /= c::<T>(alpha(q));
-        let mut fresh = false;
+        let mut exact = false;
         loop {
-            let lu = self.factored(cc, fresh, stats)?;
-            let sol = self.newton(&lu, t_new, (pred, &psi, cc), sk, stats);
+            self.factor(cc, exact, stats)?;
+            let sol = self.newton(t_new, (pred, &psi, cc), sk, stats);
             if sol.converged {
                 return Ok(sol);
             }
-            let exact = self.lu.is_some_and(|f| f.c == cc);
+            let was_exact = self.lu.as_ref().is_some_and(|f| f.c == cc);
             if sol.iterations == 1 && sol.nonfinite {
                 return Err(Failure::NonFinite);
             }
             if !self.jac_fresh {
                 self.linearise(t_new, pred, &sol.f_pred, stats)?;
-            } else if exact {
+            } else if was_exact {
                 return Err(if sol.nonfinite {
                     Failure::NonFinite
                 } else {
                     Failure::NoConvergence
                 });
             }
-            fresh = true;
+            exact = true;
         }
     }
 
@@ -451,51 +457,51 @@ where
     }
 
     /// The order and step after an accepted step: from the error estimates
-    /// at orders `q − 1`, `q`, `q + 1` once `q + 1` steps had the same size;
+    /// at orders `q − 1`, `q`, `q + 1` once `q + 1` steps had the same size,
+    /// the one whose step factor `e^(−1/(p+1))` is largest (at order p);
     /// the step changes only when the order does or the factor reaches
-    /// [`MAX_FACTOR`] or falls to [`SHRINK`].
+    /// [`MAX_FACTOR`] or falls to [`SHRINK`]. The factors are compared
+    /// through integer powers of the estimates (`e_a^(1/a) < e_b^(1/b)` iff
+    /// `e_a^b < e_b^a`), so that a step that keeps its size and order costs
+    /// no `powf`.
     fn choose_next(&mut self) -> T {
         let q = self.order;
         let h = self.h_diff;
         if self.equal_steps < q + 1 {
             return h;
         }
-        let huge = T::max_value().unwrap_or_else(T::one);
-        let err_m = if q > 1 {
-            rms(&(self.diff[q] * c::<T>(error_constant(q - 1))), &self.sk)
-        } else {
-            huge
-        };
-        let err_p = if q < MAX_ORDER {
-            rms(
-                &(self.diff[q + 2] * c::<T>(error_constant(q + 1))),
-                &self.sk,
-            )
-        } else {
-            huge
-        };
-        let factor = |e: T, p: usize| {
-            let f = e.powf(-T::one() / c::<T>(p as f64));
-            if f.is_finite() { f } else { huge }
-        };
-        let candidates = [
-            (q.saturating_sub(1).max(1), factor(err_m, q)),
-            (q, factor(self.err, q + 1)),
-            ((q + 1).min(MAX_ORDER), factor(err_p, q + 2)),
-        ];
-        let (mut best_q, mut best) = candidates[1];
-        for &(order, f) in &[candidates[0], candidates[2]] {
-            if f > best {
-                (best_q, best) = (order, f);
+        let estimate =
+            |j: usize, p: usize| rms(&(self.diff[j] * c::<T>(error_constant(p))), &self.sk);
+        // (estimate, its exponent p + 1, order p)
+        let mut best = (self.err, q + 1, q);
+        let better =
+            |(ea, pa): (T, usize), (eb, pb): (T, usize)| ea.powi(pb as i32) < eb.powi(pa as i32);
+        if q > 1 {
+            let e_m = estimate(q, q - 1);
+            if better((e_m, q), (best.0, best.1)) {
+                best = (e_m, q, q - 1);
             }
         }
-        let factor = (self.safety * best)
+        if q < MAX_ORDER {
+            let e_p = estimate(q + 2, q + 1);
+            if better((e_p, q + 2), (best.0, best.1)) {
+                best = (e_p, q + 2, q + 1);
+            }
+        }
+        let (e, exponent, order) = best;
+        if order == q {
+            let grow = e <= power(self.safety / c(MAX_FACTOR), exponent);
+            let shrink = e >= power(self.safety / c(SHRINK), exponent);
+            if !(grow || shrink) {
+                return h;
+            }
+        }
+        let f = e.powf(-T::one() / c::<T>(exponent as f64));
+        let f = if f.is_finite() { f } else { c(MAX_FACTOR) };
+        let factor = (self.safety * f)
             .min(c(MAX_FACTOR))
             .max(c(MIN_ACCEPTED_FACTOR));
-        if best_q == q && factor < c(MAX_FACTOR) && factor > c(SHRINK) {
-            return h;
-        }
-        self.order = best_q;
+        self.order = order;
         self.equal_steps = 0;
         h * factor
     }
@@ -514,6 +520,16 @@ fn step_matrix<T: RealField + Copy>(q: usize, factor: T) -> [[T; MAX_ORDER + 1];
         }
     }
     r
+}
+
+/// `x^n` by multiplication (`n` ≤ 9 here; `powi` is a library call).
+#[inline]
+fn power<T: RealField + Copy>(x: T, n: usize) -> T {
+    let mut p = T::one();
+    for _ in 0..n {
+        p *= x;
+    }
+    p
 }
 
 /// The RMS of `v_i / sk_i` (the error norm with the weights `sk`).
@@ -539,6 +555,20 @@ where
     /// is meant for a local error `O(h^ORDER)`): the first step is of
     /// order 1, its local error `O(h²)`.
     const ORDER: u32 = 2;
+    /// `400·eps` (8.9e-14 in `f64`): below, the rounding of the difference
+    /// arrays sets the error (it levels off near `1e-13·max|x|` on the
+    /// stiff disc), not the tolerance.
+    const MIN_RTOL_EPS: Option<f64> = Some(400.0);
+    /// Unused: the method proposes its steps ([`Method::proposed_step`]);
+    /// `expo = 0` spares the driver's controller its `powf`.
+    const PI: Pi = Pi {
+        safe: 0.9,
+        expo: 0.0,
+        beta: 0.0,
+        fac_lo: 0.2,
+        fac_hi: 5.0,
+        gustafsson: false,
+    };
 
     fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
         self.src.rhs(t, x)

@@ -356,7 +356,12 @@ impl<T: RealField + Copy> Controller<T> {
     #[inline(always)]
     fn propose(&self, err: T, h: T) -> (bool, T) {
         let p = &self.pi;
-        let fac11 = err.powf(c(p.expo));
+        // (`expo = 0`: a method that proposes its own steps, no `powf`.)
+        let fac11 = if p.expo == 0.0 {
+            T::one()
+        } else {
+            err.powf(c(p.expo))
+        };
         if err > T::one() {
             return (false, h / (fac11 / c(p.safe)).min(c(p.fac_hi)));
         }
