@@ -297,3 +297,48 @@ fn failures_are_typed_values() {
         .unwrap_err();
     assert!(matches!(e, SimError::MaxSteps { steps: 10, .. }), "{e:?}");
 }
+
+/// Backwards in time, per-component tolerances and a fixed step: the same
+/// driver features as the other adaptive methods.
+#[test]
+fn backwards_per_component_and_fixed_step() {
+    // Backwards from t = 2 to 0 on an oscillator, x = (cos t, −sin t).
+    let oscillator = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -x[0]);
+    let at = |t: f64| Vector2::new(t.cos(), -t.sin());
+    let out = Bdf::new(1e-10, 1e-10)
+        .integrate(&oscillator, 2.0, at(2.0), 0.0)
+        .unwrap();
+    println!("backwards: {:?}", out.stats);
+    assert_eq!(out.t, 0.0);
+    assert!((out.x - at(0.0)).amax() < 1e-8, "{}", out.x);
+
+    // Per-component tolerances: equal entries give the scalar run exactly.
+    let x0 = Vector3::new(1.0, 0.0, 1.0);
+    let scalar = Bdf::new(1e-7, 1e-9)
+        .integrate_with_jacobian(&Linear, 0.0, x0, 3.0)
+        .unwrap();
+    let mut per = Bdf::new(1.0, 1.0).with_tolerances(Vector3::repeat(1e-7), Vector3::repeat(1e-9));
+    let same = per.integrate_with_jacobian(&Linear, 0.0, x0, 3.0).unwrap();
+    assert_eq!(scalar, same);
+    // A looser tolerance on x2 alone takes fewer steps.
+    let mut loose = Bdf::new(1.0, 1.0).with_tolerances(
+        Vector3::new(1e-7, 1e-3, 1e-7),
+        Vector3::new(1e-9, 1e-3, 1e-9),
+    );
+    let fewer = loose
+        .integrate_with_jacobian(&Linear, 0.0, x0, 3.0)
+        .unwrap();
+    assert!(fewer.stats.steps < scalar.stats.steps, "{:?}", fewer.stats);
+
+    // A fixed step of 1e-3, the order still rising from 1 (implicit Euler
+    // throughout would end ~1e-4 off; the first low-order steps set the
+    // error: 4.1e-8 measured).
+    let fixed = Bdf::new(1e-6, 1e-6)
+        .with_fixed_step(1e-3)
+        .integrate_with_jacobian(&Linear, 0.0, x0, 3.0)
+        .unwrap();
+    assert_eq!(fixed.stats.steps, 3000);
+    let err = (fixed.x - linear_exact(3.0)).amax();
+    println!("fixed step 1e-3: error {err:.2e}");
+    assert!(err < 1e-6, "{err:e}");
+}
