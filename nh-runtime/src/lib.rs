@@ -22,6 +22,8 @@
 //!     (order 4), for stiff problems;
 //!   * [`Rodas5P`]: Steinebach's Rodas5P, the same kind of method of order
 //!     5, for stiff problems at tight tolerances;
+//!   * [`Bdf`]: variable-order (1–5) NDF/BDF multistep method in the form of
+//!     MATLAB's `ode15s`, implicit, for stiff problems at moderate tolerances;
 //!   * [`GaussLegendre4`]: 2-stage Gauss–Legendre collocation, fixed step,
 //!     implicit, symplectic (order 4);
 //!   * [`AutoSwitch`]: [`DormandPrince`] while the problem is not stiff,
@@ -30,7 +32,9 @@
 //!   Which to use: [`DormandPrince`] for everyday non-stiff problems at
 //!   moderate tolerances, [`Dop853`] when tolerances are tight, [`Rosenbrock`]
 //!   when the problem is stiff (explicit methods crawl, or `DormandPrince`
-//!   reports [`Stats::stiffness_detected`]), [`Rodas5P`] when it is stiff and
+//!   reports [`Stats::stiffness_detected`]), [`Bdf`] when it is stiff and
+//!   right-hand sides are what costs (it needs about one per step, against
+//!   six for [`Rosenbrock`]), [`Rodas5P`] when it is stiff and
 //!   the tolerance tight (below about `1e-7`), [`AutoSwitch`] when it is
 //!   stiff only at times or you do not know, and [`GaussLegendre4`] for long
 //!   runs of conservative (Hamiltonian) systems, where it keeps the energy
@@ -60,7 +64,8 @@
 //!
 //! # Tolerances and the error norm
 //!
-//! The adaptive integrators ([`DormandPrince`], [`Dop853`], [`Rosenbrock`])
+//! The adaptive integrators ([`DormandPrince`], [`Dop853`], [`Rosenbrock`],
+//! [`Rodas5P`], [`Bdf`], [`AutoSwitch`])
 //! take a relative tolerance `rtol` (> 0) and an absolute tolerance `atol`
 //! (≥ 0): one pair for every component with `new(rtol, atol)`
 //! ([`ScalarTolerance`]), or one pair per component with

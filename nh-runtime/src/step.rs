@@ -103,6 +103,7 @@ impl<T: RealField + Copy, const D: usize> Poly<T, D> {
 /// | [`Dop853`](crate::Dop853) | Hairer's 7th-order `CONTD8` (three extra stages, computed only for steps that are interpolated) |
 /// | [`Rosenbrock`](crate::Rosenbrock) | the 3rd-order formula of Hairer's `RODAS` |
 /// | [`Rodas5P`](crate::Rodas5P) | Steinebach's 4th-order formula (the same form, one term more) |
+/// | [`Bdf`](crate::Bdf) | the interpolating polynomial of the step's order `q` (1–5) through the new state and the `q` grid points before it |
 /// | [`GaussLegendre4`](crate::GaussLegendre4) | cubic Hermite from `(x_prev, f_prev, x, f)` (3rd order, C¹) |
 ///
 /// All of them are continuous across steps and reproduce `x_prev` and `x`
