@@ -221,6 +221,7 @@ fn main() {
             &infos,
             &[
                 "Rosenbrock (Rodas4)",
+                "Bdf (NDF 1-5)",
                 "diffsol bdf",
                 "russell Radau5",
                 "Gauss-Legendre 4"
