@@ -10,7 +10,7 @@ use crate::ScalarTolerance;
 use crate::Stats;
 use crate::common::{
     Adaptive, adaptive_builders, all_finite, c, integrator_impl, jacobian_entry_points,
-    machine_epsilon, scaled,
+    machine_epsilon,
 };
 use crate::driver::{Failure, Method, Pi, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource};
@@ -52,15 +52,28 @@ const KAPPA: [f64; MAX_ORDER + 1] = [0.0, -0.1850, -1.0 / 9.0, -0.0823, -0.0415,
 /// γ_q = Σ_{j=1..q} 1/j.
 const GAMMA: [f64; MAX_ORDER + 1] = [0.0, 1.0, 1.5, 11.0 / 6.0, 25.0 / 12.0, 137.0 / 60.0];
 
-/// α_q = (1 − κ_q) γ_q: the leading coefficient of the order-q formula.
-fn alpha(q: usize) -> f64 {
-    (1.0 - KAPPA[q]) * GAMMA[q]
-}
+/// `1/α_q`, `α_q = (1 − κ_q) γ_q` the leading coefficient of the order-q
+/// formula.
+const INV_ALPHA: [f64; MAX_ORDER + 1] = {
+    let mut a = [0.0; MAX_ORDER + 1];
+    let mut q = 1;
+    while q <= MAX_ORDER {
+        a[q] = 1.0 / ((1.0 - KAPPA[q]) * GAMMA[q]);
+        q += 1;
+    }
+    a
+};
 
-/// The error constant `κ_q γ_q + 1/(q+1)` of the order-q formula.
-fn error_constant(q: usize) -> f64 {
-    KAPPA[q] * GAMMA[q] + 1.0 / (q as f64 + 1.0)
-}
+/// The error constants `κ_q γ_q + 1/(q+1)` of the order-q formulas.
+const ERROR_CONSTANT: [f64; MAX_ORDER + 1] = {
+    let mut e = [0.0; MAX_ORDER + 1];
+    let mut q = 0;
+    while q <= MAX_ORDER {
+        e[q] = KAPPA[q] * GAMMA[q] + 1.0 / (q as f64 + 1.0);
+        q += 1;
+    }
+    e
+};
 
 /// Monomial coefficients in `θ` of the Newton basis polynomial
 /// `Π_{m<j} (θ − 1 + m)/(m + 1)` of backward difference `j` on a step
@@ -212,17 +225,14 @@ jacobian_entry_points! {
     integrate_with_jacobian_and_steps;
 }
 
-/// The Newton solution of one step.
-struct Newton<T, const D: usize> {
+/// How a Newton solve ended (its solution is in [`BdfMethod::x_new`] and
+/// [`BdfMethod::d`]).
+#[derive(Clone, Copy)]
+struct Newton {
     converged: bool,
     /// `f` was not finite at an iterate.
     nonfinite: bool,
     iterations: usize,
-    x: SVector<T, D>,
-    /// `x − x_pred`.
-    d: SVector<T, D>,
-    /// `f(t_new, x_pred)`, the first evaluation.
-    f_pred: SVector<T, D>,
 }
 
 /// The LU decomposition of the iteration matrix `I − c J`.
@@ -263,8 +273,10 @@ pub(crate) struct BdfMethod<J, T, const D: usize> {
     x_new: SVector<T, D>,
     /// `x_new − x_pred`, the correction.
     d: SVector<T, D>,
-    /// The error weights of the trial's step.
-    sk: SVector<T, D>,
+    /// `f(t_new, x_pred)`, the first evaluation of the last solve.
+    f_pred: SVector<T, D>,
+    /// The reciprocal error weights `1/sk_i` of the trial's step.
+    weights: SVector<T, D>,
     err: T,
     /// The safety factor of the step controller (after the Newton count).
     safety: T,
@@ -293,7 +305,8 @@ where
             eta: c(ETA_NEW_MATRIX),
             x_new: SVector::zeros(),
             d: SVector::zeros(),
-            sk: SVector::zeros(),
+            f_pred: SVector::zeros(),
+            weights: SVector::zeros(),
             err: T::zero(),
             safety: T::one(),
             proposal: None,
@@ -372,23 +385,22 @@ where
         &mut self,
         t_new: T,
         (pred, psi, cc): (&SVector<T, D>, &SVector<T, D>, T),
-        sk: &SVector<T, D>,
+        weights: &SVector<T, D>,
         stats: &mut Stats,
-    ) -> Result<Newton<T, D>, Failure> {
+    ) -> Result<Newton, Failure> {
         let tol = c::<T>(NEWTON_TOL);
         let mut eta = self.eta;
         let mut sol = Newton {
             converged: false,
             nonfinite: false,
             iterations: 0,
-            x: *pred,
-            d: SVector::zeros(),
-            f_pred: SVector::zeros(),
         };
+        self.x_new = *pred;
+        self.d = SVector::zeros();
         let mut norm_first = T::zero();
         for k in 0..NEWTON_MAXITER {
             sol.iterations = k + 1;
-            let f = self.src.rhs(t_new, &sol.x);
+            let f = self.src.rhs(t_new, &self.x_new);
             stats.rhs_evals += 1;
             stats.newton_iterations += 1;
             if !all_finite(&f) {
@@ -396,7 +408,7 @@ where
                 break;
             }
             if k == 0 {
-                sol.f_pred = f;
+                self.f_pred = f;
                 if self.stale && !self.jac_fresh {
                     self.stale = false;
                     self.linearise(t_new, pred, &f, stats)?;
@@ -407,8 +419,12 @@ where
             let Some(Factored { lu, .. }) = &self.lu else {
                 return Err(Failure::Singular);
             };
-            let dx = lu.solve(&(f * cc - psi - sol.d));
-            let norm = rms(&dx, sk);
+            let mut residual = f;
+            for i in 0..D {
+                residual[i] = f[i] * cc - psi[i] - self.d[i];
+            }
+            let dx = lu.solve(&residual);
+            let norm = rms(&dx, weights);
             if k == 0 {
                 // η^(3/4) (RADAU and diffsol take η^0.8), without a `powf`.
                 let root = eta.max(c::<T>(1e4) * machine_epsilon::<T>()).sqrt();
@@ -427,8 +443,8 @@ where
                 }
                 eta = rate / (T::one() - rate);
             }
-            sol.x += dx;
-            sol.d += dx;
+            self.x_new += dx;
+            self.d += dx;
             if eta * norm < tol || norm == T::zero() {
                 sol.converged = true;
                 break;
@@ -446,21 +462,15 @@ where
         &mut self,
         t_new: T,
         h: T,
-        pred: &SVector<T, D>,
-        sk: &SVector<T, D>,
+        (pred, psi): (&SVector<T, D>, &SVector<T, D>),
         stats: &mut Stats,
-    ) -> Result<Newton<T, D>, Failure> {
-        let q = self.order;
-        let cc = h / c::<T>(alpha(q));
-        let mut psi = self.diff[1] * c::<T>(GAMMA[1]);
-        for j in 2..=q {
-            psi += self.diff[j] * c::<T>(GAMMA[j]);
-        }
-        psi /= c::<T>(alpha(q));
+    ) -> Result<Newton, Failure> {
+        let cc = h * c::<T>(INV_ALPHA[self.order]);
+        let weights = self.weights;
         let mut exact = false;
         loop {
             self.factor(cc, exact, stats)?;
-            let sol = self.newton(t_new, (pred, &psi, cc), sk, stats)?;
+            let sol = self.newton(t_new, (pred, psi, cc), &weights, stats)?;
             if sol.converged {
                 if sol.iterations >= SLOW_NEWTON && !self.jac_fresh {
                     self.stale = true;
@@ -472,7 +482,8 @@ where
                 return Err(Failure::NonFinite);
             }
             if !self.jac_fresh {
-                self.linearise(t_new, pred, &sol.f_pred, stats)?;
+                let f_pred = self.f_pred;
+                self.linearise(t_new, pred, &f_pred, stats)?;
             } else if was_exact {
                 return Err(if sol.nonfinite {
                     Failure::NonFinite
@@ -511,8 +522,9 @@ where
         if self.equal_steps < q + 1 {
             return h;
         }
-        let estimate =
-            |j: usize, p: usize| rms(&(self.diff[j] * c::<T>(error_constant(p))), &self.sk);
+        let estimate = |j: usize, p: usize| {
+            rms(&self.diff[j], &self.weights) * c::<T>(ERROR_CONSTANT[p].abs())
+        };
         // (estimate, its exponent p + 1, order p)
         let mut best = (self.err, q + 1, q);
         let better =
@@ -573,18 +585,24 @@ fn power<T: RealField + Copy>(x: T, n: usize) -> T {
     p
 }
 
-/// The RMS of `v_i / sk_i` (the error norm with the weights `sk`).
+/// The RMS of `v_i / sk_i` (the error norm) from the reciprocal weights
+/// `w_i = 1/sk_i`, with `0/0 = 0` as in the shared error norm (a zero weight's
+/// reciprocal is infinite, and an exactly zero component counts as zero).
 #[inline]
-fn rms<T: RealField + Copy, const D: usize>(v: &SVector<T, D>, sk: &SVector<T, D>) -> T {
+fn rms<T: RealField + Copy, const D: usize>(v: &SVector<T, D>, w: &SVector<T, D>) -> T {
     if D == 0 {
         return T::zero();
     }
     let mut sum = T::zero();
     for i in 0..D {
-        let r = scaled(v[i], sk[i]);
+        let r = if v[i] == T::zero() {
+            T::zero()
+        } else {
+            v[i] * w[i]
+        };
         sum += r * r;
     }
-    (sum / c::<T>(D as f64)).sqrt()
+    (sum * c::<T>(1.0 / D as f64)).sqrt()
 }
 
 impl<J, T, const D: usize> Method<T, D> for BdfMethod<J, T, D>
@@ -651,21 +669,26 @@ where
             self.h_diff = h;
         }
         let q = self.order;
+        // The prediction Σ ∇^j and ψ = Σ γ_j ∇^j / α_q, in one pass.
         let mut pred = self.diff[0];
-        for j in 1..=q {
-            pred += self.diff[j];
+        let mut psi = SVector::<T, D>::zeros();
+        for (j, dj) in self.diff.iter().enumerate().take(q + 1).skip(1) {
+            let gamma = c::<T>(GAMMA[j]);
+            for i in 0..D {
+                pred[i] += dj[i];
+                psi[i] += dj[i] * gamma;
+            }
         }
-        let sk_pred = tol.weights(x, &pred);
-        let sol = self.solve(t_new, h, &pred, &sk_pred, stats)?;
-        if !all_finite(&sol.x) {
+        psi *= c::<T>(INV_ALPHA[q]);
+        // One set of weights for the step, from x and its prediction.
+        self.weights = tol.weights(x, &pred).map(|sk| T::one() / sk);
+        let sol = self.solve(t_new, h, (&pred, &psi), stats)?;
+        if !all_finite(&self.x_new) {
             return Err(Failure::NonFinite);
         }
         let n_max = c::<T>(2.0 * NEWTON_MAXITER as f64);
         self.safety = c::<T>(0.9) * (n_max + T::one()) / (n_max + c(sol.iterations as f64));
-        self.x_new = sol.x;
-        self.d = sol.d;
-        self.sk = tol.weights(x, &sol.x);
-        self.err = rms(&(sol.d * c::<T>(error_constant(q))), &self.sk);
+        self.err = rms(&self.d, &self.weights) * c::<T>(ERROR_CONSTANT[q].abs());
         if self.err > T::one() {
             let exponent = -T::one() / c::<T>((q + 1) as f64);
             let factor = (self.safety * self.err.powf(exponent)).max(c(MIN_FACTOR));
