@@ -115,8 +115,8 @@ const DENSE_BASIS: [[f64; MAX_ORDER + 1]; MAX_ORDER + 1] = [
 ///   iteration `η^(3/4)`), so that a solve usually converges after one
 ///   evaluation (Hairer's `RADAU`; diffsol). The Jacobian is evaluated at
 ///   the start and again (at the prediction) only when the iteration fails
-///   to converge; if it fails with a fresh Jacobian and an exact matrix,
-///   the step is halved. The [`Integrator`](crate::Integrator) implementation
+///   to converge or needed 3 iterations or more; if it fails with a fresh
+///   Jacobian and an exact matrix, the step is halved. The [`Integrator`](crate::Integrator) implementation
 ///   works for any [`OdeSystem`](crate::OdeSystem) with a forward-difference
 ///   Jacobian (`D` evaluations each, as [`Rosenbrock`](crate::Rosenbrock));
 ///   [`Bdf::integrate_with_jacobian`] uses the analytic
@@ -128,7 +128,9 @@ const DENSE_BASIS: [[f64; MAX_ORDER + 1]; MAX_ORDER + 1] = [
 /// * Error: the estimate `(κ_q γ_q + 1/(q+1))·(x_new − x_pred)` in the
 ///   error norm of the other adaptive methods (see [Tolerances and the
 ///   error norm](crate#tolerances-and-the-error-norm), per component with
-///   [`Bdf::with_tolerances`]); a rejected step shrinks by
+///   [`Bdf::with_tolerances`]), its weights `sk_i` taken from `x` and the
+///   prediction `x_pred` (one set per step, also for the Newton iteration
+///   and the order choice); a rejected step shrinks by
 ///   `max(0.2, s·err^(−1/(q+1)))`, `s = 0.9·21/(20 + Newton iterations)`.
 ///   After `q + 1` accepted steps of equal size the estimates at orders
 ///   `q − 1`, `q` and `q + 1` choose the next order; the step changes only
@@ -140,7 +142,8 @@ const DENSE_BASIS: [[f64; MAX_ORDER + 1]; MAX_ORDER + 1] = [
 ///   step: on modes that do not decay (an undamped oscillation, a slow
 ///   manifold approaching a jump) the global error grows with the number
 ///   of steps, `∝ rtol^(q/(q+1))`, and may exceed `rtol` tenfold or more
-///   (Van der Pol, ε = 1e-6, at rtol 1e-7: 25·rtol; see `tests/bdf.rs`);
+///   (Van der Pol, ε = 1e-6: 2.6 to 25·rtol for rtol 1e-4 … 1e-9; see
+///   `tests/bdf.rs`);
 ///   on the decaying modes of stiff problems it stays below `rtol`.
 /// * Tolerances: `rtol ≥ 400·eps` (8.9e-14 in `f64`); the error levels off
 ///   near `1e-13·max|x|` (the rounding of the difference arrays), so a
@@ -152,12 +155,13 @@ const DENSE_BASIS: [[f64; MAX_ORDER + 1]; MAX_ORDER + 1] = [
 ///   projected state); so does every call.
 ///
 /// Measured on the lab's stiff disc (`lab/tests/bdf_stiff_disc.rs`;
-/// `atol = rtol/100`, analytic Jacobian): errors 5.4e-7, 6.2e-9 and
-/// 4.6e-11 for 449, 1,106 and 3,127 right-hand sides plus Jacobians (one
-/// Jacobian each), against 521, 1,565 and 5,509 for
-/// [`Rosenbrock`](crate::Rosenbrock) at errors 1e-6, 1e-8, 1e-10; about
-/// 2,200 instructions of its own per step on top of the right-hand side
-/// (Rosenbrock: 7,400).
+/// `atol = rtol/100`, analytic Jacobian): errors 5.5e-7, 6.2e-9 and
+/// 4.6e-11 for 437, 1,112 and 3,173 right-hand sides plus Jacobians (one
+/// Jacobian each); in the lab's side-by-side benchmark at errors 1e-6, 1e-8,
+/// 1e-10 [`Rosenbrock`](crate::Rosenbrock) needs 521, 1,565 and 5,508
+/// right-hand sides. Its own work is about 1,700 instructions per step
+/// (callgrind, outside the right-hand side and Jacobian), Rosenbrock's
+/// 7,400.
 ///
 /// Failure modes are those of [`Rosenbrock`](crate::Rosenbrock): a
 /// singular iteration matrix or a failed Newton iteration rejects the step
@@ -338,14 +342,13 @@ where
     fn rescale(&mut self, factor: T) {
         let q = self.order;
         let r = step_matrix::<T>(q, factor);
-        let u = step_matrix::<T>(q, T::one());
         let old = self.diff;
         for k in 0..=q {
             let mut sum = SVector::<T, D>::zeros();
             for (i, di) in old.iter().enumerate().take(q + 1) {
                 let mut ru = T::zero();
-                for (l, ul) in u.iter().enumerate().take(q + 1) {
-                    ru += r[i][l] * ul[k];
+                for (l, ul) in UNIT_STEP_MATRIX.iter().enumerate().take(q + 1) {
+                    ru += r[i][l] * c::<T>(ul[k]);
                 }
                 sum += di * ru;
             }
@@ -560,6 +563,23 @@ where
     }
 }
 
+/// `U = R(q, 1)` of [`step_matrix`] for `q = MAX_ORDER` (its entries do
+/// not depend on `q`; smaller orders use the leading block).
+const UNIT_STEP_MATRIX: [[f64; MAX_ORDER + 1]; MAX_ORDER + 1] = {
+    let mut u = [[1.0; MAX_ORDER + 1]; MAX_ORDER + 1];
+    let mut i = 1;
+    while i <= MAX_ORDER {
+        let mut j = 0;
+        while j <= MAX_ORDER {
+            let l = i as f64;
+            u[i][j] = u[i - 1][j] * (l - 1.0 - j as f64) / l;
+            j += 1;
+        }
+        i += 1;
+    }
+    u
+};
+
 /// The matrix `R(q, factor)` of Shampine & Reichelt, `R[i][j] =
 /// Π_{l=1..i} (l − 1 − factor·j)/l` (`R[0][j] = 1`), for `i, j ≤ q`.
 fn step_matrix<T: RealField + Copy>(q: usize, factor: T) -> [[T; MAX_ORDER + 1]; MAX_ORDER + 1] {
@@ -585,9 +605,8 @@ fn power<T: RealField + Copy>(x: T, n: usize) -> T {
     p
 }
 
-/// The RMS of `v_i / sk_i` (the error norm) from the reciprocal weights
-/// `w_i = 1/sk_i`, with `0/0 = 0` as in the shared error norm (a zero weight's
-/// reciprocal is infinite, and an exactly zero component counts as zero).
+/// The RMS of `v_i·w_i`: the error norm from the reciprocal weights
+/// `w_i = 1/max(sk_i, eps⁴)` of [`reciprocal_weights`].
 #[inline]
 fn rms<T: RealField + Copy, const D: usize>(v: &SVector<T, D>, w: &SVector<T, D>) -> T {
     if D == 0 {
@@ -595,14 +614,20 @@ fn rms<T: RealField + Copy, const D: usize>(v: &SVector<T, D>, w: &SVector<T, D>
     }
     let mut sum = T::zero();
     for i in 0..D {
-        let r = if v[i] == T::zero() {
-            T::zero()
-        } else {
-            v[i] * w[i]
-        };
+        let r = v[i] * w[i];
         sum += r * r;
     }
     (sum * c::<T>(1.0 / D as f64)).sqrt()
+}
+
+/// `1/max(sk_i, eps⁴)`: a zero weight (`atol_i = 0` on a component that is
+/// zero) gets a huge but finite reciprocal, so that an exactly zero error
+/// still counts as zero (`0/0 = 0`, as in the shared error norm) and any
+/// other error fails the test, without a branch per component.
+fn reciprocal_weights<T: RealField + Copy, const D: usize>(sk: SVector<T, D>) -> SVector<T, D> {
+    let eps = machine_epsilon::<T>();
+    let floor = eps * eps * eps * eps;
+    sk.map(|s| T::one() / s.max(floor))
 }
 
 impl<J, T, const D: usize> Method<T, D> for BdfMethod<J, T, D>
@@ -672,8 +697,9 @@ where
         // The prediction Σ ∇^j and ψ = Σ γ_j ∇^j / α_q, in one pass.
         let mut pred = self.diff[0];
         let mut psi = SVector::<T, D>::zeros();
-        for (j, dj) in self.diff.iter().enumerate().take(q + 1).skip(1) {
+        for j in 1..=q {
             let gamma = c::<T>(GAMMA[j]);
+            let dj = &self.diff[j];
             for i in 0..D {
                 pred[i] += dj[i];
                 psi[i] += dj[i] * gamma;
@@ -681,7 +707,7 @@ where
         }
         psi *= c::<T>(INV_ALPHA[q]);
         // One set of weights for the step, from x and its prediction.
-        self.weights = tol.weights(x, &pred).map(|sk| T::one() / sk);
+        self.weights = reciprocal_weights(tol.weights(x, &pred));
         let sol = self.solve(t_new, h, (&pred, &psi), stats)?;
         if !all_finite(&self.x_new) {
             return Err(Failure::NonFinite);
@@ -740,10 +766,11 @@ where
         let q = self.order;
         self.diff[q + 2] = self.d - self.diff[q + 1];
         self.diff[q + 1] = self.d;
-        for j in (0..=q).rev() {
+        for j in (1..=q).rev() {
             let next = self.diff[j + 1];
             self.diff[j] += next;
         }
+        // ∇⁰ = ∇⁰ + ∇¹ is the new state.
         self.diff[0] = *x;
         self.equal_steps += 1;
         self.jac_fresh = false;
@@ -770,6 +797,12 @@ mod tests {
                 assert!((mono - product).abs() < 1e-15, "j {j}, θ {theta}");
             }
         }
+    }
+
+    #[test]
+    fn the_unit_step_matrix_is_r_of_one() {
+        let r = step_matrix::<f64>(MAX_ORDER, 1.0);
+        assert_eq!(r, UNIT_STEP_MATRIX);
     }
 
     #[test]
