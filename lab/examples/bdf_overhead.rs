@@ -14,9 +14,9 @@
 //! Own instructions per step attempt = (run − baseline − RHS·(rhs − baseline)/1000
 //! − Jacobians·(jac − baseline)/1000) / attempts. The `-opaque` modes keep the
 //! system's calls out of line, so that `callgrind_annotate --inclusive=yes`
-//! splits the run by function. Measured (this machine): 311 instructions per
-//! right-hand side, 398 per Jacobian; `Bdf` 1,950 / 1,780 / 1,680 per attempt at
-//! rtol 1e-6 / 1e-8 / 1e-10 (1,600 marginal), `Rosenbrock` 7,440.
+//! splits the run by function. Measured: 312 instructions per right-hand
+//! side, 477 per Jacobian; `Bdf` 1,990 / 1,830 / 1,740 per attempt at rtol
+//! 1e-6 / 1e-8 / 1e-10 (1,660 between the last two), `Rosenbrock` 7,350.
 use nh_lab::systems::StiffDisc;
 use nonholonomic::prelude::*;
 use std::hint::black_box;

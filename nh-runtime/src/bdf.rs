@@ -159,9 +159,9 @@ const DENSE_BASIS: [[f64; MAX_ORDER + 1]; MAX_ORDER + 1] = [
 /// 4.6e-11 for 436, 1,107 and 3,149 right-hand sides plus Jacobians (one
 /// Jacobian each); in the lab's side-by-side benchmark at errors 1e-6, 1e-8,
 /// 1e-10 [`Rosenbrock`](crate::Rosenbrock) needs 521, 1,565 and 5,508
-/// right-hand sides. Its own work is about 1,700 instructions per step
+/// right-hand sides. Its own work is about 1,800 instructions per step
 /// (callgrind, outside the right-hand side and Jacobian), Rosenbrock's
-/// 7,400.
+/// 7,350.
 ///
 /// Failure modes are those of [`Rosenbrock`](crate::Rosenbrock): a
 /// singular iteration matrix or a failed Newton iteration rejects the step
@@ -273,6 +273,7 @@ pub(crate) struct BdfMethod<J, T, const D: usize> {
     stale: bool,
     /// The contraction estimate `ρ/(1 − ρ)` of the Newton iteration.
     eta: T,
+    eps: EpsConstants<T>,
     // The last trial:
     x_new: SVector<T, D>,
     /// `x_new − x_pred`, the correction.
@@ -307,6 +308,7 @@ where
             lu: None,
             stale: false,
             eta: c(ETA_NEW_MATRIX),
+            eps: EpsConstants::new(),
             x_new: SVector::zeros(),
             d: SVector::zeros(),
             f_pred: SVector::zeros(),
@@ -430,7 +432,7 @@ where
             let norm = rms(&dx, weights);
             if k == 0 {
                 // η^(3/4) (RADAU and diffsol take η^0.8), without a `powf`.
-                let root = eta.max(c::<T>(1e4) * machine_epsilon::<T>()).sqrt();
+                let root = eta.max(self.eps.eta_floor).sqrt();
                 eta = root * root.sqrt();
                 norm_first = norm;
             } else {
@@ -626,10 +628,31 @@ fn rms<T: RealField + Copy, const D: usize>(v: &SVector<T, D>, w: &SVector<T, D>
 /// zero) gets a huge but finite reciprocal, so that an exactly zero error
 /// still counts as zero (`0/0 = 0`, as in the shared error norm) and any
 /// other error fails the test, without a branch per component.
-fn reciprocal_weights<T: RealField + Copy, const D: usize>(sk: SVector<T, D>) -> SVector<T, D> {
-    let eps = machine_epsilon::<T>();
-    let floor = eps * eps * eps * eps;
+fn reciprocal_weights<T: RealField + Copy, const D: usize>(
+    sk: SVector<T, D>,
+    floor: T,
+) -> SVector<T, D> {
     sk.map(|s| T::one() / s.max(floor))
+}
+
+/// Constants from the machine epsilon, computed once per run
+/// ([`machine_epsilon`] is a loop).
+#[derive(Clone, Copy)]
+struct EpsConstants<T> {
+    /// `eps⁴`, the smallest error weight.
+    weight_floor: T,
+    /// `1e4·eps`, the smallest contraction estimate `η`.
+    eta_floor: T,
+}
+
+impl<T: RealField + Copy> EpsConstants<T> {
+    fn new() -> Self {
+        let eps = machine_epsilon::<T>();
+        EpsConstants {
+            weight_floor: eps * eps * eps * eps,
+            eta_floor: c::<T>(1e4) * eps,
+        }
+    }
 }
 
 impl<J, T, const D: usize> Method<T, D> for BdfMethod<J, T, D>
@@ -699,7 +722,7 @@ where
         // The prediction Σ ∇^j and ψ = Σ γ_j ∇^j / α_q, in one pass.
         let mut pred = self.diff[0];
         let mut psi = SVector::<T, D>::zeros();
-        for (dj, &g) in self.diff.iter().zip(GAMMA.iter()).take(q + 1).skip(1) {
+        for (dj, &g) in self.diff[1..=q].iter().zip(&GAMMA[1..=q]) {
             let gamma = c::<T>(g);
             for i in 0..D {
                 pred[i] += dj[i];
@@ -711,12 +734,12 @@ where
         // The Newton iteration's weights from x and the prediction; the
         // error's from x and the solution (a prediction far off, as at the
         // jumps of a relaxation oscillation, must not loosen the test).
-        self.weights = reciprocal_weights(tol.weights(x, &pred));
+        self.weights = reciprocal_weights(tol.weights(x, &pred), self.eps.weight_floor);
         let sol = self.solve(t_new, h, (&pred, &psi), stats)?;
         if !all_finite(&self.x_new) {
             return Err(Failure::NonFinite);
         }
-        self.weights = reciprocal_weights(tol.weights(x, &self.x_new));
+        self.weights = reciprocal_weights(tol.weights(x, &self.x_new), self.eps.weight_floor);
         let n_max = c::<T>(2.0 * NEWTON_MAXITER as f64);
         self.safety = c::<T>(0.9) * (n_max + T::one()) / (n_max + c(sol.iterations as f64));
         self.err = rms(&self.d, &self.weights) * c::<T>(ERROR_CONSTANT[q].abs());
