@@ -810,10 +810,11 @@
 //! [`runtime`] (all of it in [`prelude`]) has the traits
 //! [`OdeSystem`](runtime::OdeSystem), [`OdeJacobian`](runtime::OdeJacobian),
 //! [`ControlledSystem`](runtime::ControlledSystem) and
-//! [`Integrator`](runtime::Integrator), and six integrators on one step driver:
+//! [`Integrator`](runtime::Integrator), and eight integrators on one step driver:
 //! [`Rk4`](runtime::Rk4), [`DormandPrince`](runtime::DormandPrince),
 //! [`Dop853`](runtime::Dop853), [`Rosenbrock`](runtime::Rosenbrock),
-//! [`Rodas5P`](runtime::Rodas5P) and [`GaussLegendre4`](runtime::GaussLegendre4). A run returns an
+//! [`Rodas5P`](runtime::Rodas5P), [`Bdf`](runtime::Bdf) (variable-order BDF),
+//! [`AutoSwitch`](runtime::AutoSwitch) and [`GaussLegendre4`](runtime::GaussLegendre4). A run returns an
 //! [`Outcome`](runtime::Outcome) or a [`SimError`](runtime::SimError) that
 //! carries the time and the last good state; no integrator allocates per step.
 //! Without the default `std` feature the facade is `no_std`.
