@@ -49,9 +49,9 @@ struct Scene<S, const D: usize> {
 }
 
 impl<S, const D: usize> Scene<S, D> {
-    /// The number of runs of the scene (five adaptive methods per tolerance).
+    /// The number of runs of the scene (six adaptive methods per tolerance).
     fn runs(&self) -> usize {
-        5 * self.rtols.len() + self.rk4_steps.len() + self.gauss_steps.len()
+        6 * self.rtols.len() + self.rk4_steps.len() + self.gauss_steps.len()
     }
 }
 
@@ -124,6 +124,11 @@ where
         });
         timed(scene, runs, bar, "Rodas5P", rtol, || {
             Rodas5P::new(rtol, atol)
+                .with_max_steps(budget)
+                .integrate_with_jacobian(sys, 0.0, x0, t1)
+        });
+        timed(scene, runs, bar, "Bdf", rtol, || {
+            Bdf::new(rtol, atol)
                 .with_max_steps(budget)
                 .integrate_with_jacobian(sys, 0.0, x0, t1)
         });
