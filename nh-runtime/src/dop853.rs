@@ -3,7 +3,9 @@
 use nalgebra::{RealField, SVector};
 
 use crate::ScalarTolerance;
-use crate::common::{Adaptive, adaptive_builders, all_finite_in, c, integrator_impl, scaled};
+use crate::common::{
+    Adaptive, adaptive_builders, all_finite_in, c, integrator_impl, scaled,
+};
 use crate::driver::{Failure, Method, Pi, Tolerance, counted, stiffness_estimate};
 use crate::step::{Poly, hermite_terms};
 use crate::{OdeSystem, Stats};
@@ -271,40 +273,86 @@ impl<'a, S: ?Sized, T: RealField + Copy, const D: usize> Dop853Stages<'a, S, T, 
     }
 }
 
+/// `x + (Σ_j a_j·k_{s_j})·h` for the stages and weights `terms = [(s_j,
+/// a_j)]`, summed left to right as in the formulas of `DOP853`, component
+/// by component (no temporary vector per term).
+#[inline(always)]
+fn stage_point<T: RealField + Copy, const D: usize, const N: usize>(
+    x: &SVector<T, D>,
+    k: &[SVector<T, D>; 13],
+    terms: [(usize, f64); N],
+    h: T,
+) -> SVector<T, D> {
+    let mut point = *x;
+    for (i, p) in point.iter_mut().enumerate() {
+        let mut sum = k[terms[0].0][i] * c::<T>(terms[0].1);
+        for &(s, a) in &terms[1..] {
+            sum += k[s][i] * c::<T>(a);
+        }
+        *p += sum * h;
+    }
+    point
+}
+
 impl<T, S, const D: usize> Dop853Stages<'_, S, T, D>
 where
     T: RealField + Copy,
     S: OdeSystem<T, D> + ?Sized,
 {
-    /// Hairer's error estimate: the 5th-order estimator damped by the 3rd,
-    /// `|h|·E5² / sqrt(D·(E5² + 0.01·E3²))`.
-    fn error(&self, x: &SVector<T, D>, kb: &SVector<T, D>, h: T, tol: &Tolerance<T, D>) -> T {
+    /// The new state `x + h·Σ b_j k_j` into `self.x_new`, and Hairer's
+    /// error estimate: the 5th-order estimator damped by the 3rd,
+    /// `|h|·E5² / sqrt(D·(E5² + 0.01·E3²))`; `None` if `x12`, `x_new` or
+    /// the stages 2, 3 are not finite (they hold every stage with a
+    /// non-zero weight). One pass over the components.
+    #[inline(always)]
+    fn advance_and_error(&mut self, x: &SVector<T, D>, h: T, tol: &Tolerance<T, D>) -> Option<T> {
         let cc = |v: f64| c::<T>(v);
-        let [k1, _, _, _, _, k6, k7, k8, k9, k10, k11, k12, _] = self.k;
-        let e3 = kb - k1 * cc(BHH1) - k9 * cc(BHH2) - k12 * cc(BHH3);
-        let e5 = k1 * cc(ER1)
-            + k6 * cc(ER6)
-            + k7 * cc(ER7)
-            + k8 * cc(ER8)
-            + k9 * cc(ER9)
-            + k10 * cc(ER10)
-            + k11 * cc(ER11)
-            + k12 * cc(ER12);
+        let k = &self.k;
+        // The scaled estimators and the finiteness test component by
+        // component (a loop the compiler vectorises), then the sums in order.
+        let (mut r3, mut r5, mut finite) = ([T::zero(); D], [T::zero(); D], [T::zero(); D]);
+        for i in 0..D {
+            let kb = k[0][i] * cc(B1)
+                + k[5][i] * cc(B6)
+                + k[6][i] * cc(B7)
+                + k[7][i] * cc(B8)
+                + k[8][i] * cc(B9)
+                + k[9][i] * cc(B10)
+                + k[10][i] * cc(B11)
+                + k[11][i] * cc(B12);
+            let x_new = x[i] + kb * h;
+            self.x_new[i] = x_new;
+            let e3 = kb - k[0][i] * cc(BHH1) - k[8][i] * cc(BHH2) - k[11][i] * cc(BHH3);
+            let e5 = k[0][i] * cc(ER1)
+                + k[5][i] * cc(ER6)
+                + k[6][i] * cc(ER7)
+                + k[7][i] * cc(ER8)
+                + k[8][i] * cc(ER9)
+                + k[9][i] * cc(ER10)
+                + k[10][i] * cc(ER11)
+                + k[11][i] * cc(ER12);
+            let sk = tol.weight(i, x[i], x_new);
+            (r3[i], r5[i]) = (scaled(e3, sk), scaled(e5, sk));
+            // 0·v is 0 for a finite v and NaN otherwise.
+            let zero = T::zero();
+            finite[i] = k[1][i] * zero + k[2][i] * zero + self.x12[i] * zero + x_new * zero;
+        }
+        if !finite.iter().all(|v| v.is_finite()) {
+            return None;
+        }
         let (mut err5, mut err3) = (T::zero(), T::zero());
         for i in 0..D {
-            let sk = tol.weight(i, x[i], self.x_new[i]);
-            let (r3, r5) = (scaled(e3[i], sk), scaled(e5[i], sk));
-            err3 += r3 * r3;
-            err5 += r5 * r5;
+            err3 += r3[i] * r3[i];
+            err5 += r5[i] * r5[i];
         }
         let mut deno = err5 + c::<T>(0.01) * err3;
         if deno <= T::zero() {
             deno = T::one();
         }
         if D == 0 {
-            T::zero()
+            Some(T::zero())
         } else {
-            h.abs() * err5 * (T::one() / (c::<T>(D as f64) * deno)).sqrt()
+            Some(h.abs() * err5 * (T::one() / (c::<T>(D as f64) * deno)).sqrt())
         }
     }
 }
@@ -341,91 +389,64 @@ where
         tol: &Tolerance<T, D>,
         stats: &mut Stats,
     ) -> Result<T, Failure> {
-        let (sys, k1) = (self.sys, self.k[0]);
+        let sys = self.sys;
         let cc = |v: f64| c::<T>(v);
-        let k2 = sys.rhs(t + h * cc(C2), &(x + k1 * (h * cc(A21))));
-        let k3 = sys.rhs(t + h * cc(C3), &(x + (k1 * cc(A31) + k2 * cc(A32)) * h));
-        let k4 = sys.rhs(t + h * cc(C4), &(x + (k1 * cc(A41) + k3 * cc(A43)) * h));
-        let k5 = sys.rhs(
-            t + h * cc(C5),
-            &(x + (k1 * cc(A51) + k3 * cc(A53) + k4 * cc(A54)) * h),
-        );
-        let k6 = sys.rhs(
-            t + h * cc(C6),
-            &(x + (k1 * cc(A61) + k4 * cc(A64) + k5 * cc(A65)) * h),
-        );
-        let k7 = sys.rhs(
-            t + h * cc(C7),
-            &(x + (k1 * cc(A71) + k4 * cc(A74) + k5 * cc(A75) + k6 * cc(A76)) * h),
-        );
-        let k8 = sys.rhs(
-            t + h * cc(C8),
-            &(x + (k1 * cc(A81) + k4 * cc(A84) + k5 * cc(A85) + k6 * cc(A86) + k7 * cc(A87)) * h),
-        );
-        let k9 = sys.rhs(
-            t + h * cc(C9),
-            &(x + (k1 * cc(A91)
-                + k4 * cc(A94)
-                + k5 * cc(A95)
-                + k6 * cc(A96)
-                + k7 * cc(A97)
-                + k8 * cc(A98))
-                * h),
-        );
-        let k10 = sys.rhs(
-            t + h * cc(C10),
-            &(x + (k1 * cc(A101)
-                + k4 * cc(A104)
-                + k5 * cc(A105)
-                + k6 * cc(A106)
-                + k7 * cc(A107)
-                + k8 * cc(A108)
-                + k9 * cc(A109))
-                * h),
-        );
-        let k11 = sys.rhs(
-            t + h * cc(C11),
-            &(x + (k1 * cc(A111)
-                + k4 * cc(A114)
-                + k5 * cc(A115)
-                + k6 * cc(A116)
-                + k7 * cc(A117)
-                + k8 * cc(A118)
-                + k9 * cc(A119)
-                + k10 * cc(A1110))
-                * h),
-        );
-        let x12 = x
-            + (k1 * cc(A121)
-                + k4 * cc(A124)
-                + k5 * cc(A125)
-                + k6 * cc(A126)
-                + k7 * cc(A127)
-                + k8 * cc(A128)
-                + k9 * cc(A129)
-                + k10 * cc(A1210)
-                + k11 * cc(A1211))
-                * h;
-        let k12 = sys.rhs(t_new, &x12);
+        let k = &mut self.k;
+        k[1] = sys.rhs(t + h * cc(C2), &(x + k[0] * (h * cc(A21))));
+        let point = stage_point(x, k, [(0, A31), (1, A32)], h);
+        k[2] = sys.rhs(t + h * cc(C3), &point);
+        let point = stage_point(x, k, [(0, A41), (2, A43)], h);
+        k[3] = sys.rhs(t + h * cc(C4), &point);
+        let point = stage_point(x, k, [(0, A51), (2, A53), (3, A54)], h);
+        k[4] = sys.rhs(t + h * cc(C5), &point);
+        let point = stage_point(x, k, [(0, A61), (3, A64), (4, A65)], h);
+        k[5] = sys.rhs(t + h * cc(C6), &point);
+        let point = stage_point(x, k, [(0, A71), (3, A74), (4, A75), (5, A76)], h);
+        k[6] = sys.rhs(t + h * cc(C7), &point);
+        let terms = [(0, A81), (3, A84), (4, A85), (5, A86), (6, A87)];
+        let point = stage_point(x, k, terms, h);
+        k[7] = sys.rhs(t + h * cc(C8), &point);
+        let terms = [(0, A91), (3, A94), (4, A95), (5, A96), (6, A97), (7, A98)];
+        let point = stage_point(x, k, terms, h);
+        k[8] = sys.rhs(t + h * cc(C9), &point);
+        let terms = [
+            (0, A101),
+            (3, A104),
+            (4, A105),
+            (5, A106),
+            (6, A107),
+            (7, A108),
+            (8, A109),
+        ];
+        let point = stage_point(x, k, terms, h);
+        k[9] = sys.rhs(t + h * cc(C10), &point);
+        let terms = [
+            (0, A111),
+            (3, A114),
+            (4, A115),
+            (5, A116),
+            (6, A117),
+            (7, A118),
+            (8, A119),
+            (9, A1110),
+        ];
+        let point = stage_point(x, k, terms, h);
+        k[10] = sys.rhs(t + h * cc(C11), &point);
+        let terms = [
+            (0, A121),
+            (3, A124),
+            (4, A125),
+            (5, A126),
+            (6, A127),
+            (7, A128),
+            (8, A129),
+            (9, A1210),
+            (10, A1211),
+        ];
+        self.x12 = stage_point(x, k, terms, h);
+        k[11] = sys.rhs(t_new, &self.x12);
         stats.rhs_evals += 11;
-        let kb = k1 * cc(B1)
-            + k6 * cc(B6)
-            + k7 * cc(B7)
-            + k8 * cc(B8)
-            + k9 * cc(B9)
-            + k10 * cc(B10)
-            + k11 * cc(B11)
-            + k12 * cc(B12);
-        self.x_new = x + kb * h;
-        self.x12 = x12;
-        self.k[..12].copy_from_slice(&[k1, k2, k3, k4, k5, k6, k7, k8, k9, k10, k11, k12]);
-        // `x12` combines k1, k4 … k11 and `x_new` k1, k6 … k12, all with
-        // non-zero weights, so (in IEEE arithmetic) these four vectors are
-        // finite only if every stage is.
-        if !all_finite_in(&[k2, k3, x12, self.x_new]) {
-            return Err(Failure::NonFinite);
-        }
-        Ok(self.error(x, &kb, h, tol))
+        self.advance_and_error(x, h, tol).ok_or(Failure::NonFinite)
     }
 
     /// FSAL: the derivative at the new point, only for accepted steps.

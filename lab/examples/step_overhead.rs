@@ -1,0 +1,141 @@
+//! The integrators' own work per step, beside the right-hand side and the
+//! Jacobian: runs one method on one of the lab's discs (the scenes of the
+//! side-by-side in `lab/peers`) at a fixed tolerance, through a wrapper
+//! whose `rhs` and `jacobian` are never inlined, so that an instruction
+//! profiler can tell the system's work from the method's.
+//!
+//! ```text
+//! cargo build --release -p nh-lab --example step_overhead
+//! valgrind --tool=callgrind --toggle-collect='step_overhead::integrate_*' \
+//!     target/release/examples/step_overhead dop853 thesis 1e-8
+//! callgrind_annotate --inclusive=yes callgrind.out.<pid> | grep -E 'PROGRAM|Timed::'
+//! ```
+//!
+//! Arguments: method (`dopri5`, `dop853`, `rodas4`, `rodas5p`), problem
+//! (`thesis`, `rolling`, `stiff`), rtol (atol = 0.01·rtol, as in the
+//! side-by-side), and optionally the number of repeated runs (default 1).
+//! Prints the run's statistics and final state (to check that a change to
+//! the runtime leaves the step sequence as it was). Own work per step =
+//! (instructions of `integrate_*` − inclusive instructions of
+//! `Timed::rhs` and `Timed::jacobian`) / (steps + rejected).
+use nh_lab::systems::{RollingDisc, StiffDisc, ThesisDisc};
+use nonholonomic::prelude::*;
+use std::hint::black_box;
+
+/// A system whose right-hand side and Jacobian are separate functions in a
+/// profile (never inlined into the method).
+struct Timed<'a, S>(&'a S);
+
+impl<S: OdeSystem<f64, 8>> OdeSystem<f64, 8> for Timed<'_, S> {
+    #[inline(never)]
+    fn rhs(&self, t: f64, x: &SVector<f64, 8>) -> SVector<f64, 8> {
+        self.0.rhs(t, x)
+    }
+    fn is_autonomous(&self) -> bool {
+        self.0.is_autonomous()
+    }
+}
+
+impl<S: OdeJacobian<f64, 8>> OdeJacobian<f64, 8> for Timed<'_, S> {
+    #[inline(never)]
+    fn jacobian(&self, t: f64, x: &SVector<f64, 8>) -> SMatrix<f64, 8, 8> {
+        self.0.jacobian(t, x)
+    }
+}
+
+type Run = Result<Outcome<f64, 8>, SimError<f64, 8>>;
+
+#[inline(never)]
+fn integrate_dopri5<S: OdeSystem<f64, 8>>(s: &S, x0: SVector<f64, 8>, t1: f64, rtol: f64) -> Run {
+    DormandPrince::new(rtol, 0.01 * rtol)
+        .with_max_steps(1_000_000)
+        .integrate(s, 0.0, x0, t1)
+}
+
+#[inline(never)]
+fn integrate_dop853<S: OdeSystem<f64, 8>>(s: &S, x0: SVector<f64, 8>, t1: f64, rtol: f64) -> Run {
+    Dop853::new(rtol, 0.01 * rtol)
+        .with_max_steps(1_000_000)
+        .integrate(s, 0.0, x0, t1)
+}
+
+#[inline(never)]
+fn integrate_rodas4<S: OdeJacobian<f64, 8>>(s: &S, x0: SVector<f64, 8>, t1: f64, rtol: f64) -> Run {
+    Rosenbrock::new(rtol, 0.01 * rtol)
+        .with_max_steps(1_000_000)
+        .integrate_with_jacobian(s, 0.0, x0, t1)
+}
+
+#[inline(never)]
+fn integrate_rodas5p<S: OdeJacobian<f64, 8>>(
+    s: &S,
+    x0: SVector<f64, 8>,
+    t1: f64,
+    rtol: f64,
+) -> Run {
+    Rodas5P::new(rtol, 0.01 * rtol)
+        .with_max_steps(1_000_000)
+        .integrate_with_jacobian(s, 0.0, x0, t1)
+}
+
+/// The initial state `[q; ṙ]` of the discs.
+fn state(q: [f64; 5], rdot: [f64; 3]) -> SVector<f64, 8> {
+    SVector::<f64, 8>::from_fn(|i, _| if i < 5 { q[i] } else { rdot[i - 5] })
+}
+
+/// Runs `method` `repeats` times on `sys` and prints the last outcome.
+fn run<S: OdeJacobian<f64, 8>>(
+    sys: &S,
+    x0: SVector<f64, 8>,
+    t1: f64,
+    method: &str,
+    rtol: f64,
+    repeats: usize,
+) {
+    let timed = Timed(sys);
+    let f = match method {
+        "dopri5" => integrate_dopri5::<Timed<S>>,
+        "dop853" => integrate_dop853::<Timed<S>>,
+        "rodas4" => integrate_rodas4::<Timed<S>>,
+        "rodas5p" => integrate_rodas5p::<Timed<S>>,
+        other => panic!("unknown method {other}"),
+    };
+    let mut last = None;
+    for _ in 0..repeats {
+        last = Some(f(black_box(&timed), black_box(x0), t1, rtol));
+    }
+    let out = last.expect("at least one run").expect("the run succeeds");
+    let s = out.stats;
+    println!(
+        "{method} rtol {rtol:e}: steps {} rejected {} rhs {} jacobians {} (x {repeats} runs)",
+        s.steps, s.rejected, s.rhs_evals, s.jacobian_evals
+    );
+    println!("x(t1) = {:?}", out.x.as_slice());
+}
+
+fn main() {
+    let args: Vec<String> = std::env::args().collect();
+    let method = args.get(1).map_or("dop853", String::as_str);
+    let problem = args.get(2).map_or("thesis", String::as_str);
+    let rtol: f64 = args.get(3).map_or(1e-8, |a| a.parse().expect("rtol"));
+    let repeats: usize = args.get(4).map_or(1, |a| a.parse().expect("repeats"));
+    let (m, r, g) = (1.7, 0.35, 9.81);
+    match problem {
+        "thesis" => {
+            let x0 = state([0.0, 0.0, 0.3, 0.0, 0.0], [6.0, 20.0, 0.5]);
+            run(&ThesisDisc::new(m, r, g), x0, 5.0, method, rtol, repeats);
+        }
+        "rolling" => {
+            let x0 = state([0.0, 0.0, 0.2, 0.0, 0.0], [15.0, 1.0, 0.3]);
+            run(&RollingDisc::new(m, r, g), x0, 5.0, method, rtol, repeats);
+        }
+        "stiff" => {
+            let k = 1e6;
+            let c = 2.0 * (k * 1.25 * m * r * r as f64).sqrt();
+            let x0 = state([0.0, 0.0, 0.3, 0.0, 0.0], [6.0, 20.0, 0.5]);
+            let sys = StiffDisc::new(m, r, g, k, c, 0.2);
+            run(&sys, x0, 1.0, method, rtol, repeats);
+        }
+        other => panic!("unknown problem {other}"),
+    }
+}
