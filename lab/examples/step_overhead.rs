@@ -101,9 +101,11 @@ fn run<S: OdeJacobian<f64, 8>>(
         other => panic!("unknown method {other}"),
     };
     let mut last = None;
+    let start = std::time::Instant::now();
     for _ in 0..repeats {
         last = Some(f(black_box(&timed), black_box(x0), t1, rtol));
     }
+    let seconds = start.elapsed().as_secs_f64() / repeats as f64;
     let out = last.expect("at least one run").expect("the run succeeds");
     let s = out.stats;
     println!(
@@ -111,6 +113,10 @@ fn run<S: OdeJacobian<f64, 8>>(
         s.steps, s.rejected, s.rhs_evals, s.jacobian_evals
     );
     println!("x(t1) = {:?}", out.x.as_slice());
+    println!(
+        "wall time per run {seconds:.3e} s, per RHS {:.1} ns (a rough figure on a shared machine)",
+        seconds * 1e9 / s.rhs_evals as f64
+    );
 }
 
 fn main() {
