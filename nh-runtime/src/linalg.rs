@@ -49,12 +49,12 @@ pub(crate) fn factor<T: RealField + Copy, const D: usize>(a: &mut [T], perm: &mu
     }
     for k in 0..D {
         // Partial pivoting: the largest entry of column k at or below k.
-        let mut p = k;
-        let mut max = a[k][k].abs();
-        for (i, v) in a[k].iter().enumerate().skip(k + 1) {
-            if v.abs() > max {
-                max = v.abs();
-                p = i;
+        let column_k = &a[k];
+        let (mut p, mut max) = (k, column_k[k].abs());
+        for i in k + 1..D {
+            let v = column_k[i].abs();
+            if v > max {
+                (p, max) = (i, v);
             }
         }
         if !(max.is_finite() && max > T::zero()) {
@@ -66,20 +66,44 @@ pub(crate) fn factor<T: RealField + Copy, const D: usize>(a: &mut [T], perm: &mu
             }
             perm.swap(p, k);
         }
-        let (left, right) = a.split_at_mut(k + 1);
-        let column_k = &mut left[k];
-        let pivot = column_k[k];
-        for l in &mut column_k[k + 1..] {
-            *l /= pivot;
+        // The multipliers l_i = a_ik / a_kk below the pivot, and a copy of
+        // them with zeros on and above row k: the update of each column
+        // then runs over whole columns (a fixed-length loop the compiler
+        // unrolls and vectorises); rows ≤ k subtract 0 and keep their value
+        // (up to the sign of a zero).
+        let pivot = a[k][k];
+        let mut l = [T::zero(); D];
+        let column_k = &mut a[k];
+        for i in k + 1..D {
+            column_k[i] /= pivot;
+            l[i] = column_k[i];
         }
-        for column_j in right {
+        for column_j in a.iter_mut().skip(k + 1) {
             let akj = column_j[k];
-            for (aij, &l) in column_j[k + 1..].iter_mut().zip(&column_k[k + 1..]) {
-                *aij -= l * akj;
+            for (aij, &li) in column_j.iter_mut().zip(&l) {
+                *aij -= li * akj;
             }
         }
     }
-    a.iter().flatten().all(|v| v.is_finite())
+    all_finite_columns(a)
+}
+
+/// Whether every entry of the `D×D` matrix `m` is finite.
+pub(crate) fn all_finite_matrix<T: RealField + Copy, const D: usize>(m: &SMatrix<T, D, D>) -> bool {
+    all_finite_columns(columns::<T, D>(m.as_slice()))
+}
+
+/// Whether every entry of the columns `a` is finite, without a branch per
+/// entry (`0·v` is 0 for a finite `v` and NaN otherwise).
+#[inline]
+pub(crate) fn all_finite_columns<T: RealField + Copy, const D: usize>(a: &[[T; D]]) -> bool {
+    let mut zero = [T::zero(); D];
+    for column in a {
+        for (z, &v) in zero.iter_mut().zip(column) {
+            *z += v * T::zero();
+        }
+    }
+    zero.iter().all(|z| z.is_finite())
 }
 
 /// Solves `A x = b` with the factors of [`factor`].
@@ -91,10 +115,12 @@ pub(crate) fn solve<T: RealField + Copy, const D: usize>(
     let lu = columns::<T, D>(lu);
     let perm = &perm[..D];
     let mut x = SVector::<T, D>::from_fn(|i, _| b[perm[i]]);
-    for i in 0..D {
-        for j in 0..i {
-            let xj = x[j];
-            x[i] -= lu[j][i] * xj;
+    // Forward substitution column by column: each x_i receives the same
+    // subtractions in the same order (j ascending) as row by row.
+    for (j, column) in lu.iter().enumerate() {
+        let xj = x[j];
+        for i in j + 1..D {
+            x[i] -= column[i] * xj;
         }
     }
     for i in (0..D).rev() {

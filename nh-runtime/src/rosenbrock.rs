@@ -15,7 +15,7 @@ use crate::common::{
 };
 use crate::driver::{Failure, Method, Pi, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource, time_derivative};
-use crate::linalg::Lu;
+use crate::linalg::{all_finite_matrix, factor, solve};
 use crate::rodas_tableau::{Rodas4, Rodas5PScheme, Scheme};
 use crate::step::Poly;
 
@@ -271,6 +271,10 @@ pub(crate) struct Rodas<J, T, K, const D: usize, const S: usize> {
     src: J,
     f0: SVector<T, D>,
     jac: SMatrix<T, D, D>,
+    /// The LU factors of the iteration matrix `I/(hγ) − J` of the last
+    /// trial, and their row permutation.
+    lu: SMatrix<T, D, D>,
+    perm: [usize; D],
     ft: SVector<T, D>,
     u: [SVector<T, D>; S],
     x_new: SVector<T, D>,
@@ -298,6 +302,8 @@ where
             src,
             f0: SVector::zeros(),
             jac: SMatrix::zeros(),
+            lu: SMatrix::zeros(),
+            perm: [0; D],
             ft: SVector::zeros(),
             u: [SVector::zeros(); S],
             x_new: SVector::zeros(),
@@ -315,7 +321,7 @@ where
         self.src
             .jacobian(t, x, &self.f0, self.jac.as_mut_slice(), stats);
         self.ft = time_derivative(&self.src, t, x, &self.f0, stats);
-        if self.jac.iter().all(|v| v.is_finite()) && all_finite(&self.ft) {
+        if all_finite_matrix(&self.jac) && all_finite(&self.ft) {
             Ok(())
         } else {
             Err(Failure::NonFinite)
@@ -402,10 +408,20 @@ where
         // The iteration matrix I/(hγ) − J and its LU decomposition.
         let fac = T::one() / (h * c(tab.gamma));
         stats.lu_decompositions += 1;
-        let lu =
-            Lu::new(SMatrix::<T, D, D>::identity() * fac - self.jac).ok_or(Failure::Singular)?;
+        // (`δ_ij·fac − J_ij` as `I·fac − J` computes it, zeros' signs too.)
+        let (m, jac) = (self.lu.as_mut_slice(), self.jac.as_slice());
+        for (m, &jac) in m.iter_mut().zip(jac) {
+            *m = T::zero() * fac - jac;
+        }
+        for i in 0..D {
+            self.lu[(i, i)] = fac - self.jac[(i, i)];
+        }
+        if !factor::<T, D>(self.lu.as_mut_slice(), &mut self.perm) {
+            return Err(Failure::Singular);
+        }
         let inv_h = T::one() / h;
-        self.u[0] = lu.solve(&self.stage_rhs(0, self.f0, h, inv_h));
+        let b = self.stage_rhs(0, self.f0, h, inv_h);
+        self.u[0] = solve(self.lu.as_slice(), &self.perm, &b);
         // `delta`: the argument of the current stage minus x.
         let mut delta = SVector::<T, D>::zeros();
         for i in 1..S {
@@ -423,7 +439,8 @@ where
                 t + h * c(tab.alpha[i])
             };
             let f = self.src.rhs(ti, &(x + delta));
-            self.u[i] = lu.solve(&self.stage_rhs(i, f, h, inv_h));
+            let b = self.stage_rhs(i, f, h, inv_h);
+            self.u[i] = solve(self.lu.as_slice(), &self.perm, &b);
         }
         stats.rhs_evals += S - 1;
         // x_new = x + Δx, Δx = (last argument − x) + U_S, plus the carry of
