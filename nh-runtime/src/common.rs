@@ -31,10 +31,13 @@ pub(crate) fn machine_epsilon<T: RealField + Copy>() -> T {
     eps
 }
 
-/// Whether every component of `x` is finite.
+/// Whether every component of `x` is finite, without a branch per
+/// component (`0·v` is `0` for a finite `v` and NaN otherwise).
 #[inline]
 pub(crate) fn all_finite<T: RealField + Copy, const D: usize>(x: &SVector<T, D>) -> bool {
-    x.iter().all(|v| v.is_finite())
+    x.iter()
+        .fold(T::zero(), |zero, &v| zero + v * T::zero())
+        .is_finite()
 }
 
 /// Whether every component of every vector in `vs` is finite, without a
