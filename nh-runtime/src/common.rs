@@ -40,6 +40,28 @@ pub(crate) fn all_finite<T: RealField + Copy, const D: usize>(x: &SVector<T, D>)
         .is_finite()
 }
 
+/// `x + (Σ_j a_j·k_{s_j})·h` for the stages and weights `terms = [(s_j,
+/// a_j)]` of an explicit Runge–Kutta step, summed left to right as in the
+/// formulas of Hairer's codes, component by component (no temporary vector
+/// per term; the same rounding as the vector expression).
+#[inline(always)]
+pub(crate) fn stage_point<T: RealField + Copy, const D: usize, const M: usize, const N: usize>(
+    x: &SVector<T, D>,
+    k: &[SVector<T, D>; M],
+    terms: [(usize, f64); N],
+    h: T,
+) -> SVector<T, D> {
+    let mut point = *x;
+    for (i, p) in point.iter_mut().enumerate() {
+        let mut sum = k[terms[0].0][i] * c::<T>(terms[0].1);
+        for &(s, a) in &terms[1..] {
+            sum += k[s][i] * c::<T>(a);
+        }
+        *p += sum * h;
+    }
+    point
+}
+
 /// Whether every component of every vector in `vs` is finite, without a
 /// branch per component: `0·v` is `0` for a finite `v` and NaN otherwise,
 /// so the sum of `0·v_i` over the vectors is zero exactly when all of them

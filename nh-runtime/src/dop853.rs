@@ -5,6 +5,7 @@ use nalgebra::{RealField, SVector};
 use crate::ScalarTolerance;
 use crate::common::{
     Adaptive, adaptive_builders, all_finite, all_finite_in, c, integrator_impl, scaled,
+    stage_point,
 };
 use crate::driver::{Failure, Method, Pi, Tolerance, counted, stiffness_estimate};
 use crate::step::{Poly, hermite_terms};
@@ -271,27 +272,6 @@ impl<'a, S: ?Sized, T: RealField + Copy, const D: usize> Dop853Stages<'a, S, T, 
             dense: Poly::from_monomial(&[]),
         }
     }
-}
-
-/// `x + (Σ_j a_j·k_{s_j})·h` for the stages and weights `terms = [(s_j,
-/// a_j)]`, summed left to right as in the formulas of `DOP853`, component
-/// by component (no temporary vector per term).
-#[inline(always)]
-fn stage_point<T: RealField + Copy, const D: usize, const N: usize>(
-    x: &SVector<T, D>,
-    k: &[SVector<T, D>; 13],
-    terms: [(usize, f64); N],
-    h: T,
-) -> SVector<T, D> {
-    let mut point = *x;
-    for (i, p) in point.iter_mut().enumerate() {
-        let mut sum = k[terms[0].0][i] * c::<T>(terms[0].1);
-        for &(s, a) in &terms[1..] {
-            sum += k[s][i] * c::<T>(a);
-        }
-        *p += sum * h;
-    }
-    point
 }
 
 impl<T, S, const D: usize> Dop853Stages<'_, S, T, D>

@@ -3,7 +3,7 @@
 use nalgebra::{RealField, SVector};
 
 use crate::ScalarTolerance;
-use crate::common::{Adaptive, adaptive_builders, all_finite_in, c, error_norm, integrator_impl};
+use crate::common::{Adaptive, adaptive_builders, c, integrator_impl, scaled, stage_point};
 use crate::driver::{Failure, Method, Pi, Tolerance, counted, stiffness_estimate};
 use crate::step::{Poly, hermite_terms};
 use crate::{OdeSystem, Stats};
@@ -161,6 +161,46 @@ impl<'a, S: ?Sized, T: RealField + Copy, const D: usize> Dopri5<'a, S, T, D> {
     }
 }
 
+impl<T, S, const D: usize> Dopri5<'_, S, T, D>
+where
+    T: RealField + Copy,
+    S: OdeSystem<T, D> + ?Sized,
+{
+    /// The error estimate `h·Σ e_j k_j` in the norm of
+    /// [`error_norm`](crate::tolerance::error_norm), component by component
+    /// with the same rounding; NaN if `x6`, `x_new` or `k7` is not finite
+    /// (`x6` combines k1 … k5 and `x_new` k1, k3 … k6, all with non-zero
+    /// weights, so these three are finite only if every stage is).
+    #[inline(always)]
+    fn error(&self, x: &SVector<T, D>, h: T, tol: &Tolerance<T, D>) -> T {
+        if D == 0 {
+            return T::zero();
+        }
+        let cc = |v: f64| c::<T>(v);
+        let (k, x_new) = (&self.k, &self.x_new);
+        let mut r = [T::zero(); D];
+        for (i, ri) in r.iter_mut().enumerate() {
+            let e = (k[0][i] * cc(E1)
+                + k[2][i] * cc(E3)
+                + k[3][i] * cc(E4)
+                + k[4][i] * cc(E5)
+                + k[5][i] * cc(E6)
+                + k[6][i] * cc(E7))
+                * h;
+            let sk = tol.weight(i, x[i], x_new[i]);
+            // 0·v is 0 for a finite v and NaN otherwise.
+            let zero = T::zero();
+            let finite = self.x6[i] * zero + x_new[i] * zero + k[6][i] * zero;
+            *ri = scaled(e, sk) + finite;
+        }
+        let mut sum = T::zero();
+        for ri in r {
+            sum += ri * ri;
+        }
+        (sum / c::<T>(D as f64)).sqrt()
+    }
+}
+
 impl<T, S, const D: usize> Method<T, D> for Dopri5<'_, S, T, D>
 where
     T: RealField + Copy,
@@ -192,53 +232,24 @@ where
         tol: &Tolerance<T, D>,
         stats: &mut Stats,
     ) -> Result<T, Failure> {
-        let (sys, k1) = (self.sys, self.k[0]);
-        let k2 = sys.rhs(t + h * c::<T>(C2), &(x + k1 * (h * c::<T>(A21))));
-        let k3 = sys.rhs(
-            t + h * c::<T>(C3),
-            &(x + (k1 * c::<T>(A31) + k2 * c::<T>(A32)) * h),
-        );
-        let k4 = sys.rhs(
-            t + h * c::<T>(C4),
-            &(x + (k1 * c::<T>(A41) + k2 * c::<T>(A42) + k3 * c::<T>(A43)) * h),
-        );
-        let k5 = sys.rhs(
-            t + h * c::<T>(C5),
-            &(x + (k1 * c::<T>(A51) + k2 * c::<T>(A52) + k3 * c::<T>(A53) + k4 * c::<T>(A54)) * h),
-        );
-        let x6 = x
-            + (k1 * c::<T>(A61)
-                + k2 * c::<T>(A62)
-                + k3 * c::<T>(A63)
-                + k4 * c::<T>(A64)
-                + k5 * c::<T>(A65))
-                * h;
-        let k6 = sys.rhs(t_new, &x6);
-        let x_new = x
-            + (k1 * c::<T>(A71)
-                + k3 * c::<T>(A73)
-                + k4 * c::<T>(A74)
-                + k5 * c::<T>(A75)
-                + k6 * c::<T>(A76))
-                * h;
-        let k7 = sys.rhs(t_new, &x_new);
+        let sys = self.sys;
+        let cc = |v: f64| c::<T>(v);
+        let k = &mut self.k;
+        k[1] = sys.rhs(t + h * cc(C2), &(x + k[0] * (h * cc(A21))));
+        let point = stage_point(x, k, [(0, A31), (1, A32)], h);
+        k[2] = sys.rhs(t + h * cc(C3), &point);
+        let point = stage_point(x, k, [(0, A41), (1, A42), (2, A43)], h);
+        k[3] = sys.rhs(t + h * cc(C4), &point);
+        let point = stage_point(x, k, [(0, A51), (1, A52), (2, A53), (3, A54)], h);
+        k[4] = sys.rhs(t + h * cc(C5), &point);
+        let terms = [(0, A61), (1, A62), (2, A63), (3, A64), (4, A65)];
+        self.x6 = stage_point(x, k, terms, h);
+        k[5] = sys.rhs(t_new, &self.x6);
+        let terms = [(0, A71), (2, A73), (3, A74), (4, A75), (5, A76)];
+        self.x_new = stage_point(x, k, terms, h);
+        k[6] = sys.rhs(t_new, &self.x_new);
         stats.rhs_evals += 6;
-        self.k = [k1, k2, k3, k4, k5, k6, k7];
-        (self.x6, self.x_new) = (x6, x_new);
-        // `x6` combines k1 … k5 and `x_new` k1, k3 … k6, all with non-zero
-        // weights, so (in IEEE arithmetic) these three vectors are finite
-        // only if every stage is.
-        if !all_finite_in(&[x6, x_new, k7]) {
-            return Err(Failure::NonFinite);
-        }
-        let err_vec = (k1 * c::<T>(E1)
-            + k3 * c::<T>(E3)
-            + k4 * c::<T>(E4)
-            + k5 * c::<T>(E5)
-            + k6 * c::<T>(E6)
-            + k7 * c::<T>(E7))
-            * h;
-        Ok(error_norm(&err_vec, x, &x_new, tol))
+        Ok(self.error(x, h, tol))
     }
 
     fn x_new(&self) -> &SVector<T, D> {
