@@ -8,16 +8,21 @@
 //! cargo build --release -p nh-lab --example step_overhead
 //! valgrind --tool=callgrind --toggle-collect='step_overhead::integrate_*' \
 //!     target/release/examples/step_overhead dop853 thesis 1e-8
-//! callgrind_annotate --inclusive=yes callgrind.out.<pid> | grep -E 'PROGRAM|Timed::'
+//! callgrind_annotate --inclusive=yes callgrind.out.<pid> | grep -E 'PROGRAM|Timed'
 //! ```
+//!
+//! Own work per attempt = (instructions of `integrate_*` − inclusive
+//! instructions of `Timed::rhs` and `Timed::jacobian`) / (steps + rejected).
 //!
 //! Arguments: method (`dopri5`, `dop853`, `rodas4`, `rodas5p`), problem
 //! (`thesis`, `rolling`, `stiff`), rtol (atol = 0.01·rtol, as in the
 //! side-by-side), and optionally the number of repeated runs (default 1).
-//! Prints the run's statistics and final state (to check that a change to
-//! the runtime leaves the step sequence as it was). Own work per step =
-//! (instructions of `integrate_*` − inclusive instructions of
-//! `Timed::rhs` and `Timed::jacobian`) / (steps + rejected).
+//! With the suffix `-inlined` on the method the system's functions are
+//! inlined, as in the side-by-side's runs; its own work is its instructions
+//! less those the never-inlined run counts in `Timed::rhs` and
+//! `Timed::jacobian` (the same states, the same calls). Prints the run's
+//! statistics and final state (to check that a change to the runtime leaves
+//! the step sequence as it was) and a rough wall time.
 use nh_lab::systems::{RollingDisc, StiffDisc, ThesisDisc};
 use nonholonomic::prelude::*;
 use std::hint::black_box;
@@ -26,22 +31,33 @@ use std::hint::black_box;
 /// profile (never inlined into the method).
 struct Timed<'a, S>(&'a S);
 
-impl<S: OdeSystem<f64, 8>> OdeSystem<f64, 8> for Timed<'_, S> {
-    #[inline(never)]
-    fn rhs(&self, t: f64, x: &SVector<f64, 8>) -> SVector<f64, 8> {
-        self.0.rhs(t, x)
-    }
-    fn is_autonomous(&self) -> bool {
-        self.0.is_autonomous()
-    }
+/// The same system with its right-hand side and Jacobian inlined, as in
+/// the side-by-side's runs.
+struct Inlined<'a, S>(&'a S);
+
+macro_rules! wrapper {
+    ($name:ident, $inline:meta) => {
+        impl<S: OdeSystem<f64, 8>> OdeSystem<f64, 8> for $name<'_, S> {
+            #[$inline]
+            fn rhs(&self, t: f64, x: &SVector<f64, 8>) -> SVector<f64, 8> {
+                self.0.rhs(t, x)
+            }
+            fn is_autonomous(&self) -> bool {
+                self.0.is_autonomous()
+            }
+        }
+
+        impl<S: OdeJacobian<f64, 8>> OdeJacobian<f64, 8> for $name<'_, S> {
+            #[$inline]
+            fn jacobian(&self, t: f64, x: &SVector<f64, 8>) -> SMatrix<f64, 8, 8> {
+                self.0.jacobian(t, x)
+            }
+        }
+    };
 }
 
-impl<S: OdeJacobian<f64, 8>> OdeJacobian<f64, 8> for Timed<'_, S> {
-    #[inline(never)]
-    fn jacobian(&self, t: f64, x: &SVector<f64, 8>) -> SMatrix<f64, 8, 8> {
-        self.0.jacobian(t, x)
-    }
-}
+wrapper!(Timed, inline(never));
+wrapper!(Inlined, inline);
 
 type Run = Result<Outcome<f64, 8>, SimError<f64, 8>>;
 
@@ -83,7 +99,8 @@ fn state(q: [f64; 5], rdot: [f64; 3]) -> SVector<f64, 8> {
     SVector::<f64, 8>::from_fn(|i, _| if i < 5 { q[i] } else { rdot[i - 5] })
 }
 
-/// Runs `method` `repeats` times on `sys` and prints the last outcome.
+/// Runs `method` (`-inlined`: with the system's functions inlined)
+/// `repeats` times on `sys` and prints the last outcome.
 fn run<S: OdeJacobian<f64, 8>>(
     sys: &S,
     x0: SVector<f64, 8>,
@@ -92,18 +109,37 @@ fn run<S: OdeJacobian<f64, 8>>(
     rtol: f64,
     repeats: usize,
 ) {
-    let timed = Timed(sys);
-    let f = match method {
-        "dopri5" => integrate_dopri5::<Timed<S>>,
-        "dop853" => integrate_dop853::<Timed<S>>,
-        "rodas4" => integrate_rodas4::<Timed<S>>,
-        "rodas5p" => integrate_rodas5p::<Timed<S>>,
-        other => panic!("unknown method {other}"),
+    let (name, inlined) = match method.strip_suffix("-inlined") {
+        Some(name) => (name, true),
+        None => (method, false),
     };
+    if inlined {
+        let f = match name {
+            "dopri5" => integrate_dopri5::<Inlined<S>>,
+            "dop853" => integrate_dop853::<Inlined<S>>,
+            "rodas4" => integrate_rodas4::<Inlined<S>>,
+            "rodas5p" => integrate_rodas5p::<Inlined<S>>,
+            other => panic!("unknown method {other}"),
+        };
+        repeat(|| f(black_box(&Inlined(sys)), black_box(x0), t1, rtol), method, rtol, repeats);
+    } else {
+        let f = match name {
+            "dopri5" => integrate_dopri5::<Timed<S>>,
+            "dop853" => integrate_dop853::<Timed<S>>,
+            "rodas4" => integrate_rodas4::<Timed<S>>,
+            "rodas5p" => integrate_rodas5p::<Timed<S>>,
+            other => panic!("unknown method {other}"),
+        };
+        repeat(|| f(black_box(&Timed(sys)), black_box(x0), t1, rtol), method, rtol, repeats);
+    }
+}
+
+/// Runs `f` `repeats` times and prints the last outcome.
+fn repeat(f: impl Fn() -> Run, method: &str, rtol: f64, repeats: usize) {
     let mut last = None;
     let start = std::time::Instant::now();
     for _ in 0..repeats {
-        last = Some(f(black_box(&timed), black_box(x0), t1, rtol));
+        last = Some(f());
     }
     let seconds = start.elapsed().as_secs_f64() / repeats as f64;
     let out = last.expect("at least one run").expect("the run succeeds");
