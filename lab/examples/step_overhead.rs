@@ -121,7 +121,12 @@ fn run<S: OdeJacobian<f64, 8>>(
             "rodas5p" => integrate_rodas5p::<Inlined<S>>,
             other => panic!("unknown method {other}"),
         };
-        repeat(|| f(black_box(&Inlined(sys)), black_box(x0), t1, rtol), method, rtol, repeats);
+        repeat(
+            || f(black_box(&Inlined(sys)), black_box(x0), t1, rtol),
+            method,
+            rtol,
+            repeats,
+        );
     } else {
         let f = match name {
             "dopri5" => integrate_dopri5::<Timed<S>>,
@@ -130,7 +135,12 @@ fn run<S: OdeJacobian<f64, 8>>(
             "rodas5p" => integrate_rodas5p::<Timed<S>>,
             other => panic!("unknown method {other}"),
         };
-        repeat(|| f(black_box(&Timed(sys)), black_box(x0), t1, rtol), method, rtol, repeats);
+        repeat(
+            || f(black_box(&Timed(sys)), black_box(x0), t1, rtol),
+            method,
+            rtol,
+            repeats,
+        );
     }
 }
 
