@@ -280,16 +280,16 @@ where
 {
     /// The new state `x + h·Σ b_j k_j` into `self.x_new`, and Hairer's
     /// error estimate: the 5th-order estimator damped by the 3rd,
-    /// `|h|·E5² / sqrt(D·(E5² + 0.01·E3²))`; NaN if `x12`, `x_new` or the
-    /// stages 2, 3 are not finite (they hold every stage with a non-zero
-    /// weight). One pass over the components.
+    /// `|h|·E5² / sqrt(D·(E5² + 0.01·E3²))`; `None` if `x12`, `x_new` or
+    /// the stages 2, 3 are not finite (they hold every stage with a
+    /// non-zero weight). One pass over the components.
     #[inline(always)]
-    fn advance_and_error(&mut self, x: &SVector<T, D>, h: T, tol: &Tolerance<T, D>) -> T {
+    fn advance_and_error(&mut self, x: &SVector<T, D>, h: T, tol: &Tolerance<T, D>) -> Option<T> {
         let cc = |v: f64| c::<T>(v);
         let k = &self.k;
         // The scaled estimators and the finiteness test component by
         // component (a loop the compiler vectorises), then the sums in order.
-        let (mut r3, mut r5) = ([T::zero(); D], [T::zero(); D]);
+        let (mut r3, mut r5, mut finite) = ([T::zero(); D], [T::zero(); D], [T::zero(); D]);
         for i in 0..D {
             let kb = k[0][i] * cc(B1)
                 + k[5][i] * cc(B6)
@@ -311,11 +311,13 @@ where
                 + k[10][i] * cc(ER11)
                 + k[11][i] * cc(ER12);
             let sk = tol.weight(i, x[i], x_new);
-            // 0·v is 0 for a finite v and NaN otherwise: a non-finite stage
-            // makes the estimate NaN (adding 0 leaves r5 as it is).
+            (r3[i], r5[i]) = (scaled(e3, sk), scaled(e5, sk));
+            // 0·v is 0 for a finite v and NaN otherwise.
             let zero = T::zero();
-            let finite = k[1][i] * zero + k[2][i] * zero + self.x12[i] * zero + x_new * zero;
-            (r3[i], r5[i]) = (scaled(e3, sk), scaled(e5, sk) + finite);
+            finite[i] = k[1][i] * zero + k[2][i] * zero + self.x12[i] * zero + x_new * zero;
+        }
+        if finite.iter().fold(T::zero(), |sum, &z| sum + z) != T::zero() {
+            return None;
         }
         let (mut err5, mut err3) = (T::zero(), T::zero());
         for i in 0..D {
@@ -327,9 +329,9 @@ where
             deno = T::one();
         }
         if D == 0 {
-            T::zero()
+            Some(T::zero())
         } else {
-            h.abs() * err5 * (T::one() / (c::<T>(D as f64) * deno)).sqrt()
+            Some(h.abs() * err5 * (T::one() / (c::<T>(D as f64) * deno)).sqrt())
         }
     }
 }
@@ -423,8 +425,7 @@ where
         self.x12 = stage_point(x, k, terms, h);
         k[11] = sys.rhs(t_new, &self.x12);
         stats.rhs_evals += 11;
-        // (A NaN estimate is a non-finite trial for the driver.)
-        Ok(self.advance_and_error(x, h, tol))
+        self.advance_and_error(x, h, tol).ok_or(Failure::NonFinite)
     }
 
     /// FSAL: the derivative at the new point, only for accepted steps.

@@ -168,18 +168,15 @@ where
 {
     /// The error estimate `h·Σ e_j k_j` in the norm of
     /// [`error_norm`](crate::tolerance::error_norm), component by component
-    /// with the same rounding; NaN if `x6`, `x_new` or `k7` is not finite
-    /// (`x6` combines k1 … k5 and `x_new` k1, k3 … k6, all with non-zero
-    /// weights, so these three are finite only if every stage is).
+    /// with the same rounding; `None` if `x6`, `x_new` or `k7` is not
+    /// finite (`x6` combines k1 … k5 and `x_new` k1, k3 … k6, all with
+    /// non-zero weights, so these three are finite only if every stage is).
     #[inline(always)]
-    fn error(&self, x: &SVector<T, D>, h: T, tol: &Tolerance<T, D>) -> T {
-        if D == 0 {
-            return T::zero();
-        }
+    fn error(&self, x: &SVector<T, D>, h: T, tol: &Tolerance<T, D>) -> Option<T> {
         let cc = |v: f64| c::<T>(v);
         let (k, x_new) = (&self.k, &self.x_new);
-        let mut r = [T::zero(); D];
-        for (i, ri) in r.iter_mut().enumerate() {
+        let (mut r, mut finite) = ([T::zero(); D], [T::zero(); D]);
+        for i in 0..D {
             let e = (k[0][i] * cc(E1)
                 + k[2][i] * cc(E3)
                 + k[3][i] * cc(E4)
@@ -188,16 +185,22 @@ where
                 + k[6][i] * cc(E7))
                 * h;
             let sk = tol.weight(i, x[i], x_new[i]);
+            r[i] = scaled(e, sk);
             // 0·v is 0 for a finite v and NaN otherwise.
             let zero = T::zero();
-            let finite = self.x6[i] * zero + x_new[i] * zero + k[6][i] * zero;
-            *ri = scaled(e, sk) + finite;
+            finite[i] = self.x6[i] * zero + x_new[i] * zero + k[6][i] * zero;
+        }
+        if finite.iter().fold(T::zero(), |sum, &z| sum + z) != T::zero() {
+            return None;
+        }
+        if D == 0 {
+            return Some(T::zero());
         }
         let mut sum = T::zero();
         for ri in r {
             sum += ri * ri;
         }
-        (sum / c::<T>(D as f64)).sqrt()
+        Some((sum / c::<T>(D as f64)).sqrt())
     }
 }
 
@@ -249,7 +252,7 @@ where
         self.x_new = stage_point(x, k, terms, h);
         k[6] = sys.rhs(t_new, &self.x_new);
         stats.rhs_evals += 6;
-        Ok(self.error(x, h, tol))
+        self.error(x, h, tol).ok_or(Failure::NonFinite)
     }
 
     fn x_new(&self) -> &SVector<T, D> {
