@@ -225,7 +225,8 @@ fn main() {
         }
         "stiff" => {
             let k = 1e6;
-            let c = 2.0 * (k * 1.25 * m * r * r as f64).sqrt();
+            let inertia = 1.25 * m * r * r; // as in the side-by-side
+            let c = 2.0 * (k * inertia).sqrt();
             let x0 = state([0.0, 0.0, 0.3, 0.0, 0.0], [6.0, 20.0, 0.5]);
             let sys = StiffDisc::new(m, r, g, k, c, 0.2);
             run(&sys, x0, 1.0, method, rtol, repeats);
