@@ -145,8 +145,14 @@ fn run<S: OdeJacobian<f64, 8>>(
         );
     }
     if repeats > 1 {
-        let rhs = rhs_seconds(&Inlined(sys), &states_along(sys, x0, t1));
-        println!("fastest RHS {:.1} ns per call", rhs * 1e9);
+        let states = states_along(sys, x0, t1);
+        let rhs = rhs_seconds(&Inlined(sys), &states);
+        let chained = chained_rhs_seconds(&Inlined(sys), &states);
+        println!(
+            "fastest RHS {:.1} ns per call, {:.1} ns per call in a chain of dependent calls",
+            rhs * 1e9,
+            chained * 1e9
+        );
     }
 }
 
@@ -161,6 +167,27 @@ fn rhs_seconds<S: OdeSystem<f64, 8>>(sys: &S, states: &[(f64, SVector<f64, 8>)])
                 for (t, x) in states {
                     black_box(sys.rhs(black_box(*t), black_box(x)));
                 }
+            }
+            start.elapsed().as_secs_f64() / calls as f64
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The fastest of 50 chains of calls of `sys.rhs`, per call (seconds): each
+/// call's argument depends on the previous call's result (`x + 1e-9·f`, as
+/// a Runge–Kutta stage depends on the one before), so that the calls cannot
+/// overlap as the independent calls of [`rhs_seconds`] can.
+fn chained_rhs_seconds<S: OdeSystem<f64, 8>>(sys: &S, states: &[(f64, SVector<f64, 8>)]) -> f64 {
+    let calls = 100 * states.len();
+    (0..50)
+        .map(|_| {
+            let start = std::time::Instant::now();
+            for (t, x) in states {
+                let mut y = *x;
+                for _ in 0..100 {
+                    y += sys.rhs(*t, &y) * 1e-9;
+                }
+                black_box(y);
             }
             start.elapsed().as_secs_f64() / calls as f64
         })
