@@ -397,8 +397,9 @@ impl<T: RealField + Copy> Controller<T> {
 
 /// `v^expo`: by square roots for the exponents 1/2, 1/4 and 1/8 of DOP853 and
 /// RODAS4's controllers (a few instructions instead of a `powf`; within an
-/// ulp or two of it), by `powf` otherwise. `expo` is a constant of the
-/// method, so the choice folds away.
+/// ulp or two of it), 1 for the exponent 0 of a method that proposes its own
+/// steps, by `powf` otherwise. `expo` is a constant of the method, so the
+/// choice folds away.
 #[inline(always)]
 fn root<T: RealField + Copy>(v: T, expo: f64) -> T {
     if expo == 0.0 {
