@@ -242,21 +242,12 @@ fn knife_edge() -> Scene<KnifeEdge, 5> {
 /// Bulirsch–Stoer, 16 digits), with the difference of Gauss–Legendre at
 /// h = 1e-4 as its cross-check.
 fn stiff_disc() -> (Scene<StiffDisc, 8>, f64) {
-    let (m, r) = (1.7, 0.35);
-    let inertia = 1.25 * m * r * r; // the lean's inertia in the thesis model
-    let k = 1e6;
-    let sys: StiffDisc = StiffDisc::new(m, r, 9.81, k, 2.0 * (k * inertia).sqrt(), 0.2);
-    let x0: SVector<f64, 8> = state([0.0, 0.0, 0.3, 0.0, 0.0], [6.0, 20.0, 0.5]);
-    let t1 = 1.0;
-    let reference = state(
-        [
-            3.5396566823792241,
-            21.211305486216771,
-            0.20000409189806110,
-            0.042010152020332791,
-            0.099871982988029790,
-        ],
-        [3.5370733851093618, 21.212485074748761, 0.0],
+    use nh_lab::scenes::stiff_disc as scene;
+    let (sys, x0, t1, reference) = (
+        scene::system(),
+        scene::initial_state(),
+        scene::END,
+        scene::reference(),
     );
     let check = GaussLegendre4::new(1e-4)
         .integrate_with_jacobian(&sys, 0.0, x0, t1)

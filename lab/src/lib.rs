@@ -7,6 +7,8 @@
 //! * [`systems`] — the ready-made scenes (the thesis's rolling disc, the
 //!   physically correct thin disc, a stiff disc, the Chaplygin sled, the
 //!   knife edge on an incline) used by the examples, tests and benchmarks.
+//! * [`scenes`] — scenes with an independent reference (the stiff disc's
+//!   state at its end, from SymPy and mpmath), for the tests and reports.
 //! * [`stability`] — the stability suite: named cases with explicit expected
 //!   outcomes (`tests/stability.rs` asserts every row;
 //!   `cargo run --release -p nh-lab --example stability_report` prints them).
@@ -31,5 +33,6 @@
 #![warn(missing_docs)]
 
 pub mod report;
+pub mod scenes;
 pub mod stability;
 pub mod systems;

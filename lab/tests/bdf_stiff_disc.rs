@@ -2,35 +2,8 @@
 //! damped, t ∈ [0, 1], as in `tight_tolerances.rs` and the side-by-side
 //! benchmark), against the independent 16-digit reference of
 //! `tests/data/stiff_disc_reference.py`.
-#![allow(clippy::excessive_precision)] // the reference's digits, kept as computed
-use nh_lab::systems::StiffDisc;
+use nh_lab::scenes::stiff_disc::{initial_state as x0, reference, system as stiff_disc};
 use nonholonomic::prelude::*;
-
-type State = SVector<f64, 8>;
-
-fn stiff_disc() -> StiffDisc {
-    let (m, r, k) = (1.7, 0.35, 1e6);
-    let inertia = 1.25 * m * r * r;
-    StiffDisc::new(m, r, 9.81, k, 2.0 * (k * inertia).sqrt(), 0.2)
-}
-
-fn x0() -> State {
-    State::from([0.0, 0.0, 0.3, 0.0, 0.0, 6.0, 20.0, 0.5])
-}
-
-/// The state at t = 1 (see `tight_tolerances.rs`).
-fn reference() -> State {
-    State::from([
-        3.5396566823792241,
-        21.211305486216771,
-        0.20000409189806110,
-        0.042010152020332791,
-        0.099871982988029790,
-        3.5370733851093618,
-        21.212485074748761,
-        0.0,
-    ])
-}
 
 /// Right-hand sides plus Jacobians of a run.
 fn evaluations(stats: &Stats) -> usize {

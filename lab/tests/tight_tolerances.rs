@@ -3,41 +3,8 @@
 //! against an independent 16-digit reference: the final error follows the
 //! tolerance down to rtol 1e-13, a tolerance below the methods' reach is a
 //! typed outcome, and an error of 1e-9 costs at most 2,000 evaluations.
-#![allow(clippy::excessive_precision)] // the reference's digits, kept as computed
-use nh_lab::systems::StiffDisc;
+use nh_lab::scenes::stiff_disc::{State, initial_state as x0, reference, system as stiff_disc};
 use nonholonomic::prelude::*;
-
-type State = SVector<f64, 8>;
-
-/// The stiff disc of `lab/examples/work_precision.rs`.
-fn stiff_disc() -> StiffDisc {
-    let (m, r, k) = (1.7, 0.35, 1e6);
-    let inertia = 1.25 * m * r * r;
-    StiffDisc::new(m, r, 9.81, k, 2.0 * (k * inertia).sqrt(), 0.2)
-}
-
-/// (θ, φ, ψ, x, y, θ̇, φ̇, ψ̇) at t = 0.
-fn x0() -> State {
-    State::from([0.0, 0.0, 0.3, 0.0, 0.0, 6.0, 20.0, 0.5])
-}
-
-/// The state at t = 1 by `tests/data/stiff_disc_reference.py`: the
-/// equations derived there with SymPy (Lagrange multipliers eliminated by
-/// the null space of the rolling constraints), integrated in mpmath at 24
-/// digits by Gragg–Bulirsch–Stoer extrapolation of order 10 (order 8
-/// differs by < 3e-17). Dop853 at rtol 1e-14 differs by 5e-14.
-fn reference() -> State {
-    State::from([
-        3.5396566823792241,
-        21.211305486216771,
-        0.20000409189806110,
-        0.042010152020332791,
-        0.099871982988029790,
-        3.5370733851093618,
-        21.212485074748761,
-        0.0,
-    ])
-}
 
 /// The final error relative to `rtol` times the largest component.
 fn error_over_tolerance(x: &State, rtol: f64) -> f64 {
