@@ -1,43 +1,11 @@
 //! Automatic stiffness switching (`AutoSwitch`): where it switches, what it
 //! costs and how accurate it is, against independent references.
 
-use nalgebra::{Matrix2, Vector1, Vector2};
-use nh_runtime::{
-    AutoSwitch, DormandPrince, Integrator, OdeJacobian, OdeSystem, Regime, Rosenbrock, SimError,
-    Switch,
-};
+mod common;
 
-/// Van der Pol in the scaling of the Test Set for IVP Solvers (problem
-/// VDPOL): `y1' = y2`, `y2' = ((1 − y1²) y2 − y1)/ε`, `ε = 1e-6`, which is
-/// `μ = 1000` with time measured in units of `μ`.
-struct VanDerPol;
-
-const EPS: f64 = 1e-6;
-
-impl OdeSystem<f64, 2> for VanDerPol {
-    fn rhs(&self, _t: f64, y: &Vector2<f64>) -> Vector2<f64> {
-        Vector2::new(y[1], ((1.0 - y[0] * y[0]) * y[1] - y[0]) / EPS)
-    }
-    fn is_autonomous(&self) -> bool {
-        true
-    }
-}
-
-impl OdeJacobian<f64, 2> for VanDerPol {
-    fn jacobian(&self, _t: f64, y: &Vector2<f64>) -> Matrix2<f64> {
-        Matrix2::new(
-            0.0,
-            1.0,
-            (-2.0 * y[0] * y[1] - 1.0) / EPS,
-            (1.0 - y[0] * y[0]) / EPS,
-        )
-    }
-}
-
-/// The state of VDPOL at `t = 2` from `y(0) = (2, 0)`, from the Test Set
-/// for IVP Solvers (Mazzia & Magherini, University of Bari, `vdpol.f`,
-/// `solut`): RADAU in extended precision, `rtol = atol = h0 = 1.1e-18`.
-const VDPOL_AT_2: [f64; 2] = [1.706167732170483, -0.8928097010247975];
+use common::{VDPOL_AT_2, VanDerPolTestSet};
+use nalgebra::{Vector1, Vector2};
+use nh_runtime::{AutoSwitch, DormandPrince, Integrator, Regime, Rosenbrock, SimError, Switch};
 
 /// Half the period of the relaxation oscillation in VDPOL's time, from the
 /// asymptotic expansion `T = (3 − 2 ln 2) μ + 3 a μ^(−1/3)` (`a = 2.33811`,
@@ -72,7 +40,7 @@ fn van_der_pol_switches_at_its_phases() {
         let mut auto = AutoSwitch::new(rtol, rtol);
         let mut ends = Vec::new();
         let out = auto
-            .integrate_with_jacobian_and_steps(&VanDerPol, 0.0, y0, 2.0, |s| {
+            .integrate_with_jacobian_and_steps(&VanDerPolTestSet, 0.0, y0, 2.0, |s| {
                 ends.push((s.t(), *s.x()))
             })
             .unwrap();
@@ -123,10 +91,10 @@ fn van_der_pol_costs_less_than_either_member() {
     for rtol in [1e-4, 1e-6, 1e-8] {
         let mut auto = AutoSwitch::new(rtol, rtol);
         let a = auto
-            .integrate_with_jacobian(&VanDerPol, 0.0, y0, 2.0)
+            .integrate_with_jacobian(&VanDerPolTestSet, 0.0, y0, 2.0)
             .unwrap();
         let r = Rosenbrock::new(rtol, rtol)
-            .integrate_with_jacobian(&VanDerPol, 0.0, y0, 2.0)
+            .integrate_with_jacobian(&VanDerPolTestSet, 0.0, y0, 2.0)
             .unwrap();
         let work = |s: nh_runtime::Stats| s.rhs_evals + s.jacobian_evals;
         println!(
@@ -146,7 +114,7 @@ fn van_der_pol_costs_less_than_either_member() {
         let budget = 100 * (a.stats.steps + a.stats.rejected);
         let dp = DormandPrince::new(rtol, rtol)
             .with_max_steps(budget)
-            .integrate(&VanDerPol, 0.0, y0, 2.0);
+            .integrate(&VanDerPolTestSet, 0.0, y0, 2.0);
         assert!(matches!(dp, Err(SimError::MaxSteps { .. })), "{dp:?}");
     }
 }
@@ -155,10 +123,10 @@ fn van_der_pol_costs_less_than_either_member() {
 fn finite_difference_jacobian_switches_alike() {
     let y0 = Vector2::new(2.0, 0.0);
     let mut auto = AutoSwitch::new(1e-6, 1e-6);
-    let fd = auto.integrate(&VanDerPol, 0.0, y0, 2.0).unwrap();
+    let fd = auto.integrate(&VanDerPolTestSet, 0.0, y0, 2.0).unwrap();
     let fd_switches = auto.last_switches().to_vec();
     let an = auto
-        .integrate_with_jacobian(&VanDerPol, 0.0, y0, 2.0)
+        .integrate_with_jacobian(&VanDerPolTestSet, 0.0, y0, 2.0)
         .unwrap();
     assert_eq!(fd_switches.len(), auto.last_switches().len());
     for (a, b) in fd_switches.iter().zip(auto.last_switches()) {
@@ -242,7 +210,7 @@ fn the_switch_log_is_per_call_and_survives_a_failure() {
     let mut auto = AutoSwitch::new(1e-6, 1e-6).with_max_steps(300);
     let y0 = Vector2::new(2.0, 0.0);
     let err = auto
-        .integrate_with_jacobian(&VanDerPol, 0.0, y0, 2.0)
+        .integrate_with_jacobian(&VanDerPolTestSet, 0.0, y0, 2.0)
         .unwrap_err();
     assert!(matches!(err, SimError::MaxSteps { .. }));
     // The first switch (to stiff) happened before the budget ran out.

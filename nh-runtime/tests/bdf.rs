@@ -3,7 +3,10 @@
 //! Pol (VDPOL, ε = 1e-6) and Robertson's kinetics from the stiff test sets,
 //! the dense output, a terminal event, and the typed failures.
 
-use nalgebra::{Matrix2, Matrix3, Vector1, Vector2, Vector3};
+mod common;
+
+use common::{ROBER_AT_40, Robertson, VDPOL_AT_2, VanDerPolTestSet};
+use nalgebra::{Matrix3, Vector1, Vector2, Vector3};
 use nh_runtime::{Bdf, Direction, Events, Integrator, OdeJacobian, OdeSystem, Rodas5P, SimError};
 
 /// A stiff linear system with a closed form: `x1' = −x1`,
@@ -92,34 +95,6 @@ fn finite_differences_and_the_analytic_jacobian_agree() {
     );
 }
 
-/// Van der Pol in the scaling of the Test Set for IVP Solvers (problem
-/// VDPOL): `y1' = y2`, `y2' = ((1 − y1²) y2 − y1)/ε`, `ε = 1e-6`.
-struct VanDerPol;
-
-const EPS: f64 = 1e-6;
-
-impl OdeSystem<f64, 2> for VanDerPol {
-    fn rhs(&self, _t: f64, y: &Vector2<f64>) -> Vector2<f64> {
-        Vector2::new(y[1], ((1.0 - y[0] * y[0]) * y[1] - y[0]) / EPS)
-    }
-}
-
-impl OdeJacobian<f64, 2> for VanDerPol {
-    fn jacobian(&self, _t: f64, y: &Vector2<f64>) -> Matrix2<f64> {
-        Matrix2::new(
-            0.0,
-            1.0,
-            (-2.0 * y[0] * y[1] - 1.0) / EPS,
-            (1.0 - y[0] * y[0]) / EPS,
-        )
-    }
-}
-
-/// The state of VDPOL at `t = 2` from `y(0) = (2, 0)`, from the Test Set
-/// for IVP Solvers (Mazzia & Magherini, University of Bari, `vdpol.f`,
-/// `solut`): RADAU in extended precision.
-const VDPOL_AT_2: [f64; 2] = [1.706167732170483, -0.8928097010247975];
-
 /// Measured (rtol = atol): error/rtol 5.5, 7.5, 3.8, 8.1, 19, 22 at rtol
 /// 1e-4 … 1e-9 (637 … 3,605 steps, 1,315 … 5,658 right-hand sides and 54 …
 /// 65 Jacobians). The error at t = 2 is mostly the error in the time of the
@@ -133,7 +108,7 @@ fn van_der_pol_matches_the_test_set() {
     let reference = Vector2::from(VDPOL_AT_2);
     for rtol in [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9] {
         let out = Bdf::new(rtol, rtol)
-            .integrate_with_jacobian(&VanDerPol, 0.0, y0, 2.0)
+            .integrate_with_jacobian(&VanDerPolTestSet, 0.0, y0, 2.0)
             .unwrap();
         let error = (out.x - reference).amax();
         println!(
@@ -146,44 +121,13 @@ fn van_der_pol_matches_the_test_set() {
     }
 }
 
-/// Robertson's chemical kinetics (Hairer & Wanner's ROBER).
-struct Robertson;
-
-impl OdeSystem<f64, 3> for Robertson {
-    fn rhs(&self, _t: f64, y: &Vector3<f64>) -> Vector3<f64> {
-        let r1 = 0.04 * y[0];
-        let r2 = 1e4 * y[1] * y[2];
-        let r3 = 3e7 * y[1] * y[1];
-        Vector3::new(-r1 + r2, r1 - r2 - r3, r3)
-    }
-    fn is_autonomous(&self) -> bool {
-        true
-    }
-}
-
-impl OdeJacobian<f64, 3> for Robertson {
-    fn jacobian(&self, _t: f64, y: &Vector3<f64>) -> Matrix3<f64> {
-        Matrix3::new(
-            -0.04,
-            1e4 * y[2],
-            1e4 * y[1],
-            0.04,
-            -1e4 * y[2] - 6e7 * y[1],
-            -1e4 * y[1],
-            0.0,
-            6e7 * y[1],
-            0.0,
-        )
-    }
-}
-
 /// ROBER at t = 40 (Hairer & Wanner, *Solving ODEs II*, IV.10, 7 digits)
 /// and, far into the slow regime, against Rodas5P at rtol 1e-12 (an
 /// independent method) at t = 4e10.
 #[test]
 fn robertson_matches_the_published_values() {
     let y0 = Vector3::new(1.0, 0.0, 0.0);
-    let published = Vector3::new(0.7158271, 9.185535e-6, 0.2841637);
+    let published = Vector3::from(ROBER_AT_40);
     for rtol in [1e-6, 1e-8] {
         let mut bdf = Bdf::new(rtol, 1e-6 * rtol);
         let out = bdf
@@ -295,7 +239,7 @@ fn failures_are_typed_values() {
     }
     let e = Bdf::new(1e-6, 1e-9)
         .with_max_steps(10)
-        .integrate_with_jacobian(&VanDerPol, 0.0, Vector2::new(2.0, 0.0), 2.0)
+        .integrate_with_jacobian(&VanDerPolTestSet, 0.0, Vector2::new(2.0, 0.0), 2.0)
         .unwrap_err();
     assert!(matches!(e, SimError::MaxSteps { steps: 10, .. }), "{e:?}");
 }
@@ -359,7 +303,7 @@ fn van_der_pol_has_no_outlier_on_a_ladder_of_tolerances() {
         let rtol = 10f64.powf(-4.0 - k as f64 / 4.0);
         for atol in [rtol, rtol * 1e-2] {
             let out = Bdf::new(rtol, atol)
-                .integrate_with_jacobian(&VanDerPol, 0.0, y0, 2.0)
+                .integrate_with_jacobian(&VanDerPolTestSet, 0.0, y0, 2.0)
                 .unwrap();
             let ratio = (out.x - reference).amax() / rtol;
             assert!(ratio <= 30.0, "rtol {rtol:e}, atol {atol:e}: {ratio}");
