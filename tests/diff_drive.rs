@@ -60,11 +60,46 @@ fn robot_with_friction(c: f64) -> DiffDrive {
     })
 }
 
-#[test]
-fn accelerations_and_constraint_forces_agree_with_sympy() {
+/// One state of `tests/data/diff_drive.json` with SymPy's accelerations.
+struct Case {
+    q: SVector<f64, 5>,
+    rdot: SVector<f64, 2>,
+    u: SVector<f64, 2>,
+    accelerations: Vec<f64>,
+    /// The case as stored (for its other fields).
+    json: serde_json::Value,
+}
+
+/// The parameters SymPy was given and its 24 cases.
+fn sympy_cases() -> (serde_json::Value, Vec<Case>) {
     let data: serde_json::Value =
         serde_json::from_str(include_str!("data/diff_drive.json")).expect("json");
-    let p = &data["parameters"];
+    let cases = data["cases"]
+        .as_array()
+        .expect("cases")
+        .iter()
+        .map(|case| Case {
+            q: SVector::from_column_slice(&from_json(&case["q"])),
+            rdot: SVector::from_column_slice(&from_json(&case["rdot"])),
+            u: SVector::from_column_slice(&from_json(&case["inputs"])),
+            accelerations: from_json(&case["accelerations"]),
+            json: case.clone(),
+        })
+        .collect();
+    (data["parameters"].clone(), cases)
+}
+
+/// The largest error of `a` against SymPy's accelerations, relative where
+/// they exceed 1.
+fn acceleration_error(a: &SVector<f64, 2>, case: &Case) -> f64 {
+    (0..2)
+        .map(|i| (a[i] - case.accelerations[i]).abs() / case.accelerations[i].abs().max(1.0))
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn accelerations_and_constraint_forces_agree_with_sympy() {
+    let (p, cases) = sympy_cases();
     let get = |name: &str| p[name].as_f64().expect(name);
     let robot = DiffDrive::from_parameters(DiffDriveParameters {
         m: get("m"),
@@ -81,17 +116,11 @@ fn accelerations_and_constraint_forces_agree_with_sympy() {
     assert_eq!(robot, example::robot());
     let (r, b) = (robot.r, robot.b);
     let (mut worst_acc, mut worst_force) = (0.0_f64, 0.0_f64);
-    let cases = data["cases"].as_array().expect("cases");
     assert_eq!(cases.len(), 24);
-    for case in cases {
-        let q = SVector::<f64, 5>::from_column_slice(&from_json(&case["q"]));
-        let rdot = SVector::<f64, 2>::from_column_slice(&from_json(&case["rdot"]));
-        let u = SVector::<f64, 2>::from_column_slice(&from_json(&case["inputs"]));
-        let expect = from_json(&case["accelerations"]);
+    for case in &cases {
+        let (q, rdot, u) = (case.q, case.rdot, case.u);
         let a = robot.accelerations(0.0, &q, &rdot, &u);
-        for i in 0..2 {
-            worst_acc = worst_acc.max((a[i] - expect[i]).abs() / expect[i].abs().max(1.0));
-        }
+        worst_acc = worst_acc.max(acceleration_error(&a, case));
         // Cᵀλ, the constraint force on every coordinate: λ on x, y, θ;
         // on each wheel, Σ_a A^a λ_a with A^a minus the wheel rate's
         // coefficient in the constraint of x, y, θ
@@ -106,7 +135,7 @@ fn accelerations_and_constraint_forces_agree_with_sympy() {
             -(along - turn),
             -(along + turn),
         ];
-        let reference = from_json(&case["reaction_forces"]);
+        let reference = from_json(&case.json["reaction_forces"]);
         let scale = reference.iter().fold(1.0_f64, |m, f| m.max(f.abs()));
         for i in 0..5 {
             worst_force = worst_force.max((force[i] - reference[i]).abs() / scale);
@@ -124,34 +153,15 @@ fn accelerations_and_constraint_forces_agree_with_sympy() {
 /// second wheel is dropped, and the accelerations are SymPy's.
 #[test]
 fn two_rolling_wheels_on_one_axle_give_sympys_accelerations() {
-    let data: serde_json::Value =
-        serde_json::from_str(include_str!("data/diff_drive.json")).expect("json");
-    let p = &data["parameters"];
-    let get = |name: &str| p[name].as_f64().expect(name);
-    let robot = RollingWheels::new(
-        get("m"),
-        get("Ic"),
-        get("d"),
-        get("mw"),
-        get("Iw"),
-        get("Id"),
-        get("r"),
-        get("b"),
-        get("c"),
-    );
+    let p = example::robot();
+    let robot = RollingWheels::new(p.m, p.Ic, p.d, p.mw, p.Iw, p.Id, p.r, p.b, p.c);
     assert_eq!(RollingWheels::INDEPENDENT, [3, 4]);
     assert_eq!(RollingWheels::P, 3);
-    let mut worst = 0.0_f64;
-    for case in data["cases"].as_array().expect("cases") {
-        let q = SVector::<f64, 5>::from_column_slice(&from_json(&case["q"]));
-        let rdot = SVector::<f64, 2>::from_column_slice(&from_json(&case["rdot"]));
-        let u = SVector::<f64, 2>::from_column_slice(&from_json(&case["inputs"]));
-        let expect = from_json(&case["accelerations"]);
-        let a = robot.accelerations(0.0, &q, &rdot, &u);
-        for i in 0..2 {
-            worst = worst.max((a[i] - expect[i]).abs() / expect[i].abs().max(1.0));
-        }
-    }
+    let worst = sympy_cases()
+        .1
+        .iter()
+        .map(|c| acceleration_error(&robot.accelerations(0.0, &c.q, &c.rdot, &c.u), c))
+        .fold(0.0, f64::max);
     println!("two rolling wheels against SymPy: accelerations {worst:.1e}");
     assert!(worst < 1e-12, "accelerations off by {worst:.1e}");
 }
