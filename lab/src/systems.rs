@@ -22,7 +22,7 @@ nonholonomic_system! {
             dot(x) = R*cos(phi)*dot(theta);   // (6.27)
             dot(y) = R*sin(phi)*dot(theta);   // (6.28)
         }
-        outputs { energy, multipliers, curvature, constraint_matrix, jacobian, routes }
+        outputs { energy, multipliers, curvature, constraint_matrix, jacobian, routes, sensitivities }
     }
 }
 
@@ -55,7 +55,7 @@ nonholonomic_system! {
             dot(x) = R*cos(phi)*dot(theta);
             dot(y) = R*sin(phi)*dot(theta);
         }
-        outputs { energy, multipliers, curvature, constraint_matrix, jacobian }
+        outputs { energy, multipliers, curvature, constraint_matrix, jacobian, sensitivities }
     }
 }
 
