@@ -151,6 +151,38 @@ pub fn svg_work_precision(scene: &str, runs: &[Run]) -> String {
     svg
 }
 
+/// The log–log axes of a work–precision chart on `root`: time (`x`, described
+/// by `x_desc`) against the error at the final time (`y`), labelled in
+/// powers of ten.
+#[allow(clippy::type_complexity)]
+pub fn log_log_axes<'a, 'b>(
+    root: &'a DrawingArea<SVGBackend<'b>, Shift>,
+    title: &str,
+    (x, y): (Range<f64>, Range<f64>),
+    x_desc: &str,
+) -> Result<
+    ChartContext<'a, SVGBackend<'b>, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>,
+    DrawingAreaErrorKind<std::io::Error>,
+> {
+    let mut chart = ChartBuilder::on(root)
+        .caption(title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(65)
+        .build_cartesian_2d(x.log_scale(), y.log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc(x_desc)
+        .y_desc("error at the final time (max abs)")
+        .x_label_formatter(&|v| format!("{v:.0e}"))
+        .y_label_formatter(&|v| format!("{v:.0e}"))
+        .axis_desc_style(("sans-serif", 16))
+        .label_style(("sans-serif", 14))
+        .light_line_style(WHITE)
+        .draw()?;
+    Ok(chart)
+}
+
 /// Draws the chart of [`svg_work_precision`] on `root`.
 fn draw_work_precision(
     root: &DrawingArea<SVGBackend<'_>, Shift>,
@@ -167,22 +199,12 @@ fn draw_work_precision(
         root.draw_text("no data", &("sans-serif", 16).into(), (340, 200))?;
         return root.present();
     };
-    let mut chart = ChartBuilder::on(root)
-        .caption(title, ("sans-serif", 20))
-        .margin(12)
-        .x_label_area_size(45)
-        .y_label_area_size(65)
-        .build_cartesian_2d(x.log_scale(), y.log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc("wall time per integration [s] (median)")
-        .y_desc("error at the final time (max abs)")
-        .x_label_formatter(&|v| format!("{v:.0e}"))
-        .y_label_formatter(&|v| format!("{v:.0e}"))
-        .axis_desc_style(("sans-serif", 16))
-        .label_style(("sans-serif", 14))
-        .light_line_style(WHITE)
-        .draw()?;
+    let mut chart = log_log_axes(
+        root,
+        &title,
+        (x, y),
+        "wall time per integration [s] (median)",
+    )?;
     for (i, name) in integrators(runs).into_iter().enumerate() {
         let colour = COLOURS[i % COLOURS.len()];
         let mut points: Vec<(f64, f64)> = runs

@@ -255,25 +255,12 @@ fn draw(
             .chain(limit.iter().map(|p| p.0)),
     );
     let y = decades(rows.iter().map(|r| r.error));
-    let mut chart = ChartBuilder::on(root)
-        .caption(
-            format!("Work–precision: {} (ours vs peers)", info.name),
-            ("sans-serif", 20),
-        )
-        .margin(12)
-        .x_label_area_size(45)
-        .y_label_area_size(65)
-        .build_cartesian_2d(x.log_scale(), y.log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc("CPU time per integration [s] (median)")
-        .y_desc("error at the final time (max abs)")
-        .x_label_formatter(&|v| format!("{v:.0e}"))
-        .y_label_formatter(&|v| format!("{v:.0e}"))
-        .axis_desc_style(("sans-serif", 16))
-        .label_style(("sans-serif", 14))
-        .light_line_style(WHITE)
-        .draw()?;
+    let mut chart = nh_lab::report::log_log_axes(
+        root,
+        &format!("Work–precision: {} (ours vs peers)", info.name),
+        (x, y),
+        "CPU time per integration [s] (median)",
+    )?;
     for (i, (suite, name)) in analysis::methods(all, info.name).into_iter().enumerate() {
         let colour = COLOURS[i % COLOURS.len()];
         let ours = suite == Suite::Ours;
