@@ -78,6 +78,77 @@ fn chaplygin_sphere_agrees_with_sympy() {
 }
 
 nonholonomic_system! {
+    /// The same ball written as two bodies: a shell of mass m1 centred on
+    /// its geometric centre and a point mass m2 fixed in it at offset a (body
+    /// axes). The engine moves the point mass with the shell (DESIGN §10:
+    /// a centre fixed in another body's frame is folded into it).
+    pub struct WeightedShell {
+        parameters { m1, m2, r, g, a1, a2, a3, J11, J22, J33, J12, J13, J23 }
+        coordinates { yaw, pitch, roll, x, y }
+        let Q = rot_z(yaw) * rot_y(pitch) * rot_x(roll);
+        let C = [x, y, r];
+        let P = C + Q*[a1, a2, a3];
+        body shell {
+            mass: m1, centre: C, orientation: Q,
+            inertia: [[J11, J12, J13], [J12, J22, J23], [J13, J23, J33]],
+        }
+        body weight { mass: m2, centre: P }
+        lagrangian = kinetic_energy(shell) + kinetic_energy(weight) - g*(m1*C.z + m2*P.z);
+        constraints { rolls(shell, radius: r); }
+    }
+}
+
+/// The shell and weight that make up the ball of SymPy's case `p`
+/// (m, r, g, b, I about the centre of mass): a fifth of the mass in the
+/// weight at a = m b/m2, the shell's inertia what the parallel-axis theorem
+/// leaves of I.
+fn shell_and_weight(p: &SVector<f64, 12>) -> WeightedShell {
+    let (m, b) = (p[0], Vector3::new(p[3], p[4], p[5]));
+    let (m2, m1) = (0.2 * m, 0.8 * m);
+    let a = b * (m / m2);
+    let i = Matrix3::new(p[6], p[9], p[10], p[9], p[7], p[11], p[10], p[11], p[8]);
+    let steiner =
+        |mass: f64, d: Vector3<f64>| (Matrix3::identity() * d.dot(&d) - d * d.transpose()) * mass;
+    // I about G = shell's I about C shifted to G + the weight's point inertia about G
+    let j = i - steiner(m1, b) - steiner(m2, a - b);
+    WeightedShell::new(
+        m1,
+        m2,
+        p[1],
+        p[2],
+        a[0],
+        a[1],
+        a[2],
+        j[(0, 0)],
+        j[(1, 1)],
+        j[(2, 2)],
+        j[(0, 1)],
+        j[(0, 2)],
+        j[(1, 2)],
+    )
+}
+
+#[test]
+fn a_point_mass_fixed_in_a_body_agrees_with_sympy() {
+    let data: Value =
+        serde_json::from_str(include_str!("data/chaplygin_sphere.json")).expect("valid JSON");
+    let rel = |a: f64, b: f64| (a - b).abs() / (1.0 + b.abs());
+    let mut worst = 0.0_f64;
+    for case in data["cases"].as_array().expect("cases") {
+        let ball = shell_and_weight(&numbers(&case["params"]));
+        let q: SVector<f64, 5> = numbers(&case["q"]);
+        let rdot: SVector<f64, 3> = numbers(&case["rdot"]);
+        let qddot: SVector<f64, 5> = numbers(&case["qddot"]);
+        let acc = ball.accelerations(0.0, &q, &rdot);
+        for i in 0..3 {
+            worst = worst.max(rel(acc[i], qddot[i]));
+        }
+    }
+    eprintln!("shell with a point mass vs SymPy's Chaplygin sphere: accelerations {worst:.1e}");
+    assert!(worst < 1e-11, "accelerations differ by {worst:e}");
+}
+
+nonholonomic_system! {
     /// A heavy top about a fixed point, its Lagrangian written with the body
     /// components of its angular velocity, `omega_body`.
     pub struct SpinningTop {

@@ -401,17 +401,31 @@ fn body_projection(
         *f = d.neg(*f);
     }
     let motion = motion::Motion::of(d, m, bt.heading_rate);
+    let gravity = bt.gravity.map(|g| d.expr(&m.engine, g));
     for b in &bt.bodies {
-        let mass = d.expr(&m.engine, b.mass);
-        let j = matrix(d, m, &b.jacobian);
-        let accel0 = motion.rate_of_jacobian(d, &j, true);
-        let (v, a) = partial_and_bias(d, &j, &accel0, c, acc_bias);
-        let mv: Vec<Vec<Node>> = v
-            .iter()
-            .map(|row| row.iter().map(|&x| d.mul(mass, x)).collect())
-            .collect();
-        let ma: Vec<Node> = a.iter().map(|&x| d.mul(mass, x)).collect();
-        add_inertia(d, &mut mr, &mut f, &v, &mv, &ma);
+        if let Some(jacobian) = &b.jacobian {
+            let mass = d.expr(&m.engine, b.mass);
+            let j = matrix(d, m, jacobian);
+            let accel0 = match (&b.anchor, &b.rotation) {
+                (Some(anchor), Some(rot)) => anchored_rate(d, m, &motion, anchor, &rot.omega),
+                _ => motion.rate_of_jacobian(d, &j, true),
+            };
+            let (v, a) = partial_and_bias(d, &j, &accel0, c, acc_bias);
+            let mv: Vec<Vec<Node>> = v
+                .iter()
+                .map(|row| row.iter().map(|&x| d.mul(mass, x)).collect())
+                .collect();
+            let ma: Vec<Node> = a.iter().map(|&x| d.mul(mass, x)).collect();
+            add_inertia(d, &mut mr, &mut f, &v, &mv, &ma);
+            if let Some(g) = gravity {
+                // γ m V_z: the weight through the partial velocities
+                let weight = d.mul(g, mass);
+                for (a, fa) in f.iter_mut().enumerate() {
+                    let t = d.mul(weight, v[2][a]);
+                    *fa = d.add(*fa, t);
+                }
+            }
+        }
         if let Some(rot) = &b.rotation {
             let w = matrix(d, m, &rot.jacobian);
             let omega = exprs(d, m, &rot.omega);
@@ -450,6 +464,29 @@ fn body_projection(
     }
     let f = f.into_iter().map(|x| d.neg(x)).collect();
     (mr, f)
+}
+
+/// A centre's acceleration at q̈ = 0 from its anchor P's:
+/// J̇_P q̇ + R(α_b × r + ω_b × (ω_b × r)), α_b = Ẇ q̇ (DESIGN §10).
+fn anchored_rate(
+    d: &mut Dag,
+    m: &Model,
+    motion: &motion::Motion,
+    anchor: &crate::mechanics::Anchor,
+    omega: &[ExprId; 3],
+) -> [Node; 3] {
+    let jp = matrix(d, m, &anchor.jacobian);
+    let base = motion.rate_of_jacobian(d, &jp, true);
+    let omega = exprs(d, m, omega);
+    let omega = [omega[0], omega[1], omega[2]];
+    let alpha0 = motion.rate(d, omega, false);
+    let r = exprs(d, m, &anchor.offset);
+    let turn = matrix(d, m, &anchor.turn.map(|row| row.to_vec()));
+    let tangential = cross_nodes(d, &alpha0, &r);
+    let wr = cross_nodes(d, &omega, &r);
+    let normal = cross_nodes(d, &omega, &wr);
+    let body: Vec<Node> = (0..3).map(|x| d.add(tangential[x], normal[x])).collect();
+    [0, 1, 2].map(|x| dot(d, base[x], (0..3).map(|y| (turn[x][y], body[y]))))
 }
 
 /// The partial velocities P = J C (3 × k) and the rate at r̈ = 0,

@@ -7,6 +7,8 @@ use crate::model::{Model, Output};
 use crate::sym::{Engine, ExprId, SymId, ZERO};
 use rustc_hash::FxHashMap as HashMap;
 
+mod composite;
+
 /// The pieces of the multiplier route, with the full velocity vector q̇
 /// symbolic (dependent velocities are evaluated numerically first).
 pub struct MultiplierRoute {
@@ -32,6 +34,9 @@ pub struct BodyTerms {
     pub rest_mass: Vec<Vec<ExprId>>,
     /// See `rest_mass`.
     pub rest_bias: Vec<ExprId>,
+    /// γ of a uniform gravity −γ Σ m_b C_b,z taken out of L_rest: its
+    /// projected force is γ Σ m_b V_b,z.
+    pub gravity: Option<ExprId>,
     /// ψ̇ when the centres' Jacobians are in the heading's frame (see
     /// [`BlockTerms::heading_rate`]).
     pub heading_rate: Option<ExprId>,
@@ -42,10 +47,26 @@ pub struct BodyKinematics {
     /// m.
     pub mass: ExprId,
     /// J = ∂C/∂q, 3 × n (the centre's rate J̇ q̇ at q̈ = 0 is computed on
-    /// the graph: `generate::motion`).
-    pub jacobian: [Vec<ExprId>; 3],
+    /// the graph: `generate::motion`); `None` for a body whose centre of
+    /// mass was folded into another's (DESIGN §10).
+    pub jacobian: Option<[Vec<ExprId>; 3]>,
+    /// A contact's centre fixed in the body's frame, from whose
+    /// acceleration the centre's follows.
+    pub anchor: Option<Anchor>,
     /// Its rotation, unless it is a point mass.
     pub rotation: Option<BodyRotation>,
+}
+
+/// A point P fixed in a body's frame whose acceleration the contact rows
+/// need anyway: the body's centre C accelerates at
+/// a_P + R(α_b × r + ω_b × (ω_b × r)), which spares C's own J̇ q̇.
+pub struct Anchor {
+    /// J_P = ∂P/∂q, 3 × n, in the frame of the body's J.
+    pub jacobian: [Vec<ExprId>; 3],
+    /// r = Rᵀ(C − P), body axes, constant.
+    pub offset: [ExprId; 3],
+    /// The orientation R (body → world), turned into the frame of J.
+    pub turn: [[ExprId; 3]; 3],
 }
 
 /// A body's rotation for [`BodyKinematics`], in body axes.
@@ -363,37 +384,37 @@ impl Model {
         }
         let split = self.kinetic.as_ref()?;
         let rest = split.rest;
-        let parts: Vec<_> = split
+        let mut parts: Vec<composite::Part> = split
             .bodies
             .iter()
-            .map(|b| (b.mass, b.centre, b.rotation.map(|r| (r, b.spin))))
+            .map(|b| composite::Part {
+                mass: b.mass,
+                centre: Some(b.centre),
+                rotation: b.rotation.map(|(omega, inertia)| (omega, inertia, b.spin)),
+                orientation: b.orientation,
+            })
             .collect();
+        let (gravity, rest) = match self.gravity(&parts, rest) {
+            Some((g, r)) => (Some(g), r),
+            None => (None, rest),
+        };
+        self.fold_fixed_centres(&mut parts);
         let frame = self.heading_frame();
         let bodies = parts
             .into_iter()
-            .map(|(mass, centre, rotation)| {
-                let jacobian = centre.map(|x| self.positional_jacobian(x));
-                let jacobian = self.in_frame(&frame, jacobian);
-                let rotation = rotation.map(|((omega, inertia), spin)| {
-                    let (omega, spin) = match spin {
-                        Some((k, angle)) => {
-                            let e = &mut self.engine;
-                            let turn = crate::lower::values::elementary(e, k, angle);
-                            let omega = crate::lower::values::mat_vec(e, &turn, omega);
-                            (omega, Some((k, self.along_motion(angle))))
-                        }
-                        None => (omega, None),
-                    };
-                    BodyRotation {
-                        jacobian: omega.map(|w| self.velocity_jacobian(w)),
-                        omega,
-                        inertia,
-                        spin,
-                    }
+            .map(|part| {
+                let anchor = self.anchor(&part, &frame);
+                let jacobian = part.centre.map(|centre| {
+                    let jacobian = centre.map(|x| self.positional_jacobian(x));
+                    self.in_frame(&frame, jacobian)
                 });
+                let rotation = part
+                    .rotation
+                    .map(|(omega, inertia, spin)| self.body_rotation(omega, inertia, spin));
                 BodyKinematics {
-                    mass,
+                    mass: part.mass,
                     jacobian,
+                    anchor,
                     rotation,
                 }
             })
@@ -403,8 +424,34 @@ impl Model {
             bodies,
             rest_mass,
             rest_bias,
+            gravity,
             heading_rate: self.heading_rate(),
         })
+    }
+
+    /// A body's rotation for Kane's form; a wheel's vectors turned by its
+    /// spin R_k(θ).
+    fn body_rotation(
+        &mut self,
+        omega: [ExprId; 3],
+        inertia: [[ExprId; 3]; 3],
+        spin: Option<(usize, ExprId)>,
+    ) -> BodyRotation {
+        let (omega, spin) = match spin {
+            Some((k, angle)) => {
+                let e = &mut self.engine;
+                let turn = crate::lower::values::elementary(e, k, angle);
+                let omega = crate::lower::values::mat_vec(e, &turn, omega);
+                (omega, Some((k, self.along_motion(angle))))
+            }
+            None => (omega, None),
+        };
+        BodyRotation {
+            jacobian: omega.map(|w| self.velocity_jacobian(w)),
+            omega,
+            inertia,
+            spin,
+        }
     }
 
     /// The block's terms, for a block of homogeneous velocity rows solved by

@@ -346,6 +346,9 @@ pub struct KineticBody {
     /// inertia I about the centre of mass in body axes; `None` for a point
     /// mass.
     pub rotation: Option<([ExprId; 3], [[ExprId; 3]; 3])>,
+    /// Its orientation (body → world, by rows), for a body that is not a
+    /// point mass.
+    pub orientation: Option<[[ExprId; 3]; 3]>,
     /// The angle ψ of its orientation's leading `rot_z` factor, if any.
     pub heading: Option<ExprId>,
     /// The axis k and angle θ of its orientation's last factor, when the

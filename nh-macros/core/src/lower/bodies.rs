@@ -524,6 +524,7 @@ impl Lowerer<'_> {
                 mass: b.mass,
                 centre: b.centre,
                 rotation: b.rotation.as_ref().map(|(_, i)| (b.omega_body, *i)),
+                orientation: b.rotation.as_ref().map(|(r, _)| r.matrix),
                 heading: b
                     .rotation
                     .as_ref()

@@ -1,0 +1,238 @@
+//! Two economies of Kane's form (DESIGN §10): bodies whose centres of mass
+//! are fixed in another body's frame move as one, and a uniform gravity
+//! acts through the partial velocities the bodies need anyway.
+
+use crate::lower::values::{Mat3, Vec3, dot3, mat_vec, transpose};
+use crate::model::Model;
+use crate::sym::{ExprId, ONE, SymId, ZERO};
+
+/// A wheel's spin: the axis k and angle θ of its orientation's last factor.
+pub(super) type Spin = Option<(usize, ExprId)>;
+
+/// A body of Kane's form, before its Jacobians are taken.
+pub(super) struct Part {
+    /// m (of the body and of the centres folded into it).
+    pub(super) mass: ExprId,
+    /// The centre of mass (world components); `None` once it is folded
+    /// into a carrier's.
+    pub(super) centre: Option<Vec3>,
+    /// ω_b (body components), the inertia about the centre of mass (body
+    /// axes, with the folded centres' parallel-axis terms) and the spin
+    /// axis and angle of a wheel.
+    pub(super) rotation: Option<(Vec3, Mat3, Spin)>,
+    /// The orientation (body → world, by rows).
+    pub(super) orientation: Option<Mat3>,
+}
+
+impl Model {
+    /// Folds every centre of mass fixed in another body's frame into that
+    /// body's: with d = Rᵀ(C_b − C_a) constant, the pair moves as the mass
+    /// M = m_a + m_b at G = C_a + R (m_b/M) d, and the carrier's inertia gains
+    /// μ(|d|² 1 − d dᵀ), μ = m_a m_b/M, since
+    /// m_a|Ċ_a|² + m_b|Ċ_b|² = M|Ġ|² + μ|ω × R d|². The folded body keeps its
+    /// own rotation. A carrier spinning as a wheel is passed over (the added
+    /// inertia is not symmetric about its axis).
+    pub(super) fn fold_fixed_centres(&mut self, parts: &mut [Part]) {
+        for b in 0..parts.len() {
+            let Some(cb) = parts[b].centre else { continue };
+            for a in 0..parts.len() {
+                if a != b && self.fold_into(parts, a, cb, parts[b].mass) {
+                    parts[b].centre = None;
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Folds the mass `mb` at `cb` into part `a` if `cb` is fixed in its
+    /// frame; whether it did.
+    fn fold_into(&mut self, parts: &mut [Part], a: usize, cb: Vec3, mb: ExprId) -> bool {
+        let p = &parts[a];
+        let (Some(ca), Some(r), Some((omega, inertia, None))) =
+            (p.centre, p.orientation, p.rotation)
+        else {
+            return false;
+        };
+        let ma = p.mass;
+        let e = &mut self.engine;
+        let rel = [0, 1, 2].map(|x| e.sub(cb[x], ca[x]));
+        let d = mat_vec(e, &transpose(&r), rel);
+        let (Some(d0), Some(d1), Some(d2)) = (
+            self.constant_in_state(d[0]),
+            self.constant_in_state(d[1]),
+            self.constant_in_state(d[2]),
+        ) else {
+            return false;
+        };
+        let d = [d0, d1, d2];
+        if !(self.fixed(ma) && self.fixed(mb)) {
+            return false;
+        }
+        let e = &mut self.engine;
+        let total = e.add(ma, mb);
+        let share = e.div(mb, total);
+        let offset = d.map(|x| e.mul(share, x));
+        let shift = mat_vec(e, &r, offset);
+        let centre = [0, 1, 2].map(|x| e.add(ca[x], shift[x]));
+        let product = e.mul(ma, mb);
+        let mu = e.div(product, total);
+        let d2 = dot3(e, d, d);
+        let inertia = [0, 1, 2].map(|i| {
+            [0, 1, 2].map(|j| {
+                let dd = e.mul(d[i], d[j]);
+                let diag = if i == j { d2 } else { ZERO };
+                let t = e.sub(diag, dd);
+                let t = e.mul(mu, t);
+                e.add(inertia[i][j], t)
+            })
+        });
+        let p = &mut parts[a];
+        p.mass = total;
+        p.centre = Some(centre);
+        p.rotation = Some((omega, inertia, None));
+        true
+    }
+
+    /// A contact's centre P fixed in the frame of `part`'s orientation R,
+    /// from which the centre's acceleration follows as
+    /// a = a_P + R(α_b × r + ω_b × (ω_b × r)), r = Rᵀ(C − P) (DESIGN §10):
+    /// J_P (in `frame`, like the bodies'), r and R turned into `frame`.
+    pub(super) fn anchor(&mut self, part: &Part, frame: &Option<Mat3>) -> Option<super::Anchor> {
+        let (Some(c), Some(r), Some((_, _, None))) = (part.centre, part.orientation, part.rotation)
+        else {
+            return None;
+        };
+        let points: Vec<Vec3> = self.contact_kinematics.iter().map(|k| k.centre).collect();
+        for p in points {
+            let e = &mut self.engine;
+            let rel = [0, 1, 2].map(|x| e.sub(c[x], p[x]));
+            let offset = mat_vec(e, &transpose(&r), rel);
+            let offset = offset.map(|x| self.constant_in_state(x));
+            let [Some(o0), Some(o1), Some(o2)] = offset else {
+                continue;
+            };
+            let offset = [o0, o1, o2];
+            let jacobian = p.map(|x| self.positional_jacobian(x));
+            let jacobian = self.in_frame(frame, jacobian);
+            let turn = match frame {
+                Some(f) => crate::lower::values::mat_mat(&mut self.engine, f, &r),
+                None => r,
+            };
+            return Some(super::Anchor {
+                jacobian,
+                offset,
+                turn,
+            });
+        }
+        None
+    }
+
+    /// `x` as an expression of the parameters alone, if it does not change
+    /// with the state: free of it, or depending on the coordinates only
+    /// through an identity the canonical form does not know (a product of
+    /// rotations RᵀR): x is then its value at q = 0, which x − x(q = 0)
+    /// vanishing at random points shows.
+    fn constant_in_state(&mut self, x: ExprId) -> Option<ExprId> {
+        if self.fixed(x) {
+            return Some(x);
+        }
+        let syms = self.engine.free_symbols(x).to_vec();
+        let velocities = |s: &SymId| {
+            *s == self.time
+                || self.inputs.iter().any(|u| u.sym == *s)
+                || self.coordinates.iter().any(|c| c.velocity == *s)
+        };
+        if syms.iter().any(velocities) || self.varies(x) {
+            return None;
+        }
+        let zero: rustc_hash::FxHashMap<SymId, ExprId> = self
+            .coordinates
+            .iter()
+            .map(|c| (c.position, ZERO))
+            .collect();
+        let at_zero = self.engine.subst(x, &zero, &mut Default::default());
+        let change = self.engine.sub(x, at_zero);
+        (self.fixed(at_zero) && super::vanish_at_random_points(&self.engine, self.pi, &[change]))
+            .then_some(at_zero)
+    }
+
+    /// Whether `x` takes different values at two states (the same
+    /// parameters): a quick test before the exact one.
+    fn varies(&self, x: ExprId) -> bool {
+        use crate::sym::dd::Dd;
+        let mut rng = crate::sym::Rng::new(0x4528_21E6_38D0_1377);
+        let mut vals: Vec<Dd> = (0..self.engine.num_symbols())
+            .map(|_| Dd::from_f64(0.3 + 1.1 * rng.next_f64()))
+            .collect();
+        vals[self.pi.index()] = Dd::PI;
+        let (a, scale) = self.engine.eval_with_scale(x, &vals);
+        for c in &self.coordinates {
+            vals[c.position.index()] = Dd::from_f64(0.3 + 1.1 * rng.next_f64());
+        }
+        let (b, _) = self.engine.eval_with_scale(x, &vals);
+        let (a, b, scale) = (a.to_f64(), b.to_f64(), scale.to_f64());
+        a.is_finite() && b.is_finite() && (a - b).abs() > 1e-9 * scale
+    }
+
+    /// Whether `x` is free of the coordinates, velocities, inputs and t.
+    fn fixed(&self, x: ExprId) -> bool {
+        let moving = |s: &SymId| {
+            *s == self.time
+                || self.inputs.iter().any(|u| u.sym == *s)
+                || self
+                    .coordinates
+                    .iter()
+                    .any(|c| c.position == *s || c.velocity == *s)
+        };
+        !self.engine.free_symbols(x).iter().any(moving)
+    }
+
+    /// A uniform gravity in `rest` = L − Σ T_b: the γ (free of the state)
+    /// that leaves the fewest terms in rest + γ Σ m_b C_b,z, if that is
+    /// fewer than rest has, and that remainder. Its Euler–Lagrange terms
+    /// are then γ Σ m_b ∂C_b,z/∂q, projected γ Σ m_b V_b,z.
+    pub(super) fn gravity(&mut self, parts: &[Part], rest: ExprId) -> Option<(ExprId, ExprId)> {
+        let e = &mut self.engine;
+        let heights: Vec<ExprId> = parts
+            .iter()
+            .filter_map(|p| p.centre.map(|c| e.mul(p.mass, c[2])))
+            .collect();
+        let weight = e.sum(&heights);
+        if self.fixed(weight) || rest == ZERO {
+            return None;
+        }
+        let mut candidates: Vec<ExprId> = Vec::new();
+        for p in &self.parameters {
+            let g = self.engine.sym(p.sym);
+            candidates.push(g);
+            candidates.push(self.engine.neg(g));
+        }
+        candidates.push(ONE);
+        candidates.push(self.engine.int(-1));
+        if let Some(c) = self.leading_ratio(weight, rest) {
+            candidates.push(c);
+        }
+        let mut best = (self.engine.num_terms(rest), None);
+        for g in candidates {
+            let e = &mut self.engine;
+            let w = e.mul(g, weight);
+            let r = e.add(rest, w);
+            let n = e.num_terms(r);
+            if n < best.0 {
+                best = (n, Some((g, r)));
+            }
+        }
+        best.1
+    }
+
+    /// −c_rest/c_weight for the first term of `weight` that `rest` has too
+    /// (a gravity written as a number).
+    fn leading_ratio(&mut self, weight: ExprId, rest: ExprId) -> Option<ExprId> {
+        let e = &self.engine;
+        let (m, cw) = *e.terms(weight).first()?;
+        let &(_, cr) = e.terms(rest).iter().find(|(n, _)| *n == m)?;
+        let ratio = cr.checked_div(cw)?;
+        let c = self.engine.constant(ratio);
+        Some(self.engine.neg(c))
+    }
+}
