@@ -406,9 +406,9 @@ fn body_projection(
         if let Some(jacobian) = &b.jacobian {
             let mass = d.expr(&m.engine, b.mass);
             let j = matrix(d, m, jacobian);
-            let accel0 = match (&b.anchor, &b.rotation) {
-                (Some(anchor), Some(rot)) => anchored_rate(d, m, &motion, anchor, &rot.omega),
-                _ => motion.rate_of_jacobian(d, &j, true),
+            let accel0 = match &b.anchor {
+                Some(chain) => chain_rate(d, m, &motion, chain),
+                None => motion.rate_of_jacobian(d, &j, true),
             };
             let (v, a) = partial_and_bias(d, &j, &accel0, c, acc_bias);
             let mv: Vec<Vec<Node>> = v
@@ -466,27 +466,29 @@ fn body_projection(
     (mr, f)
 }
 
-/// A centre's acceleration at q̈ = 0 from its anchor P's:
-/// J̇_P q̇ + R(α_b × r + ω_b × (ω_b × r)), α_b = Ẇ q̇ (DESIGN §10).
-fn anchored_rate(
+/// A point's acceleration at q̈ = 0 along its chain (DESIGN §10):
+/// J̇_root q̇ + Σ R(α_b × r + ω_b × (ω_b × r)), α_b = Ẇ q̇.
+pub(crate) fn chain_rate(
     d: &mut Dag,
     m: &Model,
     motion: &motion::Motion,
-    anchor: &crate::mechanics::Anchor,
-    omega: &[ExprId; 3],
+    chain: &crate::mechanics::Chain,
 ) -> [Node; 3] {
-    let jp = matrix(d, m, &anchor.jacobian);
-    let base = motion.rate_of_jacobian(d, &jp, true);
-    let omega = exprs(d, m, omega);
-    let omega = [omega[0], omega[1], omega[2]];
-    let alpha0 = motion.rate(d, omega, false);
-    let r = exprs(d, m, &anchor.offset);
-    let turn = matrix(d, m, &anchor.turn.map(|row| row.to_vec()));
-    let tangential = cross_nodes(d, &alpha0, &r);
-    let wr = cross_nodes(d, &omega, &r);
-    let normal = cross_nodes(d, &omega, &wr);
-    let body: Vec<Node> = (0..3).map(|x| d.add(tangential[x], normal[x])).collect();
-    [0, 1, 2].map(|x| dot(d, base[x], (0..3).map(|y| (turn[x][y], body[y]))))
+    let root = matrix(d, m, &chain.root);
+    let mut a = motion.rate_of_jacobian(d, &root, true);
+    for link in &chain.links {
+        let omega = exprs(d, m, &link.omega);
+        let omega = [omega[0], omega[1], omega[2]];
+        let alpha0 = motion.rate(d, omega, false);
+        let r = exprs(d, m, &link.offset);
+        let turn = matrix(d, m, &link.turn.map(|row| row.to_vec()));
+        let tangential = cross_nodes(d, &alpha0, &r);
+        let wr = cross_nodes(d, &omega, &r);
+        let normal = cross_nodes(d, &omega, &wr);
+        let body: Vec<Node> = (0..3).map(|x| d.add(tangential[x], normal[x])).collect();
+        a = [0, 1, 2].map(|x| dot(d, a[x], (0..3).map(|y| (turn[x][y], body[y]))));
+    }
+    a
 }
 
 /// The partial velocities P = J C (3 × k) and the rate at r̈ = 0,

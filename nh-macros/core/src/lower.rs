@@ -179,6 +179,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
     }
     let kinetic = lw.kinetic_split(lagrangian);
     let mut constraints = lowered.constraints;
+    let points = lw.points();
     let partition = match speeds {
         Some(_) => Partition::of(0, &mut constraints),
         None => Partition::of(lw.coords.len(), &mut constraints),
@@ -203,6 +204,8 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         contacts: lowered.contacts,
         velocity_rows: lowered.velocity_rows,
         contact_kinematics: lowered.contact_kinematics,
+        points,
+        contact_chains: Vec::new(),
         row_contacts: lowered.row_contacts,
         block: None,
         huge_constant: lw.huge_constant,
@@ -293,6 +296,27 @@ impl<'a> Lowerer<'a> {
             kinetic: Vec::new(),
         };
         (lw, let_ok)
+    }
+
+    /// The vectors of the `let`s that depend on the coordinates alone
+    /// (points of the mechanism, for the chains of DESIGN §10).
+    fn points(&self) -> Vec<[ExprId; 3]> {
+        let moving = |s: &crate::sym::SymId| {
+            *s == self.t_sym
+                || self.inputs.iter().any(|u| u.sym == *s)
+                || self.coords.iter().any(|c| c.velocity == *s)
+        };
+        self.lets
+            .iter()
+            .filter_map(|l| match &l.value {
+                Some(Value::Vector(v)) => Some(*v),
+                _ => None,
+            })
+            .filter(|v| {
+                v.iter()
+                    .all(|&x| !self.e.free_symbols(x).iter().any(moving))
+            })
+            .collect()
     }
 
     /// The `let`s, in order: later ones may use earlier ones.

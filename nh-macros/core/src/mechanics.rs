@@ -50,22 +50,33 @@ pub struct BodyKinematics {
     /// the graph: `generate::motion`); `None` for a body whose centre of
     /// mass was folded into another's (DESIGN §10).
     pub jacobian: Option<[Vec<ExprId>; 3]>,
-    /// A contact's centre fixed in the body's frame, from whose
-    /// acceleration the centre's follows.
-    pub anchor: Option<Anchor>,
+    /// The chain the centre's acceleration follows from a contact's centre,
+    /// sparing its own J̇ q̇.
+    pub anchor: Option<Chain>,
     /// Its rotation, unless it is a point mass.
     pub rotation: Option<BodyRotation>,
 }
 
-/// A point P fixed in a body's frame whose acceleration the contact rows
-/// need anyway: the body's centre C accelerates at
-/// a_P + R(α_b × r + ω_b × (ω_b × r)), which spares C's own J̇ q̇.
-pub struct Anchor {
-    /// J_P = ∂P/∂q, 3 × n, in the frame of the body's J.
-    pub jacobian: [Vec<ExprId>; 3],
-    /// r = Rᵀ(C − P), body axes, constant.
+/// How a point's acceleration at q̈ = 0 follows from a root point's
+/// (DESIGN §10): a = J̇_root q̇ + Σ_links R(α_b × r + ω_b × (ω_b × r)),
+/// each link a body frame in which the next point is fixed at offset r
+/// from the last.
+#[derive(Clone)]
+pub struct Chain {
+    /// J of the root point, 3 × n, in the frame of the bodies' J.
+    pub root: [Vec<ExprId>; 3],
+    /// The links, from the root on.
+    pub links: Vec<Link>,
+}
+
+/// One link of a [`Chain`].
+#[derive(Clone)]
+pub struct Link {
+    /// ω_b of the frame's body (body axes).
+    pub omega: [ExprId; 3],
+    /// r, body axes, constant.
     pub offset: [ExprId; 3],
-    /// The orientation R (body → world), turned into the frame of J.
+    /// The frame's orientation R (body → world), turned into the frame of J.
     pub turn: [[ExprId; 3]; 3],
 }
 
@@ -195,6 +206,8 @@ pub struct ContactTerms {
     pub omega: [ExprId; 3],
     /// W = ∂ω/∂q̇, 3 × n.
     pub omega_jacobian: [Vec<ExprId>; 3],
+    /// The chain its centre's acceleration follows, if any.
+    pub chain: Option<Chain>,
     /// The world axle n and s = |e_z × n|, for a disc or torus.
     pub axle: Option<([ExprId; 3], ExprId)>,
     /// r.
@@ -208,6 +221,8 @@ impl Model {
     /// reduced mass matrix unless `both_routes`), and whether the
     /// constraints are integrable.
     pub fn derive(&mut self, both_routes: bool) -> Derivation {
+        let frame = self.heading_frame();
+        self.contact_chains = self.contact_chains(&frame);
         self.block = self.block_terms();
         let multiplier_route = self.multiplier_route();
         // the full curvature when a route or the output uses it; otherwise
@@ -464,9 +479,11 @@ impl Model {
         let pivots = self.block_pivots()?;
         let frame = self.heading_frame();
         let contacts = self.contact_kinematics.clone();
+        let chains = self.contact_chains.clone();
         let contacts = contacts
             .into_iter()
-            .map(|c| {
+            .enumerate()
+            .map(|(i, c)| {
                 let centre_jacobian = c.centre.map(|x| self.positional_jacobian(x));
                 let centre_jacobian = self.in_frame(&frame, centre_jacobian);
                 let omega_jacobian = c.omega.map(|w| self.velocity_jacobian(w));
@@ -476,6 +493,7 @@ impl Model {
                     None => v,
                 };
                 ContactTerms {
+                    chain: chains.get(i).cloned().flatten(),
                     centre_jacobian,
                     omega: turn(self, c.omega),
                     omega_jacobian,

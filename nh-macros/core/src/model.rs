@@ -302,6 +302,12 @@ pub struct Model {
     /// The kinematics of the `rolls(..)` lines, in order, for their rows'
     /// derivatives in closed form (DESIGN §10).
     pub contact_kinematics: Vec<ContactKinematics>,
+    /// The vector `let`s free of velocities (world components): points of
+    /// the mechanism through which accelerations chain (DESIGN §10).
+    pub points: Vec<[ExprId; 3]>,
+    /// Per contact, the chain its centre's acceleration follows, once
+    /// derived (see [`crate::mechanics::Chain`]).
+    pub contact_chains: Vec<Option<crate::mechanics::Chain>>,
     /// Per entry of [`Model::velocity_rows`], the contact and component
     /// (0: x, 1: y, 2: z) of its material velocity it is, if it comes from a
     /// `rolls(..)` line.

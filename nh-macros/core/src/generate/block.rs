@@ -65,8 +65,13 @@ fn rates(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Node> {
                 let omega = exprs(d, m, &c.omega);
                 let omega = [omega[0], omega[1], omega[2]];
                 let alpha0 = motion.rate(d, omega, turned);
-                let jg = matrix(d, m, &c.centre_jacobian);
-                let a0 = motion.rate_of_jacobian(d, &jg, turned)[*component];
+                let a0 = match &c.chain {
+                    Some(chain) => super::chain_rate(d, m, &motion, chain)[*component],
+                    None => {
+                        let jg = matrix(d, m, &c.centre_jacobian);
+                        motion.rate_of_jacobian(d, &jg, turned)[*component]
+                    }
+                };
                 let turn = cross_component(d, [alpha0[0], alpha0[1], alpha0[2]], off.o, *component);
                 let acc = d.add(a0, turn);
                 match &off.rim {

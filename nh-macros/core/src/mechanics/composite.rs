@@ -1,6 +1,7 @@
-//! Two economies of Kane's form (DESIGN §10): bodies whose centres of mass
-//! are fixed in another body's frame move as one, and a uniform gravity
-//! acts through the partial velocities the bodies need anyway.
+//! Economies of Kane's form and the contact rows (DESIGN §10): bodies whose
+//! centres of mass are fixed in another body's frame move as one, points'
+//! accelerations chain through the frames that hold them, and a uniform
+//! gravity acts through the partial velocities the bodies need anyway.
 
 use crate::lower::values::{Mat3, Vec3, dot3, mat_vec, transpose};
 use crate::model::Model;
@@ -93,38 +94,121 @@ impl Model {
         true
     }
 
-    /// A contact's centre P fixed in the frame of `part`'s orientation R,
-    /// from which the centre's acceleration follows as
-    /// a = a_P + R(α_b × r + ω_b × (ω_b × r)), r = Rᵀ(C − P) (DESIGN §10):
-    /// J_P (in `frame`, like the bodies'), r and R turned into `frame`.
-    pub(super) fn anchor(&mut self, part: &Part, frame: &Option<Mat3>) -> Option<super::Anchor> {
-        let (Some(c), Some(r), Some((_, _, None))) = (part.centre, part.orientation, part.rotation)
-        else {
+    /// The chain of a body's centre from a contact's centre whose own rate
+    /// is computed (a root, DESIGN §10), if the body does not spin.
+    pub(super) fn anchor(&mut self, part: &Part, frame: &Option<Mat3>) -> Option<super::Chain> {
+        let (Some(c), Some((_, _, None))) = (part.centre, part.rotation) else {
             return None;
         };
-        let points: Vec<Vec3> = self.contact_kinematics.iter().map(|k| k.centre).collect();
-        for p in points {
-            let e = &mut self.engine;
-            let rel = [0, 1, 2].map(|x| e.sub(c[x], p[x]));
-            let offset = mat_vec(e, &transpose(&r), rel);
-            let offset = offset.map(|x| self.constant_in_state(x));
-            let [Some(o0), Some(o1), Some(o2)] = offset else {
+        let roots: Vec<Vec3> = self
+            .contact_kinematics
+            .iter()
+            .zip(&self.contact_chains)
+            .filter(|(_, chain)| chain.is_none())
+            .map(|(k, _)| k.centre)
+            .collect();
+        self.chain_to(c, &roots, frame)
+    }
+
+    /// Per contact, a chain of its centre from an earlier contact's centre
+    /// (none for the roots, whose J̇ q̇ is computed).
+    pub(super) fn contact_chains(&mut self, frame: &Option<Mat3>) -> Vec<Option<super::Chain>> {
+        let centres: Vec<Vec3> = self.contact_kinematics.iter().map(|k| k.centre).collect();
+        let mut roots = Vec::new();
+        let mut chains = Vec::new();
+        for c in centres {
+            let chain = self.chain_to(c, &roots, frame);
+            if chain.is_none() {
+                roots.push(c);
+            }
+            chains.push(chain);
+        }
+        chains
+    }
+
+    /// A chain to `target` from one of `roots`: one frame in which target −
+    /// root is fixed, or two through a point of [`Model::points`] (a joint).
+    fn chain_to(
+        &mut self,
+        target: Vec3,
+        roots: &[Vec3],
+        frame: &Option<Mat3>,
+    ) -> Option<super::Chain> {
+        let frames = self.frames();
+        for &root in roots {
+            for f in &frames {
+                if let Some(r) = self.offset_in(&f.0, target, root) {
+                    let link = self.link(f, r, frame);
+                    return Some(self.chain(root, vec![link], frame));
+                }
+            }
+        }
+        let joints: Vec<Vec3> = self.points.clone();
+        for joint in joints {
+            if joint == target || roots.contains(&joint) {
                 continue;
-            };
-            let offset = [o0, o1, o2];
-            let jacobian = p.map(|x| self.positional_jacobian(x));
-            let jacobian = self.in_frame(frame, jacobian);
-            let turn = match frame {
-                Some(f) => crate::lower::values::mat_mat(&mut self.engine, f, &r),
-                None => r,
-            };
-            return Some(super::Anchor {
-                jacobian,
-                offset,
-                turn,
-            });
+            }
+            for f2 in &frames {
+                let Some(r2) = self.offset_in(&f2.0, target, joint) else {
+                    continue;
+                };
+                for &root in roots {
+                    for f1 in &frames {
+                        if let Some(r1) = self.offset_in(&f1.0, joint, root) {
+                            let links = vec![self.link(f1, r1, frame), self.link(f2, r2, frame)];
+                            return Some(self.chain(root, links, frame));
+                        }
+                    }
+                }
+            }
         }
         None
+    }
+
+    /// The orientations and body angular velocities of the bodies that do
+    /// not spin as wheels.
+    fn frames(&self) -> Vec<(Mat3, Vec3)> {
+        let Some(split) = &self.kinetic else {
+            return Vec::new();
+        };
+        split
+            .bodies
+            .iter()
+            .filter(|b| b.spin.is_none())
+            .filter_map(|b| Some((b.orientation?, b.rotation?.0)))
+            .collect()
+    }
+
+    /// Rᵀ(p − q), if constant.
+    fn offset_in(&mut self, r: &Mat3, p: Vec3, q: Vec3) -> Option<Vec3> {
+        let e = &mut self.engine;
+        let rel = [0, 1, 2].map(|x| e.sub(p[x], q[x]));
+        let offset = mat_vec(e, &transpose(r), rel);
+        let mut out = [ZERO; 3];
+        for (o, x) in out.iter_mut().zip(offset) {
+            *o = self.constant_in_state(x)?;
+        }
+        Some(out)
+    }
+
+    fn link(&mut self, f: &(Mat3, Vec3), offset: Vec3, frame: &Option<Mat3>) -> super::Link {
+        let turn = match frame {
+            Some(h) => crate::lower::values::mat_mat(&mut self.engine, h, &f.0),
+            None => f.0,
+        };
+        super::Link {
+            omega: f.1,
+            offset,
+            turn,
+        }
+    }
+
+    fn chain(&mut self, root: Vec3, links: Vec<super::Link>, frame: &Option<Mat3>) -> super::Chain {
+        let jacobian = root.map(|x| self.positional_jacobian(x));
+        super::Chain {
+            root: self.in_frame(frame, jacobian),
+            links,
+        }
     }
 
     /// `x` as an expression of the parameters alone, if it does not change
