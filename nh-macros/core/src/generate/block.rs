@@ -102,11 +102,14 @@ fn offset(d: &mut Dag, m: &Model, c: &ContactTerms) -> Offset {
             let n = exprs(d, m, n);
             let n = [n[0], n[1], n[2]];
             let s = d.expr(&m.engine, *s);
-            let ez = [ZERO_NODE, ZERO_NODE, ONE_NODE];
-            let w = [0, 1, 2].map(|x| {
-                let nzn = d.mul(n[2], n[x]);
-                let t = d.sub(ez[x], nzn);
-                d.div(t, s)
+            // w_z = (1 − n_z²)/s = s
+            let w = [0, 1, 2].map(|x| match x {
+                2 => s,
+                _ => {
+                    let nzn = d.mul(n[2], n[x]);
+                    let t = d.div(nzn, s);
+                    d.neg(t)
+                }
             });
             (w, Some((n, s, w)))
         }
@@ -120,7 +123,7 @@ fn offset(d: &mut Dag, m: &Model, c: &ContactTerms) -> Offset {
 }
 
 /// ẇ for w = (e_z − n_z n)/s, with ṅ = ω × n (the axle turns with the
-/// body) and ṡ = −n_z ṅ_z / s (s² = 1 − n_z²).
+/// body) and ṡ = −n_z ṅ_z / s (s² = 1 − n_z²); ẇ_z = ṡ since w_z = s.
 fn rim_rate(d: &mut Dag, omega: [Node; 3], rim: &([Node; 3], Node, [Node; 3])) -> [Node; 3] {
     let (n, s, w) = *rim;
     let ndot = [0, 1, 2].map(|x| cross_component(d, omega, n, x));
@@ -128,6 +131,9 @@ fn rim_rate(d: &mut Dag, omega: [Node; 3], rim: &([Node; 3], Node, [Node; 3])) -
     let t = d.div(t, s);
     let sdot = d.neg(t);
     [0, 1, 2].map(|x| {
+        if x == 2 {
+            return sdot;
+        }
         let a = d.mul(ndot[2], n[x]);
         let b = d.mul(n[2], ndot[x]);
         let c = d.mul(w[x], sdot);
