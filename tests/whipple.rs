@@ -240,3 +240,52 @@ fn a_slow_bicycle_falls_and_the_run_ends_typed() {
         other => panic!("expected the fall to end at a singular chart: {other:?}"),
     }
 }
+
+/// The nonlinear accelerations and dependent velocities at 12 states away
+/// from upright (roll and steer to ±0.5 rad, rear wheel to ±20 rad/s), for
+/// the benchmark's parameters and a perturbed set, against an independent
+/// SymPy/mpmath derivation (`tests/data/whipple_sympy.py`: the expanded
+/// Lagrangian's M and h, the contact rows' A and rates, a KKT solve at 40
+/// digits).
+#[test]
+fn nonlinear_accelerations_agree_with_sympy() {
+    let data: Value =
+        serde_json::from_str(include_str!("data/whipple_nonlinear.json")).expect("valid JSON");
+    let numbers = |v: &Value| -> Vec<f64> {
+        v.as_array()
+            .expect("an array")
+            .iter()
+            .map(|x| x.as_f64().expect("a number"))
+            .collect()
+    };
+    let cases = data["cases"].as_array().expect("cases");
+    assert_eq!(cases.len(), 12);
+    let (mut worst_acc, mut worst_vel) = (0.0_f64, 0.0_f64);
+    for case in cases {
+        let p = numbers(&case["params"]);
+        let b = model::Whipple::new(
+            p[0], p[1], p[2], p[3], p[4], p[5], p[6], p[7], p[8], p[9], p[10], p[11], p[12], p[13],
+            p[14], p[15], p[16], p[17], p[18], p[19], p[20], p[21], p[22], p[23], p[24], p[25],
+        );
+        let q = SVector::<f64, 8>::from_vec(numbers(&case["q"]));
+        let rdot = SVector::<f64, 3>::from_vec(numbers(&case["rdot"]));
+        let (qdot, qddot) = (numbers(&case["qdot"]), numbers(&case["qddot"]));
+        let acc = b.accelerations(0.0, &q, &rdot);
+        let scale = 1.0 + qddot.iter().fold(0.0_f64, |m, x| m.max(x.abs()));
+        for i in 0..3 {
+            worst_acc = worst_acc.max((acc[i] - qddot[i]).abs() / scale);
+        }
+        let sdot = b.dependent_velocities(&q, &rdot);
+        for (a, &s) in model::Whipple::<f64>::DEPENDENT.iter().enumerate() {
+            worst_vel = worst_vel.max((sdot[a] - qdot[s]).abs() / (1.0 + qdot[s].abs()));
+        }
+    }
+    eprintln!(
+        "Whipple vs SymPy at 12 states: accelerations {worst_acc:.1e} (of the largest), dependent velocities {worst_vel:.1e}"
+    );
+    assert!(worst_acc < 1e-12, "accelerations differ by {worst_acc:e}");
+    assert!(
+        worst_vel < 1e-13,
+        "dependent velocities differ by {worst_vel:e}"
+    );
+}
