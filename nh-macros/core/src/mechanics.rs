@@ -210,6 +210,10 @@ pub struct ContactTerms {
     pub chain: Option<Chain>,
     /// The world axle n and s = |e_z × n|, for a disc or torus.
     pub axle: Option<([ExprId; 3], ExprId)>,
+    /// w = (e_z − n_z n)/s as an expression, when s has no root (a wheel
+    /// upright in the reference configuration: s = √c cos u): the division
+    /// then cancels, and ẇ is w's rate along the motion.
+    pub rim: Option<[ExprId; 3]>,
     /// r.
     pub radius: ExprId,
     /// ρ.
@@ -498,6 +502,10 @@ impl Model {
                     omega: turn(self, c.omega),
                     omega_jacobian,
                     axle: c.axle.map(|(n, s)| (turn(self, n), s)),
+                    rim: c.axle.and_then(|(n, s)| {
+                        let n = turn(self, n);
+                        self.rim_without_root(n, s)
+                    }),
                     radius: c.radius,
                     tube: c.tube,
                 }
@@ -521,6 +529,24 @@ impl Model {
             contacts,
             heading_rate: self.heading_rate(),
         })
+    }
+
+    /// w = (e_z − n_z n)/s (w_z = s) if s has no fractional powers.
+    fn rim_without_root(&mut self, n: [ExprId; 3], s: ExprId) -> Option<[ExprId; 3]> {
+        let e = &mut self.engine;
+        let rooted = e
+            .terms(s)
+            .iter()
+            .any(|&(m, _)| e.factors(m).iter().any(|(_, p)| !p.is_integer()));
+        if rooted {
+            return None;
+        }
+        let w = [0, 1].map(|x| {
+            let t = e.mul(n[2], n[x]);
+            let t = e.div(t, s);
+            e.neg(t)
+        });
+        Some([w[0], w[1], s])
     }
 
     /// A pivot row for each column of the block c_s (columns: the

@@ -78,7 +78,10 @@ fn rates(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Node> {
                     None => acc,
                     Some(rim) => {
                         let radius = d.expr(&m.engine, c.radius);
-                        let wdot = rim_rate(d, omega, rim);
+                        let wdot = match c.rim {
+                            Some(_) => motion.rate(d, rim.2, turned),
+                            None => rim_rate(d, omega, rim),
+                        };
                         let odot = wdot.map(|x| {
                             let t = d.mul(radius, x);
                             d.neg(t)
@@ -103,14 +106,20 @@ fn offset(d: &mut Dag, m: &Model, c: &ContactTerms) -> Offset {
             let n = [n[0], n[1], n[2]];
             let s = d.expr(&m.engine, *s);
             // w_z = (1 − n_z²)/s = s
-            let w = [0, 1, 2].map(|x| match x {
-                2 => s,
-                _ => {
-                    let nzn = d.mul(n[2], n[x]);
-                    let t = d.div(nzn, s);
-                    d.neg(t)
+            let w = match &c.rim {
+                Some(w) => {
+                    let w = exprs(d, m, w);
+                    [w[0], w[1], w[2]]
                 }
-            });
+                None => [0, 1, 2].map(|x| match x {
+                    2 => s,
+                    _ => {
+                        let nzn = d.mul(n[2], n[x]);
+                        let t = d.div(nzn, s);
+                        d.neg(t)
+                    }
+                }),
+            };
             (w, Some((n, s, w)))
         }
     };
