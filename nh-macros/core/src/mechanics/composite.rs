@@ -55,6 +55,9 @@ impl Model {
             return false;
         };
         let ma = p.mass;
+        if !self.offset_may_be_fixed(&r, cb, ca) {
+            return false;
+        }
         let e = &mut self.engine;
         let rel = [0, 1, 2].map(|x| e.sub(cb[x], ca[x]));
         let d = mat_vec(e, &transpose(&r), rel);
@@ -181,6 +184,9 @@ impl Model {
 
     /// Rᵀ(p − q), if constant.
     fn offset_in(&mut self, r: &Mat3, p: Vec3, q: Vec3) -> Option<Vec3> {
+        if !self.offset_may_be_fixed(r, p, q) {
+            return None;
+        }
         let e = &mut self.engine;
         let rel = [0, 1, 2].map(|x| e.sub(p[x], q[x]));
         let offset = mat_vec(e, &transpose(r), rel);
@@ -240,22 +246,46 @@ impl Model {
             .then_some(at_zero)
     }
 
+    /// Whether Rᵀ(p − q) takes the same value at two states (the same
+    /// parameters), in floating point: a quick test that spares forming the
+    /// products symbolically for the pairs that are not fixed.
+    fn offset_may_be_fixed(&self, r: &Mat3, p: Vec3, q: Vec3) -> bool {
+        let [a, b] = self.two_states();
+        let offset = |vals: &[crate::sym::dd::Dd]| -> [f64; 3] {
+            let v = |x: ExprId| self.engine.eval_with_scale(x, vals).0.to_f64();
+            let rel = [0, 1, 2].map(|i| v(p[i]) - v(q[i]));
+            [0, 1, 2].map(|j| (0..3).map(|i| v(r[i][j]) * rel[i]).sum())
+        };
+        let (x, y) = (offset(&a), offset(&b));
+        (0..3).all(|i| {
+            let size = 1.0 + x[i].abs().max(y[i].abs());
+            !(x[i] - y[i]).is_finite() || (x[i] - y[i]).abs() <= 1e-9 * size
+        })
+    }
+
+    /// The symbols' values at two states with the same parameters.
+    fn two_states(&self) -> [Vec<crate::sym::dd::Dd>; 2] {
+        use crate::sym::dd::Dd;
+        let mut rng = crate::sym::Rng::new(0x4528_21E6_38D0_1377);
+        let mut a: Vec<Dd> = (0..self.engine.num_symbols())
+            .map(|_| Dd::from_f64(0.3 + 1.1 * rng.next_f64()))
+            .collect();
+        a[self.pi.index()] = Dd::PI;
+        let mut b = a.clone();
+        for c in &self.coordinates {
+            b[c.position.index()] = Dd::from_f64(0.3 + 1.1 * rng.next_f64());
+        }
+        [a, b]
+    }
+
     /// Whether `x` takes different values at two states (the same
     /// parameters): a quick test before the exact one.
     fn varies(&self, x: ExprId) -> bool {
-        use crate::sym::dd::Dd;
-        let mut rng = crate::sym::Rng::new(0x4528_21E6_38D0_1377);
-        let mut vals: Vec<Dd> = (0..self.engine.num_symbols())
-            .map(|_| Dd::from_f64(0.3 + 1.1 * rng.next_f64()))
-            .collect();
-        vals[self.pi.index()] = Dd::PI;
-        let (a, scale) = self.engine.eval_with_scale(x, &vals);
-        for c in &self.coordinates {
-            vals[c.position.index()] = Dd::from_f64(0.3 + 1.1 * rng.next_f64());
-        }
-        let (b, _) = self.engine.eval_with_scale(x, &vals);
-        let (a, b, scale) = (a.to_f64(), b.to_f64(), scale.to_f64());
-        a.is_finite() && b.is_finite() && (a - b).abs() > 1e-9 * scale
+        let [a, b] = self.two_states();
+        let (x0, scale) = self.engine.eval_with_scale(x, &a);
+        let x1 = self.engine.eval_with_scale(x, &b).0;
+        let (x0, x1, scale) = (x0.to_f64(), x1.to_f64(), scale.to_f64());
+        x0.is_finite() && x1.is_finite() && (x0 - x1).abs() > 1e-9 * scale
     }
 
     /// Whether `x` is free of the coordinates, velocities, inputs and t.
@@ -285,16 +315,20 @@ impl Model {
         if self.fixed(weight) || rest == ZERO {
             return None;
         }
-        let mut candidates: Vec<ExprId> = Vec::new();
-        for p in &self.parameters {
-            let g = self.engine.sym(p.sym);
-            candidates.push(g);
-            candidates.push(self.engine.neg(g));
-        }
-        candidates.push(ONE);
-        candidates.push(self.engine.int(-1));
-        if let Some(c) = self.leading_ratio(weight, rest) {
-            candidates.push(c);
+        let mut candidates = self.gravity_candidates(weight, rest);
+        let matched = candidates
+            .iter()
+            .filter(|&&g| {
+                let [a, _] = self.two_states();
+                let value = |x: ExprId| self.engine.eval_with_scale(x, &a).0.to_f64();
+                let (g, w, r) = (value(g), value(weight), value(rest));
+                (r + g * w).abs() <= 1e-9 * (r.abs() + (g * w).abs())
+            })
+            .copied()
+            .collect::<Vec<_>>();
+        if !matched.is_empty() {
+            // rest is exactly −γ Σ m C_z at a random state: test only those
+            candidates = matched;
         }
         let mut best = (self.engine.num_terms(rest), None);
         for g in candidates {
@@ -307,6 +341,22 @@ impl Model {
             }
         }
         best.1
+    }
+
+    /// Every parameter and its negative, ±1 and the leading terms' ratio.
+    fn gravity_candidates(&mut self, weight: ExprId, rest: ExprId) -> Vec<ExprId> {
+        let mut candidates: Vec<ExprId> = Vec::new();
+        for p in &self.parameters {
+            let g = self.engine.sym(p.sym);
+            candidates.push(g);
+            candidates.push(self.engine.neg(g));
+        }
+        candidates.push(ONE);
+        candidates.push(self.engine.int(-1));
+        if let Some(c) = self.leading_ratio(weight, rest) {
+            candidates.push(c);
+        }
+        candidates
     }
 
     /// −c_rest/c_weight for the first term of `weight` that `rest` has too
