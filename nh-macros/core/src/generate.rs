@@ -460,6 +460,22 @@ fn body_projection(
                 }
             }
             add_inertia(d, &mut mr, &mut f, &om, &i_om, &torque);
+            for (wheel, jacobian) in &rot.wheels {
+                let turning = Turning {
+                    omega: &omega,
+                    om: &om,
+                    alpha: &alpha,
+                };
+                add_wheel(
+                    d,
+                    m,
+                    &motion,
+                    (wheel, jacobian),
+                    &turning,
+                    (c, acc_bias),
+                    (&mut mr, &mut f),
+                );
+            }
         }
     }
     let f = f.into_iter().map(|x| d.neg(x)).collect();
@@ -491,7 +507,50 @@ pub(crate) fn chain_rate(
     a
 }
 
-/// The partial velocities P = J C (3 × k) and the rate at r̈ = 0,
+/// A body's ω, its partial angular velocities Ω and α at r̈ = 0 (body axes).
+struct Turning<'a> {
+    omega: &'a [Node],
+    om: &'a [Vec<Node>],
+    alpha: &'a [Node],
+}
+
+/// The inertia forces of a wheel folded into `carrier` (DESIGN §10): its
+/// spin s = ω_k + θ̇ with S = ∂s/∂ṙ adds C S Sᵀ to Cᵀ M C and
+/// C S ṡ₀ + C s Ωᵀ(ω × e_k) to the forces at r̈ = 0.
+fn add_wheel(
+    d: &mut Dag,
+    m: &Model,
+    motion: &motion::Motion,
+    (wheel, jacobian): (&crate::mechanics::Wheel, &Vec<ExprId>),
+    carrier: &Turning,
+    (c, acc_bias): (&[Vec<Node>], &[Node]),
+    (mr, f): (&mut [Vec<Node>], &mut [Node]),
+) {
+    let k = wheel.axis;
+    let moment = d.expr(&m.engine, wheel.moment);
+    let rate = d.expr(&m.engine, wheel.rate);
+    let rate0 = motion.rate_of(d, rate);
+    let j = vec![exprs(d, m, jacobian)];
+    let (theta, theta0) = partial_and_bias(d, &j, &[rate0], c, acc_bias);
+    let s = d.add(carrier.omega[k], rate);
+    let partial: Vec<Node> = (0..f.len())
+        .map(|a| d.add(carrier.om[k][a], theta[0][a]))
+        .collect();
+    let sdot0 = d.add(carrier.alpha[k], theta0[0]);
+    let c_partial: Vec<Node> = partial.iter().map(|&x| d.mul(moment, x)).collect();
+    let c_sdot0 = d.mul(moment, sdot0);
+    add_inertia(d, mr, f, &[partial], &[c_partial], &[c_sdot0]);
+    let mut axis = [ZERO_NODE; 3];
+    axis[k] = ONE_NODE;
+    let gyro = cross_nodes(d, carrier.omega, &axis);
+    let c_s = d.mul(moment, s);
+    for (a, fa) in f.iter_mut().enumerate() {
+        let along = dot(d, ZERO_NODE, (0..3).map(|x| (carrier.om[x][a], gyro[x])));
+        *fa = dot(d, *fa, [(c_s, along)]);
+    }
+}
+
+/// The partial velocities P = J C (rows of J × k) and the rate at r̈ = 0,
 /// J acc_bias + rate0.
 fn partial_and_bias(
     d: &mut Dag,
@@ -501,15 +560,18 @@ fn partial_and_bias(
     acc_bias: &[Node],
 ) -> (Vec<Vec<Node>>, Vec<Node>) {
     let (n, k) = (c.len(), c.first().map_or(0, Vec::len));
-    let p = (0..3)
-        .map(|x| {
+    let p = j
+        .iter()
+        .map(|row| {
             (0..k)
-                .map(|a| dot(d, ZERO_NODE, (0..n).map(|i| (j[x][i], c[i][a]))))
+                .map(|a| dot(d, ZERO_NODE, (0..n).map(|i| (row[i], c[i][a]))))
                 .collect()
         })
         .collect();
-    let rate = (0..3)
-        .map(|x| dot(d, rate0[x], (0..n).map(|i| (j[x][i], acc_bias[i]))))
+    let rate = j
+        .iter()
+        .zip(rate0)
+        .map(|(row, &r0)| dot(d, r0, (0..n).map(|i| (row[i], acc_bias[i]))))
         .collect();
     (p, rate)
 }
@@ -526,11 +588,11 @@ fn add_inertia(
     let k = f.len();
     for a in 0..k {
         for b in a..k {
-            let x = dot(d, mr[a][b], (0..3).map(|x| (p[x][a], q[x][b])));
+            let x = dot(d, mr[a][b], (0..p.len()).map(|x| (p[x][a], q[x][b])));
             mr[a][b] = x;
             mr[b][a] = x;
         }
-        f[a] = dot(d, f[a], (0..3).map(|x| (p[x][a], force[x])));
+        f[a] = dot(d, f[a], (0..p.len()).map(|x| (p[x][a], force[x])));
     }
 }
 

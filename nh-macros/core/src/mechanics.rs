@@ -92,6 +92,23 @@ pub struct BodyRotation {
     /// wheel), the vectors above are turned by R_k(θ), which frees them of
     /// θ, and the torque gains −θ̇ I (e_k × ω'): (k, θ̇).
     pub spin: Option<(usize, ExprId)>,
+    /// The wheels folded into this body, with ∂θ̇/∂q̇ (1 × n) each.
+    pub wheels: Vec<(Wheel, Vec<ExprId>)>,
+}
+
+/// A wheel turning at θ̇ about axis k of the body that carries it, whose
+/// rotation is folded into its carrier's (DESIGN §10): the carrier's
+/// inertia holds the wheel's transverse moment A, and the wheel adds only
+/// its spin s = ω_k + θ̇ about the axle, with the moment C: the generalized
+/// inertia forces C S ṡ + C s Ωᵀ(ω × e_k), S = ∂s/∂ṙ.
+#[derive(Clone, Copy)]
+pub struct Wheel {
+    /// k.
+    pub axis: usize,
+    /// C, the moment about the axle.
+    pub moment: ExprId,
+    /// θ̇.
+    pub rate: ExprId,
 }
 
 /// Whether every expression of `entries` vanishes at 16 random points in
@@ -411,6 +428,7 @@ impl Model {
                 centre: Some(b.centre),
                 rotation: b.rotation.map(|(omega, inertia)| (omega, inertia, b.spin)),
                 orientation: b.orientation,
+                wheels: Vec::new(),
             })
             .collect();
         let (gravity, rest) = match self.gravity(&parts, rest) {
@@ -418,6 +436,7 @@ impl Model {
             None => (None, rest),
         };
         self.fold_fixed_centres(&mut parts);
+        self.fold_wheels(&mut parts);
         let frame = self.heading_frame();
         let bodies = parts
             .into_iter()
@@ -427,9 +446,15 @@ impl Model {
                     let jacobian = centre.map(|x| self.positional_jacobian(x));
                     self.in_frame(&frame, jacobian)
                 });
-                let rotation = part
-                    .rotation
-                    .map(|(omega, inertia, spin)| self.body_rotation(omega, inertia, spin));
+                let wheels = part
+                    .wheels
+                    .iter()
+                    .map(|w| (*w, self.velocity_jacobian(w.rate)));
+                let wheels = wheels.collect();
+                let rotation = part.rotation.map(|(omega, inertia, spin)| BodyRotation {
+                    wheels,
+                    ..self.body_rotation(omega, inertia, spin)
+                });
                 BodyKinematics {
                     mass: part.mass,
                     jacobian,
@@ -470,6 +495,7 @@ impl Model {
             omega,
             inertia,
             spin,
+            wheels: Vec::new(),
         }
     }
 

@@ -56,6 +56,11 @@ impl Motion {
         r
     }
 
+    /// The rate of a scalar.
+    pub(crate) fn rate_of(&self, d: &mut Dag, x: Node) -> Node {
+        d.rates(&[x], &self.seeds, &self.held)[0]
+    }
+
     /// The rate of J q̇ for a 3 × n Jacobian J of positions (see [`Motion::rate`]).
     pub(crate) fn rate_of_jacobian(
         &self,

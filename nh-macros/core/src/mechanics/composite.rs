@@ -23,6 +23,8 @@ pub(super) struct Part {
     pub(super) rotation: Option<(Vec3, Mat3, Spin)>,
     /// The orientation (body → world, by rows).
     pub(super) orientation: Option<Mat3>,
+    /// The wheels whose rotation was folded into this body's.
+    pub(super) wheels: Vec<super::Wheel>,
 }
 
 impl Model {
@@ -95,6 +97,70 @@ impl Model {
         p.centre = Some(centre);
         p.rotation = Some((omega, inertia, None));
         true
+    }
+
+    /// Folds every wheel turning on an axle of another body into it: with
+    /// the wheel's ω = ω_a + θ̇ e_k (the carrier's axes) and its inertia
+    /// A(1 − e_k e_kᵀ) + C e_k e_kᵀ, its kinetic energy is
+    /// ½ ω_aᵀ A(1 − e_k e_kᵀ) ω_a + ½ C s², s = ω_a,k + θ̇, so the carrier's
+    /// inertia gains the transverse part and the wheel keeps only its spin s
+    /// (DESIGN §10).
+    pub(super) fn fold_wheels(&mut self, parts: &mut [Part]) {
+        for b in 0..parts.len() {
+            let Some((omega, inertia, Some((k, angle)))) = parts[b].rotation else {
+                continue;
+            };
+            let e = &mut self.engine;
+            let turn = crate::lower::values::elementary(e, k, angle);
+            let turned = mat_vec(e, &turn, omega);
+            let rate = self.along_motion(angle);
+            for a in 0..parts.len() {
+                if a != b && self.carries(&parts[a], turned, k, rate) {
+                    let wheel = super::Wheel {
+                        axis: k,
+                        moment: inertia[k][k],
+                        rate,
+                    };
+                    let transverse = inertia[(k + 1) % 3][(k + 1) % 3];
+                    let p = &mut parts[a];
+                    if let Some((_, carrier, _)) = p.rotation.as_mut() {
+                        for (x, row) in carrier.iter_mut().enumerate() {
+                            if x != k {
+                                row[x] = self.engine.add(row[x], transverse);
+                            }
+                        }
+                    }
+                    p.wheels.push(wheel);
+                    parts[b].rotation = None;
+                    break;
+                }
+            }
+        }
+    }
+
+    /// Whether a wheel whose ω in its carrier's axes is `turned` spins at
+    /// `rate` about axis k of `carrier`: turned − θ̇ e_k = ω_carrier (first
+    /// at one state in floating point, then at 16 in double-double).
+    fn carries(&mut self, carrier: &Part, turned: Vec3, k: usize, rate: ExprId) -> bool {
+        let Some((omega, _, None)) = carrier.rotation else {
+            return false;
+        };
+        let e = &mut self.engine;
+        let gap = [0, 1, 2].map(|x| {
+            let own = if x == k {
+                e.sub(turned[x], rate)
+            } else {
+                turned[x]
+            };
+            e.sub(own, omega[x])
+        });
+        let [a, _] = self.two_states();
+        let small = gap.iter().all(|&x| {
+            let (v, scale) = self.engine.eval_with_scale(x, &a);
+            let (v, scale) = (v.to_f64(), scale.to_f64());
+            v.is_finite() && v.abs() <= 1e-9 * (1.0 + scale)
+        });
+        small && super::vanish_at_random_points(&self.engine, self.pi, &gap)
     }
 
     /// The chain of a body's centre from a contact's centre whose own rate
