@@ -13,6 +13,7 @@ use proc_macro2::{Ident, TokenStream};
 use quote::quote;
 
 mod block;
+mod frames;
 mod motion;
 mod speeds;
 mod stand_in;
@@ -427,10 +428,7 @@ fn body_projection(
             }
         }
         if let Some(rot) = &b.rotation {
-            let w = matrix(d, m, &rot.jacobian);
-            let omega = exprs(d, m, &rot.omega);
-            let alpha0 = motion.rate(d, [omega[0], omega[1], omega[2]], false);
-            let (om, alpha) = partial_and_bias(d, &w, &alpha0, c, acc_bias);
+            let (omega, om, alpha) = body_turning(d, m, &motion, rot, (c, acc_bias));
             let inertia = matrix(d, m, &rot.inertia.map(|r| r.to_vec()));
             let i_om: Vec<Vec<Node>> = (0..3)
                 .map(|x| {
@@ -493,11 +491,20 @@ pub(crate) fn chain_rate(
     let root = matrix(d, m, &chain.root);
     let mut a = motion.rate_of_jacobian(d, &root, true);
     for link in &chain.links {
-        let omega = exprs(d, m, &link.omega);
-        let omega = [omega[0], omega[1], omega[2]];
-        let alpha0 = motion.rate(d, omega, false);
+        let (omega, alpha0, turn) = match &link.frame {
+            Some(frame) => {
+                let f = frames::frame_motion(d, m, motion, frame);
+                (f.omega, f.alpha0, f.turn.map(|row| row.to_vec()).to_vec())
+            }
+            None => {
+                let omega = exprs(d, m, &link.omega);
+                let omega = [omega[0], omega[1], omega[2]];
+                let alpha0 = motion.rate(d, omega, false);
+                let turn = matrix(d, m, &link.turn.map(|row| row.to_vec()));
+                (omega, alpha0, turn)
+            }
+        };
         let r = exprs(d, m, &link.offset);
-        let turn = matrix(d, m, &link.turn.map(|row| row.to_vec()));
         let tangential = cross_nodes(d, &alpha0, &r);
         let wr = cross_nodes(d, &omega, &r);
         let normal = cross_nodes(d, &omega, &wr);
@@ -505,6 +512,32 @@ pub(crate) fn chain_rate(
         a = [0, 1, 2].map(|x| dot(d, a[x], (0..3).map(|y| (turn[x][y], body[y]))));
     }
     a
+}
+
+/// A body's ω, its partial angular velocities Ω = W C and α at r̈ = 0
+/// (body axes): step by step along its frame's elementary rotations where
+/// it has them, else from ω_b's expression.
+fn body_turning(
+    d: &mut Dag,
+    m: &Model,
+    motion: &motion::Motion,
+    rot: &crate::mechanics::BodyRotation,
+    (c, acc_bias): (&[Vec<Node>], &[Node]),
+) -> (Vec<Node>, Vec<Vec<Node>>, Vec<Node>) {
+    let w = matrix(d, m, &rot.jacobian);
+    let (omega, alpha0) = match &rot.frame {
+        Some(frame) => {
+            let f = frames::frame_motion(d, m, motion, frame);
+            (f.omega, f.alpha0)
+        }
+        None => {
+            let omega = exprs(d, m, &rot.omega);
+            let omega = [omega[0], omega[1], omega[2]];
+            (omega, motion.rate(d, omega, false))
+        }
+    };
+    let (om, alpha) = partial_and_bias(d, &w, &alpha0, c, acc_bias);
+    (omega.to_vec(), om, alpha)
 }
 
 /// A body's ω, its partial angular velocities Ω and α at r̈ = 0 (body axes).

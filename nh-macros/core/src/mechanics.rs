@@ -78,6 +78,31 @@ pub struct Link {
     pub offset: [ExprId; 3],
     /// The frame's orientation R (body → world), turned into the frame of J.
     pub turn: [[ExprId; 3]; 3],
+    /// The same frame as its elementary rotations, when it is one.
+    pub frame: Option<Frame>,
+}
+
+/// A body frame as the product of elementary rotations R_k(θ), from which
+/// its orientation R, ω_b and α_b follow step by step (DESIGN §10):
+/// ω' = R_kᵀ ω + θ̇ e_k, α' = R_kᵀ α + (R_kᵀ ω) × θ̇ e_k + θ̈ e_k.
+#[derive(Clone)]
+pub struct Frame {
+    /// The steps, left to right.
+    pub steps: Vec<FrameStep>,
+    /// Whether the first step is the heading R_z(ψ) that the frame of the
+    /// bodies' J turns back (R = the product of the others there).
+    pub heading_out: bool,
+}
+
+/// One elementary rotation of a [`Frame`].
+#[derive(Clone)]
+pub struct FrameStep {
+    /// k.
+    pub axis: usize,
+    /// R_k(θ).
+    pub turn: [[ExprId; 3]; 3],
+    /// θ̇.
+    pub rate: ExprId,
 }
 
 /// A body's rotation for [`BodyKinematics`], in body axes.
@@ -94,6 +119,8 @@ pub struct BodyRotation {
     pub spin: Option<(usize, ExprId)>,
     /// The wheels folded into this body, with ∂θ̇/∂q̇ (1 × n) each.
     pub wheels: Vec<(Wheel, Vec<ExprId>)>,
+    /// Its frame as elementary rotations (not for a wheel's spin).
+    pub frame: Option<Frame>,
 }
 
 /// A wheel turning at θ̇ about axis k of the body that carries it, whose
@@ -235,6 +262,8 @@ pub struct ContactTerms {
     pub radius: ExprId,
     /// ρ.
     pub tube: ExprId,
+    /// The body's frame as elementary rotations, when it is one.
+    pub frame: Option<Frame>,
 }
 
 impl Model {
@@ -429,6 +458,7 @@ impl Model {
                 rotation: b.rotation.map(|(omega, inertia)| (omega, inertia, b.spin)),
                 orientation: b.orientation,
                 wheels: Vec::new(),
+                factors: b.factors.clone(),
             })
             .collect();
         let (gravity, rest) = match self.gravity(&parts, rest) {
@@ -451,8 +481,13 @@ impl Model {
                     .iter()
                     .map(|w| (*w, self.velocity_jacobian(w.rate)));
                 let wheels = wheels.collect();
+                let turned_out = frame.is_some();
                 let rotation = part.rotation.map(|(omega, inertia, spin)| BodyRotation {
                     wheels,
+                    frame: match spin {
+                        None => self.frame_of(&part.factors, turned_out),
+                        Some(_) => None,
+                    },
                     ..self.body_rotation(omega, inertia, spin)
                 });
                 BodyKinematics {
@@ -496,7 +531,26 @@ impl Model {
             inertia,
             spin,
             wheels: Vec::new(),
+            frame: None,
         }
+    }
+
+    /// The frame of a body's elementary rotations; `heading_out` when the
+    /// bodies' vectors are in the heading's frame, which needs the first
+    /// factor to be the heading R_z(ψ).
+    fn frame_of(&mut self, factors: &[(usize, ExprId)], heading_out: bool) -> Option<Frame> {
+        if factors.is_empty() || (heading_out && factors.first() != Some(&(2, self.heading()?))) {
+            return None;
+        }
+        let steps = factors
+            .iter()
+            .map(|&(axis, angle)| FrameStep {
+                axis,
+                turn: crate::lower::values::elementary(&mut self.engine, axis, angle),
+                rate: self.along_motion(angle),
+            })
+            .collect();
+        Some(Frame { steps, heading_out })
     }
 
     /// The block's terms, for a block of homogeneous velocity rows solved by
@@ -534,6 +588,7 @@ impl Model {
                     }),
                     radius: c.radius,
                     tube: c.tube,
+                    frame: self.frame_of(&c.factors, frame.is_some()),
                 }
             })
             .collect();

@@ -332,6 +332,8 @@ pub struct ContactKinematics {
     pub radius: ExprId,
     /// ρ (zero but for a torus).
     pub tube: ExprId,
+    /// The elementary rotations (axis, angle) of the body's orientation.
+    pub factors: Vec<(usize, ExprId)>,
 }
 
 /// A Lagrangian L = Σ_b T_b + L_rest, T_b the kinetic energies of bodies.
@@ -360,6 +362,9 @@ pub struct KineticBody {
     /// The axis k and angle θ of its orientation's last factor, when the
     /// inertia is symmetric about that axis (a wheel's spin).
     pub spin: Option<(usize, ExprId)>,
+    /// The elementary rotations (axis, angle) its orientation is the
+    /// product of, left to right (empty for a point mass).
+    pub factors: Vec<(usize, ExprId)>,
 }
 
 impl Model {

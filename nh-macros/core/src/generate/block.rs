@@ -62,9 +62,14 @@ fn rates(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Node> {
             RowTerms::Contact { contact, component } => {
                 let c = &bt.contacts[*contact];
                 let off = &offsets[*contact];
-                let omega = exprs(d, m, &c.omega);
-                let omega = [omega[0], omega[1], omega[2]];
-                let alpha0 = motion.rate(d, omega, turned);
+                let (omega, alpha0) = match &c.frame {
+                    Some(frame) => super::frames::world_motion(d, m, &motion, frame),
+                    None => {
+                        let omega = exprs(d, m, &c.omega);
+                        let omega = [omega[0], omega[1], omega[2]];
+                        (omega, motion.rate(d, omega, turned))
+                    }
+                };
                 let a0 = match &c.chain {
                     Some(chain) => super::chain_rate(d, m, &motion, chain)[*component],
                     None => {

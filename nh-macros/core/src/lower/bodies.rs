@@ -536,6 +536,10 @@ impl Lowerer<'_> {
                     let &(k, angle) = r.factors.last()?;
                     axisymmetric(i, k).then_some((k, angle))
                 }),
+                factors: b
+                    .rotation
+                    .as_ref()
+                    .map_or(Vec::new(), |(r, _)| r.factors.clone()),
             };
             self.kinetic.push((body, t));
         }
@@ -691,6 +695,7 @@ impl Lowerer<'_> {
                 axle: world_axle,
                 radius,
                 tube: tube.unwrap_or(ZERO),
+                factors: rot.factors.clone(),
             },
         }
     }

@@ -7,6 +7,9 @@ use crate::lower::values::{Mat3, Vec3, dot3, mat_vec, transpose};
 use crate::model::Model;
 use crate::sym::{ExprId, ONE, SymId, ZERO};
 
+/// A body's orientation, body angular velocity and elementary rotations.
+type Body = (Mat3, Vec3, Vec<(usize, ExprId)>);
+
 /// A wheel's spin: the axis k and angle θ of its orientation's last factor.
 pub(super) type Spin = Option<(usize, ExprId)>;
 
@@ -25,6 +28,8 @@ pub(super) struct Part {
     pub(super) orientation: Option<Mat3>,
     /// The wheels whose rotation was folded into this body's.
     pub(super) wheels: Vec<super::Wheel>,
+    /// The elementary rotations of the orientation.
+    pub(super) factors: Vec<(usize, ExprId)>,
 }
 
 impl Model {
@@ -234,9 +239,9 @@ impl Model {
         None
     }
 
-    /// The orientations and body angular velocities of the bodies that do
-    /// not spin as wheels.
-    fn frames(&self) -> Vec<(Mat3, Vec3)> {
+    /// The orientations, body angular velocities and elementary rotations
+    /// of the bodies that do not spin as wheels.
+    fn frames(&self) -> Vec<Body> {
         let Some(split) = &self.kinetic else {
             return Vec::new();
         };
@@ -244,7 +249,7 @@ impl Model {
             .bodies
             .iter()
             .filter(|b| b.spin.is_none())
-            .filter_map(|b| Some((b.orientation?, b.rotation?.0)))
+            .filter_map(|b| Some((b.orientation?, b.rotation?.0, b.factors.clone())))
             .collect()
     }
 
@@ -263,7 +268,7 @@ impl Model {
         Some(out)
     }
 
-    fn link(&mut self, f: &(Mat3, Vec3), offset: Vec3, frame: &Option<Mat3>) -> super::Link {
+    fn link(&mut self, f: &Body, offset: Vec3, frame: &Option<Mat3>) -> super::Link {
         let turn = match frame {
             Some(h) => crate::lower::values::mat_mat(&mut self.engine, h, &f.0),
             None => f.0,
@@ -272,6 +277,7 @@ impl Model {
             omega: f.1,
             offset,
             turn,
+            frame: self.frame_of(&f.2, frame.is_some()),
         }
     }
 
