@@ -46,10 +46,7 @@ fn turn_rates(
 
 /// The frame's orientation, ω_b and α_b at q̈ = 0.
 pub(crate) fn frame_motion(d: &mut Dag, m: &Model, motion: &Motion, frame: &Frame) -> FrameMotion {
-    let mut turn = [[ZERO_NODE; 3]; 3];
-    for (x, row) in turn.iter_mut().enumerate() {
-        row[x] = ONE_NODE;
-    }
+    let mut turn = identity();
     let (mut omega, mut alpha0) = ([ZERO_NODE; 3], [ZERO_NODE; 3]);
     for (i, step) in frame.steps.iter().enumerate() {
         let f = step_turn(d, m, step);
@@ -57,9 +54,7 @@ pub(crate) fn frame_motion(d: &mut Dag, m: &Model, motion: &Motion, frame: &Fram
         let accel = motion.rate_of(d, rate);
         (omega, alpha0) = turn_rates(d, &f, (step.axis, rate, accel), omega, alpha0);
         if !(i == 0 && frame.heading_out) {
-            turn = turn.map(|row| {
-                [0, 1, 2].map(|y| super::dot(d, ZERO_NODE, (0..3).map(|x| (row[x], f[x][y]))))
-            });
+            turn = turned(d, turn, &f);
         }
     }
     FrameMotion {
@@ -69,37 +64,44 @@ pub(crate) fn frame_motion(d: &mut Dag, m: &Model, motion: &Motion, frame: &Fram
     }
 }
 
-/// ω and α at q̈ = 0 in the frame of the bodies' J: the last step's
-/// rates in the axes before it (F_n e_k = e_k spares turning by F_n),
-/// turned by the orientation up to there.
+/// ω and α at q̈ = 0 in the frame of the bodies' J, summed over the steps
+/// in those axes: with a_i = R₁⋯R_{i−1} e_k, ω = Σ θ̇_i a_i and
+/// α = Σ (ω_{<i} × θ̇_i a_i + θ̈_i a_i), ω_{<i} the sum before step i.
 pub(crate) fn world_motion(
     d: &mut Dag,
     m: &Model,
     motion: &Motion,
     frame: &Frame,
 ) -> ([Node; 3], [Node; 3]) {
-    let Some((last, rest)) = frame.steps.split_last() else {
-        return ([ZERO_NODE; 3], [ZERO_NODE; 3]);
-    };
-    let before = Frame {
-        steps: rest.to_vec(),
-        heading_out: frame.heading_out,
-    };
-    let f = frame_motion(d, m, motion, &before);
-    let rate = d.expr(&m.engine, last.rate);
-    let accel = motion.rate_of(d, rate);
-    let identity: Vec<Vec<Node>> = (0..3)
-        .map(|x| {
-            (0..3)
-                .map(|y| if x == y { ONE_NODE } else { ZERO_NODE })
-                .collect()
-        })
-        .collect();
-    let (omega, alpha) = turn_rates(d, &identity, (last.axis, rate, accel), f.omega, f.alpha0);
-    let out = |d: &mut Dag, v: [Node; 3]| {
-        [0, 1, 2].map(|x| super::dot(d, ZERO_NODE, (0..3).map(|y| (f.turn[x][y], v[y]))))
-    };
-    (out(d, omega), out(d, alpha))
+    let mut turn = identity();
+    let (mut omega, mut alpha) = ([ZERO_NODE; 3], [ZERO_NODE; 3]);
+    for (i, step) in frame.steps.iter().enumerate() {
+        let rate = d.expr(&m.engine, step.rate);
+        let accel = motion.rate_of(d, rate);
+        let axis = [0, 1, 2].map(|x| turn[x][step.axis]);
+        let spin = axis.map(|x| d.mul(rate, x));
+        let carried = cross_nodes(d, &omega, &spin);
+        for x in 0..3 {
+            let t = d.mul(accel, axis[x]);
+            let t = d.add(carried[x], t);
+            alpha[x] = d.add(alpha[x], t);
+            omega[x] = d.add(omega[x], spin[x]);
+        }
+        if !(i == 0 && frame.heading_out) {
+            let f = step_turn(d, m, step);
+            turn = turned(d, turn, &f);
+        }
+    }
+    (omega, alpha)
+}
+
+/// R F.
+fn turned(d: &mut Dag, r: [[Node; 3]; 3], f: &[Vec<Node>]) -> [[Node; 3]; 3] {
+    r.map(|row| [0, 1, 2].map(|y| super::dot(d, ZERO_NODE, (0..3).map(|x| (row[x], f[x][y])))))
+}
+
+fn identity() -> [[Node; 3]; 3] {
+    [0, 1, 2].map(|x| [0, 1, 2].map(|y| if x == y { ONE_NODE } else { ZERO_NODE }))
 }
 
 fn step_turn(d: &mut Dag, m: &Model, step: &FrameStep) -> Vec<Vec<Node>> {
