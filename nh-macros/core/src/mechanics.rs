@@ -82,6 +82,9 @@ pub struct Link {
     pub frame: Option<Frame>,
 }
 
+/// The product T of a rotation's trailing constant factors.
+pub(crate) type Tail = [[ExprId; 3]; 3];
+
 /// A body frame as the product of elementary rotations R_k(θ), from which
 /// its orientation R, ω_b and α_b follow step by step (DESIGN §10):
 /// ω' = R_kᵀ ω + θ̇ e_k, α' = R_kᵀ α + (R_kᵀ ω) × θ̇ e_k + θ̈ e_k.
@@ -482,13 +485,15 @@ impl Model {
                     .map(|w| (*w, self.velocity_jacobian(w.rate)));
                 let wheels = wheels.collect();
                 let turned_out = frame.is_some();
-                let rotation = part.rotation.map(|(omega, inertia, spin)| BodyRotation {
-                    wheels,
-                    frame: match spin {
-                        None => self.frame_of(&part.factors, turned_out),
-                        Some(_) => None,
-                    },
-                    ..self.body_rotation(omega, inertia, spin)
+                let rotation = part.rotation.map(|(omega, inertia, spin)| {
+                    let rot = BodyRotation {
+                        wheels,
+                        ..self.body_rotation(omega, inertia, spin)
+                    };
+                    match spin {
+                        None => self.without_tail(rot, &part.factors, turned_out),
+                        Some(_) => rot,
+                    }
                 });
                 BodyKinematics {
                     mass: part.mass,
@@ -551,6 +556,81 @@ impl Model {
             })
             .collect();
         Some(Frame { steps, heading_out })
+    }
+
+    /// The factors without their trailing constant ones, and the product T
+    /// of those (R = R' T, so a body vector v is T v in the axes of R').
+    pub(crate) fn trimmed(
+        &mut self,
+        factors: &[(usize, ExprId)],
+    ) -> (Vec<(usize, ExprId)>, Option<Tail>) {
+        let mut kept = factors.to_vec();
+        let mut tail: Option<[[ExprId; 3]; 3]> = None;
+        while let Some(&(k, angle)) = kept.last() {
+            if !self.fixed(angle) {
+                break;
+            }
+            kept.pop();
+            let f = crate::lower::values::elementary(&mut self.engine, k, angle);
+            tail = Some(match tail {
+                Some(t) => crate::lower::values::mat_mat(&mut self.engine, &f, &t),
+                None => f,
+            });
+        }
+        (kept, tail)
+    }
+
+    /// ω_b of the product of `factors` (body components): ω' = Fᵀ ω + θ̇ e_k
+    /// step by step.
+    fn body_omega(&mut self, factors: &[(usize, ExprId)]) -> [ExprId; 3] {
+        use crate::lower::values::{elementary, mat_vec, transpose};
+        let mut omega = [ZERO; 3];
+        for &(k, angle) in factors {
+            let f = elementary(&mut self.engine, k, angle);
+            omega = mat_vec(&mut self.engine, &transpose(&f), omega);
+            let rate = self.along_motion(angle);
+            omega[k] = self.engine.add(omega[k], rate);
+        }
+        omega
+    }
+
+    /// A body's rotation in the axes of its orientation without the
+    /// trailing constant factors T (DESIGN §10): ω_b' = T ω_b from the
+    /// other factors and I' = T I Tᵀ, when its wheels turn about the axis of
+    /// every factor of T (which leaves their part of I as it is).
+    fn without_tail(
+        &mut self,
+        rot: BodyRotation,
+        factors: &[(usize, ExprId)],
+        heading_out: bool,
+    ) -> BodyRotation {
+        use crate::lower::values::{mat_mat, transpose};
+        let (kept, Some(tail)) = self.trimmed(factors) else {
+            return BodyRotation {
+                frame: self.frame_of(factors, heading_out),
+                ..rot
+            };
+        };
+        let axes_kept = rot
+            .wheels
+            .iter()
+            .all(|(w, _)| factors[kept.len()..].iter().all(|&(k, _)| k == w.axis));
+        let Some(frame) = self.frame_of(&kept, heading_out).filter(|_| axes_kept) else {
+            return BodyRotation {
+                frame: self.frame_of(factors, heading_out),
+                ..rot
+            };
+        };
+        let omega = self.body_omega(&kept);
+        let turned = mat_mat(&mut self.engine, &tail, &rot.inertia);
+        let inertia = mat_mat(&mut self.engine, &turned, &transpose(&tail));
+        BodyRotation {
+            jacobian: omega.map(|w| self.velocity_jacobian(w)),
+            omega,
+            inertia,
+            frame: Some(frame),
+            ..rot
+        }
     }
 
     /// The block's terms, for a block of homogeneous velocity rows solved by

@@ -273,11 +273,20 @@ impl Model {
             Some(h) => crate::lower::values::mat_mat(&mut self.engine, h, &f.0),
             None => f.0,
         };
-        super::Link {
-            omega: f.1,
-            offset,
-            turn,
-            frame: self.frame_of(&f.2, frame.is_some()),
+        let (kept, tail) = self.trimmed(&f.2);
+        match (self.frame_of(&kept, frame.is_some()), tail) {
+            (Some(steps), Some(tail)) => super::Link {
+                omega: f.1,
+                offset: mat_vec(&mut self.engine, &tail, offset),
+                turn,
+                frame: Some(steps),
+            },
+            _ => super::Link {
+                omega: f.1,
+                offset,
+                turn,
+                frame: self.frame_of(&f.2, frame.is_some()),
+            },
         }
     }
 
@@ -361,7 +370,7 @@ impl Model {
     }
 
     /// Whether `x` is free of the coordinates, velocities, inputs and t.
-    fn fixed(&self, x: ExprId) -> bool {
+    pub(super) fn fixed(&self, x: ExprId) -> bool {
         let moving = |s: &SymId| {
             *s == self.time
                 || self.inputs.iter().any(|u| u.sym == *s)
