@@ -125,6 +125,10 @@ impl Stats {
 pub(crate) struct Args {
     coord: Vec<TokenStream>,
     rvel: Vec<TokenStream>,
+    /// The dependent velocities as C ṙ, for graphs that need C anyway
+    /// (the accelerations and what derives from them); else solved on
+    /// their own, which is cheaper without C.
+    columns: bool,
 }
 
 impl Args {
@@ -134,6 +138,15 @@ impl Args {
         Args {
             coord: (0..m.n()).map(|i| quote!(q[#i])).collect(),
             rvel: (0..m.k()).map(|j| quote!(#vel[#j])).collect(),
+            columns: false,
+        }
+    }
+
+    /// The same arguments for a graph of the accelerations.
+    fn moving(self) -> Args {
+        Args {
+            columns: true,
+            ..self
         }
     }
 
@@ -148,6 +161,7 @@ impl Args {
                     quote!(x[#ix])
                 })
                 .collect(),
+            columns: false,
         }
     }
 }
@@ -201,7 +215,17 @@ pub(crate) fn bound_dag(m: &Model, args: &Args) -> Dag {
     }
     // dependent velocities: computed from the constraints (5.3)
     if let Some(bt) = &m.block {
-        let sdot = block::dependent_velocities(&mut d, m, bt, &rdot);
+        let sdot = if args.columns {
+            let columns = block::velocity_columns(&mut d, m, bt);
+            (0..m.constraints.len())
+                .map(|a| {
+                    let pairs = columns.iter().zip(&rdot).map(|(c, &v)| (c[a], v));
+                    dot(&mut d, ZERO_NODE, pairs)
+                })
+                .collect()
+        } else {
+            block::dependent_velocities(&mut d, m, bt, &rdot)
+        };
         for (c, v) in m.constraints.iter().zip(sdot) {
             let s = &m.coordinates[c.dependent];
             d.label(
@@ -835,7 +859,7 @@ impl Derived<'_> {
         let (d, rdd) = match self.graphs.slot(route).take() {
             Some(g) => g,
             None => {
-                let mut d = bound_dag(self.m, &Args::vectors(self.m));
+                let mut d = bound_dag(self.m, &Args::vectors(self.m).moving());
                 let rdd = self.acc_nodes(&mut d, route);
                 (d, rdd)
             }
@@ -1272,7 +1296,7 @@ impl Derived<'_> {
     fn jacobian_body(&mut self) -> TokenStream {
         let (n, k) = (self.m.n(), self.m.k());
         let dim = n + k;
-        let args_x = Args::state(self.m);
+        let args_x = Args::state(self.m).moving();
         let mut d = bound_dag(self.m, &args_x);
         let vars = self.state_vars();
         let jac = self.derivative_columns(&mut d, &vars);
@@ -1299,7 +1323,7 @@ impl Derived<'_> {
         if self.m.autonomous() {
             return quote! { let _ = (t, x); #u __nh_private::nalgebra::SVector::<T, #dim>::zeros() };
         }
-        let mut d = bound_dag(self.m, &Args::state(self.m));
+        let mut d = bound_dag(self.m, &Args::state(self.m).moving());
         let column = self.derivative_columns(&mut d, &[self.m.time]);
         let flat: Vec<Node> = column.iter().flatten().copied().collect();
         let (stmts, o) = self.emit_hoisted(&d, &flat);
@@ -1319,7 +1343,7 @@ impl Derived<'_> {
     /// `parameter_jacobian`: ∂f/∂p.
     fn parameter_jacobian_body(&mut self) -> TokenStream {
         let dim = self.m.n() + self.m.k();
-        let mut d = bound_dag(self.m, &Args::state(self.m));
+        let mut d = bound_dag(self.m, &Args::state(self.m).moving());
         let vars = self.sensitivity_syms();
         let cols = self.derivative_columns(&mut d, &vars);
         let flat: Vec<Node> = cols.iter().flatten().copied().collect();
@@ -1334,7 +1358,7 @@ impl Derived<'_> {
     /// structurally zero, and every value is computed once.
     fn variational_rhs_body(&mut self) -> TokenStream {
         let dim = self.m.n() + self.m.k();
-        let mut d = bound_dag(self.m, &Args::state(self.m));
+        let mut d = bound_dag(self.m, &Args::state(self.m).moving());
         let state = self.state_vars();
         let params = self.sensitivity_syms();
         let p = params.len();
@@ -1387,7 +1411,7 @@ impl Derived<'_> {
     fn linearization_body(&mut self) -> TokenStream {
         let (n, k) = (self.m.n(), self.m.k());
         let (dim, m_in) = (n + k, self.m.inputs.len());
-        let args_x = Args::state(self.m);
+        let args_x = Args::state(self.m).moving();
         let mut d = bound_dag(self.m, &args_x);
         let mut vars = self.state_vars();
         vars.extend(self.m.inputs.iter().map(|u| u.sym));
@@ -1807,7 +1831,7 @@ struct ComparedRoutes {
 /// Builds the graph of r̈ by each route (the curvature route's with the
 /// reduced system solved symbolically, if that is cheaper).
 fn compare_routes(m: &mut Model, dv: &mut Derivation, both_routes: bool) -> ComparedRoutes {
-    let args_v = Args::vectors(m);
+    let args_v = Args::vectors(m).moving();
     let mut d1 = bound_dag(m, &args_v);
     let mn = multiplier_nodes(&mut d1, m, &dv.multiplier_route);
     let mut d2 = bound_dag(m, &args_v);
