@@ -106,6 +106,8 @@ pub struct FrameStep {
     pub turn: [[ExprId; 3]; 3],
     /// θ̇.
     pub rate: ExprId,
+    /// ∂θ̇/∂q̇, 1 × n.
+    pub rate_jacobian: Vec<ExprId>,
 }
 
 /// A body's rotation for [`BodyKinematics`], in body axes.
@@ -549,10 +551,14 @@ impl Model {
         }
         let steps = factors
             .iter()
-            .map(|&(axis, angle)| FrameStep {
-                axis,
-                turn: crate::lower::values::elementary(&mut self.engine, axis, angle),
-                rate: self.along_motion(angle),
+            .map(|&(axis, angle)| {
+                let rate = self.along_motion(angle);
+                FrameStep {
+                    axis,
+                    turn: crate::lower::values::elementary(&mut self.engine, axis, angle),
+                    rate,
+                    rate_jacobian: self.velocity_jacobian(rate),
+                }
             })
             .collect();
         Some(Frame { steps, heading_out })

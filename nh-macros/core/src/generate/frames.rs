@@ -95,6 +95,32 @@ pub(crate) fn world_motion(
     (omega, alpha)
 }
 
+/// The frame's orientation in the frame of the bodies' J.
+pub(crate) fn orientation(d: &mut Dag, m: &Model, frame: &Frame) -> [[Node; 3]; 3] {
+    let mut turn = identity();
+    for (i, step) in frame.steps.iter().enumerate() {
+        if !(i == 0 && frame.heading_out) {
+            let f = step_turn(d, m, step);
+            turn = turned(d, turn, &f);
+        }
+    }
+    turn
+}
+
+/// Each step's axis a_i = R₁⋯R_{i−1} e_k in the frame of the bodies' J.
+pub(crate) fn world_axes(d: &mut Dag, m: &Model, frame: &Frame) -> Vec<[Node; 3]> {
+    let mut turn = identity();
+    let mut axes = Vec::with_capacity(frame.steps.len());
+    for (i, step) in frame.steps.iter().enumerate() {
+        axes.push([0, 1, 2].map(|x| turn[x][step.axis]));
+        if !(i == 0 && frame.heading_out) {
+            let f = step_turn(d, m, step);
+            turn = turned(d, turn, &f);
+        }
+    }
+    axes
+}
+
 /// R F.
 fn turned(d: &mut Dag, r: [[Node; 3]; 3], f: &[Vec<Node>]) -> [[Node; 3]; 3] {
     r.map(|row| [0, 1, 2].map(|y| super::dot(d, ZERO_NODE, (0..3).map(|x| (row[x], f[x][y])))))
