@@ -15,6 +15,7 @@ use quote::quote;
 mod block;
 mod frames;
 mod motion;
+mod screws;
 mod speeds;
 mod stand_in;
 
@@ -430,12 +431,7 @@ fn body_projection(
     for b in &bt.bodies {
         if let Some(jacobian) = &b.jacobian {
             let mass = d.expr(&m.engine, b.mass);
-            let j = matrix(d, m, jacobian);
-            let accel0 = match &b.anchor {
-                Some(chain) => chain_rate(d, m, &motion, chain),
-                None => motion.rate_of_jacobian(d, &j, true),
-            };
-            let (v, a) = partial_and_bias(d, &j, &accel0, c, acc_bias);
+            let (v, a) = centre_partials(d, m, &motion, (jacobian, &b.anchor), (c, acc_bias));
             let mv: Vec<Vec<Node>> = v
                 .iter()
                 .map(|row| row.iter().map(|&x| d.mul(mass, x)).collect())
@@ -536,6 +532,41 @@ pub(crate) fn chain_rate(
         a = [0, 1, 2].map(|x| dot(d, a[x], (0..3).map(|y| (turn[x][y], body[y]))));
     }
     a
+}
+
+/// A body centre's partial velocities V = J C and acceleration at r̈ = 0,
+/// J acc_bias + J̇ q̇: along its chain as screws where its links have frames.
+fn centre_partials(
+    d: &mut Dag,
+    m: &Model,
+    motion: &motion::Motion,
+    (jacobian, anchor): (&[Vec<ExprId>; 3], &Option<crate::mechanics::Chain>),
+    (c, acc_bias): (&[Vec<Node>], &[Node]),
+) -> (Vec<Vec<Node>>, Vec<Node>) {
+    let Some(chain) = anchor else {
+        let j = matrix(d, m, jacobian);
+        let accel0 = motion.rate_of_jacobian(d, &j, true);
+        return partial_and_bias(d, &j, &accel0, c, acc_bias);
+    };
+    let accel0 = chain_rate(d, m, motion, chain);
+    let Some(pieces) = screws::link_pieces(d, m, &chain.links) else {
+        let j = matrix(d, m, jacobian);
+        return partial_and_bias(d, &j, &accel0, c, acc_bias);
+    };
+    let screws = screws::Screws::of(d, m, &chain.root, &pieces);
+    let k = c.first().map_or(0, Vec::len);
+    let columns: Vec<[Node; 3]> = (0..k)
+        .map(|a| {
+            let col: Vec<Node> = c.iter().map(|row| row[a]).collect();
+            screws.times(d, &col)
+        })
+        .collect();
+    let v = (0..3)
+        .map(|x| columns.iter().map(|col| col[x]).collect())
+        .collect();
+    let bias = screws.times(d, acc_bias);
+    let a = (0..3).map(|x| d.add(accel0[x], bias[x])).collect();
+    (v, a)
 }
 
 /// A body's ω, its partial angular velocities Ω = W C and α at r̈ = 0

@@ -8,7 +8,7 @@
 use super::motion::Motion;
 use super::{exprs, matrix};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
-use crate::mechanics::{BlockTerms, ContactTerms, FrameStep, RowTerms};
+use crate::mechanics::{BlockTerms, ContactTerms, RowTerms};
 use crate::model::Model;
 
 /// c_s factored: for column j, its pivot row, 1/pivot and the multipliers
@@ -53,61 +53,17 @@ fn coefficients(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Vec<Node>> {
         .collect()
 }
 
-/// A contact point's ∂v/∂q̇_i (columns i, frame of the bodies' J) as
-/// screws (DESIGN §10): with the centre G = root + Σ_l R_l r_l along its
-/// chain and o = P − G, v = J_root q̇ + Σ_l ω_l × R_l r_l + ω × o, and
-/// each ω = Σ_s θ̇_s a_s over its frame's steps, so
-/// ∂v/∂q̇_i = J_root,i + Σ_s ∂θ̇_s/∂q̇_i a_s × L_s, the lever L_s summing the
-/// offsets of the frames that turn with step s. `None` without frames.
+/// A contact point's ∂v/∂q̇_i (columns i) as screws: its centre's chain
+/// and the offset o = P − G in the body's own frame; `None` without frames.
 fn screw_columns(d: &mut Dag, m: &Model, c: &ContactTerms, o: [Node; 3]) -> Option<Vec<[Node; 3]>> {
     let own = c.frame.as_ref()?;
     let (root, links) = match &c.chain {
         Some(chain) => (&chain.root, chain.links.as_slice()),
         None => (&c.centre_jacobian, &[][..]),
     };
-    let mut pieces = Vec::with_capacity(links.len() + 1);
-    for link in links {
-        let frame = link.frame.as_ref()?;
-        let turn = super::frames::orientation(d, m, frame);
-        let r = exprs(d, m, &link.offset);
-        let off = [0, 1, 2].map(|x| super::dot(d, ZERO_NODE, (0..3).map(|y| (turn[x][y], r[y]))));
-        pieces.push((frame, off));
-    }
+    let mut pieces = super::screws::link_pieces(d, m, links)?;
     pieces.push((own, o));
-    // the steps, each once (frames share their leading steps), with levers
-    let mut steps: Vec<(&[FrameStep], [Node; 3], [Node; 3])> = Vec::new();
-    for (frame, off) in pieces {
-        let axes = super::frames::world_axes(d, m, frame);
-        for (j, axis) in axes.into_iter().enumerate() {
-            let prefix = &frame.steps[..=j];
-            let same = |s: &[FrameStep]| {
-                s.len() == prefix.len()
-                    && s.iter()
-                        .zip(prefix)
-                        .all(|(a, b)| a.axis == b.axis && a.turn == b.turn)
-            };
-            match steps.iter_mut().find(|(s, _, _)| same(s)) {
-                Some((_, _, lever)) => *lever = [0, 1, 2].map(|x| d.add(lever[x], off[x])),
-                None => steps.push((prefix, axis, off)),
-            }
-        }
-    }
-    let root = matrix(d, m, root);
-    let mut columns: Vec<[Node; 3]> = (0..m.n())
-        .map(|i| [root[0][i], root[1][i], root[2][i]])
-        .collect();
-    for (prefix, axis, lever) in steps {
-        let step = &prefix[prefix.len() - 1];
-        if step.rate_jacobian.iter().all(|&x| x == crate::sym::ZERO) {
-            continue;
-        }
-        let arm = super::cross_nodes(d, &axis, &lever);
-        for (i, col) in columns.iter_mut().enumerate() {
-            let rate = d.expr(&m.engine, step.rate_jacobian[i]);
-            *col = [0, 1, 2].map(|x| super::dot(d, col[x], [(rate, arm[x])]));
-        }
-    }
-    Some(columns)
+    Some(super::screws::Screws::of(d, m, root, &pieces).columns(d))
 }
 
 /// The rows' rates at q̈ = 0, Σ ∂g/∂q_i q̇_i.
