@@ -510,6 +510,20 @@ pub(crate) fn chain_rate(
 ) -> [Node; 3] {
     let root = matrix(d, m, &chain.root);
     let mut a = motion.rate_of_jacobian(d, &root, true);
+    if let Some(pieces) = screws::link_pieces(d, m, &chain.links) {
+        // in the frame of J: α × R r + ω × (ω × R r) per link
+        for (frame, off) in pieces {
+            let (omega, alpha) = frames::world_motion(d, m, motion, frame);
+            let tangential = cross_nodes(d, &alpha, &off);
+            let wr = cross_nodes(d, &omega, &off);
+            let normal = cross_nodes(d, &omega, &wr);
+            a = [0, 1, 2].map(|x| {
+                let t = d.add(tangential[x], normal[x]);
+                d.add(a[x], t)
+            });
+        }
+        return a;
+    }
     for link in &chain.links {
         let (omega, alpha0, turn) = match &link.frame {
             Some(frame) => {
