@@ -241,9 +241,10 @@ fn a_slow_bicycle_falls_and_the_run_ends_typed() {
     }
 }
 
-/// The nonlinear accelerations and dependent velocities at 12 states away
-/// from upright (roll and steer to ±0.5 rad, rear wheel to ±20 rad/s), for
-/// the benchmark's parameters and a perturbed set, against an independent
+/// The nonlinear accelerations and dependent velocities at 16 states away
+/// from upright (roll and steer to ±0.5 rad, rear wheel to ±20 rad/s, four
+/// of them heading along ±y and −x, where cos or sin of the yaw vanishes),
+/// for the benchmark's parameters and a perturbed set, against an independent
 /// SymPy/mpmath derivation (`tests/data/whipple_sympy.py`: the expanded
 /// Lagrangian's M and h, the contact rows' A and rates, a KKT solve at 40
 /// digits).
@@ -259,7 +260,7 @@ fn nonlinear_accelerations_agree_with_sympy() {
             .collect()
     };
     let cases = data["cases"].as_array().expect("cases");
-    assert_eq!(cases.len(), 12);
+    assert_eq!(cases.len(), 16);
     let (mut worst_acc, mut worst_vel) = (0.0_f64, 0.0_f64);
     for case in cases {
         let p = numbers(&case["params"]);
@@ -281,11 +282,66 @@ fn nonlinear_accelerations_agree_with_sympy() {
         }
     }
     eprintln!(
-        "Whipple vs SymPy at 12 states: accelerations {worst_acc:.1e} (of the largest), dependent velocities {worst_vel:.1e}"
+        "Whipple vs SymPy at 16 states: accelerations {worst_acc:.1e} (of the largest), dependent velocities {worst_vel:.1e}"
     );
     assert!(worst_acc < 1e-12, "accelerations differ by {worst_acc:e}");
     assert!(
         worst_vel < 1e-13,
         "dependent velocities differ by {worst_vel:e}"
     );
+}
+
+/// Riding north, south or west: the motion does not depend on the heading,
+/// and the rear contact's velocity turns with it. The contact rows are
+/// solved in the heading's frame; a static pivot on the x and y columns
+/// there (cos ψ, sin ψ) would lose every digit where one of them vanishes.
+#[test]
+fn every_heading_gives_the_same_motion() {
+    let b = model::benchmark();
+    let rdot = SVector::<f64, 3>::new(0.5, -0.8, 12.0);
+    let at = |yaw: f64| {
+        let mut x = SVector::<f64, 11>::zeros();
+        x.fixed_rows_mut::<8>(0)
+            .copy_from_slice(&[0.3, -0.4, 1.0, yaw, 0.0, 0.5, 2.0, -1.0]);
+        x.fixed_rows_mut::<3>(8).copy_from(&rdot);
+        b.project(0.0, &mut x)
+            .expect("the contact's height vanishes");
+        let q = x.fixed_rows::<8>(0).into_owned();
+        (
+            b.accelerations(0.0, &q, &rdot),
+            b.dependent_velocities(&q, &rdot),
+        )
+    };
+    let (acc0, vel0) = at(0.0);
+    let half = std::f64::consts::FRAC_PI_2;
+    for yaw in [
+        half,
+        -half,
+        std::f64::consts::PI,
+        half + 1e-12,
+        half - 1e-9,
+        2.5,
+        -2.0,
+    ] {
+        let (acc, vel) = at(yaw);
+        assert!(
+            (acc - acc0).norm() <= 1e-12 * acc0.norm(),
+            "yaw {yaw}: {acc} vs {acc0}"
+        );
+        // DEPENDENT = yaw, pitch, front, x, y: all but (ẋ, ẏ) unchanged
+        for a in 0..3 {
+            assert!(
+                (vel[a] - vel0[a]).abs() <= 1e-12 * (1.0 + vel0[a].abs()),
+                "yaw {yaw}"
+            );
+        }
+        let (c, s) = (yaw.cos(), yaw.sin());
+        let turned = [c * vel0[3] - s * vel0[4], s * vel0[3] + c * vel0[4]];
+        for (got, want) in [vel[3], vel[4]].iter().zip(turned) {
+            assert!(
+                (got - want).abs() <= 1e-12 * (1.0 + want.abs()),
+                "yaw {yaw}: {vel}"
+            );
+        }
+    }
 }

@@ -20,6 +20,7 @@ front, x, y); independent velocities (roll, steer, rear).
 Writes whipple_nonlinear.json next to this file.
 """
 import json
+import math
 import os
 import random
 import sys
@@ -279,19 +280,26 @@ def note(key, val):
 
 
 state_rng = random.Random(12345)
+# headings where a static pivot on the rows' x and y columns would fail
+# (cos or sin of the yaw zero), for the benchmark's parameters
+HEADINGS = [math.pi / 2, -math.pi / 2, math.pi, math.pi / 2 + 1e-9]
 for pset_name, pflt in (("benchmark", BENCH), ("perturbed", PERT)):
     par = mpv(pflt)
-    for k in range(6):
-        qf = [state_rng.uniform(-0.5, 0.5),           # roll
-              state_rng.uniform(-0.5, 0.5),           # steer
-              state_rng.uniform(-3.14, 3.14),         # rear
-              state_rng.uniform(-3.14, 3.14),         # yaw
-              0.0,                                    # pitch (solved)
-              state_rng.uniform(-3.14, 3.14),         # front
-              state_rng.uniform(-5.0, 5.0),           # x
-              state_rng.uniform(-5.0, 5.0)]           # y
-        rdf = [state_rng.uniform(-2.0, 2.0), state_rng.uniform(-2.0, 2.0),
-               state_rng.uniform(-20.0, 20.0)]
+    for k in range(6 + (len(HEADINGS) if pset_name == "benchmark" else 0)):
+        if k < 6:
+            qf = [state_rng.uniform(-0.5, 0.5),           # roll
+                  state_rng.uniform(-0.5, 0.5),           # steer
+                  state_rng.uniform(-3.14, 3.14),         # rear
+                  state_rng.uniform(-3.14, 3.14),         # yaw
+                  0.0,                                    # pitch (solved)
+                  state_rng.uniform(-3.14, 3.14),         # front
+                  state_rng.uniform(-5.0, 5.0),           # x
+                  state_rng.uniform(-5.0, 5.0)]           # y
+            rdf = [state_rng.uniform(-2.0, 2.0), state_rng.uniform(-2.0, 2.0),
+                   state_rng.uniform(-20.0, 20.0)]
+        else:
+            qf = [0.3, -0.4, 1.0, HEADINGS[k - 6], 0.0, 0.5, 2.0, -1.0]
+            rdf = [0.5, -0.8, 12.0]
         qq = mpv(qf)
         ptc = solve_pitch(par, qq)
         qf[4] = float(ptc)          # the reference uses the double the JSON carries
@@ -485,7 +493,7 @@ with open(OUT, "w") as fh:
 # validate it parses
 with open(OUT) as fh:
     data = json.load(fh)
-assert len(data["cases"]) == 12
+assert len(data["cases"]) == 16
 
 log("worst residuals over all cases:")
 for k, v in worst.items():

@@ -431,21 +431,17 @@ fn body_projection(
     for b in &bt.bodies {
         if let Some(jacobian) = &b.jacobian {
             let mass = d.expr(&m.engine, b.mass);
-            let (v, a) = centre_partials(d, m, &motion, (jacobian, &b.anchor), (c, acc_bias));
+            let (v, mut a) = centre_partials(d, m, &motion, (jacobian, &b.anchor), (c, acc_bias));
+            if let Some(g) = gravity {
+                // the weight through the partial velocities: m Vᵀ (a + γ e_z)
+                a[2] = d.add(a[2], g);
+            }
             let mv: Vec<Vec<Node>> = v
                 .iter()
                 .map(|row| row.iter().map(|&x| d.mul(mass, x)).collect())
                 .collect();
             let ma: Vec<Node> = a.iter().map(|&x| d.mul(mass, x)).collect();
             add_inertia(d, &mut mr, &mut f, &v, &mv, &ma);
-            if let Some(g) = gravity {
-                // γ m V_z: the weight through the partial velocities
-                let weight = d.mul(g, mass);
-                for (a, fa) in f.iter_mut().enumerate() {
-                    let t = d.mul(weight, v[2][a]);
-                    *fa = d.add(*fa, t);
-                }
-            }
         }
         if let Some(rot) = &b.rotation {
             let (omega, om, alpha) = body_turning(d, m, &motion, rot, (c, acc_bias));

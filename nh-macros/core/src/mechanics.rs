@@ -226,6 +226,22 @@ pub struct BlockTerms {
     /// ψ̇ when the contacts' vectors are in the heading's frame
     /// (`heading_frame`): a world rate ȧ is then R ȧ = (R a)˙ + ψ̇ e_z × R a.
     pub heading_rate: Option<ExprId>,
+    /// A planar translation (x, y) among the dependent coordinates, solved
+    /// for in the heading's frame (see [`Planar`]).
+    pub planar: Option<Planar>,
+}
+
+/// Dependent coordinates x, y that translate every contact (∂G/∂x = e_x,
+/// ∂G/∂y = e_y), with the rows in the heading's frame R_z(−ψ): their
+/// columns there turn with ψ (static pivots would fail at some heading), so
+/// the block is solved for u = R_z(−ψ)(ẋ, ẏ), whose columns are e_x and e_y
+/// (DESIGN §9), and (ẋ, ẏ) = R_z(ψ) u.
+#[derive(Clone, Copy)]
+pub struct Planar {
+    /// The constraints (block columns) of x and y.
+    pub columns: [usize; 2],
+    /// R_z(ψ) restricted to the plane, by rows.
+    pub turn: [[ExprId; 2]; 2],
 }
 
 /// One velocity row g(q, q̇) = 0 of a [`BlockTerms`].
@@ -646,7 +662,8 @@ impl Model {
         if self.velocity_rows.is_empty() || self.affine || self.speeds.is_some() {
             return None;
         }
-        let pivots = self.block_pivots()?;
+        let planar = self.planar();
+        let pivots = self.block_pivots(planar.as_ref())?;
         let frame = self.heading_frame();
         let contacts = self.contact_kinematics.clone();
         let chains = self.contact_chains.clone();
@@ -695,6 +712,38 @@ impl Model {
             rows,
             contacts,
             heading_rate: self.heading_rate(),
+            planar,
+        })
+    }
+
+    /// The [`Planar`] translation of the block, if its rows are all
+    /// contacts' in the heading's frame and two dependent coordinates
+    /// translate every contact along e_x and e_y.
+    fn planar(&mut self) -> Option<Planar> {
+        let psi = self.heading()?;
+        if self.row_contacts.iter().any(Option::is_none) {
+            return None;
+        }
+        let contacts = self.contact_kinematics.clone();
+        let along = |m: &mut Model, axis: usize| {
+            m.constraints.iter().position(|con| {
+                let c = &m.coordinates[con.dependent];
+                let (q, v) = (c.position, c.velocity);
+                contacts.iter().all(|k| {
+                    let turns = k.omega.iter().any(|&w| m.engine.diff(w, v) != ZERO);
+                    let moves = (0..3).all(|x| {
+                        let want = if x == axis { crate::sym::ONE } else { ZERO };
+                        m.engine.diff(k.centre[x], q) == want
+                    });
+                    moves && !turns
+                })
+            })
+        };
+        let columns = [along(self, 0)?, along(self, 1)?];
+        let r = crate::lower::values::elementary(&mut self.engine, 2, psi);
+        Some(Planar {
+            columns,
+            turn: [[r[0][0], r[0][1]], [r[1][0], r[1][1]]],
         })
     }
 
@@ -721,7 +770,7 @@ impl Model {
     /// coordinates' zero (the usual operating point), where a column has no
     /// nonzero candidate left at a random point; `None` if a pivot vanishes
     /// at both.
-    fn block_pivots(&mut self) -> Option<Vec<usize>> {
+    fn block_pivots(&mut self, planar: Option<&Planar>) -> Option<Vec<usize>> {
         use crate::sym::dd::Dd;
         let deps: Vec<SymId> = self
             .constraints
@@ -729,10 +778,13 @@ impl Model {
             .map(|c| self.coordinates[c.dependent].velocity)
             .collect();
         let rows = self.velocity_rows.clone();
-        let block: Vec<Vec<ExprId>> = rows
+        let mut block: Vec<Vec<ExprId>> = rows
             .iter()
             .map(|&g| deps.iter().map(|&v| self.engine.diff(g, v)).collect())
             .collect();
+        if let Some(planar) = planar {
+            block = self.planar_block(&block, planar)?;
+        }
         let mut rng = crate::sym::Rng::new(0x1319_8A2E_0370_7344);
         let mut at = |zero: bool| -> Vec<Vec<f64>> {
             let mut vals: Vec<Dd> = (0..self.engine.num_symbols())
@@ -783,6 +835,35 @@ impl Model {
             }
         }
         Some(pivots)
+    }
+
+    /// The block as the generated code solves it with a [`Planar`]
+    /// translation: each contact's rows turned into the heading's frame,
+    /// the columns of x and y those of u (e_x, e_y).
+    fn planar_block(&mut self, block: &[Vec<ExprId>], planar: &Planar) -> Option<Vec<Vec<ExprId>>> {
+        let frame = self.heading_frame()?;
+        let sources = self.row_contacts.clone();
+        let row_of = |c: usize, x: usize| sources.iter().position(|s| *s == Some((c, x)));
+        let mut out = Vec::with_capacity(block.len());
+        for source in &sources {
+            let (c, k) = (*source)?;
+            let row: Vec<ExprId> = (0..block[0].len())
+                .map(|col| {
+                    if let Some(u) = planar.columns.iter().position(|&p| p == col) {
+                        return if u == k { crate::sym::ONE } else { ZERO };
+                    }
+                    let terms: Vec<ExprId> = (0..3)
+                        .filter(|&x| frame[k][x] != ZERO)
+                        .filter_map(|x| {
+                            row_of(c, x).map(|r| self.engine.mul(frame[k][x], block[r][col]))
+                        })
+                        .collect();
+                    self.engine.sum(&terms)
+                })
+                .collect();
+            out.push(row);
+        }
+        Some(out)
     }
 
     /// R_z(−ψ) for the heading ψ every rotating body's orientation starts

@@ -214,6 +214,21 @@ fn factor(d: &mut Dag, mut a: Vec<Vec<Node>>, pivots: &[usize]) -> Lu {
     }
 }
 
+/// The dependent velocities (or accelerations) x with c_s x = b: the
+/// factored block solved, a [`Planar`](crate::mechanics::Planar) pair turned
+/// back from u to (ẋ, ẏ).
+fn solve_block(d: &mut Dag, m: &Model, bt: &BlockTerms, lu: &Lu, b: Vec<Node>) -> Vec<Node> {
+    let mut x = solve(d, lu, b);
+    if let Some(p) = &bt.planar {
+        let u = p.columns.map(|a| x[a]);
+        for (row, &a) in p.turn.iter().zip(&p.columns) {
+            let r = [d.expr(&m.engine, row[0]), d.expr(&m.engine, row[1])];
+            x[a] = super::dot(d, ZERO_NODE, [(r[0], u[0]), (r[1], u[1])]);
+        }
+    }
+    x
+}
+
 /// x with c_s x = b.
 fn solve(d: &mut Dag, lu: &Lu, mut b: Vec<Node>) -> Vec<Node> {
     for (j, step) in lu.multipliers.iter().enumerate() {
@@ -243,7 +258,25 @@ fn factored(d: &mut Dag, m: &Model, bt: &BlockTerms) -> (Lu, Vec<Vec<Node>>) {
     let coef = coefficients(d, m, bt);
     let cs: Vec<Vec<Node>> = coef
         .iter()
-        .map(|row| m.constraints.iter().map(|c| row[c.dependent]).collect())
+        .zip(&bt.rows)
+        .map(|(row, source)| {
+            let component = match source {
+                RowTerms::Contact { component, .. } => Some(*component),
+                RowTerms::Written { .. } => None,
+            };
+            (m.constraints.iter().enumerate())
+                .map(|(a, c)| match (&bt.planar, component) {
+                    (Some(p), Some(k)) if p.columns.contains(&a) => {
+                        if k < 2 && p.columns[k] == a {
+                            ONE_NODE
+                        } else {
+                            ZERO_NODE
+                        }
+                    }
+                    _ => row[c.dependent],
+                })
+                .collect()
+        })
         .collect();
     let cr = coef
         .iter()
@@ -259,7 +292,7 @@ pub(crate) fn velocity_columns(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<V
     (0..m.k())
         .map(|b| {
             let rhs = cr.iter().map(|row: &Vec<Node>| d.neg(row[b])).collect();
-            solve(d, &lu, rhs)
+            solve_block(d, m, bt, &lu, rhs)
         })
         .collect()
 }
@@ -283,7 +316,7 @@ pub(crate) fn dependent_velocities(
             acc
         })
         .collect();
-    solve(d, &lu, rhs)
+    solve_block(d, m, bt, &lu, rhs)
 }
 
 /// The dependent accelerations at r̈ = 0, −c_s⁻¹ ġ, in the order of the
@@ -292,5 +325,5 @@ pub(crate) fn dependent_bias(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Nod
     let (lu, _) = factored(d, m, bt);
     let rates = rates(d, m, bt);
     let rhs = rates.into_iter().map(|x| d.neg(x)).collect();
-    solve(d, &lu, rhs)
+    solve_block(d, m, bt, &lu, rhs)
 }
