@@ -340,6 +340,7 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
                 let all: Vec<Node> = mr.iter().flatten().chain(f).copied().collect();
                 d.op_count(&all)
             };
+            let (c, acc_bias) = in_heading(d, m, bt, (&c, &acc_bias));
             let kane = body_projection(d, m, bt, &c, &acc_bias);
             if ops(d, &kane) < ops(d, &lagrange) {
                 kane
@@ -371,6 +372,30 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
         pivots: fac.d.clone(),
         fac,
     }
+}
+
+/// C and acc_bias for Kane's sums: with a planar pair (x, y), its rows
+/// those of u = R_z(−ψ)(ẋ, ẏ) and u̇ (see [`planar_columns`]).
+fn in_heading(
+    d: &mut Dag,
+    m: &Model,
+    bt: &crate::mechanics::BodyTerms,
+    (c, acc_bias): (&[Vec<Node>], &[Node]),
+) -> (Vec<Vec<Node>>, Vec<Node>) {
+    let (mut c, mut acc_bias) = (c.to_vec(), acc_bias.to_vec());
+    if let (Some(planar), Some(block)) = (bt.planar, &m.block) {
+        let columns = block::velocity_columns_in_heading(d, m, block);
+        let bias = block::dependent_bias_in_heading(d, m, block);
+        for (a, con) in m.constraints.iter().enumerate() {
+            if planar.contains(&con.dependent) {
+                for (b, col) in columns.iter().enumerate() {
+                    c[con.dependent][b] = col[a];
+                }
+                acc_bias[con.dependent] = bias[a];
+            }
+        }
+    }
+    (c, acc_bias)
 }
 
 /// Cᵀ M C and −Cᵀ (M acc_bias + h) of (5.9).
@@ -431,7 +456,13 @@ fn body_projection(
     for b in &bt.bodies {
         if let Some(jacobian) = &b.jacobian {
             let mass = d.expr(&m.engine, b.mass);
-            let (v, mut a) = centre_partials(d, m, &motion, (jacobian, &b.anchor), (c, acc_bias));
+            let (v, mut a) = centre_partials(
+                d,
+                m,
+                &motion,
+                (jacobian, &b.anchor),
+                (c, acc_bias, bt.planar),
+            );
             if let Some(g) = gravity {
                 // the weight through the partial velocities: m Vᵀ (a + γ e_z)
                 a[2] = d.add(a[2], g);
@@ -503,8 +534,10 @@ pub(crate) fn chain_rate(
     m: &Model,
     motion: &motion::Motion,
     chain: &crate::mechanics::Chain,
+    planar: Option<[usize; 2]>,
 ) -> [Node; 3] {
-    let root = matrix(d, m, &chain.root);
+    let mut root = matrix(d, m, &chain.root);
+    planar_columns(&mut root, planar, false);
     let mut a = motion.rate_of_jacobian(d, &root, true);
     if let Some(pieces) = screws::link_pieces(d, m, &chain.links) {
         // in the frame of J: α × R r + ω × (ω × R r) per link
@@ -544,6 +577,22 @@ pub(crate) fn chain_rate(
     a
 }
 
+/// The columns of a planar pair (x, y) of a Jacobian in the heading's
+/// frame: e_x and e_y where the dependent rows are u = R_z(−ψ)(ẋ, ẏ)
+/// (`constant`), or zero in a rate at q̈ = 0, to which a column constant in
+/// the world adds nothing.
+pub(crate) fn planar_columns(j: &mut [Vec<Node>], planar: Option<[usize; 2]>, constant: bool) {
+    for (axis, i) in planar.into_iter().flat_map(|p| p.into_iter().enumerate()) {
+        for (x, row) in j.iter_mut().enumerate() {
+            row[i] = if constant && x == axis {
+                ONE_NODE
+            } else {
+                ZERO_NODE
+            };
+        }
+    }
+}
+
 /// A body centre's partial velocities V = J C and acceleration at r̈ = 0,
 /// J acc_bias + J̇ q̇: along its chain as screws where its links have frames.
 fn centre_partials(
@@ -551,19 +600,26 @@ fn centre_partials(
     m: &Model,
     motion: &motion::Motion,
     (jacobian, anchor): (&[Vec<ExprId>; 3], &Option<crate::mechanics::Chain>),
-    (c, acc_bias): (&[Vec<Node>], &[Node]),
+    (c, acc_bias, planar): (&[Vec<Node>], &[Node], Option<[usize; 2]>),
 ) -> (Vec<Vec<Node>>, Vec<Node>) {
+    let j = |d: &mut Dag| {
+        let mut j = matrix(d, m, jacobian);
+        planar_columns(&mut j, planar, true);
+        j
+    };
     let Some(chain) = anchor else {
-        let j = matrix(d, m, jacobian);
-        let accel0 = motion.rate_of_jacobian(d, &j, true);
+        let j = j(d);
+        let mut moving = j.clone();
+        planar_columns(&mut moving, planar, false);
+        let accel0 = motion.rate_of_jacobian(d, &moving, true);
         return partial_and_bias(d, &j, &accel0, c, acc_bias);
     };
-    let accel0 = chain_rate(d, m, motion, chain);
+    let accel0 = chain_rate(d, m, motion, chain, planar);
     let Some(pieces) = screws::link_pieces(d, m, &chain.links) else {
-        let j = matrix(d, m, jacobian);
+        let j = j(d);
         return partial_and_bias(d, &j, &accel0, c, acc_bias);
     };
-    let screws = screws::Screws::of(d, m, &chain.root, &pieces);
+    let screws = screws::Screws::of(d, m, &chain.root, &pieces, planar);
     let k = c.first().map_or(0, Vec::len);
     let columns: Vec<[Node; 3]> = (0..k)
         .map(|a| {

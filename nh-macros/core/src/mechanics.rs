@@ -40,6 +40,11 @@ pub struct BodyTerms {
     /// ψ̇ when the centres' Jacobians are in the heading's frame (see
     /// [`BlockTerms::heading_rate`]).
     pub heading_rate: Option<ExprId>,
+    /// The coordinates (x, y) of the block's [`Planar`] translation when it
+    /// moves every centre too: the bodies' sums then take the dependent
+    /// velocities and accelerations of x and y as u (heading frame), and
+    /// the Jacobians' columns of x and y as e_x, e_y.
+    pub planar: Option<[usize; 2]>,
 }
 
 /// One body's kinematics for [`BodyTerms`].
@@ -489,6 +494,7 @@ impl Model {
         self.fold_fixed_centres(&mut parts);
         self.fold_wheels(&mut parts);
         let frame = self.heading_frame();
+        let centres: Vec<[ExprId; 3]> = parts.iter().filter_map(|p| p.centre).collect();
         let bodies = parts
             .into_iter()
             .map(|part| {
@@ -522,13 +528,43 @@ impl Model {
             })
             .collect();
         let (rest_mass, rest_bias) = self.euler_lagrange_terms(rest, true);
+        let planar = self.planar_bodies(&centres, (&rest_mass, &rest_bias));
         Some(BodyTerms {
             bodies,
             rest_mass,
             rest_bias,
             gravity,
             heading_rate: self.heading_rate(),
+            planar,
         })
+    }
+
+    /// The coordinates (x, y) of the block's [`Planar`] translation if they
+    /// also translate every body's centre (∂C/∂x = e_x, ∂C/∂y = e_y) and
+    /// the rest of the Lagrangian has no terms in them.
+    fn planar_bodies(
+        &mut self,
+        centres: &[[ExprId; 3]],
+        (rest_mass, rest_bias): (&[Vec<ExprId>], &[ExprId]),
+    ) -> Option<[usize; 2]> {
+        let planar = self.block.as_ref()?.planar?;
+        let coords = planar.columns.map(|a| self.constraints[a].dependent);
+        for (axis, &i) in coords.iter().enumerate() {
+            let q = self.coordinates[i].position;
+            for centre in centres {
+                for (x, &c) in centre.iter().enumerate() {
+                    let want = if x == axis { crate::sym::ONE } else { ZERO };
+                    if self.engine.diff(c, q) != want {
+                        return None;
+                    }
+                }
+            }
+            let row = rest_mass[i].iter().chain(rest_mass.iter().map(|r| &r[i]));
+            if rest_bias[i] != ZERO || row.copied().any(|x| x != ZERO) {
+                return None;
+            }
+        }
+        Some(coords)
     }
 
     /// A body's rotation for Kane's form; a wheel's vectors turned by its

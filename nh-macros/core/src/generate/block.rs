@@ -63,7 +63,7 @@ fn screw_columns(d: &mut Dag, m: &Model, c: &ContactTerms, o: [Node; 3]) -> Opti
     };
     let mut pieces = super::screws::link_pieces(d, m, links)?;
     pieces.push((own, o));
-    Some(super::screws::Screws::of(d, m, root, &pieces).columns(d))
+    Some(super::screws::Screws::of(d, m, root, &pieces, None).columns(d))
 }
 
 /// The rows' rates at q̈ = 0, Σ ∂g/∂q_i q̇_i.
@@ -86,10 +86,14 @@ fn rates(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Node> {
                         (omega, motion.rate(d, omega, turned))
                     }
                 };
+                let planar = bt
+                    .planar
+                    .map(|p| p.columns.map(|a| m.constraints[a].dependent));
                 let a0 = match &c.chain {
-                    Some(chain) => super::chain_rate(d, m, &motion, chain)[*component],
+                    Some(chain) => super::chain_rate(d, m, &motion, chain, planar)[*component],
                     None => {
-                        let jg = matrix(d, m, &c.centre_jacobian);
+                        let mut jg = matrix(d, m, &c.centre_jacobian);
+                        super::planar_columns(&mut jg, planar, false);
                         motion.rate_of_jacobian(d, &jg, turned)[*component]
                     }
                 };
@@ -218,7 +222,12 @@ fn factor(d: &mut Dag, mut a: Vec<Vec<Node>>, pivots: &[usize]) -> Lu {
 /// factored block solved, a [`Planar`](crate::mechanics::Planar) pair turned
 /// back from u to (ẋ, ẏ).
 fn solve_block(d: &mut Dag, m: &Model, bt: &BlockTerms, lu: &Lu, b: Vec<Node>) -> Vec<Node> {
-    let mut x = solve(d, lu, b);
+    let x = solve(d, lu, b);
+    turn_back(d, m, bt, x)
+}
+
+/// x with a [`Planar`](crate::mechanics::Planar) pair turned from u to (ẋ, ẏ).
+fn turn_back(d: &mut Dag, m: &Model, bt: &BlockTerms, mut x: Vec<Node>) -> Vec<Node> {
     if let Some(p) = &bt.planar {
         let u = p.columns.map(|a| x[a]);
         for (row, &a) in p.turn.iter().zip(&p.columns) {
@@ -288,11 +297,25 @@ fn factored(d: &mut Dag, m: &Model, bt: &BlockTerms) -> (Lu, Vec<Vec<Node>>) {
 /// −c_s⁻¹ c_r: column b gives the dependent velocities (in the order of
 /// the constraints) per unit of the independent velocity b.
 pub(crate) fn velocity_columns(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Vec<Node>> {
+    let columns = velocity_columns_in_heading(d, m, bt);
+    columns
+        .into_iter()
+        .map(|x| turn_back(d, m, bt, x))
+        .collect()
+}
+
+/// [`velocity_columns`] with a [`Planar`](crate::mechanics::Planar) pair's
+/// rows those of u = R_z(−ψ)(ẋ, ẏ).
+pub(crate) fn velocity_columns_in_heading(
+    d: &mut Dag,
+    m: &Model,
+    bt: &BlockTerms,
+) -> Vec<Vec<Node>> {
     let (lu, cr) = factored(d, m, bt);
     (0..m.k())
         .map(|b| {
             let rhs = cr.iter().map(|row: &Vec<Node>| d.neg(row[b])).collect();
-            solve_block(d, m, bt, &lu, rhs)
+            solve(d, &lu, rhs)
         })
         .collect()
 }
@@ -322,8 +345,15 @@ pub(crate) fn dependent_velocities(
 /// The dependent accelerations at r̈ = 0, −c_s⁻¹ ġ, in the order of the
 /// constraints (the dependent velocities bound in `d`).
 pub(crate) fn dependent_bias(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Node> {
+    let x = dependent_bias_in_heading(d, m, bt);
+    turn_back(d, m, bt, x)
+}
+
+/// [`dependent_bias`] with a [`Planar`](crate::mechanics::Planar) pair's
+/// entries those of u̇ (heading frame, at r̈ = 0).
+pub(crate) fn dependent_bias_in_heading(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Node> {
     let (lu, _) = factored(d, m, bt);
     let rates = rates(d, m, bt);
     let rhs = rates.into_iter().map(|x| d.neg(x)).collect();
-    solve_block(d, m, bt, &lu, rhs)
+    solve(d, &lu, rhs)
 }

@@ -39,12 +39,14 @@ pub(crate) fn link_pieces<'a>(
 }
 
 impl Screws {
-    /// The screws of a point at root + Σ offsets of `pieces`.
+    /// The screws of a point at root + Σ offsets of `pieces` (with a planar
+    /// pair's columns e_x, e_y: see [`super::planar_columns`]).
     pub(crate) fn of(
         d: &mut Dag,
         m: &Model,
         root: &[Vec<ExprId>; 3],
         pieces: &[(&Frame, [Node; 3])],
+        planar: Option<[usize; 2]>,
     ) -> Screws {
         let mut steps: Vec<(&[FrameStep], [Node; 3], [Node; 3])> = Vec::new();
         for &(frame, off) in pieces {
@@ -68,10 +70,9 @@ impl Screws {
                 Some(([arm[0], arm[1], arm[2]], exprs(d, m, &step.rate_jacobian)))
             })
             .collect();
-        Screws {
-            root: matrix(d, m, root),
-            arms,
-        }
+        let mut root = matrix(d, m, root);
+        super::planar_columns(&mut root, planar, true);
+        Screws { root, arms }
     }
 
     /// The columns ∂ṗ/∂q̇_i.
