@@ -136,14 +136,18 @@ fn offset(d: &mut Dag, m: &Model, c: &ContactTerms) -> Offset {
                     let w = exprs(d, m, w);
                     [w[0], w[1], w[2]]
                 }
-                None => [0, 1, 2].map(|x| match x {
-                    2 => s,
-                    _ => {
-                        let nzn = d.mul(n[2], n[x]);
-                        let t = d.div(nzn, s);
-                        d.neg(t)
-                    }
-                }),
+                None => {
+                    // −n_z n_x / s = −n_x (n_z/s)
+                    let inv = d.div(ONE_NODE, s);
+                    let k = d.mul(n[2], inv);
+                    [0, 1, 2].map(|x| match x {
+                        2 => s,
+                        _ => {
+                            let t = d.mul(n[x], k);
+                            d.neg(t)
+                        }
+                    })
+                }
             };
             (w, Some((n, s, w)))
         }
@@ -160,9 +164,11 @@ fn offset(d: &mut Dag, m: &Model, c: &ContactTerms) -> Offset {
 /// body) and ṡ = −n_z ṅ_z / s (s² = 1 − n_z²); ẇ_z = ṡ since w_z = s.
 fn rim_rate(d: &mut Dag, omega: [Node; 3], rim: &([Node; 3], Node, [Node; 3])) -> [Node; 3] {
     let (n, s, w) = *rim;
+    // one reciprocal 1/s for every quotient (as in `offset`)
+    let inv = d.div(ONE_NODE, s);
     let ndot = [0, 1, 2].map(|x| cross_component(d, omega, n, x));
-    let t = d.mul(n[2], ndot[2]);
-    let t = d.div(t, s);
+    let k = d.mul(n[2], inv);
+    let t = d.mul(ndot[2], k);
     let sdot = d.neg(t);
     [0, 1, 2].map(|x| {
         if x == 2 {
@@ -173,8 +179,8 @@ fn rim_rate(d: &mut Dag, omega: [Node; 3], rim: &([Node; 3], Node, [Node; 3])) -
         let c = d.mul(w[x], sdot);
         let num = d.add(a, b);
         let num = d.add(num, c);
-        let num = d.neg(num);
-        d.div(num, s)
+        let num = d.mul(num, inv);
+        d.neg(num)
     })
 }
 
