@@ -49,6 +49,10 @@ pub struct Stats {
     pub ops_multiplier: usize,
     /// Operations of `accelerations` by the curvature route, after CSE.
     pub ops_curvature: usize,
+    /// Of the operations of the route `accelerations` uses, those on the
+    /// parameters alone: computed once per parameter set into a cache, not
+    /// per call.
+    pub ops_on_parameters: usize,
     /// Estimated cost (in additions) of the multiplier route.
     pub cost_multiplier: usize,
     /// Estimated cost (in additions) of the curvature route.
@@ -106,7 +110,7 @@ impl Stats {
             format!("{} ops (cost {})", self.ops_curvature, self.cost_curvature)
         };
         format!(
-            "accelerations: multiplier route {} ops (cost {}), curvature route {curvature} after CSE, using the {} route; {} generated lines; graph {} expressions, {} derivatives; integrable: {}",
+            "accelerations: multiplier route {} ops (cost {}), curvature route {curvature} after CSE, using the {} route ({} ops of it on the parameters alone, cached); {} generated lines; graph {} expressions, {} derivatives; integrable: {}",
             self.ops_multiplier,
             self.cost_multiplier,
             match self.route {
@@ -114,6 +118,7 @@ impl Stats {
                 Some(Route::Curvature) => "curvature",
                 None => "(none)",
             },
+            self.ops_on_parameters,
             self.lines,
             self.graph_size,
             self.derivatives,
@@ -1962,6 +1967,11 @@ impl ComparedRoutes {
             Route::Multiplier
         };
         stats.route = Some(route);
+        let (d, rdd) = match route {
+            Route::Multiplier => (d1, rdd1),
+            Route::Curvature => (d2, rdd2),
+        };
+        stats.ops_on_parameters = d.op_count(&d.hoistable(rdd));
         route
     }
 
