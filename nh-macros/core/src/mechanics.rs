@@ -53,7 +53,8 @@ pub struct BodyKinematics {
     pub mass: ExprId,
     /// J = ∂C/∂q, 3 × n (the centre's rate J̇ q̇ at q̈ = 0 is computed on
     /// the graph: `generate::motion`); `None` for a body whose centre of
-    /// mass was folded into another's (DESIGN §10).
+    /// mass was folded into another's, empty rows when its chain's frames
+    /// give it as screws (DESIGN §10).
     pub jacobian: Option<[Vec<ExprId>; 3]>,
     /// The chain the centre's acceleration follows from a contact's centre,
     /// sparing its own J̇ q̇.
@@ -499,9 +500,15 @@ impl Model {
             .into_iter()
             .map(|part| {
                 let anchor = self.anchor(&part, &frame);
-                let jacobian = part.centre.map(|centre| {
-                    let jacobian = centre.map(|x| self.positional_jacobian(x));
-                    self.in_frame(&frame, jacobian)
+                // a chain of frames gives the partial velocities as screws
+                let screwed = (anchor.as_ref())
+                    .is_some_and(|chain| chain.links.iter().all(|l| l.frame.is_some()));
+                let jacobian = part.centre.map(|centre| match screwed {
+                    true => Default::default(),
+                    false => {
+                        let jacobian = centre.map(|x| self.positional_jacobian(x));
+                        self.in_frame(&frame, jacobian)
+                    }
                 });
                 let wheels = part
                     .wheels
