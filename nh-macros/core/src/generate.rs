@@ -562,7 +562,8 @@ pub(crate) fn chain_rate(
         let (omega, alpha0, turn) = match &link.frame {
             Some(frame) => {
                 let f = frames::frame_motion(d, m, motion, frame);
-                (f.omega, f.alpha0, f.turn.map(|row| row.to_vec()).to_vec())
+                let turn = frames::orientation(d, m, frame);
+                (f.omega, f.alpha0, turn.map(|row| row.to_vec()).to_vec())
             }
             None => {
                 let omega = exprs(d, m, &link.omega);

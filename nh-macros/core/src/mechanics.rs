@@ -558,13 +558,8 @@ impl Model {
         let coords = planar.columns.map(|a| self.constraints[a].dependent);
         for (axis, &i) in coords.iter().enumerate() {
             let q = self.coordinates[i].position;
-            for centre in centres {
-                for (x, &c) in centre.iter().enumerate() {
-                    let want = if x == axis { crate::sym::ONE } else { ZERO };
-                    if self.engine.diff(c, q) != want {
-                        return None;
-                    }
-                }
+            if !centres.iter().all(|c| self.translates(c, q, axis)) {
+                return None;
             }
             let row = rest_mass[i].iter().chain(rest_mass.iter().map(|r| &r[i]));
             if rest_bias[i] != ZERO || row.copied().any(|x| x != ZERO) {
@@ -769,16 +764,12 @@ impl Model {
         }
         let contacts = self.contact_kinematics.clone();
         let along = |m: &mut Model, axis: usize| {
-            m.constraints.iter().position(|con| {
-                let c = &m.coordinates[con.dependent];
-                let (q, v) = (c.position, c.velocity);
+            let dependent: Vec<usize> = m.constraints.iter().map(|con| con.dependent).collect();
+            dependent.into_iter().position(|i| {
+                let (q, v) = (m.coordinates[i].position, m.coordinates[i].velocity);
                 contacts.iter().all(|k| {
                     let turns = k.omega.iter().any(|&w| m.engine.diff(w, v) != ZERO);
-                    let moves = (0..3).all(|x| {
-                        let want = if x == axis { crate::sym::ONE } else { ZERO };
-                        m.engine.diff(k.centre[x], q) == want
-                    });
-                    moves && !turns
+                    m.translates(&k.centre, q, axis) && !turns
                 })
             })
         };
@@ -787,6 +778,14 @@ impl Model {
         Some(Planar {
             columns,
             turn: [[r[0][0], r[0][1]], [r[1][0], r[1][1]]],
+        })
+    }
+
+    /// Whether ∂p/∂q = e_axis exactly.
+    fn translates(&mut self, p: &[ExprId; 3], q: SymId, axis: usize) -> bool {
+        (0..3).all(|x| {
+            let want = if x == axis { crate::sym::ONE } else { ZERO };
+            self.engine.diff(p[x], q) == want
         })
     }
 

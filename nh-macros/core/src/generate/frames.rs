@@ -9,10 +9,8 @@ use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::{Frame, FrameStep};
 use crate::model::Model;
 
-/// A frame's orientation (in the frame of the bodies' J), ω_b and α_b at
-/// q̈ = 0 (body axes).
+/// A frame's ω_b and α_b at q̈ = 0 (body axes).
 pub(crate) struct FrameMotion {
-    pub(crate) turn: [[Node; 3]; 3],
     pub(crate) omega: [Node; 3],
     pub(crate) alpha0: [Node; 3],
 }
@@ -44,24 +42,16 @@ fn turn_rates(
     (omega, alpha)
 }
 
-/// The frame's orientation, ω_b and α_b at q̈ = 0.
+/// The frame's ω_b and α_b at q̈ = 0 (its orientation: [`orientation`]).
 pub(crate) fn frame_motion(d: &mut Dag, m: &Model, motion: &Motion, frame: &Frame) -> FrameMotion {
-    let mut turn = identity();
     let (mut omega, mut alpha0) = ([ZERO_NODE; 3], [ZERO_NODE; 3]);
-    for (i, step) in frame.steps.iter().enumerate() {
+    for step in &frame.steps {
         let f = step_turn(d, m, step);
         let rate = d.expr(&m.engine, step.rate);
         let accel = motion.rate_of(d, rate);
         (omega, alpha0) = turn_rates(d, &f, (step.axis, rate, accel), omega, alpha0);
-        if !(i == 0 && frame.heading_out) {
-            turn = turned(d, turn, &f);
-        }
     }
-    FrameMotion {
-        turn,
-        omega,
-        alpha0,
-    }
+    FrameMotion { omega, alpha0 }
 }
 
 /// ω and α at q̈ = 0 in the frame of the bodies' J, summed over the steps
