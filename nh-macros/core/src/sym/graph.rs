@@ -182,9 +182,30 @@ impl Engine {
             return id;
         }
         let id = MonoId::from_index(self.monos.len());
+        let syms = self.union_of_syms(f.iter().map(|(a, _)| &self.atom_syms[a.index()]));
+        self.mono_syms.push(syms);
         self.monos.push(f.clone());
         self.mono_ix.insert(f, id);
         id
+    }
+
+    /// The sorted union of sets of symbols, as a bit set over the symbols
+    /// (an expression's terms repeat the same few symbols many times).
+    fn union_of_syms<'a>(&self, sets: impl Iterator<Item = &'a Vec<SymId>>) -> Vec<SymId> {
+        let mut bits = vec![0u64; self.sym_names.len().div_ceil(64)];
+        for s in sets.flatten() {
+            bits[s.index() / 64] |= 1 << (s.index() % 64);
+        }
+        let mut syms = Vec::new();
+        for (w, &word) in bits.iter().enumerate() {
+            let mut word = word;
+            while word != 0 {
+                let b = word.trailing_zeros() as usize;
+                syms.push(SymId::from_index(64 * w + b));
+                word &= word - 1;
+            }
+        }
+        syms
     }
 
     pub(super) fn intern_expr(&mut self, t: Terms) -> ExprId {
@@ -195,14 +216,7 @@ impl Engine {
             self.overflow = true;
             return ZERO;
         }
-        let mut syms: Vec<SymId> = Vec::new();
-        for (m, _) in &t {
-            for (a, _) in &self.monos[m.index()] {
-                syms.extend_from_slice(&self.atom_syms[a.index()]);
-            }
-        }
-        syms.sort_unstable();
-        syms.dedup();
+        let syms = self.union_of_syms(t.iter().map(|(m, _)| &self.mono_syms[m.index()]));
         let id = ExprId::from_index(self.exprs.len());
         self.exprs.push(t.clone());
         self.expr_syms.push(syms);

@@ -69,6 +69,8 @@ pub struct Engine {
     atom_syms: Vec<Vec<SymId>>,
     monos: Vec<Factors>,
     mono_ix: HashMap<Factors, MonoId>,
+    /// The symbols each monomial depends on, sorted.
+    mono_syms: Vec<Vec<SymId>>,
     exprs: Vec<Terms>,
     expr_ix: HashMap<Terms, ExprId>,
     expr_syms: Vec<Vec<SymId>>,
