@@ -42,6 +42,7 @@ mod arith;
 pub mod dd;
 mod diff;
 mod display;
+pub mod dual;
 mod eval;
 mod funcs;
 mod graph;
