@@ -338,7 +338,8 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
     }
     // Cᵀ M C r̈ = −Cᵀ (M acc_bias + h)   (5.9)
     // Kane's form where it is cheaper than the expanded Lagrangian's terms
-    let lagrange = projection(d, &mass, &bias, &c, &acc_bias);
+    // (without the expanded terms, Kane's form alone: LAGRANGIAN_TERMS_COMPARED)
+    let lagrange = (!r.mass.is_empty()).then(|| projection(d, &mass, &bias, &c, &acc_bias));
     let (mr, f) = match &r.bodies {
         Some(bt) => {
             let ops = |d: &Dag, (mr, f): &(Vec<Vec<Node>>, Vec<Node>)| {
@@ -347,13 +348,13 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
             };
             let (c, acc_bias) = in_heading(d, m, bt, (&c, &acc_bias));
             let kane = body_projection(d, m, bt, &c, &acc_bias);
-            if ops(d, &kane) < ops(d, &lagrange) {
-                kane
-            } else {
-                lagrange
+            match lagrange {
+                Some(lagrange) if ops(d, &lagrange) <= ops(d, &kane) => lagrange,
+                _ => kane,
             }
         }
-        None => lagrange,
+        // without Kane's form the expanded terms are always derived
+        None => lagrange.unwrap_or_default(),
     };
     for (a, row) in mr.iter().enumerate() {
         for (b, &x) in row.iter().enumerate().skip(a) {

@@ -46,3 +46,36 @@ fn a_system_without_errors_reports_none() {
     assert!(!expansion.is_empty());
     assert!(nh_core::reported_errors(&expansion).is_empty());
 }
+
+/// A top on a general body (its Lagrangian has more terms than the
+/// expanded form is compared at, so the reduced mass matrix is sampled from
+/// the Lagrangian) with a fourth coordinate `s`, silent unless `extra` gives
+/// it kinetic energy.
+fn top(extra: &str) -> String {
+    format!(
+        "pub struct Top {{
+    parameters {{ m, a, b, l, A, B, C, g }}
+    coordinates {{ yaw, nutation, spin, s }}
+    let R = rot_z(yaw) * rot_x(nutation) * rot_z(spin);
+    body top {{ mass: m, centre: R*[a, b, l], orientation: R, inertia: diag(A, B, C) }}
+    lagrangian = kinetic_energy(top) - m*g*(R*[a, b, l]).z{extra};
+}}"
+    )
+}
+
+#[test]
+fn a_velocity_no_body_moves_is_reported_at_its_coordinate() {
+    let errors = nh_core::reported_errors(&expansion_of(&top("")));
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    let e = &errors[0];
+    assert!(
+        e.message
+            .starts_with("the velocity of `s` appears nowhere in the Lagrangian"),
+        "{}",
+        e.message
+    );
+    // `s` in `coordinates { yaw, nutation, spin, s }`, line 3
+    assert_eq!((e.start.start().line, e.start.start().column), (3, 39));
+    let fixed = expansion_of(&top(" + m*dot(s)^2/2"));
+    assert!(nh_core::reported_errors(&fixed).is_empty());
+}
