@@ -723,15 +723,15 @@ impl Model {
     /// ω_b of the product of `factors` (body components): ω' = Fᵀ ω + θ̇ e_k
     /// step by step.
     fn body_omega(&mut self, factors: &[(usize, ExprId)]) -> [ExprId; 3] {
-        use crate::lower::values::{elementary, mat_vec, transpose};
-        let mut omega = [ZERO; 3];
-        for &(k, angle) in factors {
-            let f = elementary(&mut self.engine, k, angle);
-            omega = mat_vec(&mut self.engine, &transpose(&f), omega);
-            let rate = self.along_motion(angle);
-            omega[k] = self.engine.add(omega[k], rate);
-        }
-        omega
+        use crate::lower::values::{chain_omega, scale3, unit};
+        let own: Vec<[ExprId; 3]> = factors
+            .iter()
+            .map(|&(k, angle)| {
+                let rate = self.along_motion(angle);
+                scale3(&mut self.engine, rate, unit(k))
+            })
+            .collect();
+        chain_omega(&mut self.engine, factors, &own, false)
     }
 
     /// A body's rotation in the axes of its orientation without the

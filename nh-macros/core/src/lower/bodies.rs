@@ -3,8 +3,8 @@
 //! and the rolling contact of a round body on the plane z = 0.
 
 use super::values::{
-    Mat3, Rotation, Value, Vec3, add3, cross3, dot3, elementary, inverse, mat_mat, mat_vec, scale3,
-    sub3, transpose, unit,
+    Mat3, Rotation, Value, Vec3, add3, chain_omega, cross3, dot3, elementary, inverse, mat_mat,
+    mat_vec, scale3, sub3, transpose, unit,
 };
 use super::{Binding, Lowerer, Place};
 use crate::ctxt::SpanRange;
@@ -227,21 +227,7 @@ impl Lowerer<'_> {
             .iter()
             .map(|&(k, a)| self.factor_omega(k, a))
             .collect();
-        let mut acc = [ZERO; 3];
-        if world {
-            for (i, &(k, a)) in r.factors.iter().enumerate().rev() {
-                let f = elementary(&mut self.e, k, a);
-                let turned = mat_vec(&mut self.e, &f, acc);
-                acc = add3(&mut self.e, turned, own[i]);
-            }
-        } else {
-            for (i, &(k, a)) in r.factors.iter().enumerate() {
-                let f = elementary(&mut self.e, k, a);
-                let back = mat_vec(&mut self.e, &transpose(&f), acc);
-                acc = add3(&mut self.e, back, own[i]);
-            }
-        }
-        acc
+        chain_omega(&mut self.e, &r.factors, &own, world)
     }
 
     /// ω of one elementary rotation, from the skew matrix Ṙ Rᵀ.

@@ -132,6 +132,32 @@ pub(crate) fn elementary(e: &mut Engine, k: usize, angle: ExprId) -> Mat3 {
     m
 }
 
+/// ω of a chain of elementary rotations R = R₁(a₁)⋯R_m(a_m) from each
+/// factor's own ω_i (ȧ_i e_k): in the world's axes Σ R₁⋯R_{i−1} ω_i, in the
+/// body's (`world` false) Σ (R_{i+1}⋯R_m)ᵀ ω_i, added up factor by factor.
+pub(crate) fn chain_omega(
+    e: &mut Engine,
+    factors: &[(usize, ExprId)],
+    own: &[Vec3],
+    world: bool,
+) -> Vec3 {
+    let mut acc = [ZERO; 3];
+    let steps: Vec<usize> = match world {
+        true => (0..factors.len()).rev().collect(),
+        false => (0..factors.len()).collect(),
+    };
+    for i in steps {
+        let (k, a) = factors[i];
+        let f = elementary(e, k, a);
+        let turned = match world {
+            true => mat_vec(e, &f, acc),
+            false => mat_vec(e, &transpose(&f), acc),
+        };
+        acc = add3(e, turned, own[i]);
+    }
+    acc
+}
+
 /// R₁R₂ of two rotations: their factors chained.
 pub(crate) fn compose(e: &mut Engine, a: &Rotation, b: &Rotation) -> Rotation {
     Rotation {
