@@ -971,6 +971,7 @@ impl Cache {
             };
         }
         let n_par = params.len();
+        let slots = 0..n_par;
         Cache {
             len,
             fields: quote! {
@@ -992,7 +993,7 @@ impl Cache {
                 /// parameters (a public parameter may have changed since).
                 #[inline(always)]
                 fn __nh_cache_current(&self) -> bool {
-                    self.__nh_cache_for == [#(self.#params),*]
+                    #(self.__nh_cache_for[#slots] == self.#params)&&*
                 }
             },
         }
