@@ -157,18 +157,13 @@ pub struct Wheel {
 /// know, such as an angle-addition formula). Every symbol but π takes values
 /// in [0.3, 1.4], the same points every build.
 pub fn vanish_at_random_points(engine: &Engine, pi: SymId, entries: &[ExprId]) -> bool {
-    use crate::sym::dd::Dd;
     let mut rng = crate::sym::Rng::new(0x243F_6A88_85A3_08D3);
-    let mut vals = vec![Dd::ZERO; engine.num_symbols()];
     let mut points = 0;
     for _ in 0..64 {
         if points == 16 {
             break;
         }
-        for v in vals.iter_mut() {
-            *v = Dd::from_f64(0.3 + 1.1 * rng.next_f64()); // positive: keeps sqrt and ln arguments valid
-        }
-        vals[pi.index()] = Dd::PI;
+        let vals = rng.point(engine.num_symbols(), pi);
         let mut usable = true;
         for &b in entries {
             let (v, scale) = engine.eval_with_scale(b, &vals);
@@ -909,10 +904,7 @@ impl Model {
         }
         let mut rng = crate::sym::Rng::new(0x1319_8A2E_0370_7344);
         let mut at = |zero: bool| -> Vec<Vec<f64>> {
-            let mut vals: Vec<Dd> = (0..self.engine.num_symbols())
-                .map(|_| Dd::from_f64(0.3 + 1.1 * rng.next_f64()))
-                .collect();
-            vals[self.pi.index()] = Dd::PI;
+            let mut vals = rng.point(self.engine.num_symbols(), self.pi);
             if zero {
                 for c in &self.coordinates {
                     vals[c.position.index()] = Dd::ZERO;
@@ -1183,10 +1175,7 @@ impl Model {
         });
         let mut rng = crate::sym::Rng::new(0x1319_8A2E_0370_7344);
         for _ in 0..4 {
-            let mut point: Vec<Dd> = (0..e.num_symbols())
-                .map(|_| Dd::from_f64(0.3 + 1.1 * rng.next_f64()))
-                .collect();
-            point[self.pi.index()] = Dd::PI;
+            let point = rng.point(e.num_symbols(), self.pi);
             // ∂A^b_x/∂(seed) at the point
             let slope = |x: usize, seed: SymId| -> Dd {
                 let mut vals: Vec<Dual> = point.iter().map(|&v| Dual::constant(v)).collect();
@@ -1231,15 +1220,11 @@ impl Model {
         let (n, k) = (self.n(), self.k());
         let mut silent = vec![true; k];
         let mut rng = crate::sym::Rng::new(0xA409_3822_299F_31D0);
-        let mut vals = vec![Dd::ZERO; self.engine.num_symbols()];
         for _ in 0..16 {
             if !silent.contains(&true) {
                 break;
             }
-            for v in vals.iter_mut() {
-                *v = Dd::from_f64(0.3 + 1.1 * rng.next_f64());
-            }
-            vals[self.pi.index()] = Dd::PI;
+            let mut vals = rng.point(self.engine.num_symbols(), self.pi);
             let mut memo = crate::sym::EvalMemo::default();
             let mut column = |a: usize| -> Vec<Dd> {
                 let mut c = vec![Dd::ZERO; n];

@@ -591,12 +591,8 @@ impl Lowerer<'_> {
     /// The rows [c_a | b_a] at a random point (the `k`-th of a fixed
     /// sequence; every symbol in [0.3, 1.4], π itself).
     fn rows_at_random_point(&self, coef: &[Vec<ExprId>], bias: &[ExprId], k: u64) -> Vec<Vec<f64>> {
-        use crate::sym::dd::Dd;
         let mut rng = crate::sym::Rng::new(0x9E37_79B9_7F4A_7C15 ^ k);
-        let mut vals: Vec<Dd> = (0..self.e.num_symbols())
-            .map(|_| Dd::from_f64(0.3 + 1.1 * rng.next_f64()))
-            .collect();
-        vals[self.pi_sym.index()] = Dd::PI;
+        let vals = rng.point(self.e.num_symbols(), self.pi_sym);
         coef.iter()
             .zip(bias)
             .map(|(row, &b)| {

@@ -348,10 +348,7 @@ impl Model {
     fn two_states(&self) -> [Vec<crate::sym::dd::Dd>; 2] {
         use crate::sym::dd::Dd;
         let mut rng = crate::sym::Rng::new(0x4528_21E6_38D0_1377);
-        let mut a: Vec<Dd> = (0..self.engine.num_symbols())
-            .map(|_| Dd::from_f64(0.3 + 1.1 * rng.next_f64()))
-            .collect();
-        a[self.pi.index()] = Dd::PI;
+        let a = rng.point(self.engine.num_symbols(), self.pi);
         let mut b = a.clone();
         for c in &self.coordinates {
             b[c.position.index()] = Dd::from_f64(0.3 + 1.1 * rng.next_f64());

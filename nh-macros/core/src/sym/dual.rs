@@ -41,11 +41,6 @@ impl Dual {
             derivative: slope * self.derivative,
         }
     }
-
-    /// Whether value and derivative are finite.
-    pub fn is_finite(self) -> bool {
-        self.value.is_finite() && self.derivative.is_finite()
-    }
 }
 
 impl Add for Dual {

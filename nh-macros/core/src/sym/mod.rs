@@ -195,6 +195,17 @@ mod tests;
 pub struct Rng(u64);
 
 impl Rng {
+    /// A random point for the symbols of an engine of `len` symbols: each
+    /// in [0.3, 1.4) (positive, so square roots and logarithms stay
+    /// defined), drawn in symbol order, and the symbol `pi` at π.
+    pub fn point(&mut self, len: usize, pi: SymId) -> Vec<dd::Dd> {
+        let mut vals: Vec<dd::Dd> = (0..len)
+            .map(|_| dd::Dd::from_f64(0.3 + 1.1 * self.next_f64()))
+            .collect();
+        vals[pi.index()] = dd::Dd::PI;
+        vals
+    }
+
     /// The sequence from `seed` (nonzero).
     pub fn new(seed: u64) -> Rng {
         Rng(seed)
