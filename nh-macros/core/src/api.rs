@@ -983,6 +983,8 @@ impl Cache {
             init: quote!(__nh_cache: [T::zero(); #len], __nh_cache_for: [#(#params),*],),
             methods: quote! {
                 /// The values that depend on the parameters alone, computed once.
+                #[cold]
+                #[inline(never)]
                 fn __nh_compute_cache(&self) -> [T; #len] {
                     let mut __nh_hoisted = [T::zero(); #len];
                     #hoist_code
@@ -993,7 +995,7 @@ impl Cache {
                 /// parameters (a public parameter may have changed since).
                 #[inline(always)]
                 fn __nh_cache_current(&self) -> bool {
-                    #(self.__nh_cache_for[#slots] == self.#params)&&*
+                    #((self.__nh_cache_for[#slots] == self.#params))&*
                 }
             },
         }
