@@ -9,6 +9,7 @@ use crate::sym::{Atom, Engine, ExprId, SymId, ZERO};
 use rustc_hash::FxHashMap as HashMap;
 
 mod composite;
+mod pivots;
 
 /// The pieces of the multiplier route, with the full velocity vector q̇
 /// symbolic (dependent velocities are evaluated numerically first).
@@ -263,9 +264,9 @@ pub struct CurvatureRoute {
 /// elimination, for solving it numerically in the generated code with the
 /// pivots chosen here (DESIGN §9): its rows' coefficients and rates.
 pub struct BlockTerms {
-    /// For column b (the dependent velocity of constraint b), the row
-    /// that is its pivot.
-    pub pivots: Vec<usize>,
+    /// The elimination's steps in order: (pivot row, column), column b
+    /// the dependent velocity of constraint b.
+    pub pivots: Vec<(usize, usize)>,
     /// The rows, in the order of [`Model::velocity_rows`].
     pub rows: Vec<RowTerms>,
     /// The contacts the rows refer to.
@@ -882,13 +883,12 @@ impl Model {
         Some([w[0], w[1], s])
     }
 
-    /// A pivot row for each column of the block c_s (columns: the
-    /// constraints' dependent velocities): partial pivoting at the
-    /// coordinates' zero (the usual operating point), where a column has no
-    /// nonzero candidate left at a random point; `None` if a pivot vanishes
-    /// at both.
-    fn block_pivots(&mut self, planar: Option<&Planar>) -> Option<Vec<usize>> {
-        use crate::sym::dd::Dd;
+    /// The elimination steps (pivot row, column) of the block c_s
+    /// (columns: the constraints' dependent velocities), chosen by
+    /// [`pivots::Block::elimination_order`] from the entries' kinds and
+    /// their values at the coordinates' zero (the usual operating point)
+    /// and at a random state; `None` if a column has no pivot at either.
+    fn block_pivots(&mut self, planar: Option<&Planar>) -> Option<Vec<(usize, usize)>> {
         let deps: Vec<SymId> = self
             .constraints
             .iter()
@@ -919,36 +919,25 @@ impl Model {
                 })
                 .collect()
         };
-        let (mut a0, mut a1) = (at(true), at(false));
-        let p = deps.len();
-        let mut used = vec![false; p];
-        let mut pivots = Vec::with_capacity(p);
-        for j in 0..p {
-            let best = |a: &[Vec<f64>]| {
-                (0..p)
-                    .filter(|&i| !used[i] && a[i][j].is_finite())
-                    .max_by(|&x, &y| a[x][j].abs().total_cmp(&a[y][j].abs()))
-                    .filter(|&i| a[i][j].abs() > 1e-9)
-            };
-            let r = best(&a0)
-                .filter(|&i| a1[i][j].abs() > 1e-12)
-                .or_else(|| best(&a1))?;
-            used[r] = true;
-            pivots.push(r);
-            for a in [&mut a0, &mut a1] {
-                let piv = a[r][j];
-                if piv == 0.0 || !piv.is_finite() {
-                    continue;
-                }
-                for i in (0..p).filter(|&i| !used[i]) {
-                    let f = a[i][j] / piv;
-                    for c in j..p {
-                        a[i][c] -= f * a[r][c];
-                    }
-                }
-            }
+        let (at_zero, at_random) = (at(true), at(false));
+        let kinds = block
+            .iter()
+            .map(|r| {
+                r.iter()
+                    .map(|&x| match self.engine.as_constant(x) {
+                        _ if x == ZERO => pivots::Entry::Zero,
+                        Some(_) => pivots::Entry::Constant,
+                        None => pivots::Entry::Varying,
+                    })
+                    .collect()
+            })
+            .collect();
+        pivots::Block {
+            kinds,
+            at_zero,
+            at_random,
         }
-        Some(pivots)
+        .elimination_order()
     }
 
     /// The block as the generated code solves it with a [`Planar`]

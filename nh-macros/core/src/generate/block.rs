@@ -11,10 +11,11 @@ use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::{BlockTerms, ContactTerms, RowTerms};
 use crate::model::Model;
 
-/// c_s factored: for column j, its pivot row, 1/pivot and the multipliers
-/// of the rows below; the rows of U.
+/// c_s factored in the elimination's order: for step s, its pivot (row,
+/// column), 1/pivot and the multipliers of the rows it eliminates from;
+/// the rows of U.
 pub(crate) struct Lu {
-    pivots: Vec<usize>,
+    pivots: Vec<(usize, usize)>,
     inverse: Vec<Node>,
     multipliers: Vec<Vec<(usize, Node)>>,
     upper: Vec<Vec<Node>>,
@@ -192,23 +193,24 @@ fn cross_component(d: &mut Dag, u: [Node; 3], v: [Node; 3], x: usize) -> Node {
     d.sub(a, b)
 }
 
-/// LU of `a` (p × p) with the given pivot row per column.
-fn factor(d: &mut Dag, mut a: Vec<Vec<Node>>, pivots: &[usize]) -> Lu {
+/// LU of `a` (p × p) by the given steps (pivot row, column).
+fn factor(d: &mut Dag, mut a: Vec<Vec<Node>>, pivots: &[(usize, usize)]) -> Lu {
     let p = pivots.len();
-    let mut used = vec![false; p];
+    let (mut rows, mut cols) = (vec![true; p], vec![true; p]);
     let mut inverse = Vec::with_capacity(p);
     let mut multipliers = Vec::with_capacity(p);
-    for (j, &r) in pivots.iter().enumerate() {
-        used[r] = true;
+    for &(r, j) in pivots {
+        rows[r] = false;
+        cols[j] = false;
         let inv = d.div(ONE_NODE, a[r][j]);
         inverse.push(inv);
         let mut step = Vec::new();
-        for i in (0..p).filter(|&i| !used[i]) {
-            if a[i][j] == ZERO_NODE {
-                continue;
-            }
+        let below: Vec<usize> = (0..p)
+            .filter(|&i| rows[i] && a[i][j] != ZERO_NODE)
+            .collect();
+        for i in below {
             let f = d.mul(a[i][j], inv);
-            for c in (j + 1)..p {
+            for c in (0..p).filter(|&c| cols[c]) {
                 let t = d.mul(f, a[r][c]);
                 a[i][c] = d.sub(a[i][c], t);
             }
@@ -246,23 +248,20 @@ fn turn_back(d: &mut Dag, m: &Model, bt: &BlockTerms, mut x: Vec<Node>) -> Vec<N
 
 /// x with c_s x = b.
 fn solve(d: &mut Dag, lu: &Lu, mut b: Vec<Node>) -> Vec<Node> {
-    for (j, step) in lu.multipliers.iter().enumerate() {
-        let r = lu.pivots[j];
+    for (&(r, _), step) in lu.pivots.iter().zip(&lu.multipliers) {
         for &(i, f) in step {
             let t = d.mul(f, b[r]);
             b[i] = d.sub(b[i], t);
         }
     }
-    let p = lu.pivots.len();
-    let mut x = vec![ZERO_NODE; p];
-    for j in (0..p).rev() {
-        let r = lu.pivots[j];
+    let mut x = vec![ZERO_NODE; lu.pivots.len()];
+    for (s, &(r, j)) in lu.pivots.iter().enumerate().rev() {
         let mut v = b[r];
-        for c in (j + 1)..p {
+        for &(_, c) in &lu.pivots[s + 1..] {
             let t = d.mul(lu.upper[r][c], x[c]);
             v = d.sub(v, t);
         }
-        x[j] = d.mul(v, lu.inverse[j]);
+        x[j] = d.mul(v, lu.inverse[s]);
     }
     x
 }
