@@ -482,7 +482,7 @@ fn body_projection(
         }
         if let Some(rot) = &b.rotation {
             let (omega, om, alpha) = body_turning(d, m, &motion, rot, (c, acc_bias));
-            let inertia = matrix(d, m, &rot.inertia.map(|r| r.to_vec()));
+            let inertia = inertia_nodes(d, m, &rot.inertia);
             let i_om: Vec<Vec<Node>> = (0..3)
                 .map(|x| {
                     (0..om[0].len())
@@ -531,6 +531,52 @@ fn body_projection(
     }
     let f = f.into_iter().map(|x| d.neg(x)).collect();
     (mr, f)
+}
+
+/// A body's inertia T (I + Σ μ(|d|² 1 − d dᵀ)) Tᵀ from its parts
+/// ([`crate::mechanics::Inertia`]), symmetric.
+fn inertia_nodes(d: &mut Dag, m: &Model, inertia: &crate::mechanics::Inertia) -> Vec<Vec<Node>> {
+    let mut sum = matrix(d, m, &inertia.own.map(|r| r.to_vec()));
+    for (mu, offset) in &inertia.masses {
+        let mu = d.expr(&m.engine, *mu);
+        let v = exprs(d, m, offset);
+        for a in 0..3 {
+            for b in a..3 {
+                // (|d|² 1 − d dᵀ)_ab: Σ_{k≠a} d_k² on the diagonal, −d_a d_b off it
+                let t = match a == b {
+                    true => (0..3)
+                        .filter(|&k| k != a)
+                        .fold(ZERO_NODE, |acc, k| dot(d, acc, [(v[k], v[k])])),
+                    false => {
+                        let p = d.mul(v[a], v[b]);
+                        d.neg(p)
+                    }
+                };
+                let t = d.mul(mu, t);
+                sum[a][b] = d.add(sum[a][b], t);
+                sum[b][a] = sum[a][b];
+            }
+        }
+    }
+    let Some(tail) = &inertia.tail else {
+        return sum;
+    };
+    let t = matrix(d, m, &tail.map(|r| r.to_vec()));
+    let ts: Vec<Vec<Node>> = (0..3)
+        .map(|a| {
+            (0..3)
+                .map(|b| dot(d, ZERO_NODE, (0..3).map(|k| (t[a][k], sum[k][b]))))
+                .collect()
+        })
+        .collect();
+    let mut out = vec![vec![ZERO_NODE; 3]; 3];
+    for a in 0..3 {
+        for b in a..3 {
+            out[a][b] = dot(d, ZERO_NODE, (0..3).map(|k| (ts[a][k], t[b][k])));
+            out[b][a] = out[a][b];
+        }
+    }
+    out
 }
 
 /// A point's acceleration at q̈ = 0 along its chain (DESIGN §10):

@@ -125,7 +125,7 @@ pub struct BodyRotation {
     /// W = ∂ω_b/∂q̇, 3 × n.
     pub jacobian: [Vec<ExprId>; 3],
     /// I about the centre of mass.
-    pub inertia: [[ExprId; 3]; 3],
+    pub inertia: Inertia,
     /// For a body symmetric about axis k of its last factor R_k(θ) (a
     /// wheel), the vectors above are turned by R_k(θ), which frees them of
     /// θ, and the torque gains −θ̇ I (e_k × ω'): (k, θ̇).
@@ -134,6 +134,21 @@ pub struct BodyRotation {
     pub wheels: Vec<(Wheel, Vec<ExprId>)>,
     /// Its frame as elementary rotations (not for a wheel's spin).
     pub frame: Option<Frame>,
+}
+
+/// A body's inertia about its centre of mass as it is built (DESIGN §10):
+/// T (I + Σ μ(|d|² 1 − d dᵀ)) Tᵀ, I its own inertia with its wheels'
+/// transverse moments, a parallel-axis term per centre folded into it and
+/// T the trailing constant factors of its orientation. The generated code
+/// forms the sums and the turn from their parts, where the expanded entries
+/// would multiply every offset by every sine of T.
+pub struct Inertia {
+    /// I, body axes.
+    pub own: [[ExprId; 3]; 3],
+    /// (μ, d) of each centre folded in, d in body axes.
+    pub masses: Vec<(ExprId, [ExprId; 3])>,
+    /// T, if the body's axes are turned by trailing constant factors.
+    pub tail: Option<[[ExprId; 3]; 3]>,
 }
 
 /// A wheel turning at θ̇ about axis k of the body that carries it, whose
@@ -560,6 +575,7 @@ impl Model {
                 centre: Some(b.centre),
                 rotation: b.rotation.map(|(omega, inertia)| (omega, inertia, b.spin)),
                 orientation: b.orientation,
+                masses: Vec::new(),
                 wheels: Vec::new(),
                 factors: b.factors.clone(),
             })
@@ -592,7 +608,12 @@ impl Model {
                     .map(|w| (*w, self.velocity_jacobian(w.rate)));
                 let wheels = wheels.collect();
                 let turned_out = frame.is_some();
-                let rotation = part.rotation.map(|(omega, inertia, spin)| {
+                let rotation = part.rotation.map(|(omega, own, spin)| {
+                    let inertia = Inertia {
+                        own,
+                        masses: part.masses.clone(),
+                        tail: None,
+                    };
                     let rot = BodyRotation {
                         wheels,
                         ..self.body_rotation(omega, inertia, spin)
@@ -650,7 +671,7 @@ impl Model {
     fn body_rotation(
         &mut self,
         omega: [ExprId; 3],
-        inertia: [[ExprId; 3]; 3],
+        inertia: Inertia,
         spin: Option<(usize, ExprId)>,
     ) -> BodyRotation {
         let (omega, spin) = match spin {
@@ -740,7 +761,6 @@ impl Model {
         factors: &[(usize, ExprId)],
         heading_out: bool,
     ) -> BodyRotation {
-        use crate::lower::values::{mat_mat, transpose};
         let (kept, Some(tail)) = self.trimmed(factors) else {
             return BodyRotation {
                 frame: self.frame_of(factors, heading_out),
@@ -758,8 +778,10 @@ impl Model {
             };
         };
         let omega = self.body_omega(&kept);
-        let turned = mat_mat(&mut self.engine, &tail, &rot.inertia);
-        let inertia = mat_mat(&mut self.engine, &turned, &transpose(&tail));
+        let inertia = Inertia {
+            tail: Some(tail),
+            ..rot.inertia
+        };
         BodyRotation {
             jacobian: omega.map(|w| self.velocity_jacobian(w)),
             omega,

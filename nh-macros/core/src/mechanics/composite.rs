@@ -3,7 +3,7 @@
 //! accelerations chain through the frames that hold them, and a uniform
 //! gravity acts through the partial velocities the bodies need anyway.
 
-use crate::lower::values::{Mat3, Vec3, dot3, mat_vec, transpose};
+use crate::lower::values::{Mat3, Vec3, mat_vec, transpose};
 use crate::model::Model;
 use crate::sym::{ExprId, ONE, SymId, ZERO};
 
@@ -26,6 +26,9 @@ pub(super) struct Part {
     pub(super) rotation: Option<(Vec3, Mat3, Spin)>,
     /// The orientation (body → world, by rows).
     pub(super) orientation: Option<Mat3>,
+    /// (μ, d) of the centres folded into this body's: its inertia gains
+    /// μ(|d|² 1 − d dᵀ) each (see [`super::Inertia`]).
+    pub(super) masses: Vec<(ExprId, Vec3)>,
     /// The wheels whose rotation was folded into this body's.
     pub(super) wheels: Vec<super::Wheel>,
     /// The elementary rotations of the orientation.
@@ -56,9 +59,7 @@ impl Model {
     /// frame; whether it did.
     fn fold_into(&mut self, parts: &mut [Part], a: usize, cb: Vec3, mb: ExprId) -> bool {
         let p = &parts[a];
-        let (Some(ca), Some(r), Some((omega, inertia, None))) =
-            (p.centre, p.orientation, p.rotation)
-        else {
+        let (Some(ca), Some(r), Some((_, _, None))) = (p.centre, p.orientation, p.rotation) else {
             return false;
         };
         let ma = p.mass;
@@ -87,20 +88,10 @@ impl Model {
         let centre = [0, 1, 2].map(|x| e.add(ca[x], shift[x]));
         let product = e.mul(ma, mb);
         let mu = e.div(product, total);
-        let d2 = dot3(e, d, d);
-        let inertia = [0, 1, 2].map(|i| {
-            [0, 1, 2].map(|j| {
-                let dd = e.mul(d[i], d[j]);
-                let diag = if i == j { d2 } else { ZERO };
-                let t = e.sub(diag, dd);
-                let t = e.mul(mu, t);
-                e.add(inertia[i][j], t)
-            })
-        });
         let p = &mut parts[a];
         p.mass = total;
         p.centre = Some(centre);
-        p.rotation = Some((omega, inertia, None));
+        p.masses.push((mu, d));
         true
     }
 
