@@ -473,12 +473,18 @@ fn body_projection(
                 // the weight through the partial velocities: m Vᵀ (a + γ e_z)
                 a[2] = d.add(a[2], g);
             }
-            let mv: Vec<Vec<Node>> = v
-                .iter()
-                .map(|row| row.iter().map(|&x| d.mul(mass, x)).collect())
-                .collect();
+            // m VᵀV: the mass multiplies each sum, not each partial velocity
+            for i in 0..mr.len() {
+                for j in i..mr.len() {
+                    let vv = dot(d, ZERO_NODE, (0..3).map(|x| (v[x][i], v[x][j])));
+                    mr[i][j] = dot(d, mr[i][j], [(mass, vv)]);
+                    mr[j][i] = mr[i][j];
+                }
+            }
             let ma: Vec<Node> = a.iter().map(|&x| d.mul(mass, x)).collect();
-            add_inertia(d, &mut mr, &mut f, &v, &mv, &ma);
+            for (i, fi) in f.iter_mut().enumerate() {
+                *fi = dot(d, *fi, (0..3).map(|x| (v[x][i], ma[x])));
+            }
         }
         if let Some(rot) = &b.rotation {
             let (omega, om, alpha) = body_turning(d, m, &motion, rot, (c, acc_bias));
