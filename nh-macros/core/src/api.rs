@@ -983,8 +983,6 @@ impl Cache {
             init: quote!(__nh_cache: [T::zero(); #len], __nh_cache_for: [#(#params),*],),
             methods: quote! {
                 /// The values that depend on the parameters alone, computed once.
-                #[cold]
-                #[inline(never)]
                 fn __nh_compute_cache(&self) -> [T; #len] {
                     let mut __nh_hoisted = [T::zero(); #len];
                     #hoist_code
