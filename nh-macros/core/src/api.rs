@@ -976,7 +976,6 @@ impl Cache {
         // packed comparison and one branch of them (the bicycle's call 17%
         // faster than with 26 branches). The cache's computation stays
         // inline: `#[cold] #[inline(never)]` on it made that call 28% slower.
-
         Cache {
             len,
             fields: quote! {

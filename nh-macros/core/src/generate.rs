@@ -483,7 +483,7 @@ fn body_projection(
             }
             let ma: Vec<Node> = a.iter().map(|&x| d.mul(mass, x)).collect();
             for (i, fi) in f.iter_mut().enumerate() {
-                *fi = dot(d, *fi, (0..3).map(|x| (v[x][i], ma[x])));
+                *fi = force_along(d, *fi, &v, &ma, i);
             }
         }
         if let Some(rot) = &b.rotation {
@@ -805,8 +805,13 @@ fn add_inertia(
             mr[a][b] = x;
             mr[b][a] = x;
         }
-        f[a] = dot(d, f[a], (0..p.len()).map(|x| (p[x][a], force[x])));
+        f[a] = force_along(d, f[a], p, force, a);
     }
+}
+
+/// fa + (Pᵀ force)_a: a force's part along the partial velocities a.
+fn force_along(d: &mut Dag, fa: Node, p: &[Vec<Node>], force: &[Node], a: usize) -> Node {
+    dot(d, fa, (0..p.len()).map(|x| (p[x][a], force[x])))
 }
 
 /// u × v.
