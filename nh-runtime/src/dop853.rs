@@ -206,9 +206,12 @@ const PI: Pi = Pi {
 ///   [`Integrator::integrate_with_steps`](crate::Integrator::integrate_with_steps),
 ///   the steps with an output time inside for
 ///   [`Integrator::integrate_with_outputs`](crate::Integrator::integrate_with_outputs))
-///   and counted in [`Stats::rhs_evals`](crate::Stats::rhs_evals); they are checked before the step
-///   is accepted. `integrate` and `integrate_with_observer` never pay for
-///   them.
+///   and counted in [`Stats::rhs_evals`](crate::Stats::rhs_evals). Where
+///   they are not finite (their stage points outside the domain of `f`) or
+///   the polynomial overflows, the step is interpolated on the cubic
+///   Hermite interpolant of its ends (order 3) instead: the step itself
+///   stands, so interpolating never changes the steps or the outcome.
+///   `integrate` and `integrate_with_observer` never pay for them.
 /// * [`Dop853::with_fixed_step`] switches the error control off (every step
 ///   accepted): for convergence studies and real-time loops.
 ///
@@ -443,7 +446,11 @@ where
         &self.x_new
     }
 
-    /// Hairer's `CONTD8`, with the three extra stages 14–16.
+    /// Hairer's `CONTD8`, with the three extra stages 14–16; where they or
+    /// the polynomial are not finite (the extra stage points outside the
+    /// domain of `f`, or an overflow of the large weights near the largest
+    /// float), the cubic Hermite interpolant of the step's ends, whose
+    /// values and derivatives are finite in every completed step.
     fn build_dense(&mut self, t: T, x: &SVector<T, D>, h: T, stats: &mut Stats) -> bool {
         let cc = |v: f64| c::<T>(v);
         let x = *x;
@@ -494,25 +501,31 @@ where
             v * h
         };
         let [r0, r1, r2, r3] = hermite_terms(&x, &k1, &self.x_new, &k13, h);
-        self.dense = Poly::from_nested(&[
-            r0,
-            r1,
-            r2,
-            r3,
-            comb([
-                D41, D46, D47, D48, D49, D410, D411, D412, D413, D414, D415, D416,
-            ]),
-            comb([
-                D51, D56, D57, D58, D59, D510, D511, D512, D513, D514, D515, D516,
-            ]),
-            comb([
-                D61, D66, D67, D68, D69, D610, D611, D612, D613, D614, D615, D616,
-            ]),
-            comb([
-                D71, D76, D77, D78, D79, D710, D711, D712, D713, D714, D715, D716,
-            ]),
-        ]);
-        all_finite_in(&[k14, k15, k16]) && self.dense.is_finite()
+        if all_finite_in(&[k14, k15, k16]) {
+            self.dense = Poly::from_nested(&[
+                r0,
+                r1,
+                r2,
+                r3,
+                comb([
+                    D41, D46, D47, D48, D49, D410, D411, D412, D413, D414, D415, D416,
+                ]),
+                comb([
+                    D51, D56, D57, D58, D59, D510, D511, D512, D513, D514, D515, D516,
+                ]),
+                comb([
+                    D61, D66, D67, D68, D69, D610, D611, D612, D613, D614, D615, D616,
+                ]),
+                comb([
+                    D71, D76, D77, D78, D79, D710, D711, D712, D713, D714, D715, D716,
+                ]),
+            ]);
+            if self.dense.is_finite() {
+                return true;
+            }
+        }
+        self.dense = Poly::from_nested(&[r0, r1, r2, r3]);
+        self.dense.is_finite()
     }
 
     fn dense(&self) -> &Poly<T, D> {

@@ -88,8 +88,10 @@ const PI: Pi = Pi {
 /// Failure modes (those of every adaptive integrator of this crate, which
 /// share one step driver):
 ///
-/// * A trial step with a non-finite stage, new state or (when it is used)
-///   dense output is rejected and retried with half the step; a finite
+/// * A trial step with a non-finite stage or new state is rejected and
+///   retried with half the step (a dense output that is not finite, which
+///   only an overflow can make, rejects nothing: the step is then
+///   interpolated on its chord, see [`Step`](crate::Step)); a finite
 ///   trial whose error norm overflows is an ordinary rejection. When the
 ///   step falls below `10·eps·|t|` (at least `10·eps²·|t1|` and
 ///   `1/(eps·T::MAX)`), [`SimError::NonFinite`](crate::SimError::NonFinite)

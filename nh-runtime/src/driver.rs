@@ -105,7 +105,8 @@ pub(crate) trait Method<T: RealField + Copy, const D: usize> {
     fn x_new(&self) -> &SVector<T, D>;
 
     /// Builds the dense output of the last completed trial, which started
-    /// at `(t, x)` with step `h`; `false` if it is not finite.
+    /// at `(t, x)` with step `h`; `false` if it is not finite (the driver
+    /// then interpolates the step on its chord; the trial stands).
     fn build_dense(&mut self, t: T, x: &SVector<T, D>, h: T, stats: &mut Stats) -> bool;
 
     /// The dense output built by [`Method::build_dense`].
@@ -148,6 +149,27 @@ pub(crate) trait Method<T: RealField + Copy, const D: usize> {
         last: bool,
         stats: &mut Stats,
     ) -> Result<(), Failure>;
+
+    /// Moves to the accepted point `(t, x)` whose state the projection onto
+    /// the holonomic constraints moved away from the trial's end
+    /// [`Method::x_new`]; `last` when the integration ends there. The
+    /// default restarts the method at the projected state
+    /// ([`Method::start`]), which is all a one-step method needs (its next
+    /// step starts from the derivative there); a multistep method may keep
+    /// its history instead.
+    fn advance_projected(
+        &mut self,
+        t: T,
+        x: &SVector<T, D>,
+        last: bool,
+        stats: &mut Stats,
+    ) -> Result<(), Failure> {
+        if last {
+            Ok(())
+        } else {
+            self.start(t, x, stats)
+        }
+    }
 }
 
 /// `f`, one evaluation of the right-hand side (counted), if it is finite.
@@ -245,6 +267,9 @@ const STIFF_COUNT: usize = 15;
 const NONSTIFF_RESET: usize = 6;
 /// Consecutive singular iteration matrices tolerated (step halved each time).
 const MAX_SINGULAR: usize = 5;
+/// Bisections locating a pole inside a step (the bracket reaches adjacent
+/// numbers long before).
+const MAX_BISECTIONS: usize = 128;
 
 /// The state of one run: the accepted point, the system's chart and
 /// manifold hooks, and the counters.
@@ -261,6 +286,9 @@ struct Run<'r, T, H: ?Sized, const D: usize> {
     rec: &'r mut Record<T>,
     /// The terminal event that ended the run, if one did.
     event: Option<EventHit<T, D>>,
+    /// The signed size of the last trial step (0 before the first), for
+    /// explaining a failure by a pole it crosses.
+    h_try: T,
 }
 
 /// Integrates `sys` from `(t0, x0)` to `t1` with `method` (which evaluates
@@ -295,6 +323,7 @@ where
         chart: None,
         rec,
         event: None,
+        h_try: T::zero(),
     };
     run.chart = run.regular_chart(t0, &x0)?;
     run.rec.max_residual = sys.constraint_residual(t0, &x0);
@@ -302,7 +331,8 @@ where
         return Ok(run.outcome());
     }
     if (t1 - t0).abs() < min_step(eps, t0, t1) {
-        return run.tiny_span(method, sink);
+        let result = run.tiny_span(method, sink);
+        return result.map_err(|e| run.explain(e));
     }
     let result = method
         .start(t0, &x0, &mut run.rec.stats)
@@ -487,7 +517,10 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
     /// A failure within `eps^(1/4)` of a chart singularity is reported as
     /// the singularity that caused it; so is a stage solve that failed on a
     /// step whose explicit Euler predictor x + h f(t, x) lies across one
-    /// (an implicit method's fixed step reaching the singularity).
+    /// (an implicit method's fixed step reaching the singularity). Failing
+    /// that, a failure on a step whose explicit Euler predictor crosses a
+    /// pole of the equations ([`OdeSystem::crossed_pole`]) is reported as
+    /// the pole.
     fn explain(&self, e: SimError<T, D>) -> SimError<T, D> {
         let near = |rho: T| rho.abs() <= self.eps.sqrt().sqrt();
         if let SimError::NoConvergence { h, .. } = e
@@ -510,13 +543,73 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             {
                 self.chart_singular()
             }
+            SimError::NoConvergence { .. } => self.pole_ahead(false).unwrap_or(e),
+            SimError::NonFinite { .. } | SimError::StepSizeTooSmall { .. } => {
+                self.pole_ahead(true).unwrap_or(e)
+            }
             e => e,
         }
     }
 
+    /// `Singular` at the accepted point with the pole that the explicit
+    /// Euler predictor `x + h f(t, x)` crosses, if it crosses one: over the
+    /// last trial step and, when the step `collapsed` (a step size too
+    /// small, non-finite trials halved away), also over `√eps·max(|t|,
+    /// |t1|)` (at most to `t1`), since an adaptive method's steps shrink
+    /// with the distance to a singularity of the solution and stall short
+    /// of the pole.
+    fn pole_ahead(&self, collapsed: bool) -> Option<SimError<T, D>> {
+        let f = self.sys.rhs(self.t, &self.x);
+        let reach = self.eps.sqrt() * self.t.abs().max(self.t1.abs());
+        let horizon = reach.min((self.t1 - self.t).abs()) * self.dir;
+        let spans = [Some(self.h_try), collapsed.then_some(horizon)];
+        spans.into_iter().flatten().find_map(|h| {
+            let predictor = self.x + f * h;
+            if h == T::zero() || !all_finite(&predictor) {
+                return None;
+            }
+            let expr = self
+                .sys
+                .crossed_pole(self.t, &self.x, self.t + h, &predictor)?;
+            Some(self.pole_singular(expr))
+        })
+    }
+
+    /// The last point of the step's dense output before the pole that its
+    /// end lies across (bisection on [`OdeSystem::crossed_pole`] from the
+    /// step's start), so that the events of the step are looked for only
+    /// before the pole: `(t, x(t))`.
+    fn before_pole(&self, step: &Step<'_, T, D>) -> (T, SVector<T, D>) {
+        let (mut lo, mut hi) = (step.t_prev(), step.t());
+        for _ in 0..MAX_BISECTIONS {
+            let mid = (lo + hi) * c(0.5);
+            if mid == lo || mid == hi {
+                break;
+            }
+            let x = step.interpolate(mid);
+            let across =
+                !all_finite(&x) || self.sys.crossed_pole(self.t, &self.x, mid, &x).is_some();
+            if across {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        (lo, step.interpolate(lo))
+    }
+
+    fn pole_singular(&self, expr: &'static str) -> SimError<T, D> {
+        SimError::Singular {
+            t: self.t,
+            x: self.x,
+            cause: Singularity::Pole(expr),
+        }
+    }
+
     /// The end `x_new` of an accepted step at `t_new`, projected onto the
-    /// holonomic constraints when projection is on, its chart checked and
-    /// its residual recorded; `true` if the projection moved it.
+    /// holonomic constraints when projection is on, its chart checked, the
+    /// step checked for a pole of the equations between its ends, and its
+    /// residual recorded; `true` if the projection moved it.
     fn settle(&mut self, t_new: T, x_new: &mut SVector<T, D>) -> Result<bool, SimError<T, D>> {
         let moved = if self.project {
             self.sys
@@ -535,7 +628,11 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
                 x: self.x,
             });
         }
-        self.chart = self.regular_chart(t_new, x_new)?;
+        let chart = self.regular_chart(t_new, x_new)?;
+        if let Some(expr) = self.sys.crossed_pole(self.t, &self.x, t_new, x_new) {
+            return Err(self.pole_singular(expr));
+        }
+        self.chart = chart;
         if let Some(r) = self.sys.constraint_residual(t_new, x_new) {
             let worst = self.rec.max_residual.map_or(r, |m| m.max(r));
             self.rec.max_residual = Some(worst);
@@ -550,6 +647,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
         K: Sink<T, D> + ?Sized,
     {
         let (t, x) = (self.t, self.x);
+        self.h_try = self.t1 - t;
         let f = m.rhs(t, &x);
         self.rec.stats.rhs_evals += 1;
         let mut x_new = x + f * (self.t1 - t);
@@ -567,7 +665,12 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
     }
 
     /// Completes an acceptable trial from `(t, x)` of size `h`: `complete`,
-    /// and the dense output if the sink needs it (checked to be finite).
+    /// and the dense output if the sink needs it; `true` if it was built
+    /// and is finite. A dense output that is not finite (a method's extra
+    /// stages outside the domain of `f`, an overflow) does not reject the
+    /// trial, since asking for it must not change the steps: the step is
+    /// then interpolated on its chord ([`Step::interpolate`] without a
+    /// dense output).
     fn finish<M, K>(&mut self, m: &mut M, sink: &mut K, h: T, t_new: T) -> Result<bool, Failure>
     where
         M: Method<T, D>,
@@ -576,10 +679,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
         let stats = &mut self.rec.stats;
         m.complete(t_new, stats)?;
         let dense = sink.wants_dense_at((self.t, &self.x), (t_new, m.x_new()));
-        if dense && !m.build_dense(self.t, &self.x, h, stats) {
-            return Err(Failure::NonFinite);
-        }
-        Ok(dense)
+        Ok(dense && m.build_dense(self.t, &self.x, h, stats))
     }
 
     /// Settles the end of the accepted step (projection, chart, residual),
@@ -604,7 +704,17 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             Ok(moved) => moved,
             Err(e) if dense => {
                 let step = Step::new(self.t, &self.x, t_new, m.x_new(), Some(m.dense()));
-                let stop = sink.salvage(&step);
+                let stop = if let SimError::Singular {
+                    cause: Singularity::Pole(_),
+                    ..
+                } = e
+                {
+                    // Only the part of the step before the pole.
+                    let (t_pole, x_pole) = self.before_pole(&step);
+                    sink.salvage(&step.truncated(t_pole, &x_pole))
+                } else {
+                    sink.salvage(&step)
+                };
                 return if self.stop_at(stop) { Ok(true) } else { Err(e) };
             }
             Err(e) => return Err(e),
@@ -617,10 +727,10 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
         self.t = t_new;
         self.x = x_new;
         let stats = &mut self.rec.stats;
-        let next = match (moved, last) {
-            (true, true) => Ok(()),
-            (true, false) => m.start(t_new, &self.x, stats),
-            (false, _) => m.advance(t_new, &self.x, last, stats),
+        let next = if moved {
+            m.advance_projected(t_new, &self.x, last, stats)
+        } else {
+            m.advance(t_new, &self.x, last, stats)
         };
         next.map(|()| false)
             .map_err(|f| f.at(t_new, self.x, T::zero()))
@@ -671,6 +781,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
                     h,
                 });
             }
+            self.h_try = hk;
             let fail = |f: Failure, r: &Self| f.at(r.t, r.x, hk);
             m.attempt(self.t, &self.x, hk, t_new, &s.tol, stats)
                 .map_err(|f| fail(f, self))?;
@@ -759,6 +870,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             }
             let (hs, t_new, last) = self.place(h);
             h = hs;
+            self.h_try = h;
             let stats = &mut self.rec.stats;
             let trial = m
                 .attempt(self.t, &self.x, h, t_new, &s.tol, stats)

@@ -26,7 +26,9 @@ impl Direction {
     /// Whether a step from `g_prev` to `g_new` crosses zero this way.
     ///
     /// A value exactly zero at the start of a step (at `t0`, or at an event
-    /// found exactly at the end of the previous step) starts no crossing.
+    /// found exactly at the end of the previous step) starts no crossing;
+    /// NaN has no sign and crosses nothing (the tracker compares the values
+    /// on either side of it); `±∞` have their sign.
     fn crossed<T: RealField + Copy>(self, g_prev: T, g_new: T) -> bool {
         let zero = T::zero();
         let rising = g_prev < zero && g_new >= zero;
@@ -55,6 +57,24 @@ impl Direction {
 /// unnoticed (cap the step with `with_max_step` if `g` oscillates faster
 /// than the solution). A zero of `g_i` exactly at `t0` is not an event; nor
 /// is a non-finite value of `g`.
+///
+/// # Non-finite values of `g`
+///
+/// * NaN has no sign. A NaN of `g_i` is never an event, but neither does it
+///   hide one: the sign of `g_i` is compared between the last value that
+///   had one and the next (across any number of steps whose ends gave
+///   NaN), and a change is located in the step where `g_i` has a sign
+///   again, on its dense output, where NaN counts as "not yet crossed".
+///   The reported time is where `g_i` is first seen on the far side (or
+///   zero): the end of the NaN window, or the zero after it, to within the
+///   time tolerance.
+/// * `±∞` have a sign, but a pole is not a root: a sign change located
+///   where `g_i` is infinite, or towards which `|g_i|` grows on both sides
+///   beyond its values at the ends of the bracket (`g = 1/(t − a)` at
+///   `t = a`), is not an event, and the run goes on. A root next to a pole
+///   is still found when it is the only sign change between two values of
+///   `g_i` with a sign (a root and a pole within one step cancel like two
+///   roots).
 ///
 /// # Example
 ///
@@ -171,6 +191,10 @@ pub(crate) struct Tracker<'e, T, G, F, const D: usize, const N: usize> {
     on_event: F,
     /// `g` at the last accepted point (`None` before the first step).
     g_prev: Option<SVector<T, N>>,
+    /// The last value of each `g_i` with a sign (not NaN) at an accepted
+    /// point (NaN while there has been none: `g` at `t0`). Crossings are
+    /// sign changes from these.
+    g_signed: SVector<T, N>,
     /// `g` at the end of the trial the driver asked about.
     candidate: Option<(T, SVector<T, D>, SVector<T, N>)>,
     /// Evaluations of `g`.
@@ -188,6 +212,7 @@ where
             events,
             on_event,
             g_prev: None,
+            g_signed: SVector::zeros(),
             candidate: None,
             evals: 0,
         }
@@ -205,6 +230,7 @@ where
             None => {
                 let g = self.g(t, x);
                 self.g_prev = Some(g);
+                self.g_signed = g;
                 g
             }
         }
@@ -218,14 +244,16 @@ where
         (t_prev, x_prev): (T, &SVector<T, D>),
         (t, x_new): (T, &SVector<T, D>),
     ) -> bool {
-        let g_prev = self.start(t_prev, x_prev);
+        self.start(t_prev, x_prev);
         let g_new = self.g(t, x_new);
         self.candidate = Some((t, *x_new, g_new));
-        self.any_crossing(&g_prev, &g_new)
+        self.any_crossing(&g_new)
     }
 
-    fn any_crossing(&self, g_prev: &SVector<T, N>, g_new: &SVector<T, N>) -> bool {
-        (0..N).any(|i| self.events.direction[i].crossed(g_prev[i], g_new[i]))
+    /// Whether some `g_i` changed sign, in its direction, from its last
+    /// value with a sign to `g_new`.
+    fn any_crossing(&self, g_new: &SVector<T, N>) -> bool {
+        (0..N).any(|i| self.events.direction[i].crossed(self.g_signed[i], g_new[i]))
     }
 
     /// `g` at the end of an accepted step: the value kept by
@@ -242,12 +270,18 @@ where
     pub(crate) fn step(&mut self, step: &Step<'_, T, D>) -> Option<EventHit<T, D>> {
         let g_prev = self.start(step.t_prev(), step.x_prev());
         let g_new = self.at_end(step);
+        let found = if self.any_crossing(&g_new) {
+            Some(self.locate_all(step, &g_prev, &g_new))
+        } else {
+            None
+        };
         self.g_prev = Some(g_new);
-        if !self.any_crossing(&g_prev, &g_new) {
-            return None;
+        for (signed, &g) in self.g_signed.iter_mut().zip(g_new.iter()) {
+            if has_sign(g) {
+                *signed = g;
+            }
         }
-        let found = self.locate_all(step, &g_prev, &g_new);
-        self.report(step, &found)
+        self.report(step, &found?)
     }
 
     /// A step that the driver could not accept (its end could not be
@@ -256,7 +290,7 @@ where
     pub(crate) fn salvage(&mut self, step: &Step<'_, T, D>) -> Option<EventHit<T, D>> {
         let g_prev = self.start(step.t_prev(), step.x_prev());
         let g_new = self.at_end(step);
-        if !self.any_crossing(&g_prev, &g_new) {
+        if !self.any_crossing(&g_new) {
             return None;
         }
         let found = self.locate_all(step, &g_prev, &g_new);
@@ -268,8 +302,9 @@ where
         }
     }
 
-    /// The located crossings `(t, index, direction)`, sorted in the
-    /// direction of integration (ties by index); `None` entries last.
+    /// The located crossings `(t, index, direction)` (poles left out),
+    /// sorted in the direction of integration (ties by index); `None`
+    /// entries last.
     fn locate_all(
         &mut self,
         step: &Step<'_, T, D>,
@@ -278,14 +313,16 @@ where
     ) -> [Option<Crossing<T>>; N] {
         let mut found = [None; N];
         for (i, slot) in found.iter_mut().enumerate() {
-            if self.events.direction[i].crossed(g_prev[i], g_new[i]) {
-                let t = self.locate(step, i, g_prev[i], g_new[i]);
-                let way = if g_prev[i] < T::zero() {
+            let side = self.g_signed[i];
+            if self.events.direction[i].crossed(side, g_new[i]) {
+                let way = if side < T::zero() {
                     Direction::Rising
                 } else {
                     Direction::Falling
                 };
-                *slot = Some((t, i, way));
+                *slot = self
+                    .locate(step, i, (g_prev[i], side), g_new[i])
+                    .map(|t| (t, i, way));
             }
         }
         let dir = if step.h() < T::zero() {
@@ -329,19 +366,36 @@ where
         None
     }
 
-    /// The time where `g_i` crosses zero inside `step`, between the values
-    /// `g0` at its start and `g1` at its end (of opposite signs, or `g1`
-    /// zero), by the Anderson–Björck method on the dense output: the end of
-    /// the final bracket on the far side of the zero (where `g_i` has
-    /// crossed, or is zero), within the time tolerance of the zero.
-    fn locate(&mut self, step: &Step<'_, T, D>, i: usize, g0: T, g1: T) -> T {
+    /// The time where `g_i` crosses zero inside `step`, from the value
+    /// `g0` at its start (NaN, or the last value with a sign, `side`) to
+    /// `g1` at its end (zero or of the other sign), by the Anderson–Björck
+    /// method on the dense output: the end of the final bracket on the far
+    /// side of the zero (where `g_i` has crossed, or is zero), within the
+    /// time tolerance of the zero. NaN counts as "not yet crossed", so a
+    /// sign change across NaN is placed where `g_i` is first seen on the
+    /// far side; a trial point or end with a non-finite value is bisected
+    /// away from. `None` when the sign change is a pole, not a root: `g_i`
+    /// is infinite at the final bracket, or its magnitude there exceeds its
+    /// magnitudes at the ends of the first bracket on both sides.
+    fn locate(&mut self, step: &Step<'_, T, D>, i: usize, (g0, side): (T, T), g1: T) -> Option<T> {
         let h = step.h();
         let tol = self.events.tolerance.unwrap_or_else(|| {
             let scale = step.t_prev().abs().max(step.t().abs()).max(h.abs());
             c::<T>(4.0) * machine_epsilon::<T>() * scale
         });
-        // The bracket: `(b, fb)` the latest point, `(a, fa)` the end kept.
-        let (mut a, mut fa) = (step.t_prev(), g0);
+        // Whether `g_i` has crossed at the value `v` (false for NaN).
+        let rising = side < T::zero();
+        let past = |v: T| {
+            if rising {
+                v >= T::zero()
+            } else {
+                v <= T::zero()
+            }
+        };
+        // The bracket: `(b, fb)` the latest point, `(a, fa)` the end kept
+        // (`fa` scaled by Anderson–Björck, `ga` its value); one of them has
+        // crossed, the other not.
+        let (mut a, mut fa, mut ga) = (step.t_prev(), g0, g0);
         let (mut b, mut fb) = (step.t(), g1);
         let (mut slow, mut kept) = (0, 0);
         for _ in 0..MAX_ITERATIONS {
@@ -352,7 +406,8 @@ where
             let secant = b - fb * (b - a) / (fb - fa);
             let (lo, hi) = (a.min(b), a.max(b));
             let inside = secant >= lo && secant <= hi;
-            let t = if slow >= SLOW || !inside {
+            let finite = fa.is_finite() && fb.is_finite();
+            let t = if slow >= SLOW || !inside || !finite {
                 (a + b) * c(0.5)
             } else {
                 secant
@@ -365,10 +420,7 @@ where
                 break; // the bracket is down to adjacent numbers
             }
             let v = self.g(t, &step.interpolate(t))[i];
-            if !v.is_finite() {
-                break;
-            }
-            if v * fb > T::zero() {
+            if past(v) == past(fb) {
                 // `a` stays: Anderson–Björck's factor shrinks its value,
                 // halved (Illinois) when `a` stays again, so that the
                 // iterates soon land on its side too.
@@ -377,7 +429,7 @@ where
                 fa *= if m > T::zero() && kept < 2 { m } else { c(0.5) };
             } else {
                 kept = 0;
-                (a, fa) = (b, fb);
+                (a, fa, ga) = (b, fb, fb);
             }
             (b, fb) = (t, v);
             slow = if (b - a).abs() > width * c(0.5) {
@@ -386,8 +438,22 @@ where
                 0
             };
         }
-        if fb * g0 <= T::zero() { b } else { a }
+        let ((t_far, g_far), g_near) = if past(fb) {
+            ((b, fb), ga)
+        } else {
+            ((a, ga), fb)
+        };
+        let pole = has_sign(g_near)
+            && (!g_near.is_finite()
+                || !g_far.is_finite()
+                || (g_near.abs() > side.abs() && g_far.abs() > g1.abs()));
+        (!pole).then_some(t_far)
     }
+}
+
+/// Whether `v` has a sign (is not NaN).
+fn has_sign<T: RealField + Copy>(v: T) -> bool {
+    v.partial_cmp(&T::zero()).is_some()
 }
 
 /// A located crossing: its time, its event, the way it went.

@@ -112,6 +112,14 @@ pub enum Singularity {
     /// changed sign (a dependent-velocity block or a reduced mass matrix
     /// lost rank). Choose other dependent coordinates or other speeds.
     Chart,
+    /// A pole or domain edge of the system's equations lies inside the step: the
+    /// expression (as written in the system) whose guard changed sign or reached zero.
+    ///
+    /// Reported by the system's
+    /// [`crossed_pole`](crate::OdeSystem::crossed_pole) after a step, or for
+    /// a run that failed otherwise on a step whose explicit Euler predictor
+    /// crosses the pole; the error's state is the last one before it.
+    Pole(&'static str),
 }
 
 /// Why an integration failed.
@@ -175,9 +183,10 @@ pub enum SimError<T, const D: usize> {
         /// The step whose stage equations could not be solved.
         h: T,
     },
-    /// A linear system could not be solved: an implicit method's iteration
-    /// matrix, or the system's own equations at a singularity of their
-    /// chart (see `cause`).
+    /// A linear system could not be solved, or the equations are not
+    /// defined: an implicit method's iteration matrix, the system's own
+    /// equations at a singularity of their chart, or a pole or domain edge
+    /// of the equations that the next step would cross (see `cause`).
     Singular {
         /// Time of the last good state.
         t: T,
@@ -277,6 +286,15 @@ impl<T: fmt::Display, const D: usize> fmt::Display for SimError<T, D> {
                 "the equations' chart is singular after t = {t}: the dependent velocities \
                  or the reduced mass matrix lose rank there; choose other dependent \
                  coordinates or other speeds"
+            ),
+            Self::Singular {
+                t,
+                cause: Singularity::Pole(expr),
+                ..
+            } => write!(
+                f,
+                "the step after t = {t} crosses a pole or domain edge of the equations: \
+                 `{expr}` is undefined there"
             ),
             Self::ProjectionFailed { t, residual, .. } => write!(
                 f,

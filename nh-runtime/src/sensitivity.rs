@@ -230,6 +230,19 @@ where
         self.system.chart_regularity(t, &state(x))
     }
 
+    /// The system's poles between the state parts of the two augmented
+    /// states (the sensitivities do not enter them).
+    #[inline]
+    fn crossed_pole(
+        &self,
+        t0: T,
+        x0: &SVector<T, A>,
+        t1: T,
+        x1: &SVector<T, A>,
+    ) -> Option<&'static str> {
+        self.system.crossed_pole(t0, &state(x0), t1, &state(x1))
+    }
+
     #[inline]
     fn constraint_residual(&self, t: T, x: &SVector<T, A>) -> Option<T> {
         self.system.constraint_residual(t, &state(x))

@@ -108,10 +108,13 @@ impl<T: RealField + Copy, const D: usize> Poly<T, D> {
 ///
 /// All of them are continuous across steps and reproduce `x_prev` and `x`
 /// exactly at the ends of the step. The dense output is built, and checked
-/// to be finite, before the step is accepted: a step whose interpolant is
-/// not finite is rejected (retried with a smaller step by the adaptive
-/// methods, [`SimError::NonFinite`](crate::SimError::NonFinite) with a fixed
-/// step), so an interpolated sample is never NaN.
+/// to be finite, before the step is accepted; asking for it never changes
+/// the steps: where it is not finite (`Dop853`'s extra stages outside the
+/// domain of the right-hand side, or an overflow near the largest float)
+/// the step stands and is interpolated on a lower-order extension instead,
+/// `Dop853`'s cubic Hermite interpolant of the step's ends or, for the
+/// other methods, the chord from `x_prev` to `x`. An interpolated sample
+/// is never NaN.
 ///
 /// # Example
 ///
@@ -136,6 +139,9 @@ pub struct Step<'a, T, const D: usize> {
     x_prev: &'a SVector<T, D>,
     x: &'a SVector<T, D>,
     dense: Option<&'a Poly<T, D>>,
+    /// The length of time the dense output's `θ ∈ [0, 1]` spans: `t −
+    /// t_prev`, or the whole step's for a [`Step::truncated`] one.
+    span: T,
 }
 
 impl<'a, T: RealField + Copy, const D: usize> Step<'a, T, D> {
@@ -152,6 +158,23 @@ impl<'a, T: RealField + Copy, const D: usize> Step<'a, T, D> {
             x_prev,
             x,
             dense,
+            span: t - t_prev,
+        }
+    }
+
+    /// The first part of this step, up to `t` inside it where the dense
+    /// output is `x` (the same interpolant).
+    pub(crate) fn truncated<'b>(&self, t: T, x: &'b SVector<T, D>) -> Step<'b, T, D>
+    where
+        'a: 'b,
+    {
+        Step {
+            t_prev: self.t_prev,
+            t,
+            x_prev: self.x_prev,
+            x,
+            dense: self.dense,
+            span: self.span,
         }
     }
 }
@@ -196,12 +219,13 @@ impl<T: RealField + Copy, const D: usize> Step<'_, T, D> {
         if t == self.t_prev {
             return *self.x_prev;
         }
-        let theta = (t - self.t_prev) / (self.t - self.t_prev);
         match self.dense {
-            Some(p) => p.eval(theta),
+            Some(p) => p.eval((t - self.t_prev) / self.span),
             // Steps reported without dense output (to observers, which do
             // not interpolate): the chord.
-            None => self.x_prev + (self.x - self.x_prev) * theta,
+            None => {
+                self.x_prev + (self.x - self.x_prev) * ((t - self.t_prev) / (self.t - self.t_prev))
+            }
         }
     }
 }

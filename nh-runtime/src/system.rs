@@ -57,6 +57,66 @@ pub trait OdeSystem<T, const D: usize> {
         None
     }
 
+    /// The first expression of the system's equations with a pole or a
+    /// domain edge that lies between `(t0, x0)` and `(t1, x1)`: its guard
+    /// (a denominator, the argument of `ln` or `sqrt`, `1 − a²` for `asin`
+    /// and `acos`, ...) changed sign or reached zero between the two states
+    /// (or is non-finite at `(t1, x1)`). Returns the expression's source
+    /// text. Default: `None` (no poles).
+    ///
+    /// The integrators ask after every accepted step, from its start to its
+    /// end (after projection, the state that would be accepted), and end
+    /// the run in [`SimError::Singular`] with cause
+    /// [`Singularity::Pole`](crate::Singularity::Pole) and the last good
+    /// state, the step's start, when it answers. A terminal event inside
+    /// that step still ends the run at the event. A run that fails
+    /// otherwise (a non-finite value, a step size too small, an unconverged
+    /// Newton iteration) on a step whose explicit Euler predictor
+    /// `x + h f(t, x)` crosses a pole reports the pole. A generated system
+    /// implements it when its equations divide by a state-dependent
+    /// expression or use a function with a pole or a domain edge; the
+    /// default costs nothing.
+    ///
+    /// # Example
+    ///
+    /// ```rust
+    /// use nalgebra::Vector2;
+    /// use nh_runtime::{DormandPrince, Integrator, OdeSystem, SimError, Singularity};
+    ///
+    /// /// θ' = 1, v' = tan θ: a pole at θ = π/2.
+    /// struct Tangent;
+    ///
+    /// impl OdeSystem<f64, 2> for Tangent {
+    ///     fn rhs(&self, _t: f64, x: &Vector2<f64>) -> Vector2<f64> {
+    ///         Vector2::new(1.0, x[0].tan())
+    ///     }
+    ///
+    ///     fn crossed_pole(&self, _t0: f64, x0: &Vector2<f64>, _t1: f64, x1: &Vector2<f64>) -> Option<&'static str> {
+    ///         // the guard of tan θ is cos θ
+    ///         let (g0, g1) = (x0[0].cos(), x1[0].cos());
+    ///         (g0 * g1 <= 0.0 || !g1.is_finite()).then_some("tan(theta)")
+    ///     }
+    /// }
+    ///
+    /// let err = DormandPrince::new(1e-8, 1e-10)
+    ///     .integrate(&Tangent, 0.0, Vector2::zeros(), 3.0)
+    ///     .unwrap_err();
+    /// let SimError::Singular { t, x, cause } = err else { panic!("{err:?}") };
+    /// assert_eq!(cause, Singularity::Pole("tan(theta)"));
+    /// assert!(t < std::f64::consts::FRAC_PI_2 && x[0] < std::f64::consts::FRAC_PI_2);
+    /// assert!(err.to_string().contains("tan(theta)"));
+    /// ```
+    #[inline]
+    fn crossed_pole(
+        &self,
+        _t0: T,
+        _x0: &SVector<T, D>,
+        _t1: T,
+        _x1: &SVector<T, D>,
+    ) -> Option<&'static str> {
+        None
+    }
+
     /// The largest residual `|f_i(q, t)|` of the system's holonomic
     /// constraints at `(t, x)`, or `None` (the default) for a system without
     /// holonomic constraints. Reported as
@@ -229,6 +289,18 @@ pub trait ControlledSystem<T, const D: usize, const M: usize> {
         None
     }
 
+    /// [`OdeSystem::crossed_pole`]; the input does not enter it.
+    #[inline]
+    fn crossed_pole(
+        &self,
+        _t0: T,
+        _x0: &SVector<T, D>,
+        _t1: T,
+        _x1: &SVector<T, D>,
+    ) -> Option<&'static str> {
+        None
+    }
+
     /// [`OdeSystem::constraint_residual`].
     #[inline]
     fn constraint_residual(&self, _t: T, _x: &SVector<T, D>) -> Option<T> {
@@ -381,6 +453,17 @@ where
     #[inline]
     fn chart_regularity(&self, t: T, x: &SVector<T, D>) -> Option<T> {
         self.system.chart_regularity(t, x)
+    }
+
+    #[inline]
+    fn crossed_pole(
+        &self,
+        t0: T,
+        x0: &SVector<T, D>,
+        t1: T,
+        x1: &SVector<T, D>,
+    ) -> Option<&'static str> {
+        self.system.crossed_pole(t0, x0, t1, x1)
     }
 
     #[inline]
@@ -628,7 +711,9 @@ pub trait Integrator<T: RealField + Copy> {
     /// failed projection) still ends the run at a terminal event inside
     /// it, since the dense output before that end is finite: a system
     /// that falls into the singularity of its coordinates stops at its
-    /// event rather than with [`SimError::Singular`].
+    /// event rather than with [`SimError::Singular`]. For a step across a
+    /// pole of the equations ([`OdeSystem::crossed_pole`]) only the events
+    /// before the pole count (it is located on the dense output).
     ///
     /// The integrators of this crate stop at a terminal event. The default
     /// body, for other implementors, runs to `t1` with

@@ -269,3 +269,112 @@ fn dop853_dense_stages_only_where_interpolated() {
     assert_eq!(outputs.steps, plain.steps);
     assert_eq!(outputs.rhs_evals, plain.rhs_evals + 3 * inside);
 }
+
+/// `x' = x`: from `x0 = 1e305` it stays below the largest `f64` until
+/// `t ≈ 7.5`, but DOP853's dense output (weights up to 527 on stages of
+/// that size) overflows from `x ≈ 3e305` on.
+fn growth(_t: f64, x: &SVector<f64, 1>) -> SVector<f64, 1> {
+    *x
+}
+
+/// `θ' = sqrt(2 (cos θ − cos 1))`: the pendulum's angle rising to its
+/// turning point θ = 1, where the square root's argument reaches zero; the
+/// extra stages of DOP853's dense output land beyond it (NaN) on some
+/// steps whose own stages do not.
+fn to_the_turning_point(_t: f64, x: &SVector<f64, 1>) -> SVector<f64, 1> {
+    SVector::<f64, 1>::new((2.0 * (x[0].cos() - 1.0f64.cos())).sqrt())
+}
+
+/// The step ends of a run without dense output (observer), with every step
+/// interpolated (`integrate_with_steps`) and with output times at 1 %
+/// of the span: identical, and every sample finite.
+fn sampling_changes_nothing(
+    name: &str,
+    sys: fn(f64, &SVector<f64, 1>) -> SVector<f64, 1>,
+    x0: f64,
+    t1: f64,
+    make: impl Fn() -> Dop853<f64>,
+) -> Vec<(f64, f64)> {
+    let x0 = SVector::<f64, 1>::new(x0);
+    let mut plain_ends = Vec::new();
+    let plain =
+        make().integrate_with_observer(&sys, 0.0, x0, t1, |t, x| plain_ends.push((t, x[0])));
+    let plain = plain.unwrap_or_else(|e| panic!("{name}: {e:?}"));
+    let mut step_ends = vec![(0.0, x0[0])];
+    let mut interpolated = Vec::new();
+    let steps = make()
+        .integrate_with_steps(&sys, 0.0, x0, t1, |s| {
+            step_ends.push((s.t(), s.x()[0]));
+            interpolated.push(s.interpolate(s.t_prev() + 0.5 * s.h())[0]);
+        })
+        .unwrap_or_else(|e| panic!("{name}, steps: {e:?}"));
+    let times: Vec<f64> = (0..=100).map(|k| t1 * k as f64 / 100.0).collect();
+    let mut samples = Vec::new();
+    let outputs = make()
+        .integrate_with_outputs(&sys, 0.0, x0, t1, &times, |t, x| samples.push((t, x[0])))
+        .unwrap_or_else(|e| panic!("{name}, outputs: {e:?}"));
+    assert_eq!(step_ends, plain_ends, "{name}");
+    for out in [steps, outputs] {
+        assert_eq!((out.t, out.x), (plain.t, plain.x), "{name}");
+        assert_eq!(
+            (out.stats.steps, out.stats.rejected),
+            (plain.stats.steps, plain.stats.rejected),
+            "{name}"
+        );
+    }
+    assert_eq!(samples.len(), times.len(), "{name}");
+    assert!(interpolated.iter().all(|v| v.is_finite()), "{name}");
+    assert!(samples.iter().all(|(_, v)| v.is_finite()), "{name}");
+    samples
+}
+
+#[test]
+fn dop853_sampling_never_changes_the_steps_where_its_dense_output_fails() {
+    // Before: with output times the run ended in NonFinite at t = 1.2201
+    // (rtol 1e-10) where the plain run succeeds (x = 3.43e305 at t1 after
+    // 6 steps): a dense output that overflowed rejected the step.
+    for rtol in [1e-6, 1e-10, 1e-12] {
+        let samples = sampling_changes_nothing("growth", growth, 1e305, 1.23125, || {
+            Dop853::new(rtol, rtol * 1e-2)
+        });
+        // Where the order-7 interpolant overflows, the cubic Hermite one
+        // takes over: still close to 1e305·e^t.
+        let worst = samples
+            .iter()
+            .map(|&(t, x)| (x / (1e305 * t.exp()) - 1.0).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-4, "rtol {rtol:e}: {worst:e}");
+    }
+    // Before: 37 steps and 33 rejections with every step interpolated
+    // against 33 and 28 plain (the extra stages' NaN rejected steps).
+    for (t1, rtol) in [(2.73, 0.1), (3.38, 0.1), (3.38, 0.03)] {
+        let samples =
+            sampling_changes_nothing("turning point", to_the_turning_point, 0.0, t1, || {
+                Dop853::new(rtol, rtol)
+            });
+        assert!(samples.iter().all(|&(_, x)| (0.0..=1.0).contains(&x)));
+    }
+}
+
+#[test]
+fn dop853_fixed_steps_are_not_failed_by_their_dense_output() {
+    // With a fixed step a non-finite dense output used to end the run in
+    // NonFinite at once, a step before the plain run's own failure: the
+    // stiff problem below blows up (h·λ far beyond the stability
+    // boundary); both now fail at the same step.
+    let stiff = |t: f64, x: &SVector<f64, 1>| SVector::<f64, 1>::new(-1e6 * (x[0] - t.cos()));
+    let x0 = SVector::<f64, 1>::new(0.5);
+    let h = 0.01 / 37.0;
+    let make = || Dop853::new(1e-6, 1e-8).with_fixed_step(h);
+    let plain = make().integrate(&stiff, 0.0, x0, 0.01).unwrap_err();
+    let times: Vec<f64> = (0..=200).map(|k| 0.01 * k as f64 / 200.0).collect();
+    let mut finite = true;
+    let with = make()
+        .integrate_with_outputs(&stiff, 0.0, x0, 0.01, &times, |_, x| {
+            finite &= x[0].is_finite()
+        })
+        .unwrap_err();
+    assert!(matches!(plain, SimError::NonFinite { .. }), "{plain:?}");
+    assert_eq!(with, plain);
+    assert!(finite);
+}

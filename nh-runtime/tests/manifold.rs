@@ -4,8 +4,9 @@
 //! `SimError::Singular` with the last good state.
 use nalgebra::{SVector, Vector1, Vector2, Vector4};
 use nh_runtime::{
-    ControlledSystem, Dop853, DormandPrince, Driven, GaussLegendre4, Integrator, OdeJacobian,
-    OdeSystem, Outcome, ProjectionFailure, Rk4, Rosenbrock, SimError, Singularity,
+    AutoSwitch, Bdf, ControlledSystem, Dop853, DormandPrince, Driven, GaussLegendre4, Integrator,
+    OdeJacobian, OdeSystem, Outcome, ProjectionFailure, Rk4, Rodas5P, Rosenbrock, SimError,
+    Singularity,
 };
 
 const G: f64 = 9.81;
@@ -87,7 +88,7 @@ fn projection_keeps_the_pendulum_on_its_circle_in_every_integrator() {
     let x0 = pendulum_start(1.0);
     let sys = CartesianPendulum;
     let t1 = 100.0;
-    let runs: [(&str, Outcome<f64, 4>); 5] = [
+    let runs: [(&str, Outcome<f64, 4>); 8] = [
         ("Rk4", Rk4::new(1e-3).integrate(&sys, 0.0, x0, t1).unwrap()),
         (
             "DormandPrince",
@@ -108,8 +109,29 @@ fn projection_keeps_the_pendulum_on_its_circle_in_every_integrator() {
                 .unwrap(),
         ),
         (
+            "Rodas5P",
+            Rodas5P::new(1e-7, 1e-9)
+                .integrate_with_jacobian(&sys, 0.0, x0, t1)
+                .unwrap(),
+        ),
+        (
+            // Projected after every step (the projection always reports a
+            // move): it used to restart at order 1 each time, with 0.9× the
+            // step, and end in StepSizeTooSmall at t = 1.1e-6.
+            "Bdf",
+            Bdf::new(1e-9, 1e-11)
+                .integrate_with_jacobian(&sys, 0.0, x0, t1)
+                .unwrap(),
+        ),
+        (
             "GaussLegendre4",
             GaussLegendre4::new(2e-3)
+                .integrate(&sys, 0.0, x0, t1)
+                .unwrap(),
+        ),
+        (
+            "AutoSwitch",
+            AutoSwitch::new(1e-8, 1e-10)
                 .integrate(&sys, 0.0, x0, t1)
                 .unwrap(),
         ),
@@ -125,6 +147,51 @@ fn projection_keeps_the_pendulum_on_its_circle_in_every_integrator() {
         );
         assert!(err < 1e-6, "{name}: angle {} vs {reference}", angle(&out));
     }
+}
+
+#[test]
+fn bdf_keeps_its_history_through_projections_within_the_tolerance() {
+    // The pendulum's projection moves every accepted state (by rounding
+    // at least, and by the step's error): Bdf keeps its differences, the
+    // polynomial shifted by the correction, so the run costs what it costs
+    // unprojected (no restart: the one Jacobian of the start) and ends
+    // closer to the reference. Before, every step restarted at order 1
+    // with 0.9× the step: StepSizeTooSmall at t = 1.1e-5 after 299 steps
+    // (rtol 1e-7).
+    let x0 = pendulum_start(1.0);
+    let sys = CartesianPendulum;
+    let t1 = 100.0;
+    let reference = angle_reference(1.0, t1);
+    for (rtol, atol) in [(1e-7, 1e-9), (1e-9, 1e-11)] {
+        let on = Bdf::new(rtol, atol)
+            .integrate_with_jacobian(&sys, 0.0, x0, t1)
+            .unwrap();
+        let off = Bdf::new(rtol, atol)
+            .with_projection(false)
+            .integrate_with_jacobian(&sys, 0.0, x0, t1)
+            .unwrap();
+        let (err_on, err_off) = (
+            (angle(&on) - reference).abs(),
+            (angle(&off) - reference).abs(),
+        );
+        println!(
+            "Bdf {rtol:e}: projected {} steps, error {err_on:.1e}; unprojected {} steps, error {err_off:.1e}",
+            on.stats.steps, off.stats.steps
+        );
+        assert_eq!(on.stats.jacobian_evals, off.stats.jacobian_evals);
+        assert!(on.stats.steps as f64 <= 1.1 * off.stats.steps as f64);
+        assert!(err_on < err_off, "{err_on:e} vs {err_off:e}");
+        assert!(on.max_residual.unwrap() <= 1e-12);
+    }
+    // A start 1 % off the circle: the first projection moves the state far
+    // beyond the tolerance, so Bdf restarts there (the Jacobian again) and
+    // goes on.
+    let off_circle = x0 * 1.01;
+    let out = Bdf::new(1e-9, 1e-11)
+        .integrate_with_jacobian(&sys, 0.0, off_circle, t1)
+        .unwrap();
+    assert_eq!(out.stats.jacobian_evals, 2);
+    assert!((angle(&out) - reference).abs() < 1e-6);
 }
 
 #[test]

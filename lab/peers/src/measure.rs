@@ -91,6 +91,16 @@ impl<S: OdeSystem<f64, D>, const D: usize> OdeSystem<f64, D> for Counted<'_, S> 
         self.inner.chart_regularity(t, x)
     }
     #[inline]
+    fn crossed_pole(
+        &self,
+        t0: f64,
+        x0: &SVector<f64, D>,
+        t1: f64,
+        x1: &SVector<f64, D>,
+    ) -> Option<&'static str> {
+        self.inner.crossed_pole(t0, x0, t1, x1)
+    }
+    #[inline]
     fn constraint_residual(&self, t: f64, x: &SVector<f64, D>) -> Option<f64> {
         self.inner.constraint_residual(t, x)
     }
