@@ -1741,11 +1741,12 @@ impl Bodies for Derived<'_> {
     }
 
     fn runtime_hooks(&mut self, xty: &TokenStream) -> TokenStream {
-        let hooks = if self.maggi.is_some() {
+        let mut hooks = if self.maggi.is_some() {
             self.chart_regularity()
         } else {
             crate::manifold::methods(self.m, xty)
         };
+        hooks.extend(crate::poles::method(self.m, xty));
         if !self.m.autonomous() {
             return hooks;
         }

@@ -26,6 +26,7 @@ mod mechanics;
 mod model;
 mod names;
 mod parse;
+mod poles;
 pub mod sym;
 
 pub use emit::with_text_parser;

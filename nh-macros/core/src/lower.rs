@@ -86,6 +86,8 @@ struct Lowerer<'a> {
     description: Vec<String>,
     /// the bodies whose kinetic energy the Lagrangian takes, with it
     kinetic: Vec<(crate::model::KineticBody, ExprId)>,
+    /// see [`Model::written`]
+    written: Vec<ExprId>,
 }
 
 /// The names declared so far, each with what it was declared as.
@@ -178,6 +180,13 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         return None;
     }
     let kinetic = lw.kinetic_split(lagrangian);
+    let forces = lw.coords.iter().map(|c| c.force);
+    let kinematics = speeds.iter().flat_map(|s| s.velocities.iter().copied());
+    let written: Vec<ExprId> = std::iter::once(lagrangian)
+        .chain(forces)
+        .chain(std::mem::take(&mut lw.written))
+        .chain(kinematics)
+        .collect();
     let mut constraints = lowered.constraints;
     let points = lw.points();
     let partition = match speeds {
@@ -210,6 +219,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         block: None,
         huge_constant: lw.huge_constant,
         kinetic,
+        written,
     })
 }
 
@@ -294,6 +304,7 @@ impl<'a> Lowerer<'a> {
             huge_constant: None,
             description: Vec::new(),
             kinetic: Vec::new(),
+            written: Vec::new(),
         };
         (lw, let_ok)
     }

@@ -315,6 +315,10 @@ pub struct Model {
     /// The velocity rows' terms for solving their block numerically, once
     /// derived (see [`crate::mechanics::BlockTerms`]).
     pub block: Option<crate::mechanics::BlockTerms>,
+    /// The expressions as written (the Lagrangian, the forces, each
+    /// written constraint's lhs − rhs, the kinematics), whose poles and
+    /// domain edges the runtime guards (`crate::poles`).
+    pub written: Vec<ExprId>,
 }
 
 /// A rolling contact: the material velocity of the contact point is

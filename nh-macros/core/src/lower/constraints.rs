@@ -258,6 +258,9 @@ impl Lowerer<'_> {
         explicit: Option<usize>,
     ) -> Option<Row<'d>> {
         let g = self.e.sub(lhs, rhs);
+        if let Source::Written(_) = c {
+            self.written.push(g);
+        }
         let vels: Vec<SymId> = self.coords.iter().map(|c| c.velocity).collect();
         let has_velocity = vels.iter().any(|&v| self.e.depends_on(g, v));
         if !has_velocity {
