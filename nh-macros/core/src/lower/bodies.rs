@@ -9,7 +9,7 @@ use super::values::{
 use super::{Binding, Lowerer, Place};
 use crate::ctxt::SpanRange;
 use crate::parse::{BodyDef, Expr, Field, RollingDef};
-use crate::sym::{ExprId, Rational, ZERO};
+use crate::sym::{ExprId, Rational, SymId, ZERO};
 use proc_macro2::Ident;
 use std::rc::Rc;
 
@@ -533,23 +533,33 @@ impl Lowerer<'_> {
     }
 
     /// L = Σ_b T_b + L_rest over the bodies whose kinetic energy the
-    /// Lagrangian took, when there are any and none depends on time
-    /// explicitly (Kane's form of their terms assumes Ċ = Σ ∂C/∂q q̇).
+    /// Lagrangian took, when there are any and each is a rigid body of the
+    /// form Kane's terms assume: its centre and every angle of its
+    /// orientation free of t (Ċ = Σ ∂C/∂q q̇, each factor's rate Σ ∂θ/∂q q̇),
+    /// its mass and inertia constant (free of the coordinates and t).
+    /// Otherwise the Lagrangian's own Euler–Lagrange terms are derived.
     pub(super) fn kinetic_split(
         &mut self,
         lagrangian: ExprId,
     ) -> Option<crate::model::KineticSplit> {
         let kinetic = std::mem::take(&mut self.kinetic);
         let t = self.t_sym;
-        let timed = kinetic.iter().any(|(b, _)| {
+        let state: Vec<SymId> = (self.coords.iter())
+            .flat_map(|c| [c.position, c.velocity])
+            .chain([t])
+            .collect();
+        let varies = |x: ExprId| state.iter().any(|&s| self.e.depends_on(x, s));
+        let not_kane = kinetic.iter().any(|(b, _)| {
             let omega = b.rotation.iter().flat_map(|r| r.0);
-            b.centre
-                .iter()
-                .copied()
+            let angles = b.factors.iter().map(|f| f.1);
+            let timed = (b.centre.iter().copied())
                 .chain(omega)
-                .any(|x| self.e.depends_on(x, t))
+                .chain(angles)
+                .any(|x| self.e.depends_on(x, t));
+            let inertia = b.rotation.iter().flat_map(|r| r.1.into_iter().flatten());
+            timed || std::iter::once(b.mass).chain(inertia).any(varies)
         });
-        if kinetic.is_empty() || timed {
+        if kinetic.is_empty() || not_kane {
             return None;
         }
         let mut rest = lagrangian;
