@@ -238,6 +238,7 @@ pub(crate) fn bound_dag(m: &Model, args: &Args) -> Dag {
                 v,
                 format!("dot({}): the block of velocity rows solved by LU", s.name),
             );
+            let v = d.opaque(v);
             d.bind(s.velocity, v);
         }
         return d;
@@ -246,6 +247,8 @@ pub(crate) fn bound_dag(m: &Model, args: &Args) -> Dag {
         let s = &m.coordinates[c.dependent];
         let v = d.expr(&m.engine, c.velocity);
         d.label(v, format!("dot({}): {}", s.name, c.kind.velocity_source()));
+        // one node the rates along the motion can hold (Op::Opaque)
+        let v = d.opaque(v);
         d.bind(s.velocity, v);
     }
     d

@@ -61,7 +61,7 @@ impl Dag {
     ) -> Vec<Node> {
         // a dense mark per node: the graph's ids are consecutive
         let mut seen = vec![false; self.ops.len()];
-        let mut stack: Vec<Node> = outputs.to_vec();
+        let mut stack: Vec<Node> = outputs.iter().map(|&o| self.resolved(o)).collect();
         while let Some(n) = stack.pop() {
             if std::mem::replace(&mut seen[n.index()], true) || stop.contains_key(&n) {
                 continue;
@@ -93,7 +93,7 @@ impl Dag {
         }
         let mut used_outside = vec![false; self.ops.len()];
         for &o in outputs {
-            used_outside[o.index()] = true;
+            used_outside[self.resolved(o).index()] = true;
         }
         for &n in &live {
             if !param_only[n.index()] {

@@ -64,6 +64,13 @@ pub enum Op {
     Powi(Node, u32),
     /// a^b
     Powf(Node, Node),
+    /// a itself, as a value the folds do not look into: a dependent
+    /// velocity, which the rates along the motion hold (`Dag::rates`'s
+    /// frozen nodes). Folded into its users, a dependent velocity −b would
+    /// vanish into their subtractions (a + (−b) → a − b) and be
+    /// differentiated as the expression of the coordinates it is; wrapped,
+    /// it stays one node. Emitted as `a` (no operation, no statement).
+    Opaque(Node),
 }
 
 /// The dataflow graph under construction.
@@ -77,6 +84,10 @@ pub struct Dag {
     expr_memo: HashMap<ExprId, Node>,
     atom_memo: HashMap<AtomId, Node>,
     sym_nodes: HashMap<SymId, Node>,
+    /// The [`Op::Opaque`] nodes, ascending: they are never named, and the
+    /// names of the others skip them (a wrapped value leaves the names of
+    /// the code around it as they were).
+    opaque_nodes: Vec<Node>,
 }
 
 /// Operation count of a node kind, as SymPy's `count_ops` counts: every
@@ -84,7 +95,7 @@ pub struct Dag {
 /// multiplications they are emitted as).
 fn cost(op: &Op) -> usize {
     match op {
-        Op::Const(_) | Op::Pi | Op::Leaf(_) => 0,
+        Op::Const(_) | Op::Pi | Op::Leaf(_) | Op::Opaque(_) => 0,
         Op::Powi(_, k) => powi_muls(*k),
         _ => 1,
     }
@@ -120,6 +131,7 @@ impl Dag {
             expr_memo: HashMap::default(),
             atom_memo: HashMap::default(),
             sym_nodes: HashMap::default(),
+            opaque_nodes: Vec::new(),
         };
         d.intern(Op::Const(Rational::ZERO));
         d.intern(Op::Const(Rational::ONE));
@@ -171,17 +183,52 @@ impl Dag {
         n
     }
 
+    /// The operands of `n`, each seen through [`Op::Opaque`] (emission and
+    /// the operation counts see a wrapped value as the value itself).
     fn children(&self, n: Node) -> [Option<Node>; 2] {
+        let r = |a: &Node| Some(self.resolved(*a));
         match &self.ops[n.index()] {
             Op::Add(a, b)
             | Op::Sub(a, b)
             | Op::Mul(a, b)
             | Op::Div(a, b)
             | Op::Powf(a, b)
-            | Op::Atan2(a, b) => [Some(*a), Some(*b)],
-            Op::Neg(a) | Op::Call(_, a) | Op::Sqrt(a) | Op::Powi(a, _) => [Some(*a), None],
+            | Op::Atan2(a, b) => [r(a), r(b)],
+            Op::Neg(a) | Op::Call(_, a) | Op::Sqrt(a) | Op::Powi(a, _) | Op::Opaque(a) => {
+                [r(a), None]
+            }
             Op::Const(_) | Op::Pi | Op::Leaf(_) => [None, None],
         }
+    }
+
+    /// `n` seen through [`Op::Opaque`].
+    pub(crate) fn resolved(&self, mut n: Node) -> Node {
+        while let Op::Opaque(a) = self.ops[n.index()] {
+            n = a;
+        }
+        n
+    }
+
+    /// `a` as a value the folds do not look into ([`Op::Opaque`]); a leaf
+    /// or a constant is already one.
+    pub fn opaque(&mut self, a: Node) -> Node {
+        match self.ops[a.index()] {
+            Op::Leaf(_) | Op::Const(_) | Op::Pi | Op::Opaque(_) => a,
+            _ => {
+                let before = self.ops.len();
+                let o = self.intern(Op::Opaque(a));
+                if o.index() == before {
+                    self.opaque_nodes.push(o);
+                }
+                o
+            }
+        }
+    }
+
+    /// The number in the name of `n`: its index less the opaque nodes
+    /// before it.
+    fn number(&self, n: Node) -> usize {
+        n.index() - self.opaque_nodes.partition_point(|&o| o < n)
     }
 
     /// Attaches a comment to a node; emitted as a doc comment on its `let`

@@ -52,6 +52,7 @@ impl Dag {
         let r = |x: &Node| rate.get(x).copied().unwrap_or(ZERO_NODE);
         match self.ops[n.index()].clone() {
             Op::Const(_) | Op::Pi | Op::Leaf(_) => ZERO_NODE,
+            Op::Opaque(a) => r(&a),
             Op::Add(a, b) => self.add(r(&a), r(&b)),
             Op::Sub(a, b) => self.sub(r(&a), r(&b)),
             Op::Neg(a) => self.neg(r(&a)),
@@ -168,7 +169,7 @@ fn operands(op: &Op) -> Vec<Node> {
             vec![a, b]
         }
         Op::Powf(a, b) => vec![a, b],
-        Op::Neg(a) | Op::Call(_, a) | Op::Sqrt(a) | Op::Powi(a, _) => vec![a],
+        Op::Neg(a) | Op::Call(_, a) | Op::Sqrt(a) | Op::Powi(a, _) | Op::Opaque(a) => vec![a],
     }
 }
 
@@ -195,6 +196,7 @@ mod tests {
             Op::Sqrt(a) => v(a).sqrt(),
             Op::Powi(a, k) => v(a).powi(k as i32),
             Op::Powf(a, b) => v(a).powf(v(b)),
+            Op::Opaque(a) => v(a),
             Op::Atan2(a, b) => v(a).atan2(v(b)),
             Op::Call(f, a) => {
                 let a = v(a);

@@ -43,6 +43,8 @@ impl Dag {
         outputs: &[Node],
         given: &HashMap<Node, TokenStream>,
     ) -> (String, Vec<String>) {
+        let outputs: Vec<Node> = outputs.iter().map(|&o| self.resolved(o)).collect();
+        let outputs = &outputs[..];
         let live = self.live_until(outputs, given);
         let pair_of = self.sin_cos_pairs(&live, given);
         let inline = self.inlined(&live, outputs, given, &pair_of);
@@ -105,16 +107,18 @@ impl Dag {
     /// user's constants (a `let` pattern naming a constant would match it
     /// instead of binding).
     pub(super) fn name(&self, n: Node) -> String {
+        let n = self.resolved(n);
         match &self.ops[n.index()] {
             Op::Leaf(i) if self.leaves[*i].1.is_some() => {
                 format!("__nh_{}", self.leaves[*i].1.as_deref().unwrap_or("leaf"))
             }
-            _ => format!("__nh_v{}", n.index()),
+            _ => format!("__nh_v{}", self.number(n)),
         }
     }
 
     /// A value as text: its expression if it is written inline, else its name.
     fn text_of(&self, n: Node, inline_text: &HashMap<Node, String>) -> String {
+        let n = self.resolved(n);
         match inline_text.get(&n) {
             Some(t) => t.clone(),
             None => self.name(n),
@@ -219,6 +223,7 @@ impl Dag {
             Op::Sqrt(a) => format!("{}.sqrt()", name(*a)),
             Op::Powi(a, k) => powi_text(&name(*a), *k),
             Op::Powf(a, b) => format!("{}.powf({})", name(*a), name(*b)),
+            Op::Opaque(a) => name(*a),
         }
     }
 }
