@@ -795,7 +795,11 @@ impl Model {
     /// elimination (`None` otherwise, or if no pivot order is regular at
     /// both test points).
     fn block_terms(&mut self) -> Option<BlockTerms> {
-        if self.velocity_rows.is_empty() || self.affine || self.speeds.is_some() {
+        // homogeneous, time-independent rows only: a row whose coefficients
+        // move with t (not affine: b = 0) keeps the symbolic elimination,
+        // whose dependent velocities take t
+        let timed = (self.velocity_rows.iter()).any(|&g| self.engine.depends_on(g, self.time));
+        if self.velocity_rows.is_empty() || self.affine || timed || self.speeds.is_some() {
             return None;
         }
         let planar = self.planar();
