@@ -70,6 +70,8 @@ pub enum Expr {
         first: Box<Expr>,
         /// the operators (with their spans) and the following operands
         rest: Vec<(BinOp, Span, Expr)>,
+        /// the parentheses around it, if it was written in them
+        parens: Option<SpanRange>,
     },
     /// `base ^ exp`.
     Pow {
@@ -77,6 +79,8 @@ pub enum Expr {
         base: Box<Expr>,
         /// the exponent
         exp: Box<Expr>,
+        /// the parentheses around it, if it was written in them
+        parens: Option<SpanRange>,
     },
 }
 
@@ -88,7 +92,13 @@ impl Expr {
             Expr::Name(i) => SpanRange::single(i.span()),
             Expr::Call { range, .. } | Expr::Vector { range, .. } => *range,
             Expr::Component { base, field } => base.range().to(SpanRange::single(field.span())),
-            Expr::Chain { first, rest } => match rest.last() {
+            Expr::Chain {
+                parens: Some(r), ..
+            }
+            | Expr::Pow {
+                parens: Some(r), ..
+            } => *r,
+            Expr::Chain { first, rest, .. } => match rest.last() {
                 Some((_, _, last)) => first.range().to(last.range()),
                 None => first.range(),
             },
@@ -123,7 +133,7 @@ impl Expr {
             Expr::Vector { items, .. } => format!("[{}]", list_source(items)),
             Expr::Component { base, field } => format!("{}.{field}", paren(base, !atomic(base))),
             Expr::Neg(inner, _) => format!("-{}", paren(inner, inner.is_sum())),
-            Expr::Chain { first, rest } => {
+            Expr::Chain { first, rest, .. } => {
                 let sum = self.is_sum();
                 let mut out = paren(first, !sum && first.is_sum());
                 for (op, _, e) in rest {
@@ -1165,6 +1175,7 @@ fn chain(first: Expr, rest: Vec<(BinOp, Span, Expr)>) -> Expr {
         Expr::Chain {
             first: Box::new(first),
             rest,
+            parens: None,
         }
     }
 }
@@ -1209,6 +1220,7 @@ fn parse_power(input: ParseStream, depth: usize) -> syn::Result<Expr> {
         return Ok(Expr::Pow {
             base: Box::new(base),
             exp: Box::new(exp),
+            parens: None,
         });
     }
     Ok(base)
@@ -1396,14 +1408,23 @@ fn parse_parenthesised(input: ParseStream, depth: usize) -> syn::Result<Expr> {
         ));
     }
     // keep the parentheses in the range so errors cover them
+    let outer = SpanRange {
+        first: paren.span.open(),
+        last: paren.span.close(),
+    };
     Ok(match e {
-        Expr::Num(q, _) => Expr::Num(
-            q,
-            SpanRange {
-                first: paren.span.open(),
-                last: paren.span.close(),
-            },
-        ),
+        Expr::Num(q, _) => Expr::Num(q, outer),
+        Expr::Neg(inner, _) => Expr::Neg(inner, outer),
+        Expr::Chain { first, rest, .. } => Expr::Chain {
+            first,
+            rest,
+            parens: Some(outer),
+        },
+        Expr::Pow { base, exp, .. } => Expr::Pow {
+            base,
+            exp,
+            parens: Some(outer),
+        },
         other => other,
     })
 }
@@ -1482,7 +1503,7 @@ mod tests {
         }
         let e = parse_expr_all.parse2(quote!(m * x ^ 2)).unwrap();
         match e {
-            Expr::Chain { first, rest } => {
+            Expr::Chain { first, rest, .. } => {
                 assert!(matches!(*first, Expr::Name(_)));
                 assert!(matches!(rest[0], (BinOp::Mul, _, Expr::Pow { .. })));
             }

@@ -202,11 +202,11 @@ fn names_in(e: &Expr, out: &mut Vec<Ident>) {
             items.iter().for_each(|a| names_in(a, out))
         }
         Expr::Component { base, .. } | Expr::Neg(base, _) => names_in(base, out),
-        Expr::Chain { first, rest } => {
+        Expr::Chain { first, rest, .. } => {
             names_in(first, out);
             rest.iter().for_each(|(_, _, x)| names_in(x, out));
         }
-        Expr::Pow { base, exp } => {
+        Expr::Pow { base, exp, .. } => {
             names_in(base, out);
             names_in(exp, out);
         }

@@ -275,7 +275,8 @@ impl Lowerer<'_> {
                 holonomic: Some(g),
             });
         }
-        if !self.linear_in_velocities(c, g, explicit) {
+        // a contact's rows are linear by construction
+        if matches!(c, Source::Written(_)) && !self.linear_in_velocities(c, g, explicit) {
             return None;
         }
         let (kind, value) = match explicit {
@@ -306,25 +307,46 @@ impl Lowerer<'_> {
         self.e.subst(x, &map, &mut HashMap::default())
     }
 
-    /// Whether `g` is linear in the velocities (every second derivative
-    /// in them vanishes); reports the offending term if not.
-    fn linear_in_velocities(&mut self, c: Source<'_>, g: ExprId, explicit: Option<usize>) -> bool {
+    /// Whether `g` is affine in the velocities: no coefficient ∂g/∂q̇_i
+    /// depends on a velocity, and g − Σ_i ∂g/∂q̇_i q̇_i does not either (it
+    /// is the velocity-free part; a symbolic remainder in the velocities
+    /// must vanish at random points).
+    pub(super) fn is_linear_in_velocities(&mut self, g: ExprId) -> bool {
         let vels: Vec<SymId> = self.coords.iter().map(|c| c.velocity).collect();
-        let mut linear = true;
-        'outer: for &v in &vels {
-            let d = self.e.diff(g, v);
-            for &w in &vels {
-                if self.e.diff(d, w) != ZERO {
-                    linear = false;
-                    break 'outer;
-                }
+        let mut parts = vec![g];
+        for &v in &vels {
+            if !self.e.depends_on(g, v) {
+                continue;
             }
+            let d = self.e.diff(g, v);
+            if vels.iter().any(|&w| self.e.depends_on(d, w)) {
+                return false;
+            }
+            let vs = self.e.sym(v);
+            let term = self.e.mul(d, vs);
+            parts.push(self.e.neg(term));
         }
+        let rest = self.e.sum(&parts);
+        if !vels.iter().any(|&w| self.e.depends_on(rest, w)) {
+            return true;
+        }
+        let b = self.velocity_free_part(g);
+        let rest = self.e.sub(rest, b);
+        rest == ZERO || vanish_at_random_points(&self.e, self.pi_sym, &[rest])
+    }
+
+    /// Whether `g` is linear in the velocities after the engine's
+    /// simplification: every coefficient ∂g/∂q̇_i is free of velocities, and
+    /// so is what is left, g − Σ_i ∂g/∂q̇_i q̇_i. (Second derivatives are not
+    /// the test: d/du |u| = sign(u) has a zero derivative, so `abs(dot(x))`
+    /// would pass.) Reports the offending term if not.
+    fn linear_in_velocities(&mut self, c: Source<'_>, g: ExprId, explicit: Option<usize>) -> bool {
+        let linear = self.is_linear_in_velocities(g);
         if linear {
             return true;
         }
         let all: Vec<usize> = (0..self.coords.len()).collect();
-        let form = "a constraint is linear in the velocities: `dot(s) = a1(q, t)*dot(r1) + .. + b(q, t)` or `c1(q, t)*dot(q1) + .. = b(q, t)`";
+        let form = "a constraint must be linear in the velocities, each velocity to the first power times a function of the coordinates and time: `dot(s) = a1(q, t)*dot(r1) + .. + b(q, t)` or `c1(q, t)*dot(q1) + .. = b(q, t)`";
         let who = match explicit {
             Some(s) => format!("the constraint for `{}`", self.coords[s].name),
             None => format!("the constraint `{}`", short(c.text())),
@@ -335,6 +357,14 @@ impl Lowerer<'_> {
         };
         for side in sides {
             for term in super::top_level_terms(side) {
+                // only a term that is itself not linear once simplified
+                // (`abs(dot(x))/abs(dot(x))*dot(x)` is `dot(x)`)
+                let nonlinear = self
+                    .lower(term, 0)
+                    .is_some_and(|v| !self.is_linear_in_velocities(v));
+                if !nonlinear {
+                    continue;
+                }
                 if let Some((culprit, why)) = self.find_nonlinear(term, &all) {
                     let text = culprit.to_source();
                     self.cx.error(
