@@ -35,6 +35,10 @@ pub const FUNCTIONS: [&str; 16] = [
 /// `atan` or `sinh` keeps working.
 const RESERVED: [&str; 9] = ["t", "pi", "dot", "sin", "cos", "tan", "exp", "ln", "sqrt"];
 
+/// The prefix of the names the generated code binds (its fields, locals,
+/// helper functions and hidden module): no user name may start with it.
+pub const RESERVED_PREFIX: &str = "__nh_";
+
 #[derive(Clone, Copy, Debug)]
 enum Binding {
     Param(usize),
@@ -112,6 +116,13 @@ impl Declarations {
                 format!("`{s}` cannot be used as {kind} name: {what}; choose another name"),
             );
             return false;
+        }
+        if s.starts_with(RESERVED_PREFIX) {
+            // declared all the same: its uses raise no follow-up errors
+            cx.error_at(
+                id.span(),
+                format!("`{s}` cannot be used as {kind} name: names starting with `{RESERVED_PREFIX}` are reserved for the code the macro generates; choose another name"),
+            );
         }
         if let Some((prev_kind, prev_span)) = self.declared.get(&s) {
             // names are canonical (`r#x` is `x`); say so if one was written raw

@@ -91,3 +91,30 @@ fn kinematics_are_affine_in_the_speeds() {
     assert_eq!(found.len(), 1, "{found:?}");
     assert!(found[0].1.contains("not linear in the speeds"), "{found:?}");
 }
+
+#[test]
+fn names_with_the_generated_codes_prefix_are_one_error_each() {
+    let found = errors(
+        "struct S {
+            parameters { m, __nh_cache }
+            coordinates { x, __nh_q_x, theta }
+            inputs { __nh_u }
+            let __nh_l = m*x;
+            body __nh_body { mass: m, centre: [x, __nh_q_x, 0], orientation: rot_z(theta), inertia: diag(1, 1, 1) }
+            lagrangian = kinetic_energy(__nh_body) - sin(__nh_cache)*__nh_l;
+            forces { x: __nh_u; }
+        }",
+    );
+    let culprits: Vec<&str> = found.iter().map(|e| e.0.as_str()).collect();
+    assert_eq!(
+        culprits,
+        ["__nh_cache", "__nh_q_x", "__nh_u", "__nh_body", "__nh_l"],
+        "{found:?}"
+    );
+    assert!(found.iter().all(|e| e.1.contains("reserved")), "{found:?}");
+    let found = errors(
+        "struct S { parameters { m } coordinates { x } speeds { __nh_v } kinematics { dot(x) = __nh_v; } lagrangian = m*dot(x)^2/2; }",
+    );
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].0, "__nh_v");
+}
