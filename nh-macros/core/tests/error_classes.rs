@@ -118,3 +118,92 @@ fn names_with_the_generated_codes_prefix_are_one_error_each() {
     assert_eq!(found.len(), 1, "{found:?}");
     assert_eq!(found[0].0, "__nh_v");
 }
+
+/// The disc of the thesis as a body, with `args` for its `rolls(..)` line.
+fn disc(args: &str) -> String {
+    format!(
+        "struct Disc {{
+            parameters {{ m, R, g }}
+            coordinates {{ theta, phi, psi, x, y }}
+            let F = rot_z(phi) * rot_x(-psi);
+            let C = [x, y, 0] + R*(F*[0, 0, 1]);
+            body disc {{ mass: m, centre: C, orientation: F*rot_y(theta), inertia: diag(m*R^2/4, m*R^2/2, m*R^2/4) }}
+            lagrangian = kinetic_energy(disc) - m*g*C.z;
+            constraints {{ rolls(disc, {args}); }}
+        }}"
+    )
+}
+
+#[test]
+fn a_radius_is_a_positive_constant_of_the_parameters() {
+    // (arguments, the culprit, what the message says)
+    let cases = [
+        ("radius: 0, axle: [0, 1, 0]", "0", "is zero"),
+        ("radius: R - R, axle: [0, 1, 0]", "R - R", "is zero"),
+        ("radius: -1/2, axle: [0, 1, 0]", "-1/2", "is negative"),
+        ("radius: 1 - pi, axle: [0, 1, 0]", "1 - pi", "is negative"),
+        ("radius: R*x, axle: [0, 1, 0]", "R*x", "the coordinate `x`"),
+        ("radius: R + t, axle: [0, 1, 0]", "R + t", "the time `t`"),
+        ("radius: R*dot(x), axle: [0, 1, 0]", "R*dot(x)", "the velocity `dot(x)`"),
+        ("radius: R, axle: [0, 1, 0], tube: 0", "0", "leave `tube` out"),
+        ("radius: R, axle: [0, 1, 0], tube: -R/R", "-R/R", "is negative"),
+    ];
+    for (args, culprit, says) in cases {
+        let found = errors(&disc(args));
+        assert_eq!(found.len(), 1, "{args}: {found:?}");
+        assert_eq!(found[0].0, culprit, "{args}: {found:?}");
+        assert!(found[0].1.contains(says), "{args}: {}", found[0].1);
+    }
+    // a parameter expression is taken as given
+    assert!(errors(&disc("radius: R, axle: [0, 1, 0]")).is_empty());
+}
+
+#[test]
+fn an_axle_vertical_in_every_configuration_is_an_error_at_the_axle() {
+    let found = errors(
+        "struct Puck {
+            parameters { m, R, g }
+            coordinates { phi, x, y, z }
+            body puck { mass: m, centre: [x, y, z], orientation: rot_z(phi), inertia: diag(1, 1, 2) }
+            lagrangian = kinetic_energy(puck) - m*g*z;
+            constraints { rolls(puck, radius: R, axle: [0, 0, 1]); }
+        }",
+    );
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].0, "[0, 0, 1]");
+    assert!(found[0].1.contains("vertical in every configuration"));
+}
+
+#[test]
+fn a_centre_at_the_wrong_height_is_an_error_at_the_centre_with_both_heights() {
+    let ball = |centre: &str| {
+        errors(&format!(
+            "struct Ball {{
+                parameters {{ m, r }}
+                coordinates {{ x, y, a, b, c }}
+                body ball {{ mass: m, centre: [x, y, r], orientation: rot_z(a)*rot_y(b)*rot_x(c), inertia: diag(1, 1, 1) }}
+                lagrangian = kinetic_energy(ball);
+                constraints {{ rolls(ball, radius: r{centre}); }}
+            }}"
+        ))
+    };
+    assert!(ball("").is_empty());
+    let found = ball(", centre: [x, y, 2*r]");
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].0, "[x, y, 2*r]");
+    assert!(
+        found[0].1.contains("at height `2*r`") && found[0].1.contains("at height `r`"),
+        "{}",
+        found[0].1
+    );
+    // a wheel whose radius does not match its centre's height: the height
+    // row would vanish only with the wheel flat; the error is at the body's centre
+    let found = errors(&disc("radius: 2*R, axle: [0, 1, 0]"));
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert_eq!(found[0].0, "C");
+    assert!(found[0].1.contains("`2*cos(psi)*R`"), "{}", found[0].1);
+    // a torus whose centre leaves out the tube
+    let found = errors(&disc("radius: R, axle: [0, 1, 0], tube: R/10"));
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(found[0].1.contains("plus the tube"), "{}", found[0].1);
+}
