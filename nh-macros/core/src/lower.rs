@@ -962,6 +962,10 @@ impl Lowerer<'_> {
                         format!("is the absolute value of a velocity: it is `{a}` where `{a}` ≥ 0 and `{minus}` where it is negative, a different linear constraint for each sign; write the one that holds")
                     }
                     "sqrt" => "is a square root of velocities, which is not linear (the root of a square is an absolute value, `sqrt(dot(x)^2)` = `abs(dot(x))`, and the root of a sum of squares is a speed)".to_string(),
+                    "kinetic_energy" => "is a kinetic energy, quadratic in the velocities".to_string(),
+                    "omega" | "omega_body" | "cross" | "dot" | "norm" => {
+                        "is not linear in the velocities".to_string()
+                    }
                     f => format!("has a velocity inside the function `{f}`"),
                 };
                 Some((x, why))
