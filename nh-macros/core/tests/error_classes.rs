@@ -207,3 +207,51 @@ fn a_centre_at_the_wrong_height_is_an_error_at_the_centre_with_both_heights() {
     assert_eq!(found.len(), 1, "{found:?}");
     assert!(found[0].1.contains("plus the tube"), "{}", found[0].1);
 }
+
+/// The stand-in's number of independent velocities, `K`, read from an
+/// expansion with errors.
+fn stand_in_k(src: &str) -> usize {
+    let out = nh_core::expand(src.parse().expect("Rust tokens")).to_string();
+    let key = "pub const K : :: core :: primitive :: usize = ";
+    let at = out.find(key).expect("the stand-in has K") + key.len();
+    out[at..]
+        .split("usize")
+        .next()
+        .and_then(|k| k.trim().parse().ok())
+        .expect("K is a number")
+}
+
+#[test]
+fn the_stand_in_has_the_rows_lowering_counted() {
+    // two wheels on one axle: 3 rows, not 4; the mistake is in a force
+    let robot = "struct Robot {
+        parameters { m, Ic, d, mw, Iw, Id, r, b, c }
+        coordinates { x, y, theta, phi_l, phi_r }
+        let heading = [cos(theta), sin(theta), 0];
+        let axle = [-sin(theta), cos(theta), 0];
+        let O = [x, y, r];
+        body chassis { mass: m, centre: O + d*heading, orientation: rot_z(theta), inertia: diag(0, 0, Ic) }
+        body wheel_l { mass: mw, centre: O + b*axle, orientation: rot_z(theta)*rot_y(phi_l), inertia: diag(Id, Iw, Id) }
+        body wheel_r { mass: mw, centre: O - b*axle, orientation: rot_z(theta)*rot_y(phi_r), inertia: diag(Id, Iw, Id) }
+        lagrangian = kinetic_energy(chassis) + kinetic_energy(wheel_l) + kinetic_energy(wheel_r);
+        constraints { rolls(wheel_l, radius: r, axle: [0, 1, 0]); rolls(wheel_r, radius: r, axle: [0, 1, 0]); }
+        forces { phi_l: -c*dot(phi_ll); }
+    }";
+    assert_eq!(errors(robot).len(), 1);
+    assert_eq!(stand_in_k(robot), 2);
+    // a disc whose height is a coordinate: its contact adds a height row
+    let free = "struct Disc {
+        parameters { m, R, g }
+        coordinates { theta, phi, psi, x, y, z }
+        let F = rot_z(phi) * rot_x(-psi);
+        body disc { mass: m, centre: [x, y, z], orientation: F*rot_y(theta), inertia: diag(m*R^2/4, m*R^2/2, m*R^2/4) }
+        lagrangian = kinetic_energy(disc) - m*g*zz;
+        constraints { rolls(disc, radius: R, axle: [0, 1, 0]); }
+    }";
+    assert_eq!(errors(free).len(), 1);
+    assert_eq!(stand_in_k(free), 3);
+    // an error found after the constraints were solved (an output)
+    let late = free.replace("m*g*zz;", "m*g*z; outputs { energie }");
+    assert_eq!(errors(&late).len(), 1);
+    assert_eq!(stand_in_k(&late), 3);
+}

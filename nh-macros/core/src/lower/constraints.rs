@@ -93,6 +93,15 @@ impl Source<'_> {
     }
 }
 
+/// See [`Lowerer::row_block`].
+struct RowBlock {
+    explicit_deps: Vec<usize>,
+    implicit: Vec<usize>,
+    free: Vec<usize>,
+    coef: Vec<Vec<ExprId>>,
+    bias: Vec<ExprId>,
+}
+
 /// A constraint as written and lowered, before solving.
 struct Row<'d> {
     src: Source<'d>,
@@ -135,12 +144,15 @@ impl Lowerer<'_> {
         let mut wheels = Vec::new();
         let mut contacts = Vec::new();
         let mut kinematics = Vec::new();
+        let mut complete = true;
         for i in 0..=list.len() {
             for r in def.rolling.iter().filter(|r| r.position == i) {
                 if let Some((point, kin)) = self.rolling_rows(r, &mut sides, &mut wheels) {
                     contacts.push(point);
                     let line = def.rolling.iter().position(|x| std::ptr::eq(x, r));
                     kinematics.push((line, kin));
+                } else {
+                    complete = false;
                 }
             }
             let Some(c) = list.get(i) else { break };
@@ -148,19 +160,30 @@ impl Lowerer<'_> {
             let rhs = self.lower(&c.rhs, 0);
             if let (Some(l), Some(r)) = (lhs, rhs) {
                 sides.push((Source::Written(c), l, r));
+            } else {
+                complete = false;
             }
         }
         let explicit = self.explicit_targets(&sides);
         let mut rows = Vec::new();
+        let written = sides.len();
         for ((c, l, r), s) in sides.into_iter().zip(explicit) {
             if let Some(row) = self.classify(c, l, r, s) {
                 rows.push(row);
             }
         }
         if !self.cx.is_empty() {
+            // errors elsewhere: the stand-in takes the rows' number
+            if complete && rows.len() == written && def.rejected.constraint_lines == 0 {
+                self.cx.constraint_rows = Some(self.rows_kept(&rows));
+            }
             return Lowered::default();
         }
-        let mut lowered = self.solve_rows(def, rows).unwrap_or_default();
+        let Some(mut lowered) = self.solve_rows(def, rows) else {
+            return Lowered::default();
+        };
+        // for the stand-in, should a later stage find errors
+        self.cx.constraint_rows = Some(lowered.constraints.len());
         lowered.contacts = contacts;
         // each velocity row of a contact: which contact, which component
         lowered.row_contacts = lowered
@@ -386,27 +409,13 @@ impl Lowerer<'_> {
     /// and solves every row for its dependent velocity.
     fn solve_rows(&mut self, def: &SystemDef, rows: Vec<Row<'_>>) -> Option<Lowered> {
         let n = self.coords.len();
-        let explicit_deps: Vec<usize> = rows.iter().filter_map(|r| r.explicit).collect();
-        let implicit: Vec<usize> = (0..rows.len())
-            .filter(|&a| rows[a].explicit.is_none())
-            .collect();
-        let free: Vec<usize> = (0..n).filter(|i| !explicit_deps.contains(i)).collect();
-        // the explicit velocities substituted into the other rows
-        let sub: HashMap<SymId, ExprId> = rows
-            .iter()
-            .filter_map(|r| r.explicit.map(|s| (self.coords[s].velocity, r.value)))
-            .collect();
-        let mut coef: Vec<Vec<ExprId>> = Vec::new();
-        let mut bias = Vec::new();
-        for &a in &implicit {
-            let v = self.e.subst(rows[a].value, &sub, &mut HashMap::default());
-            coef.push(
-                free.iter()
-                    .map(|&i| self.e.diff(v, self.coords[i].velocity))
-                    .collect(),
-            );
-            bias.push(self.velocity_free_part(v));
-        }
+        let RowBlock {
+            explicit_deps,
+            implicit,
+            free,
+            coef,
+            bias,
+        } = self.row_block(&rows);
         let implied = self.implied_rolling_rows(&rows, &implicit, &coef, &bias);
         if !implied.is_empty() {
             // rows of `rolls(..)` lines that the rows before them imply (two
@@ -506,6 +515,52 @@ impl Lowerer<'_> {
             row_sources,
             ..Lowered::default()
         })
+    }
+
+    /// The rows' block: the explicit rows' dependent coordinates, the
+    /// implicit and holonomic rows (indices into `rows`), the coordinates
+    /// not made dependent by explicit rows, and those rows' coefficients of
+    /// their velocities and velocity-free parts, the explicit velocities
+    /// substituted.
+    fn row_block(&mut self, rows: &[Row<'_>]) -> RowBlock {
+        let n = self.coords.len();
+        let explicit_deps: Vec<usize> = rows.iter().filter_map(|r| r.explicit).collect();
+        let implicit: Vec<usize> = (0..rows.len())
+            .filter(|&a| rows[a].explicit.is_none())
+            .collect();
+        let free: Vec<usize> = (0..n).filter(|i| !explicit_deps.contains(i)).collect();
+        // the explicit velocities substituted into the other rows
+        let sub: HashMap<SymId, ExprId> = rows
+            .iter()
+            .filter_map(|r| r.explicit.map(|s| (self.coords[s].velocity, r.value)))
+            .collect();
+        let mut coef: Vec<Vec<ExprId>> = Vec::new();
+        let mut bias = Vec::new();
+        for &a in &implicit {
+            let v = self.e.subst(rows[a].value, &sub, &mut HashMap::default());
+            coef.push(
+                free.iter()
+                    .map(|&i| self.e.diff(v, self.coords[i].velocity))
+                    .collect(),
+            );
+            bias.push(self.velocity_free_part(v));
+        }
+        RowBlock {
+            explicit_deps,
+            implicit,
+            free,
+            coef,
+            bias,
+        }
+    }
+
+    /// The number of rows kept of a system's complete rows (those implied
+    /// by the rows before them dropped): the stand-in's dimensions when
+    /// the system has errors elsewhere.
+    fn rows_kept(&mut self, rows: &[Row<'_>]) -> usize {
+        let block = self.row_block(rows);
+        let implied = self.implied_rolling_rows(rows, &block.implicit, &block.coef, &block.bias);
+        rows.len() - implied.len()
     }
 
     /// The implicit block solved, c_s ṡ = −(c_r ṙ + b): the dependent
