@@ -74,7 +74,6 @@ impl Ctxt {
     }
 
     /// Number of errors so far.
-    #[cfg(test)]
     pub fn len(&self) -> usize {
         self.errors.len()
     }

@@ -41,7 +41,7 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
         dependent_doc: None,
         affine: false,
         rheonomic: constraints_mention_time(def),
-        contacts: def.rolling.len(),
+        contacts: def.rolling.len() + def.rejected.rolling_lines,
         sensitivity_params: sensitivity_parameters(def),
     }
 }
@@ -100,7 +100,11 @@ fn as_written(names: &[Ident]) -> Vec<String> {
 /// contact's rows among them), the explicit lines and those names.
 fn rows_meant(def: &SystemDef) -> usize {
     let lines = def.constraints.as_ref().map_or(0, |(_, l)| l.len());
-    let written = lines + def.rejected.constraint_lines + 2 * def.rolling.len();
+    // a rejected `rolls(..)` line: two rows (one counted with the lines)
+    let written = lines
+        + def.rejected.constraint_lines
+        + def.rejected.rolling_lines
+        + 2 * def.rolling.len();
     match &def.dependent {
         Some((_, names)) if !def.rolling.is_empty() => {
             let explicit = def

@@ -324,9 +324,10 @@ impl Lowerer<'_> {
             return None;
         };
         let get = |n: &str| fields.iter().find(|f| f.0 == n).map(|f| f.1);
-        let mut ok = true;
+        // a field that did not parse: a missing or unpaired field is no news
+        let mut ok = !def.rejected_fields;
         for required in ["mass", "centre"] {
-            if get(required).is_none() {
+            if get(required).is_none() && !def.rejected_fields {
                 ok = false;
                 self.cx.error_at(def.name.span(), format!("body `{}` has no `{required}`: write `body {} {{ mass: m, centre: C, orientation: R, inertia: I }}` (orientation and inertia may be left out together for a point mass)", def.name, def.name));
             }
@@ -343,6 +344,7 @@ impl Lowerer<'_> {
                 let inertia = self.lower_inertia(i);
                 Some(rot.zip(inertia))
             }
+            (_, _) if def.rejected_fields => None,
             (one, _) => {
                 let (have, missing) = if one.is_some() {
                     ("orientation", "inertia")
