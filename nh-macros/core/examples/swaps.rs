@@ -131,7 +131,9 @@ fn main() {
                 if is_whole {
                     whole += 1;
                 }
-                if (errors.len() > 1 || is_whole || std::env::var_os("SWAPS_ALL").is_some()) && shown < show {
+                if (errors.len() > 1 || is_whole || std::env::var_os("SWAPS_ALL").is_some())
+                    && shown < show
+                {
                     shown += 1;
                     let around = m[i.saturating_sub(6)..(i + 8).min(m.len())].join(" ");
                     println!(

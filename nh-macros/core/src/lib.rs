@@ -65,10 +65,7 @@ fn expand_derivation(input: TokenStream) -> (TokenStream, Stats) {
         Ok(()) => (out, stats),
         Err(e) => {
             let errors = e.to_compile_error();
-            let fallback = def
-                .as_ref()
-                .map(|d| fallback(d, rows))
-                .unwrap_or_default();
+            let fallback = def.as_ref().map(|d| fallback(d, rows)).unwrap_or_default();
             (quote!(#fallback #errors), stats)
         }
     }

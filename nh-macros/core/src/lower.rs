@@ -981,8 +981,15 @@ impl Lowerer<'_> {
                 let moving = independent
                     .iter()
                     .any(|&j| self.e.depends_on(v, self.coords[j].velocity));
-                (moving && !self.is_linear_in_velocities(v))
-                    .then(|| (x, format!("is a `let` that is not linear in the velocities (`{}`)", short(self.e.display_capped(v, 60)))))
+                (moving && !self.is_linear_in_velocities(v)).then(|| {
+                    (
+                        x,
+                        format!(
+                            "is a `let` that is not linear in the velocities (`{}`)",
+                            short(self.e.display_capped(v, 60))
+                        ),
+                    )
+                })
             }
             _ => None,
         }

@@ -8,9 +8,9 @@
 mod items;
 
 use crate::ctxt::{Ctxt, SpanRange};
-use items::{Item, split_items};
 use crate::names;
 use crate::sym::Rational;
+use items::{Item, split_items};
 use proc_macro2::{Delimiter, Ident, Span, TokenStream, TokenTree};
 use syn::ext::IdentExt;
 use syn::parse::{ParseStream, Parser};

@@ -144,9 +144,21 @@ fn a_radius_is_a_positive_constant_of_the_parameters() {
         ("radius: 1 - pi, axle: [0, 1, 0]", "1 - pi", "is negative"),
         ("radius: R*x, axle: [0, 1, 0]", "R*x", "the coordinate `x`"),
         ("radius: R + t, axle: [0, 1, 0]", "R + t", "the time `t`"),
-        ("radius: R*dot(x), axle: [0, 1, 0]", "R*dot(x)", "the velocity `dot(x)`"),
-        ("radius: R, axle: [0, 1, 0], tube: 0", "0", "leave `tube` out"),
-        ("radius: R, axle: [0, 1, 0], tube: -R/R", "-R/R", "is negative"),
+        (
+            "radius: R*dot(x), axle: [0, 1, 0]",
+            "R*dot(x)",
+            "the velocity `dot(x)`",
+        ),
+        (
+            "radius: R, axle: [0, 1, 0], tube: 0",
+            "0",
+            "leave `tube` out",
+        ),
+        (
+            "radius: R, axle: [0, 1, 0], tube: -R/R",
+            "-R/R",
+            "is negative",
+        ),
     ];
     for (args, culprit, says) in cases {
         let found = errors(&disc(args));

@@ -101,10 +101,8 @@ fn as_written(names: &[Ident]) -> Vec<String> {
 fn rows_meant(def: &SystemDef) -> usize {
     let lines = def.constraints.as_ref().map_or(0, |(_, l)| l.len());
     // a rejected `rolls(..)` line: two rows (one counted with the lines)
-    let written = lines
-        + def.rejected.constraint_lines
-        + def.rejected.rolling_lines
-        + 2 * def.rolling.len();
+    let written =
+        lines + def.rejected.constraint_lines + def.rejected.rolling_lines + 2 * def.rolling.len();
     match &def.dependent {
         Some((_, names)) if !def.rolling.is_empty() => {
             let explicit = def
@@ -227,7 +225,9 @@ fn constraints_mention_time(def: &SystemDef) -> bool {
     let contacts = def.rolling.iter().any(|r| {
         let body = def.bodies.iter().filter(|b| b.name == r.body);
         let placing = |f: &&crate::parse::Field| {
-            ["centre", "center", "orientation"].iter().any(|n| f.name == n)
+            ["centre", "center", "orientation"]
+                .iter()
+                .any(|n| f.name == n)
         };
         r.fields
             .iter()

@@ -680,7 +680,10 @@ impl Lowerer<'_> {
                 } else {
                     note
                 };
-                self.cx.error(x.range(), format!("{what} is negative{note}: give its length, a positive {which}"));
+                self.cx.error(
+                    x.range(),
+                    format!("{what} is negative{note}: give its length, a positive {which}"),
+                );
                 return None;
             }
         }
@@ -745,10 +748,17 @@ impl Lowerer<'_> {
             })
             .map(|f| f.value.clone());
         let (at, which) = match (centre_field, &body_centre) {
-            (Some(c), _) => (c.range(), format!("the centre `{}`", super::short(c.to_source()))),
+            (Some(c), _) => (
+                c.range(),
+                format!("the centre `{}`", super::short(c.to_source())),
+            ),
             (None, Some(c)) => (
                 c.range(),
-                format!("the centre of body `{}`, `{}`,", def.body, super::short(c.to_source())),
+                format!(
+                    "the centre of body `{}`, `{}`,",
+                    def.body,
+                    super::short(c.to_source())
+                ),
             ),
             (None, None) => (def.range, format!("the centre of body `{}`", def.body)),
         };

@@ -277,7 +277,11 @@ fn repair(
     }
     // a block whose braces end with the next item's first word:
     // `coordinates { x, y let } X = ..`
-    let at = if is_word(Some(&t), "body") { i + 2 } else { i + 1 };
+    let at = if is_word(Some(&t), "body") {
+        i + 2
+    } else {
+        i + 1
+    };
     if starts_item(toks, i, cur.is_empty())
         && let TokenTree::Ident(_) = &t
         && let Some(g) = brace(toks.get(at)).cloned()
@@ -293,7 +297,9 @@ fn repair(
             };
             cx.error_at(
                 word.span(),
-                format!("`{word}` is inside the braces of `{owner} {{ .. }}`: close them before it"),
+                format!(
+                    "`{word}` is inside the braces of `{owner} {{ .. }}`: close them before it"
+                ),
             );
             let word = word.clone();
             let group = regroup(&g, inner[..inner.len() - 1].to_vec());
@@ -359,7 +365,9 @@ fn repair(
     // `let = X ..`: `=` before the name
     if is_word(Some(&t), "let")
         && is_punct(next.as_ref(), '=')
-        && toks.get(i + 2).is_some_and(|n| is_ident(Some(n)) && !is_item_word(n))
+        && toks
+            .get(i + 2)
+            .is_some_and(|n| is_ident(Some(n)) && !is_item_word(n))
     {
         let name = toks[i + 2].clone();
         cx.error_at(
