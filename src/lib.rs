@@ -205,7 +205,12 @@
 //!   linear in the velocities plus an optional velocity-free term b(q, t) (a
 //!   moving support, a conveyor, a turntable); s becomes dependent.
 //! * **Implicit**: any other constraint with velocities: lhs − rhs must be
-//!   linear in them, Σ_i c_i(q, t) q̇_i + b(q, t) = 0.
+//!   linear in them, Σ_i c_i(q, t) q̇_i + b(q, t) = 0, once simplified: every
+//!   coefficient ∂/∂q̇_i is free of velocities, so `abs(dot(x))`,
+//!   `sqrt(dot(x)^2)` (= `abs(dot(x))`) and a speed
+//!   `sqrt(dot(x)^2 + dot(y)^2)` are compile errors at that term (as is the
+//!   right side of an explicit constraint that is not linear in the other
+//!   velocities).
 //! * **Holonomic**: no velocities: f = lhs − rhs = 0. Its time derivative
 //!   Σ_i ∂f/∂q_i q̇_i + ∂f/∂t = 0 is its velocity row; the generated system
 //!   also projects states back onto f = 0 and reports the residual (below).
@@ -433,6 +438,15 @@
 //! constraints say that the material point at P is at rest horizontally,
 //! the x and y components of Ġ + ω × (P − G) vanish. They are implicit
 //! constraints, solved for dependent velocities by the rule of DESIGN §9.
+//! The radius and the tube are lengths: constants of the parameters (a
+//! coordinate, `t` or a velocity in them is a compile error at the field, as
+//! is a radius that simplifies to zero or a negative constant; parameters
+//! are not assumed positive, so `R` is taken as given). An axle that is
+//! vertical in every configuration (the wheel would lie flat, touching the
+//! plane along its rim) is an error at the axle, and so is a contact whose
+//! height cannot vanish: a centre that is not at the radius (times
+//! |e_z × n|, plus the tube) above the plane z = 0, which is an error at the
+//! centre with the height found and the height expected.
 //! If the contact's height P_z is not identically zero in the coordinates
 //! (a front wheel whose pitch follows from the lean and steer), P_z = 0 is
 //! added as a holonomic constraint. A row of a `rolls(..)` line that the
@@ -754,15 +768,17 @@
 //!   implicit or holonomic constraint, λ_a belongs to the row solved for s_a,
 //!   ṡ_a + Σ_α A^a_α ṙ_α + β_a = 0 (coefficient 1 on ṡ_a).
 //! * Names are used as written (`R`, `J`, `I1` are fine); `r#x` and `x` are one
-//!   name. The generated code binds only `__nh_` names of its own.
+//!   name. The generated code binds only `__nh_` names of its own: a name of
+//!   the system starting with `__nh_` is a compile error at the name.
 //!
 //! ## Compile errors
 //!
 //! Malformed input is a compile error at the culprit's tokens, with a message that
 //! says how to fix it; every independent mistake is reported in one compilation,
-//! and a stand-in with the full API is emitted so that the code using the system
-//! produces no follow-up errors. A constraint that is not linear in the
-//! velocities:
+//! once (two neighbouring tokens swapped are one error at the token, and the
+//! item is still read), and a stand-in with the full API is emitted so that the
+//! code using the system produces no follow-up errors. A constraint that is not
+//! linear in the velocities:
 //!
 //! ```compile_fail
 //! nonholonomic::nonholonomic_system! {

@@ -17,6 +17,8 @@ use proc_macro2::Span;
 /// A system declares at least one coordinate.
 pub fn coordinates_declared(def: &SystemDef, cx: &mut Ctxt) {
     match &def.coordinates {
+        // a list that did not parse: already reported
+        None if def.rejected.names_of("coordinates").is_some() => {}
         None => cx.error_at(
             def.name.span(),
             "missing `coordinates { .. }`: list the generalized coordinates, e.g. `coordinates { x, y, theta }`",
@@ -141,7 +143,8 @@ pub fn outputs_for_form(def: &SystemDef, cx: &mut Ctxt) {
     let Some((_, list)) = &def.outputs else {
         return;
     };
-    let in_speeds = def.speeds.is_some();
+    // a list of speeds that did not parse still makes a system in speeds
+    let in_speeds = def.speeds.is_some() || def.rejected.names_of("speeds").is_some();
     for o in list {
         let why = match (o.to_string().as_str(), in_speeds) {
             ("multipliers", true) => {
@@ -156,7 +159,7 @@ pub fn outputs_for_form(def: &SystemDef, cx: &mut Ctxt) {
             ("routes", true) => {
                 "a system in generalized speeds has one derivation, Maggi's equations (Sᵀ M S) u̇ = Sᵀ(Q − h − M(Ṡ u + σ̇)): there are no routes to compare"
             }
-            ("contact_points", _) if def.rolling.is_empty() => {
+            ("contact_points", _) if def.rolling.is_empty() && def.rejected.rolling_lines == 0 => {
                 "`contact_points` gives the points of the rolling contacts, and this system has none (`rolls(BODY, radius: .., ..);` in `constraints`)"
             }
             ("sensitivities", _) if def.inputs.as_ref().is_some_and(|(_, l)| !l.is_empty()) => {

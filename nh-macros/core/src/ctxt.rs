@@ -10,6 +10,11 @@ use std::fmt::Display;
 #[derive(Default)]
 pub struct Ctxt {
     errors: Vec<syn::Error>,
+    /// The number of constraint rows, when lowering found it although the
+    /// system has errors: the stand-in emitted next to them then has the
+    /// dimensions of the real API (a contact's height row, a contact row
+    /// implied by the rows before it, are known only from lowering).
+    pub constraint_rows: Option<usize>,
 }
 
 /// A source range given by its first and last token spans; used to point an
@@ -69,7 +74,6 @@ impl Ctxt {
     }
 
     /// Number of errors so far.
-    #[cfg(test)]
     pub fn len(&self) -> usize {
         self.errors.len()
     }

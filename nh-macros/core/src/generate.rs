@@ -19,7 +19,7 @@ mod screws;
 mod speeds;
 mod stand_in;
 
-pub use stand_in::shape_of;
+pub use stand_in::{shape_of, stand_in_shape};
 
 /// Operations of r̈ beyond which other methods call `accelerations` (and
 /// `reduced_system`) instead of repeating their code.

@@ -61,11 +61,12 @@ fn expand_derivation(input: TokenStream) -> (TokenStream, Stats) {
         out = tokens;
         stats = s;
     }
+    let rows = cx.constraint_rows;
     match cx.finish() {
         Ok(()) => (out, stats),
         Err(e) => {
             let errors = e.to_compile_error();
-            let fallback = def.as_ref().map(fallback).unwrap_or_default();
+            let fallback = def.as_ref().map(|d| fallback(d, rows)).unwrap_or_default();
             (quote!(#fallback #errors), stats)
         }
     }
@@ -74,6 +75,7 @@ fn expand_derivation(input: TokenStream) -> (TokenStream, Stats) {
 /// The stand-in emitted next to the errors: the full API with diverging
 /// bodies, so that the user's other code that uses the system still
 /// type-checks and no follow-up errors bury the real ones (as thiserror does).
-fn fallback(def: &parse::SystemDef) -> TokenStream {
-    api::expand(&generate::shape_of(def), &mut api::StandIn)
+/// `rows`: the number of constraint rows, if lowering found it.
+fn fallback(def: &parse::SystemDef, rows: Option<usize>) -> TokenStream {
+    api::expand(&generate::stand_in_shape(def, rows), &mut api::StandIn)
 }

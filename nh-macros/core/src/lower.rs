@@ -35,6 +35,10 @@ pub const FUNCTIONS: [&str; 16] = [
 /// `atan` or `sinh` keeps working.
 const RESERVED: [&str; 9] = ["t", "pi", "dot", "sin", "cos", "tan", "exp", "ln", "sqrt"];
 
+/// The prefix of the names the generated code binds (its fields, locals,
+/// helper functions and hidden module): no user name may start with it.
+pub const RESERVED_PREFIX: &str = "__nh_";
+
 #[derive(Clone, Copy, Debug)]
 enum Binding {
     Param(usize),
@@ -114,6 +118,13 @@ impl Declarations {
                 format!("`{s}` cannot be used as {kind} name: {what}; choose another name"),
             );
             return false;
+        }
+        if s.starts_with(RESERVED_PREFIX) {
+            // declared all the same: its uses raise no follow-up errors
+            cx.error_at(
+                id.span(),
+                format!("`{s}` cannot be used as {kind} name: names starting with `{RESERVED_PREFIX}` are reserved for the code the macro generates; choose another name"),
+            );
         }
         if let Some((prev_kind, prev_span)) = self.declared.get(&s) {
             // names are canonical (`r#x` is `x`); say so if one was written raw
@@ -520,7 +531,7 @@ impl Lowerer<'_> {
                     self.combine(BinOp::Mul, minus, v, x.range(), inner)
                 }
             },
-            Expr::Chain { first, rest } => self.lower_chain(first, rest, depth),
+            Expr::Chain { first, rest, .. } => self.lower_chain(first, rest, depth),
             Expr::Pow { base, exp, .. } => self.lower_pow(x, base, exp, depth).map(Value::Scalar),
             Expr::Call { func, args, range } => self.lower_call(func, args, *range, depth),
             Expr::Vector { items, range } => self.lower_brackets(items, *range, depth),
@@ -842,7 +853,7 @@ impl Lowerer<'_> {
                 }
                 Expr::Component { base, .. } => stack.push(base),
                 Expr::Neg(inner, _) => stack.push(inner),
-                Expr::Chain { first, rest } => {
+                Expr::Chain { first, rest, .. } => {
                     for (_, _, e) in rest.iter().rev() {
                         stack.push(e);
                     }
@@ -901,10 +912,16 @@ impl Lowerer<'_> {
         &mut self,
         x: &'e Expr,
         independent: &[usize],
-    ) -> Option<(&'e Expr, &'static str)> {
+    ) -> Option<(&'e Expr, String)> {
         match x {
             Expr::Neg(inner, _) => self.find_nonlinear(inner, independent),
-            Expr::Chain { first, rest } if !x.is_sum() => {
+            Expr::Chain { first, rest, .. } if x.is_sum() => {
+                // a parenthesised sum inside a product or a function
+                std::iter::once(&**first)
+                    .chain(rest.iter().map(|r| &r.2))
+                    .find_map(|t| self.find_nonlinear(t, independent))
+            }
+            Expr::Chain { first, rest, .. } => {
                 // a product: two factors with velocities, or one in a denominator
                 let mut with_velocity: Vec<&Expr> = Vec::new();
                 if self.has_velocity(first, independent) {
@@ -913,7 +930,7 @@ impl Lowerer<'_> {
                 for (op, _, f) in rest {
                     if self.has_velocity(f, independent) {
                         if *op == BinOp::Div {
-                            return Some((f, "divides by a velocity"));
+                            return Some((f, "divides by a velocity".into()));
                         }
                         with_velocity.push(f);
                     }
@@ -926,25 +943,64 @@ impl Lowerer<'_> {
                 }
                 match with_velocity.as_slice() {
                     [] | [_] => None,
-                    [_, ..] => Some((x, "multiplies velocities together")),
+                    [_, ..] => Some((x, "multiplies velocities together".into())),
                 }
             }
             Expr::Pow { base, .. } => {
                 if self.has_velocity(base, independent) {
-                    Some((x, "is a power of a velocity"))
+                    Some((x, "is a power of a velocity".into()))
                 } else if self.has_velocity(x, independent) {
-                    Some((x, "has a velocity in an exponent"))
+                    Some((x, "has a velocity in an exponent".into()))
                 } else {
                     None
                 }
             }
-            Expr::Call { func, args, .. } if func == "dot" && args.len() == 1 => None,
-            Expr::Call { .. } => {
-                if self.has_velocity(x, independent) {
-                    Some((x, "has a velocity inside a function"))
-                } else {
-                    None
+            Expr::Call { func, args, .. } if func == "dot" && args.len() == 1 => {
+                // `dot(NAME)` of a `let` with velocities is already an error
+                None
+            }
+            Expr::Call { func, args, .. } => {
+                if !self.has_velocity(x, independent) {
+                    return None;
                 }
+                let why = match func.to_string().as_str() {
+                    "abs" if args.len() == 1 => {
+                        let a = args[0].to_source();
+                        let minus = match &args[0] {
+                            Expr::Call { .. } | Expr::Name(_) => format!("-{a}"),
+                            _ => format!("-({a})"),
+                        };
+                        format!("is the absolute value of a velocity: it is `{a}` where `{a}` ≥ 0 and `{minus}` where it is negative, a different linear constraint for each sign; write the one that holds")
+                    }
+                    "sqrt" => "is a square root of velocities, which is not linear (the root of a square is an absolute value, `sqrt(dot(x)^2)` = `abs(dot(x))`, and the root of a sum of squares is a speed)".to_string(),
+                    "kinetic_energy" => "is a kinetic energy, quadratic in the velocities".to_string(),
+                    "omega" | "omega_body" | "cross" | "dot" | "norm" => {
+                        "is not linear in the velocities".to_string()
+                    }
+                    f => format!("has a velocity inside the function `{f}`"),
+                };
+                Some((x, why))
+            }
+            Expr::Name(id) => {
+                // a `let` with velocities that are not linear
+                let Some(Binding::Let(i)) = self.scope.get(&id.to_string()).copied() else {
+                    return None;
+                };
+                let Some(Value::Scalar(v)) = self.lets[i].value.clone() else {
+                    return None;
+                };
+                let moving = independent
+                    .iter()
+                    .any(|&j| self.e.depends_on(v, self.coords[j].velocity));
+                (moving && !self.is_linear_in_velocities(v)).then(|| {
+                    (
+                        x,
+                        format!(
+                            "is a `let` that is not linear in the velocities (`{}`)",
+                            short(self.e.display_capped(v, 60))
+                        ),
+                    )
+                })
             }
             _ => None,
         }
@@ -957,7 +1013,7 @@ fn top_level_terms(x: &Expr) -> Vec<&Expr> {
     let mut stack = vec![x];
     while let Some(x) = stack.pop() {
         match x {
-            Expr::Chain { first, rest } if x.is_sum() => {
+            Expr::Chain { first, rest, .. } if x.is_sum() => {
                 for (_, _, e) in rest.iter().rev() {
                     stack.push(e);
                 }

@@ -5,9 +5,12 @@
 //! each item (and each statement of a block) is parsed on its own, so a
 //! syntax error in one item does not hide the errors in the others.
 
+mod items;
+
 use crate::ctxt::{Ctxt, SpanRange};
 use crate::names;
 use crate::sym::Rational;
+use items::{Item, split_items};
 use proc_macro2::{Delimiter, Ident, Span, TokenStream, TokenTree};
 use syn::ext::IdentExt;
 use syn::parse::{ParseStream, Parser};
@@ -70,6 +73,8 @@ pub enum Expr {
         first: Box<Expr>,
         /// the operators (with their spans) and the following operands
         rest: Vec<(BinOp, Span, Expr)>,
+        /// the parentheses around it, if it was written in them
+        parens: Option<SpanRange>,
     },
     /// `base ^ exp`.
     Pow {
@@ -77,6 +82,8 @@ pub enum Expr {
         base: Box<Expr>,
         /// the exponent
         exp: Box<Expr>,
+        /// the parentheses around it, if it was written in them
+        parens: Option<SpanRange>,
     },
 }
 
@@ -88,7 +95,13 @@ impl Expr {
             Expr::Name(i) => SpanRange::single(i.span()),
             Expr::Call { range, .. } | Expr::Vector { range, .. } => *range,
             Expr::Component { base, field } => base.range().to(SpanRange::single(field.span())),
-            Expr::Chain { first, rest } => match rest.last() {
+            Expr::Chain {
+                parens: Some(r), ..
+            }
+            | Expr::Pow {
+                parens: Some(r), ..
+            } => *r,
+            Expr::Chain { first, rest, .. } => match rest.last() {
                 Some((_, _, last)) => first.range().to(last.range()),
                 None => first.range(),
             },
@@ -123,7 +136,7 @@ impl Expr {
             Expr::Vector { items, .. } => format!("[{}]", list_source(items)),
             Expr::Component { base, field } => format!("{}.{field}", paren(base, !atomic(base))),
             Expr::Neg(inner, _) => format!("-{}", paren(inner, inner.is_sum())),
-            Expr::Chain { first, rest } => {
+            Expr::Chain { first, rest, .. } => {
                 let sum = self.is_sum();
                 let mut out = paren(first, !sum && first.is_sum());
                 for (op, _, e) in rest {
@@ -193,6 +206,9 @@ pub struct BodyDef {
     pub name: Ident,
     /// the fields as written
     pub fields: Vec<Field>,
+    /// whether a field did not parse (then a missing field is no news, and
+    /// the body is not lowered further)
+    pub rejected_fields: bool,
 }
 
 /// A `rolls(BODY, radius: .., axle: ..);` line of `constraints`.
@@ -306,6 +322,12 @@ pub struct Rejected {
     /// The lines of `constraints` (or of a block misspelled for it) that did
     /// not parse.
     pub constraint_lines: usize,
+    /// The lines of `kinematics` that did not parse (a coordinate without
+    /// its line is then no news).
+    pub kinematics_lines: usize,
+    /// Of the rejected lines of `constraints`, those that were `rolls(..)`
+    /// (a contact: two rows, and the system has contacts).
+    pub rolling_lines: usize,
 }
 
 impl Rejected {
@@ -455,8 +477,14 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         rejected: Rejected::default(),
         krate,
     };
+    let mut failed = false;
     for item in split_items(body.stream(), cx) {
+        if failed && headless(&item) {
+            continue;
+        }
+        let before = cx.len();
         parse_item(item, &mut def, cx);
+        failed = cx.len() > before;
     }
     let has_parameters = def.parameters.as_ref().is_some_and(|p| !p.1.is_empty());
     def.attrs = crate::attrs::check_derives(std::mem::take(&mut def.attrs), has_parameters, cx);
@@ -490,103 +518,49 @@ fn too_large(input: &TokenStream) -> Option<syn::Error> {
     None
 }
 
-/// One top-level item of the body: either `keyword { .. }` or tokens up to `;`.
-enum Item {
-    Block(Ident, proc_macro2::Group),
-    /// `body NAME { .. }`
-    Body(Ident, proc_macro2::Group),
-    Statement(Vec<TokenTree>),
-}
-
-fn split_items(stream: TokenStream, cx: &mut Ctxt) -> Vec<Item> {
-    let mut items = Vec::new();
-    let mut cur: Vec<TokenTree> = Vec::new();
-    let mut it = stream.into_iter().peekable();
-    while let Some(tt) = it.next() {
-        // `body NAME { .. }` is a body item
-        if cur.is_empty()
-            && let TokenTree::Ident(kw) = &tt
-            && kw == "body"
-            && let Some(TokenTree::Ident(name)) = it.peek()
-        {
-            let name = name.clone();
-            let mut ahead = it.clone();
-            ahead.next();
-            if let Some(TokenTree::Group(g)) = ahead.peek()
-                && g.delimiter() == Delimiter::Brace
-            {
-                let g = g.clone();
-                it.next();
-                it.next();
-                items.push(Item::Body(names::canonical(name), g));
-                if let Some(TokenTree::Punct(p)) = it.peek()
-                    && p.as_char() == ';'
-                {
-                    it.next();
-                }
-                continue;
-            }
-        }
-        // `keyword { .. }` at the start of an item is a block item
-        if cur.is_empty()
-            && let TokenTree::Ident(id) = &tt
-            && id != "let"
-            && let Some(TokenTree::Group(g)) = it.peek()
-            && g.delimiter() == Delimiter::Brace
-        {
-            let g = g.clone();
-            it.next();
-            items.push(Item::Block(id.clone(), g));
-            // a stray `;` after a block is harmless
-            if let Some(TokenTree::Punct(p)) = it.peek()
-                && p.as_char() == ';'
-            {
-                it.next();
-            }
-            continue;
-        }
-        match &tt {
-            TokenTree::Punct(p) if p.as_char() == ';' => {
-                if !cur.is_empty() {
-                    // the `;` stays in the statement: an error at its end points at it
-                    cur.push(tt.clone());
-                }
-                items.push(Item::Statement(std::mem::take(&mut cur)));
-            }
-            _ => cur.push(tt),
-        }
-    }
-    if let Some(last) = cur.last() {
-        cx.error(
-            SpanRange {
-                first: cur[0].span(),
-                last: last.span(),
-            },
-            "expected `;` at the end of this item",
-        );
-        let span = last.span();
-        // a `;` at its last token, so that errors at its end point into the source
-        let mut semi = proc_macro2::Punct::new(';', proc_macro2::Spacing::Alone);
-        semi.set_span(span);
-        cur.push(TokenTree::Punct(semi));
-        items.push(Item::Statement(cur));
-    }
-    items
-}
-
+/// Parses an item.
 fn parse_item(item: Item, def: &mut SystemDef, cx: &mut Ctxt) {
     match item {
         Item::Block(kw, group) => parse_block(kw, &group, def, cx),
         Item::Body(name, group) => {
-            let fields = parse_fields(group.stream(), cx);
-            def.bodies.push(BodyDef { name, fields });
+            let (fields, rejected_fields) = parse_fields(&group, cx);
+            def.bodies.push(BodyDef {
+                name,
+                fields,
+                rejected_fields,
+            });
         }
-        Item::Statement(toks) => parse_statement_item(toks, def, cx),
+        Item::Statement(toks) => {
+            parse_statement_item(toks, def, cx);
+        }
+        Item::Unterminated(toks) => {
+            // the last token before the sentinel `;`
+            let last = toks.len().checked_sub(2).map(|k| toks[k].span());
+            if parse_statement_item(toks, def, cx)
+                && let Some(last) = last
+            {
+                cx.error_at(
+                    last,
+                    "expected `;` after this: an item ends with `;` before the next one",
+                );
+            }
+        }
     }
 }
 
+/// Whether a statement cannot start an item (`let NAME = ..;`,
+/// `lagrangian = ..;`): right after an item with an error, it is taken as
+/// the rest of that item, whose error covers it.
+fn headless(item: &Item) -> bool {
+    let toks = match item {
+        Item::Statement(t) | Item::Unterminated(t) => t,
+        _ => return false,
+    };
+    !matches!(toks.first(), Some(TokenTree::Ident(id)) if id == "let" || id == "lagrangian")
+}
+
 /// The blocks of a definition, in the order messages list them.
-const BLOCKS: [&str; 9] = [
+pub(crate) const BLOCKS: [&str; 9] = [
     "parameters",
     "coordinates",
     "inputs",
@@ -606,7 +580,8 @@ fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &
             parse_name_block(kw, group, def, cx)
         }
         "kinematics" => {
-            let list = parse_each(group, parse_kinematics_line, cx);
+            let list = parse_each(group, parse_kinematics_line, headless_equation, cx);
+            def.rejected.kinematics_lines += split_statements(group).len() - list.len();
             set_once(&mut def.kinematics, kw, list, cx, |_| {
                 "duplicate `kinematics` block: write one line per coordinate in one block"
                     .to_string()
@@ -615,8 +590,18 @@ fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &
         "constraints" => {
             let mut list = Vec::new();
             let mut rolling = Vec::new();
-            let lines = parse_each(group, parse_constraint_line, cx);
+            let lines = parse_each(group, parse_constraint_line, headless_equation, cx);
             def.rejected.constraint_lines += split_statements(group).len() - lines.len();
+            // the rejected lines that were rolling contacts (two rows each)
+            let rolling_written = split_statements(group)
+                .iter()
+                .filter(|(toks, _)| mentions_rolls(toks))
+                .count();
+            let rolling_parsed = lines
+                .iter()
+                .filter(|l| matches!(l, Line::Rolling(_)))
+                .count();
+            def.rejected.rolling_lines += rolling_written.saturating_sub(rolling_parsed);
             for line in lines {
                 match line {
                     Line::Equation(c) => list.push(c),
@@ -634,7 +619,7 @@ fn parse_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &
             });
         }
         "forces" => {
-            let list = parse_each(group, parse_force, cx);
+            let list = parse_each(group, parse_force, headless_force, cx);
             set_once(&mut def.forces, kw, list, cx, |_| {
                 "duplicate `forces` block: write all forces in one block".to_string()
             });
@@ -726,20 +711,115 @@ fn parse_name_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, 
 }
 
 /// Each `;`-separated statement of a block parsed by `parser`; the errors
-/// into `cx`.
+/// into `cx`. One token moved across the `;` between two statements (the
+/// last of one to the start of the next, or back) is put back, with the
+/// first statement's error only; a statement that cannot start a line
+/// (`headless`) right after one with an error is taken as its rest, whose
+/// error covers it.
 fn parse_each<T>(
     group: &proc_macro2::Group,
     parser: fn(ParseStream) -> syn::Result<T>,
+    headless: fn(&[TokenTree]) -> bool,
     cx: &mut Ctxt,
 ) -> Vec<T> {
+    let statements: Vec<Vec<TokenTree>> = split_statements(group)
+        .into_iter()
+        .map(|(toks, _)| toks)
+        .collect();
+    let parse = |toks: &[TokenTree]| parser.parse2(toks.iter().cloned().collect());
     let mut list = Vec::new();
-    for (toks, _) in split_statements(group) {
-        match parser.parse2(toks.into_iter().collect()) {
-            Ok(c) => list.push(c),
-            Err(e) => cx.syn_error(e),
+    let mut failed = false;
+    let mut k = 0;
+    while k < statements.len() {
+        let here = &statements[k];
+        k += 1;
+        let e = match parse(here) {
+            Ok(c) => {
+                list.push(c);
+                failed = false;
+                continue;
+            }
+            Err(e) => e,
+        };
+        if let Some(next) = statements.get(k)
+            && let Some(both) = moved_across(here, next, parse)
+        {
+            cx.syn_error(e);
+            list.extend(both);
+            failed = false;
+            k += 1;
+            continue;
         }
+        if !(failed && headless(here)) {
+            cx.syn_error(e);
+        }
+        failed = true;
     }
     list
+}
+
+/// Two statements (each ending in its `;`) parsed with one token moved
+/// back across the `;` between them, if that makes both parse: the last
+/// token of the first to the start of the second, or the first token of the
+/// second to the end of the first (a second left empty is none).
+fn moved_across<T>(
+    first: &[TokenTree],
+    second: &[TokenTree],
+    parse: impl Fn(&[TokenTree]) -> syn::Result<T>,
+) -> Option<Vec<T>> {
+    let (Some((semi, body)), Some((head, rest))) = (first.split_last(), second.split_first())
+    else {
+        return None;
+    };
+    // the last token of the first statement to the start of the second
+    if let Some((last, body_rest)) = body.split_last()
+        && !body_rest.is_empty()
+    {
+        let a: Vec<TokenTree> = body_rest.iter().chain([semi]).cloned().collect();
+        let b: Vec<TokenTree> = [last].into_iter().chain(second).cloned().collect();
+        if let (Ok(x), Ok(y)) = (parse(&a), parse(&b)) {
+            return Some(vec![x, y]);
+        }
+    }
+    // the first token of the second statement to the end of the first
+    let a: Vec<TokenTree> = body.iter().chain([head, semi]).cloned().collect();
+    let x = parse(&a).ok()?;
+    let rest_is_empty = rest
+        .iter()
+        .all(|t| matches!(t, TokenTree::Punct(p) if p.as_char() == ';'));
+    if rest_is_empty {
+        return Some(vec![x]);
+    }
+    let y = parse(rest).ok()?;
+    Some(vec![x, y])
+}
+
+/// Whether a line of `constraints` was meant as `rolls(..)`: `rolls` among
+/// its first tokens (or first in its first parentheses).
+fn mentions_rolls(toks: &[TokenTree]) -> bool {
+    toks.iter().take(3).any(|t| match t {
+        TokenTree::Ident(id) => id == "rolls",
+        TokenTree::Group(g) => g
+            .stream()
+            .into_iter()
+            .next()
+            .is_some_and(|f| matches!(f, TokenTree::Ident(id) if id == "rolls")),
+        _ => false,
+    })
+}
+
+/// A line of `constraints` or `kinematics` that cannot start one: it starts
+/// with a punctuation other than `-`.
+fn headless_equation(toks: &[TokenTree]) -> bool {
+    matches!(toks.first(), Some(TokenTree::Punct(p)) if p.as_char() != '-')
+}
+
+/// A line of `forces` that cannot start one: not `name:`.
+fn headless_force(toks: &[TokenTree]) -> bool {
+    !matches!(
+        (toks.first(), toks.get(1)),
+        (Some(TokenTree::Ident(_)), Some(TokenTree::Punct(p))) if p.as_char() == ':'
+    )
 }
 
 /// Fills the slot of a block, or reports a second block of its kind at its
@@ -757,10 +837,10 @@ fn set_once<T>(
     }
 }
 
-/// A statement: `lagrangian = ..;` or `let name = ..;`.
-fn parse_statement_item(toks: Vec<TokenTree>, def: &mut SystemDef, cx: &mut Ctxt) {
+/// A statement: `lagrangian = ..;` or `let name = ..;`; whether it parsed.
+fn parse_statement_item(toks: Vec<TokenTree>, def: &mut SystemDef, cx: &mut Ctxt) -> bool {
     if toks.is_empty() {
-        return;
+        return true;
     }
     match (&toks[0], toks.get(1)) {
         (TokenTree::Ident(kw), _) if kw == "lagrangian" => def.lagrangian_written = true,
@@ -779,8 +859,12 @@ fn parse_statement_item(toks: Vec<TokenTree>, def: &mut SystemDef, cx: &mut Ctxt
             def.lets.push(l)
         }
         Ok(Statement::Lagrangian(kw, e)) => def.lagrangians.push((kw, e)),
-        Err(e) => cx.syn_error(e),
+        Err(e) => {
+            cx.syn_error(e);
+            return false;
+        }
     }
+    true
 }
 
 /// The `;`-separated statements of a block, each ending in its `;` (the last
@@ -979,19 +1063,44 @@ fn parse_field(input: ParseStream) -> syn::Result<Field> {
 }
 
 /// The comma-separated `name: expr` fields of a `body` item, each parsed on
-/// its own so that one error does not hide the others.
-fn parse_fields(stream: TokenStream, cx: &mut Ctxt) -> Vec<Field> {
+/// its own so that one error does not hide the others; and whether one did
+/// not parse.
+fn parse_fields(group: &proc_macro2::Group, cx: &mut Ctxt) -> (Vec<Field>, bool) {
     let mut out = Vec::new();
+    let mut rejected = false;
+    let mut failed = false;
+    // each piece ends in its `,` (the last in one at the closing brace), so
+    // that an error at the end of a field points into the source
     let mut pieces: Vec<Vec<TokenTree>> = vec![Vec::new()];
-    for tt in stream {
+    for tt in group.stream() {
         match &tt {
-            TokenTree::Punct(p) if p.as_char() == ',' => pieces.push(Vec::new()),
-            _ => pieces.last_mut().map_or((), |v| v.push(tt)),
+            TokenTree::Punct(p) if p.as_char() == ',' => {
+                if let Some(v) = pieces.last_mut() {
+                    v.push(tt.clone());
+                }
+                pieces.push(Vec::new());
+            }
+            _ => {
+                if let Some(v) = pieces.last_mut() {
+                    v.push(tt);
+                }
+            }
         }
     }
-    for piece in pieces.into_iter().filter(|p| !p.is_empty()) {
+    if let Some(last) = pieces.last_mut()
+        && !last.is_empty()
+    {
+        let mut comma = proc_macro2::Punct::new(',', proc_macro2::Spacing::Alone);
+        comma.set_span(group.span_close());
+        last.push(TokenTree::Punct(comma));
+    }
+    let is_comma = |t: &TokenTree| matches!(t, TokenTree::Punct(p) if p.as_char() == ',');
+    for piece in pieces.into_iter().filter(|p| !p.iter().all(is_comma)) {
         let parser = |input: ParseStream| {
             let f = parse_field(input)?;
+            if input.peek(Token![,]) {
+                let _: Token![,] = input.parse()?;
+            }
             if !input.is_empty() {
                 let tt: TokenTree = input.parse()?;
                 return Err(syn::Error::new(
@@ -1001,12 +1110,27 @@ fn parse_fields(stream: TokenStream, cx: &mut Ctxt) -> Vec<Field> {
             }
             Ok(f)
         };
+        // a piece that cannot start a field (`name:`) right after one with
+        // an error is its rest: that error covers it
+        let headless = !matches!(
+            (piece.first(), piece.get(1)),
+            (Some(TokenTree::Ident(_)), Some(TokenTree::Punct(p))) if p.as_char() == ':'
+        );
         match parser.parse2(piece.into_iter().collect()) {
-            Ok(f) => out.push(f),
-            Err(e) => cx.syn_error(e),
+            Ok(f) => {
+                out.push(f);
+                failed = false;
+            }
+            Err(e) => {
+                if !(failed && headless) {
+                    cx.syn_error(e);
+                }
+                rejected = true;
+                failed = true;
+            }
         }
     }
-    out
+    (out, rejected)
 }
 
 fn parse_constraint(input: ParseStream) -> syn::Result<Constraint> {
@@ -1165,6 +1289,7 @@ fn chain(first: Expr, rest: Vec<(BinOp, Span, Expr)>) -> Expr {
         Expr::Chain {
             first: Box::new(first),
             rest,
+            parens: None,
         }
     }
 }
@@ -1209,6 +1334,7 @@ fn parse_power(input: ParseStream, depth: usize) -> syn::Result<Expr> {
         return Ok(Expr::Pow {
             base: Box::new(base),
             exp: Box::new(exp),
+            parens: None,
         });
     }
     Ok(base)
@@ -1396,14 +1522,23 @@ fn parse_parenthesised(input: ParseStream, depth: usize) -> syn::Result<Expr> {
         ));
     }
     // keep the parentheses in the range so errors cover them
+    let outer = SpanRange {
+        first: paren.span.open(),
+        last: paren.span.close(),
+    };
     Ok(match e {
-        Expr::Num(q, _) => Expr::Num(
-            q,
-            SpanRange {
-                first: paren.span.open(),
-                last: paren.span.close(),
-            },
-        ),
+        Expr::Num(q, _) => Expr::Num(q, outer),
+        Expr::Neg(inner, _) => Expr::Neg(inner, outer),
+        Expr::Chain { first, rest, .. } => Expr::Chain {
+            first,
+            rest,
+            parens: Some(outer),
+        },
+        Expr::Pow { base, exp, .. } => Expr::Pow {
+            base,
+            exp,
+            parens: Some(outer),
+        },
         other => other,
     })
 }
@@ -1482,7 +1617,7 @@ mod tests {
         }
         let e = parse_expr_all.parse2(quote!(m * x ^ 2)).unwrap();
         match e {
-            Expr::Chain { first, rest } => {
+            Expr::Chain { first, rest, .. } => {
                 assert!(matches!(*first, Expr::Name(_)));
                 assert!(matches!(rest[0], (BinOp::Mul, _, Expr::Pow { .. })));
             }

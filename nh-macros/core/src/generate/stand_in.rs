@@ -20,7 +20,7 @@ use syn::ext::IdentExt;
 /// (used for the stand-in of a system with errors).
 pub fn shape_of(def: &SystemDef) -> Shape<'_> {
     let coords = declared(def, &def.coordinates, "coordinates");
-    let dependent = dependent_coordinates(def, &coords);
+    let dependent = dependent_coordinates(def, &coords, rows_meant(def));
     let independent = (0..coords.len())
         .filter(|i| !dependent.contains(i))
         .collect();
@@ -41,9 +41,24 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
         dependent_doc: None,
         affine: false,
         rheonomic: constraints_mention_time(def),
-        contacts: def.rolling.len(),
+        contacts: def.rolling.len() + def.rejected.rolling_lines,
         sensitivity_params: sensitivity_parameters(def),
     }
+}
+
+/// The shape of the stand-in for a definition with errors: [`shape_of`],
+/// with `rows` constraint rows when lowering counted them (a contact's
+/// height row and the rows a contact repeats are known only there).
+pub fn stand_in_shape(def: &SystemDef, rows: Option<usize>) -> Shape<'_> {
+    let mut shape = shape_of(def);
+    if let Some(rows) = rows {
+        let coords = declared(def, &def.coordinates, "coordinates");
+        shape.dependent = dependent_coordinates(def, &coords, rows);
+        shape.independent = (0..coords.len())
+            .filter(|i| !shape.dependent.contains(i))
+            .collect();
+    }
+    shape
 }
 
 /// The parameters `sensitivities` differentiates by: those listed,
@@ -77,16 +92,37 @@ fn as_written(names: &[Ident]) -> Vec<String> {
     names.iter().map(|c| c.unraw().to_string()).collect()
 }
 
-/// The indices of the dependent coordinates: one per constraint line
-/// written (rejected or not; two per rolling contact), those the lines or
+/// The number of constraint rows as written: one per constraint line
+/// (rejected or not) and two per rolling contact (a contact's height that
+/// is not identically zero adds one, and a row implied by the rows before
+/// it is dropped, which only lowering can tell); with `dependent { .. }`,
+/// which names one coordinate per implicit or holonomic row (every
+/// contact's rows among them), the explicit lines and those names.
+fn rows_meant(def: &SystemDef) -> usize {
+    let lines = def.constraints.as_ref().map_or(0, |(_, l)| l.len());
+    // a rejected `rolls(..)` line: two rows (one counted with the lines)
+    let written =
+        lines + def.rejected.constraint_lines + def.rejected.rolling_lines + 2 * def.rolling.len();
+    match &def.dependent {
+        Some((_, names)) if !def.rolling.is_empty() => {
+            let explicit = def
+                .constraints
+                .iter()
+                .flat_map(|(_, list)| list)
+                .filter(|c| matches!(c.lhs.call1("dot"), Some(Expr::Name(_))))
+                .count();
+            explicit + names.len()
+        }
+        _ => written,
+    }
+}
+
+/// The indices of the `wanted` dependent coordinates, those the lines or
 /// `dependent` name first (the last coordinates stand in for the others:
 /// the rule's choice is not known without lowering, but the API's
 /// dimensions depend only on their number).
-fn dependent_coordinates(def: &SystemDef, coords: &[Ident]) -> Vec<usize> {
-    let lines = def.constraints.as_ref().map_or(0, |(_, l)| l.len());
-    // a rolling contact: its two no-slip rows; a contact height that is not
-    // identically zero adds one, which only lowering can tell
-    let wanted = (lines + def.rejected.constraint_lines + 2 * def.rolling.len()).min(coords.len());
+fn dependent_coordinates(def: &SystemDef, coords: &[Ident], wanted: usize) -> Vec<usize> {
+    let wanted = wanted.min(coords.len());
     let explicit = def
         .constraints
         .iter()
@@ -169,7 +205,9 @@ fn is_constant(id: &Ident) -> bool {
 }
 
 /// Whether a constraint depends on time explicitly, directly or through a
-/// `let` (then `dependent_velocities` and `energy` take `t`).
+/// `let` (then `dependent_velocities` and `energy` take `t`): an equation,
+/// or a rolling contact through its fields or its body's (a centre or an
+/// orientation that moves with `t`).
 fn constraints_mention_time(def: &SystemDef) -> bool {
     let mut timed: Vec<&Ident> = Vec::new();
     for l in &def.lets {
@@ -180,11 +218,23 @@ fn constraints_mention_time(def: &SystemDef) -> bool {
     let Some((_, lines)) = &def.constraints else {
         return false;
     };
-    lines.iter().any(|c| {
-        [&c.lhs, &c.rhs]
-            .into_iter()
-            .any(|e| mentions(e, |id| id == "t" || timed.contains(&id)))
-    })
+    let is_timed = |id: &Ident| id == "t" || timed.contains(&id);
+    let equations = lines
+        .iter()
+        .any(|c| [&c.lhs, &c.rhs].into_iter().any(|e| mentions(e, is_timed)));
+    let contacts = def.rolling.iter().any(|r| {
+        let body = def.bodies.iter().filter(|b| b.name == r.body);
+        let placing = |f: &&crate::parse::Field| {
+            ["centre", "center", "orientation"]
+                .iter()
+                .any(|n| f.name == n)
+        };
+        r.fields
+            .iter()
+            .chain(body.flat_map(|b| b.fields.iter().filter(placing)))
+            .any(|f| mentions(&f.value, is_timed))
+    });
+    equations || contacts
 }
 
 fn mentions(e: &Expr, is_timed: impl Fn(&Ident) -> bool) -> bool {
@@ -202,11 +252,11 @@ fn names_in(e: &Expr, out: &mut Vec<Ident>) {
             items.iter().for_each(|a| names_in(a, out))
         }
         Expr::Component { base, .. } | Expr::Neg(base, _) => names_in(base, out),
-        Expr::Chain { first, rest } => {
+        Expr::Chain { first, rest, .. } => {
             names_in(first, out);
             rest.iter().for_each(|(_, _, x)| names_in(x, out));
         }
-        Expr::Pow { base, exp } => {
+        Expr::Pow { base, exp, .. } => {
             names_in(base, out);
             names_in(exp, out);
         }

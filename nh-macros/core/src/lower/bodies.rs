@@ -324,9 +324,10 @@ impl Lowerer<'_> {
             return None;
         };
         let get = |n: &str| fields.iter().find(|f| f.0 == n).map(|f| f.1);
-        let mut ok = true;
+        // a field that did not parse: a missing or unpaired field is no news
+        let mut ok = !def.rejected_fields;
         for required in ["mass", "centre"] {
-            if get(required).is_none() {
+            if get(required).is_none() && !def.rejected_fields {
                 ok = false;
                 self.cx.error_at(def.name.span(), format!("body `{}` has no `{required}`: write `body {} {{ mass: m, centre: C, orientation: R, inertia: I }}` (orientation and inertia may be left out together for a point mass)", def.name, def.name));
             }
@@ -343,6 +344,7 @@ impl Lowerer<'_> {
                 let inertia = self.lower_inertia(i);
                 Some(rot.zip(inertia))
             }
+            (_, _) if def.rejected_fields => None,
             (one, _) => {
                 let (have, missing) = if one.is_some() {
                     ("orientation", "inertia")
@@ -579,13 +581,13 @@ impl Lowerer<'_> {
         let get = |n: &str| fields.iter().find(|f| f.0 == n).map(|f| f.1);
         let b = self.body(&def.body);
         let radius = match get("radius") {
-            Some(x) => self.lower_position_scalar(x, "the radius"),
+            Some(x) => self.rolling_length(x, "radius"),
             None => {
                 self.cx.error(def.range, format!("`rolls({}, ..)` needs the wheel's `radius: r` (and `axle: [..]` for a disc or torus; none for a sphere)", def.body));
                 None
             }
         };
-        let tube = get("tube").map(|x| self.lower_position_scalar(x, "the tube radius"));
+        let tube = get("tube").map(|x| self.rolling_length(x, "tube"));
         let axle = get("axle").map(|x| self.constant_axle(x));
         let centre = get("centre").map(|x| self.lower_position_vector(x, "the wheel's centre"));
         let b = b?;
@@ -606,7 +608,18 @@ impl Lowerer<'_> {
                 .error(def.range, "a torus (`tube: ..`) needs its `axle: [..]`");
             return None;
         }
+        if let (Some(a), Some(x)) = (axle, get("axle"))
+            && self.always_vertical(rot, a)
+        {
+            self.cx.error(x.range(), format!("the axle `{}` is vertical in every configuration (the body's orientation only turns it about the vertical): a wheel on it lies flat and touches the plane z = 0 along its whole rim, with no single contact point; give the wheel's axis of symmetry in body axes (for an upright wheel that turns about its body y axis, `[0, 1, 0]`), or leave `axle` out for a sphere", super::short(x.to_source())));
+            return None;
+        }
         let contact = self.contact(rot, centre, radius, axle, tube);
+        if let Some(h) = contact.height
+            && self.misplaced_centre(def, get("centre"), &contact, h, radius, tube)
+        {
+            return None;
+        }
         let height = match contact.height {
             Some(h) => format!(
                 "; its height `{}` = 0 is a holonomic constraint",
@@ -623,6 +636,158 @@ impl Lowerer<'_> {
         );
         self.description.push(line);
         Some(contact)
+    }
+
+    /// A radius or tube radius of a rolling contact: a constant of the
+    /// parameters (no coordinate, velocity, input or `t`), neither zero
+    /// nor a negative constant; else an error at its field. (Parameters
+    /// are not assumed positive: `R` or `-R` is taken as given.)
+    fn rolling_length(&mut self, x: &Expr, which: &str) -> Option<ExprId> {
+        let what = if which == "tube" {
+            "the tube radius of a torus"
+        } else {
+            "the radius of a rolling body"
+        };
+        let v = self.lower(x, 0)?;
+        let src = super::short(x.to_source());
+        let fs = self.e.free_symbols(v).to_vec();
+        let moving = fs.iter().find_map(|s| {
+            if *s == self.t_sym {
+                return Some("the time `t`".to_string());
+            }
+            self.coords.iter().find_map(|c| {
+                if c.position == *s {
+                    Some(format!("the coordinate `{}`", c.name))
+                } else if c.velocity == *s {
+                    Some(format!("the velocity `dot({})`", c.name))
+                } else {
+                    None
+                }
+            })
+        });
+        if let Some(m) = moving {
+            self.cx.error(x.range(), format!("{what} is a constant of the parameters (a wheel keeps its size), but `{src}` depends on {m}; write the {which} with parameters and numbers only"));
+            return None;
+        }
+        let note = self.value_note(x, v);
+        if v == ZERO || crate::mechanics::vanish_at_random_points(&self.e, self.pi_sym, &[v]) {
+            let fix = if which == "tube" {
+                "leave `tube` out for a thin wheel"
+            } else {
+                "a body rolls on a rim of positive radius"
+            };
+            self.cx
+                .error(x.range(), format!("{what} is zero{note}: {fix}"));
+            return None;
+        }
+        if fs.iter().all(|&s| s == self.pi_sym) {
+            let mut vals = vec![0.0f64; self.e.num_symbols()];
+            vals[self.pi_sym.index()] = std::f64::consts::PI;
+            let value = self.e.eval(v, &vals);
+            if value < 0.0 {
+                let note = if note.is_empty() && self.e.as_constant(v).is_none() {
+                    format!(": `{src}` is {value:.6}")
+                } else {
+                    note
+                };
+                self.cx.error(
+                    x.range(),
+                    format!("{what} is negative{note}: give its length, a positive {which}"),
+                );
+                return None;
+            }
+        }
+        Some(v)
+    }
+
+    /// Whether the world axle R a is vertical in every configuration:
+    /// 1 − n_z² vanishes identically (then |e_z × n| = 0 and the wheel has
+    /// no lowest point).
+    fn always_vertical(&mut self, rot: &Rotation, a: Vec3) -> bool {
+        let n = mat_vec(&mut self.e, &rot.matrix, a);
+        let nz2 = self.e.mul(n[2], n[2]);
+        let one = self.e.int(1);
+        let s2 = self.e.sub(one, nz2);
+        s2 == ZERO || crate::mechanics::vanish_at_random_points(&self.e, self.pi_sym, &[s2])
+    }
+
+    /// Whether the contact's height P_z = G_z − r w_z − ρ cannot vanish
+    /// whatever the coordinates: it is free of them (a nonzero constant),
+    /// or, for a wheel, a constant multiple of |e_z × n| (it would vanish
+    /// only with the wheel flat). Then the centre is not at the height a
+    /// body of this radius rolling on z = 0 has it, and the error, at the
+    /// centre, says the height found and the height expected.
+    fn misplaced_centre(
+        &mut self,
+        def: &RollingDef,
+        centre_field: Option<&Expr>,
+        contact: &Contact,
+        h: ExprId,
+        radius: ExprId,
+        tube: Option<ExprId>,
+    ) -> bool {
+        let coords: Vec<_> = self.coords.iter().map(|c| c.position).collect();
+        let free_of_coordinates =
+            |e: &crate::sym::Engine, x: ExprId| !coords.iter().any(|&q| e.depends_on(x, q));
+        let inconsistent = free_of_coordinates(&self.e, h)
+            || contact.chart.is_some_and(|s| {
+                let inv = self.e.pow(s, Rational::MINUS_ONE);
+                let ratio = self.e.mul(h, inv);
+                free_of_coordinates(&self.e, ratio)
+            });
+        if !inconsistent {
+            return false;
+        }
+        let g = contact.kinematics.centre[2];
+        let rim = match contact.chart {
+            Some(s) => self.e.mul(radius, s),
+            None => radius,
+        };
+        let expected = match tube {
+            Some(rho) => self.e.add(rim, rho),
+            None => rim,
+        };
+        let body_centre = self
+            .body_defs
+            .iter()
+            .find(|b| b.name == def.body)
+            .and_then(|b| {
+                b.fields
+                    .iter()
+                    .find(|f| f.name == "centre" || f.name == "center")
+            })
+            .map(|f| f.value.clone());
+        let (at, which) = match (centre_field, &body_centre) {
+            (Some(c), _) => (
+                c.range(),
+                format!("the centre `{}`", super::short(c.to_source())),
+            ),
+            (None, Some(c)) => (
+                c.range(),
+                format!(
+                    "the centre of body `{}`, `{}`,",
+                    def.body,
+                    super::short(c.to_source())
+                ),
+            ),
+            (None, None) => (def.range, format!("the centre of body `{}`", def.body)),
+        };
+        let shape = match (contact.chart.is_some(), tube.is_some()) {
+            (false, _) => "a sphere of this radius",
+            (true, false) => "a wheel of this radius on this axle",
+            (true, true) => "a torus of these radii on this axle",
+        };
+        let show = |e: &crate::sym::Engine, x: ExprId| super::short(e.display_capped(x, 60));
+        let (found, wanted) = (show(&self.e, g), show(&self.e, expected));
+        let lift = if tube.is_some() {
+            " (the radius times |e_z × n| for the world axle n, plus the tube)"
+        } else if contact.chart.is_some() {
+            " (the radius times |e_z × n| for the world axle n)"
+        } else {
+            ""
+        };
+        self.cx.error(at, format!("the rolling contact of `{}` is not on the plane z = 0 in any configuration: {which} is at height `{found}`, but {shape} touches the plane z = 0 with its centre at height `{wanted}`{lift}; put the centre at that height, or give the radius that matches it", def.body));
+        true
     }
 
     /// A wheel's axle: a constant nonzero vector in body axes, made unit.

@@ -93,6 +93,15 @@ impl Source<'_> {
     }
 }
 
+/// See [`Lowerer::row_block`].
+struct RowBlock {
+    explicit_deps: Vec<usize>,
+    implicit: Vec<usize>,
+    free: Vec<usize>,
+    coef: Vec<Vec<ExprId>>,
+    bias: Vec<ExprId>,
+}
+
 /// A constraint as written and lowered, before solving.
 struct Row<'d> {
     src: Source<'d>,
@@ -135,12 +144,15 @@ impl Lowerer<'_> {
         let mut wheels = Vec::new();
         let mut contacts = Vec::new();
         let mut kinematics = Vec::new();
+        let mut complete = true;
         for i in 0..=list.len() {
             for r in def.rolling.iter().filter(|r| r.position == i) {
                 if let Some((point, kin)) = self.rolling_rows(r, &mut sides, &mut wheels) {
                     contacts.push(point);
                     let line = def.rolling.iter().position(|x| std::ptr::eq(x, r));
                     kinematics.push((line, kin));
+                } else {
+                    complete = false;
                 }
             }
             let Some(c) = list.get(i) else { break };
@@ -148,19 +160,30 @@ impl Lowerer<'_> {
             let rhs = self.lower(&c.rhs, 0);
             if let (Some(l), Some(r)) = (lhs, rhs) {
                 sides.push((Source::Written(c), l, r));
+            } else {
+                complete = false;
             }
         }
         let explicit = self.explicit_targets(&sides);
         let mut rows = Vec::new();
+        let written = sides.len();
         for ((c, l, r), s) in sides.into_iter().zip(explicit) {
             if let Some(row) = self.classify(c, l, r, s) {
                 rows.push(row);
             }
         }
         if !self.cx.is_empty() {
+            // errors elsewhere: the stand-in takes the rows' number
+            if complete && rows.len() == written && def.rejected.constraint_lines == 0 {
+                self.cx.constraint_rows = Some(self.rows_kept(&rows));
+            }
             return Lowered::default();
         }
-        let mut lowered = self.solve_rows(def, rows).unwrap_or_default();
+        let Some(mut lowered) = self.solve_rows(def, rows) else {
+            return Lowered::default();
+        };
+        // for the stand-in, should a later stage find errors
+        self.cx.constraint_rows = Some(lowered.constraints.len());
         lowered.contacts = contacts;
         // each velocity row of a contact: which contact, which component
         lowered.row_contacts = lowered
@@ -278,7 +301,8 @@ impl Lowerer<'_> {
                 holonomic: Some(g),
             });
         }
-        if !self.linear_in_velocities(c, g, explicit) {
+        // a contact's rows are linear by construction
+        if matches!(c, Source::Written(_)) && !self.linear_in_velocities(c, g, explicit) {
             return None;
         }
         let (kind, value) = match explicit {
@@ -309,25 +333,46 @@ impl Lowerer<'_> {
         self.e.subst(x, &map, &mut HashMap::default())
     }
 
-    /// Whether `g` is linear in the velocities (every second derivative
-    /// in them vanishes); reports the offending term if not.
-    fn linear_in_velocities(&mut self, c: Source<'_>, g: ExprId, explicit: Option<usize>) -> bool {
+    /// Whether `g` is affine in the velocities: no coefficient ∂g/∂q̇_i
+    /// depends on a velocity, and g − Σ_i ∂g/∂q̇_i q̇_i does not either (it
+    /// is the velocity-free part; a symbolic remainder in the velocities
+    /// must vanish at random points).
+    pub(super) fn is_linear_in_velocities(&mut self, g: ExprId) -> bool {
         let vels: Vec<SymId> = self.coords.iter().map(|c| c.velocity).collect();
-        let mut linear = true;
-        'outer: for &v in &vels {
-            let d = self.e.diff(g, v);
-            for &w in &vels {
-                if self.e.diff(d, w) != ZERO {
-                    linear = false;
-                    break 'outer;
-                }
+        let mut parts = vec![g];
+        for &v in &vels {
+            if !self.e.depends_on(g, v) {
+                continue;
             }
+            let d = self.e.diff(g, v);
+            if vels.iter().any(|&w| self.e.depends_on(d, w)) {
+                return false;
+            }
+            let vs = self.e.sym(v);
+            let term = self.e.mul(d, vs);
+            parts.push(self.e.neg(term));
         }
+        let rest = self.e.sum(&parts);
+        if !vels.iter().any(|&w| self.e.depends_on(rest, w)) {
+            return true;
+        }
+        let b = self.velocity_free_part(g);
+        let rest = self.e.sub(rest, b);
+        rest == ZERO || vanish_at_random_points(&self.e, self.pi_sym, &[rest])
+    }
+
+    /// Whether `g` is linear in the velocities after the engine's
+    /// simplification: every coefficient ∂g/∂q̇_i is free of velocities, and
+    /// so is what is left, g − Σ_i ∂g/∂q̇_i q̇_i. (Second derivatives are not
+    /// the test: d/du |u| = sign(u) has a zero derivative, so `abs(dot(x))`
+    /// would pass.) Reports the offending term if not.
+    fn linear_in_velocities(&mut self, c: Source<'_>, g: ExprId, explicit: Option<usize>) -> bool {
+        let linear = self.is_linear_in_velocities(g);
         if linear {
             return true;
         }
         let all: Vec<usize> = (0..self.coords.len()).collect();
-        let form = "a constraint is linear in the velocities: `dot(s) = a1(q, t)*dot(r1) + .. + b(q, t)` or `c1(q, t)*dot(q1) + .. = b(q, t)`";
+        let form = "a constraint must be linear in the velocities, each velocity to the first power times a function of the coordinates and time: `dot(s) = a1(q, t)*dot(r1) + .. + b(q, t)` or `c1(q, t)*dot(q1) + .. = b(q, t)`";
         let who = match explicit {
             Some(s) => format!("the constraint for `{}`", self.coords[s].name),
             None => format!("the constraint `{}`", short(c.text())),
@@ -338,6 +383,14 @@ impl Lowerer<'_> {
         };
         for side in sides {
             for term in super::top_level_terms(side) {
+                // only a term that is itself not linear once simplified
+                // (`abs(dot(x))/abs(dot(x))*dot(x)` is `dot(x)`)
+                let nonlinear = self
+                    .lower(term, 0)
+                    .is_some_and(|v| !self.is_linear_in_velocities(v));
+                if !nonlinear {
+                    continue;
+                }
                 if let Some((culprit, why)) = self.find_nonlinear(term, &all) {
                     let text = culprit.to_source();
                     self.cx.error(
@@ -359,27 +412,13 @@ impl Lowerer<'_> {
     /// and solves every row for its dependent velocity.
     fn solve_rows(&mut self, def: &SystemDef, rows: Vec<Row<'_>>) -> Option<Lowered> {
         let n = self.coords.len();
-        let explicit_deps: Vec<usize> = rows.iter().filter_map(|r| r.explicit).collect();
-        let implicit: Vec<usize> = (0..rows.len())
-            .filter(|&a| rows[a].explicit.is_none())
-            .collect();
-        let free: Vec<usize> = (0..n).filter(|i| !explicit_deps.contains(i)).collect();
-        // the explicit velocities substituted into the other rows
-        let sub: HashMap<SymId, ExprId> = rows
-            .iter()
-            .filter_map(|r| r.explicit.map(|s| (self.coords[s].velocity, r.value)))
-            .collect();
-        let mut coef: Vec<Vec<ExprId>> = Vec::new();
-        let mut bias = Vec::new();
-        for &a in &implicit {
-            let v = self.e.subst(rows[a].value, &sub, &mut HashMap::default());
-            coef.push(
-                free.iter()
-                    .map(|&i| self.e.diff(v, self.coords[i].velocity))
-                    .collect(),
-            );
-            bias.push(self.velocity_free_part(v));
-        }
+        let RowBlock {
+            explicit_deps,
+            implicit,
+            free,
+            coef,
+            bias,
+        } = self.row_block(&rows);
         let implied = self.implied_rolling_rows(&rows, &implicit, &coef, &bias);
         if !implied.is_empty() {
             // rows of `rolls(..)` lines that the rows before them imply (two
@@ -479,6 +518,52 @@ impl Lowerer<'_> {
             row_sources,
             ..Lowered::default()
         })
+    }
+
+    /// The rows' block: the explicit rows' dependent coordinates, the
+    /// implicit and holonomic rows (indices into `rows`), the coordinates
+    /// not made dependent by explicit rows, and those rows' coefficients of
+    /// their velocities and velocity-free parts, the explicit velocities
+    /// substituted.
+    fn row_block(&mut self, rows: &[Row<'_>]) -> RowBlock {
+        let n = self.coords.len();
+        let explicit_deps: Vec<usize> = rows.iter().filter_map(|r| r.explicit).collect();
+        let implicit: Vec<usize> = (0..rows.len())
+            .filter(|&a| rows[a].explicit.is_none())
+            .collect();
+        let free: Vec<usize> = (0..n).filter(|i| !explicit_deps.contains(i)).collect();
+        // the explicit velocities substituted into the other rows
+        let sub: HashMap<SymId, ExprId> = rows
+            .iter()
+            .filter_map(|r| r.explicit.map(|s| (self.coords[s].velocity, r.value)))
+            .collect();
+        let mut coef: Vec<Vec<ExprId>> = Vec::new();
+        let mut bias = Vec::new();
+        for &a in &implicit {
+            let v = self.e.subst(rows[a].value, &sub, &mut HashMap::default());
+            coef.push(
+                free.iter()
+                    .map(|&i| self.e.diff(v, self.coords[i].velocity))
+                    .collect(),
+            );
+            bias.push(self.velocity_free_part(v));
+        }
+        RowBlock {
+            explicit_deps,
+            implicit,
+            free,
+            coef,
+            bias,
+        }
+    }
+
+    /// The number of rows kept of a system's complete rows (those implied
+    /// by the rows before them dropped): the stand-in's dimensions when
+    /// the system has errors elsewhere.
+    fn rows_kept(&mut self, rows: &[Row<'_>]) -> usize {
+        let block = self.row_block(rows);
+        let implied = self.implied_rolling_rows(rows, &block.implicit, &block.coef, &block.bias);
+        rows.len() - implied.len()
     }
 
     /// The implicit block solved, c_s ṡ = −(c_r ṙ + b): the dependent

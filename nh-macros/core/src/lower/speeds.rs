@@ -16,6 +16,8 @@ impl Lowerer<'_> {
     pub(super) fn lower_speeds(&mut self, def: &SystemDef) -> Option<Speeds> {
         let (speeds_kw, names) = match (&def.speeds, &def.kinematics) {
             (None, None) => return None,
+            // a list of speeds that did not parse: already reported
+            (None, Some(_)) if def.rejected.names_of("speeds").is_some() => return None,
             (None, Some((kw, _))) => {
                 self.cx.error_at(kw.span(), "`kinematics` without `speeds`: declare the generalized speeds the right sides use, e.g. `speeds { v, omega }`");
                 return None;
@@ -97,7 +99,8 @@ impl Lowerer<'_> {
             .filter(|&i| !seen[i])
             .map(|i| format!("`dot({}) = ..;`", self.coords[i].name))
             .collect();
-        if !missing.is_empty() {
+        // a line that did not parse may be the missing one: no news
+        if !missing.is_empty() && def.rejected.kinematics_lines == 0 {
             self.cx.error_at(
                 kw.span(),
                 format!(
@@ -107,7 +110,7 @@ impl Lowerer<'_> {
             );
             return None;
         }
-        if !ok {
+        if !ok || !missing.is_empty() {
             return None;
         }
         given.into_iter().collect()
