@@ -268,6 +268,36 @@
 //! such a run in `SimError::Singular { cause: Singularity::Chart, .. }` with
 //! the last good state.
 //!
+//! The same holds for poles the constraint block does not see: a division by
+//! an expression of the state, or `ln`, a root, `asin`, `acos` or `atan2` at
+//! the edge of its domain, in the Lagrangian, the forces, a constraint as
+//! written or the kinematics (`dot(y) = tan(theta)*dot(x)` divides by
+//! cos θ). The generated `crossed_pole` checks each such denominator or
+//! argument at both ends of every step, and a step that would carry the
+//! motion across ends the run in `SimError::Singular { cause:
+//! Singularity::Pole("1/cos(theta)"), .. }` with the last good state:
+//!
+//! ```rust
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     pub struct TanSled {
+//!         parameters { m, J, a }
+//!         coordinates { x, theta, y }
+//!         lagrangian = J*dot(theta)^2/2
+//!             + m*((-a*dot(theta)*sin(theta) + dot(x))^2 + (a*dot(theta)*cos(theta) + dot(y))^2)/2;
+//!         constraints { dot(y) = tan(theta)*dot(x); }
+//!     }
+//! }
+//!
+//! let sled = TanSled::new(1.0, 0.3, 0.4);
+//! // heading 1.2 rad, turning at 1.5 rad/s: θ passes π/2 near t = 0.26
+//! let x0 = SVector::from([0.0, 1.2, 0.0, 0.5 * 1.2f64.cos(), 1.5]);
+//! let err = DormandPrince::new(1e-8, 1e-10).integrate(&sled, 0.0, x0, 2.0).unwrap_err();
+//! assert!(matches!(err, SimError::Singular { cause: Singularity::Pole("1/cos(theta)"), .. }));
+//! assert!(err.state().unwrap()[1] < std::f64::consts::FRAC_PI_2);
+//! ```
+//!
 //! ## Forces, inputs and time
 //!
 //! `forces { q: expr; .. }` adds a generalized force Q_q to the equation of
