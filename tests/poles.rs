@@ -48,7 +48,10 @@ fn reference(t: f64) -> SVector<f64, 5> {
         .x
 }
 
-fn runs() -> Vec<(&'static str, Result<Outcome<f64, 5>, SimError<f64, 5>>)> {
+/// A run's outcome.
+type Run = Result<Outcome<f64, 5>, SimError<f64, 5>>;
+
+fn runs() -> Vec<(&'static str, Run)> {
     let (m, j, a) = PARAMS;
     let sys = TanSled::new(m, j, a);
     let (theta, v, omega) = START;
@@ -155,7 +158,7 @@ fn without_the_guard() {
     let (theta, v, omega) = START;
     let x0 = SVector::<f64, 5>::new(0.0, theta, 0.0, v * theta.cos(), omega);
     let r = reference(2.0);
-    let show = |name: &str, run: Result<Outcome<f64, 5>, SimError<f64, 5>>| match run {
+    let show = |name: &str, run: Run| match run {
         Ok(o) => println!(
             "{name}: Ok, y = {:.6} (reference {:.6}), θ = {:.6} ({:.6})",
             o.x[2], r[2], o.x[1], r[1]
