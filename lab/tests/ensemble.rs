@@ -11,7 +11,9 @@ type Run = Result<Outcome<f64, 5>, SimError<f64, 5>>;
 /// The sweep: 8 initial headings × 8 initial turning rates (ẋ = 1) over
 /// 10 s, Dormand–Prince at rtol 1e-9 with a budget of 200 step attempts.
 /// The runs need 157 to 315 steps, so the fast-turning ones end in
-/// `MaxSteps`: failures that must land in their slots.
+/// `MaxSteps`, and those that turn through θ = ±π/2, the pole of the sled's
+/// tan chart, end there in `Singular`: failures that must land in their
+/// slots.
 const RUNS: usize = 64;
 const BUDGET: usize = 200;
 
@@ -63,21 +65,37 @@ fn the_parallel_sweep_is_the_sequential_one_bit_for_bit() {
     assert_eq!(fingerprints(&sequential), fingerprints(&by_hand));
     assert_eq!(fingerprints(&parallel), fingerprints(&sequential));
 
-    // both kinds of slot occur, and the failures are the budget's
+    // both kinds of slot occur, and the failures are the budget's or the
+    // chart's pole
     let failed: Vec<usize> = (0..RUNS).filter(|&i| parallel[i].is_err()).collect();
     assert!(
         failed.len() >= 8 && failed.len() <= RUNS - 8,
         "failed runs {failed:?}"
     );
+    let (mut budget, mut pole) = (0, 0);
     for &i in &failed {
         match parallel[i] {
             Err(SimError::MaxSteps { steps, t, .. }) => {
                 assert_eq!(steps, BUDGET, "run {i}");
                 assert!(t > 0.0 && t < 10.0, "run {i} stopped at t = {t}");
+                budget += 1;
+            }
+            Err(SimError::Singular {
+                cause: Singularity::Pole(expr),
+                x,
+                ..
+            }) => {
+                assert_eq!(expr, "1/cos(theta)", "run {i}");
+                assert!(x[1].cos().abs() < 0.2, "run {i} stopped at θ = {}", x[1]);
+                pole += 1;
             }
             ref other => panic!("run {i}: {other:?}"),
         }
     }
+    println!(
+        "{} ran to t = 10, {budget} used up their budget, {pole} met the pole",
+        RUNS - failed.len()
+    );
     for (i, r) in parallel.iter().enumerate() {
         if let Ok(o) = r {
             assert_eq!(o.t, 10.0, "run {i}");
