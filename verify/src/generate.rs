@@ -578,13 +578,11 @@ impl Builder {
         // coordinates no body moves carry kinetic energy of their own, the
         // others sometimes
         let text = self.sys.text();
+        // (a coordinate named in a `let` or a body's line moves a body)
+        let lines: Vec<&str> = (text.lines())
+            .filter(|l| l.contains("let ") || l.contains("body "))
+            .collect();
         let moved = |name: &str| {
-            let mut words = text.split(|c: char| !c.is_alphanumeric() && c != '_');
-            let lines: Vec<&str> = text
-                .lines()
-                .filter(|l| l.contains("let ") || l.contains("body "))
-                .collect();
-            let _ = words.next();
             lines.iter().any(|l| {
                 l.split(|c: char| !c.is_alphanumeric() && c != '_')
                     .any(|w| w == name)
