@@ -492,6 +492,24 @@ impl Builder {
         (i, true)
     }
 
+    /// Adds a body.
+    fn body(
+        &mut self,
+        name: impl Into<String>,
+        mass: Ex,
+        centre: Vx,
+        rotation: Option<(Rx, [[Ex; 3]; 3])>,
+        diagonal: bool,
+    ) {
+        let body = Body {
+            mass,
+            centre,
+            rotation,
+            diagonal,
+        };
+        self.sys.bodies.push((name.into(), body));
+    }
+
     fn let_of(&mut self, stem: &str, v: LetValue) -> usize {
         let l = self.sys.lets.len();
         self.sys.lets.push((format!("{stem}{l}"), v));
@@ -563,15 +581,13 @@ impl Builder {
                 (Rx::Let(r), i, diagonal)
             });
             let diagonal = rotation.as_ref().is_some_and(|r| r.2);
-            self.sys.bodies.push((
+            self.body(
                 format!("b{b}"),
-                Body {
-                    mass: mass.clone(),
-                    centre: Vx::Let(c),
-                    rotation: rotation.map(|(r, i, _)| (r, i)),
-                    diagonal,
-                },
-            ));
+                mass.clone(),
+                Vx::Let(c),
+                rotation.map(|(r, i, _)| (r, i)),
+                diagonal,
+            );
             energy.push(Ex::Kinetic(b));
             weight.push(mul(vec![mass, Ex::Comp(Box::new(Vx::Let(c)), 2)]));
         }
@@ -663,15 +679,13 @@ impl Builder {
         };
         let (inertia, _) = self.inertia(Some(axle));
         let mass = self.positive();
-        self.sys.bodies.push((
-            "disc".into(),
-            Body {
-                mass: mass.clone(),
-                centre: Vx::Let(com),
-                rotation: Some((rmul(Rx::Let(f), rot(axle, Ex::Coord(theta))), inertia)),
-                diagonal: true,
-            },
-        ));
+        self.body(
+            "disc",
+            mass.clone(),
+            Vx::Let(com),
+            Some((rmul(Rx::Let(f), rot(axle, Ex::Coord(theta))), inertia)),
+            true,
+        );
         let mut a = [0, 0, 0];
         a[axle] = 1 + self.rng.below(2) as i64;
         self.sys.constraints.push(Constraint::Rolls {
@@ -724,15 +738,13 @@ impl Builder {
         };
         let (inertia, diagonal) = self.inertia(None);
         let mass = self.positive();
-        self.sys.bodies.push((
-            "ball".into(),
-            Body {
-                mass: mass.clone(),
-                centre: Vx::Let(com),
-                rotation: Some((Rx::Let(rl), inertia)),
-                diagonal,
-            },
-        ));
+        self.body(
+            "ball",
+            mass.clone(),
+            Vx::Let(com),
+            Some((Rx::Let(rl), inertia)),
+            diagonal,
+        );
         self.sys.constraints.push(Constraint::Rolls {
             body: 0,
             radius,
@@ -763,15 +775,13 @@ impl Builder {
             let c = self.let_of("W", LetValue::Vector(c));
             let (inertia, _) = self.inertia(Some(1));
             let mass = self.positive();
-            self.sys.bodies.push((
+            self.body(
                 format!("wheel{w}"),
-                Body {
-                    mass,
-                    centre: Vx::Let(c),
-                    rotation: Some((rmul(Rx::Let(h), rot(1, Ex::Coord(theta))), inertia)),
-                    diagonal: true,
-                },
-            ));
+                mass,
+                Vx::Let(c),
+                Some((rmul(Rx::Let(h), rot(1, Ex::Coord(theta))), inertia)),
+                true,
+            );
             self.sys.constraints.push(Constraint::Rolls {
                 body: w,
                 radius: r.clone(),
@@ -788,15 +798,13 @@ impl Builder {
         );
         let (inertia, diagonal) = self.inertia(None);
         let mass = self.positive();
-        self.sys.bodies.push((
-            "chassis".into(),
-            Body {
-                mass,
-                centre: Vx::Let(chassis),
-                rotation: Some((Rx::Let(h), inertia)),
-                diagonal,
-            },
-        ));
+        self.body(
+            "chassis",
+            mass,
+            Vx::Let(chassis),
+            Some((Rx::Let(h), inertia)),
+            diagonal,
+        );
         energy.push(Ex::Kinetic(2));
         self.sys.lagrangian = add(energy);
     }
@@ -833,15 +841,13 @@ impl Builder {
             );
             let (inertia, _) = self.inertia(Some(1));
             let mass = self.positive();
-            self.sys.bodies.push((
+            self.body(
                 format!("wheel{w}"),
-                Body {
-                    mass,
-                    centre: Vx::Let(c),
-                    rotation: Some((rmul(frame, rot(1, Ex::Coord(theta))), inertia)),
-                    diagonal: true,
-                },
-            ));
+                mass,
+                Vx::Let(c),
+                Some((rmul(frame, rot(1, Ex::Coord(theta))), inertia)),
+                true,
+            );
             self.sys.constraints.push(Constraint::Rolls {
                 body: w,
                 radius: r.clone(),
@@ -858,15 +864,13 @@ impl Builder {
         );
         let (inertia, diagonal) = self.inertia(None);
         let mass = self.positive();
-        self.sys.bodies.push((
-            "chassis".into(),
-            Body {
-                mass,
-                centre: Vx::Let(chassis),
-                rotation: Some((Rx::Let(h), inertia)),
-                diagonal,
-            },
-        ));
+        self.body(
+            "chassis",
+            mass,
+            Vx::Let(chassis),
+            Some((Rx::Let(h), inertia)),
+            diagonal,
+        );
         energy.push(Ex::Kinetic(3));
         energy.extend(self.own_kinetic(&[delta]));
         self.sys.lagrangian = add(energy);
@@ -891,15 +895,13 @@ impl Builder {
         let g1 = self.let_of("G", LetValue::Vector(g1));
         let (inertia, _) = self.inertia(Some(1));
         let m1 = self.positive();
-        self.sys.bodies.push((
-            "disc".into(),
-            Body {
-                mass: m1,
-                centre: Vx::Let(g1),
-                rotation: Some((rmul(Rx::Let(f), rot(1, Ex::Coord(theta))), inertia)),
-                diagonal: true,
-            },
-        ));
+        self.body(
+            "disc",
+            m1,
+            Vx::Let(g1),
+            Some((rmul(Rx::Let(f), rot(1, Ex::Coord(theta))), inertia)),
+            true,
+        );
         let rb = self.param();
         let q = rmul(
             rmul(rot(2, Ex::Coord(a)), rot(1, Ex::Coord(b))),
@@ -912,15 +914,13 @@ impl Builder {
         );
         let (inertia, diagonal) = self.inertia(None);
         let m2 = self.positive();
-        self.sys.bodies.push((
-            "ball".into(),
-            Body {
-                mass: m2,
-                centre: Vx::Let(g2),
-                rotation: Some((Rx::Let(q), inertia)),
-                diagonal,
-            },
-        ));
+        self.body(
+            "ball",
+            m2,
+            Vx::Let(g2),
+            Some((Rx::Let(q), inertia)),
+            diagonal,
+        );
         self.sys.constraints.push(Constraint::Rolls {
             body: 0,
             radius: r,
@@ -974,15 +974,13 @@ impl Builder {
         );
         let (inertia, diagonal) = self.inertia(None);
         let mass = self.positive();
-        self.sys.bodies.push((
-            "rider".into(),
-            Body {
-                mass: mass.clone(),
-                centre: Vx::Let(c),
-                rotation: Some((Rx::Let(arm), inertia)),
-                diagonal,
-            },
-        ));
+        self.body(
+            "rider",
+            mass.clone(),
+            Vx::Let(c),
+            Some((Rx::Let(arm), inertia)),
+            diagonal,
+        );
         let weight = mul(vec![self.param(), mass, Ex::Comp(Box::new(Vx::Let(c)), 2)]);
         let l = std::mem::replace(&mut self.sys.lagrangian, num(0, 1));
         self.sys.lagrangian = Ex::Sub(Box::new(add(vec![l, Ex::Kinetic(1)])), Box::new(weight));

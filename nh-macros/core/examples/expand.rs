@@ -16,27 +16,13 @@
 //! the culprit underlined), and the tool exits with status 1 after the other
 //! systems.
 use nh_core::ReportedError;
-use proc_macro2::{TokenStream, TokenTree};
+#[path = "../tests/tokens/mod.rs"]
+mod tokens;
+
+use proc_macro2::TokenStream;
 use std::io::Read;
 use std::time::Instant;
-
-fn find_invocations(ts: TokenStream, out: &mut Vec<TokenStream>) {
-    let tokens: Vec<TokenTree> = ts.into_iter().collect();
-    for (i, tt) in tokens.iter().enumerate() {
-        if let TokenTree::Ident(id) = tt
-            && id == "nonholonomic_system"
-            && let Some(TokenTree::Punct(p)) = tokens.get(i + 1)
-            && p.as_char() == '!'
-            && let Some(TokenTree::Group(g)) = tokens.get(i + 2)
-        {
-            out.push(g.stream());
-            continue;
-        }
-        if let TokenTree::Group(g) = tt {
-            find_invocations(g.stream(), out);
-        }
-    }
-}
+use tokens::find_invocations;
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

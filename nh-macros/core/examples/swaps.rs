@@ -21,62 +21,11 @@
 //! input before the parser's recovery of misplaced tokens, none of either
 //! after; the bicycle (`examples/whipple_bicycle/model.rs`, 503 swaps): 209
 //! and 10 before, none after. `tests/one_token_swapped.rs` keeps it so.
-use proc_macro2::{Delimiter, TokenStream, TokenTree};
+#[path = "../tests/tokens/mod.rs"]
+mod tokens;
 
-fn find_invocations(ts: TokenStream, out: &mut Vec<TokenStream>) {
-    let tokens: Vec<TokenTree> = ts.into_iter().collect();
-    for (i, tt) in tokens.iter().enumerate() {
-        if let TokenTree::Ident(id) = tt
-            && id == "nonholonomic_system"
-            && let Some(TokenTree::Punct(p)) = tokens.get(i + 1)
-            && p.as_char() == '!'
-            && let Some(TokenTree::Group(g)) = tokens.get(i + 2)
-        {
-            out.push(g.stream());
-            continue;
-        }
-        if let TokenTree::Group(g) = tt {
-            find_invocations(g.stream(), out);
-        }
-    }
-}
-
-/// The input as a flat list of token texts, groups as separate delimiters.
-fn flatten(ts: TokenStream, out: &mut Vec<String>) {
-    for tt in ts {
-        match tt {
-            TokenTree::Group(g) => {
-                let (o, c) = match g.delimiter() {
-                    Delimiter::Parenthesis => ("(", ")"),
-                    Delimiter::Brace => ("{", "}"),
-                    Delimiter::Bracket => ("[", "]"),
-                    Delimiter::None => ("", ""),
-                };
-                out.push(o.to_string());
-                flatten(g.stream(), out);
-                out.push(c.to_string());
-            }
-            TokenTree::Punct(p) => out.push(p.as_char().to_string()),
-            other => out.push(other.to_string()),
-        }
-    }
-}
-
-/// Byte range covered by the input's tokens.
-fn extent(ts: &TokenStream) -> (usize, usize) {
-    let mut lo = usize::MAX;
-    let mut hi = 0;
-    let mut stack: Vec<TokenTree> = ts.clone().into_iter().collect();
-    while let Some(tt) = stack.pop() {
-        let r = tt.span().byte_range();
-        lo = lo.min(r.start);
-        hi = hi.max(r.end);
-        if let TokenTree::Group(g) = tt {
-            stack.extend(g.stream());
-        }
-    }
-    (lo, hi)
-}
+use proc_macro2::TokenStream;
+use tokens::{extent, find_invocations, flatten};
 
 fn main() {
     let args: Vec<String> = std::env::args().skip(1).collect();

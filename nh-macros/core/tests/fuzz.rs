@@ -7,9 +7,12 @@
 //! affine maps or squares). The
 //! expansion never panics, never overflows the stack, and every error it
 //! reports points inside the input. Run with `--nocapture` for the figures.
-use proc_macro2::{Delimiter, Span, TokenStream, TokenTree};
+mod tokens;
+
+use proc_macro2::{Span, TokenStream, TokenTree};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::time::Instant;
+use tokens::{extent, flatten};
 
 const SEEDS: &[&str] = &[
     r#"
@@ -150,27 +153,6 @@ impl Rng {
     }
     fn below(&mut self, n: usize) -> usize {
         (self.next() % n.max(1) as u64) as usize
-    }
-}
-
-/// The input as a flat list of token texts, groups as separate delimiters.
-fn flatten(ts: TokenStream, out: &mut Vec<String>) {
-    for tt in ts {
-        match tt {
-            TokenTree::Group(g) => {
-                let (o, c) = match g.delimiter() {
-                    Delimiter::Parenthesis => ("(", ")"),
-                    Delimiter::Brace => ("{", "}"),
-                    Delimiter::Bracket => ("[", "]"),
-                    Delimiter::None => ("", ""),
-                };
-                out.push(o.to_string());
-                flatten(g.stream(), out);
-                out.push(c.to_string());
-            }
-            TokenTree::Punct(p) => out.push(p.as_char().to_string()),
-            other => out.push(other.to_string()),
-        }
     }
 }
 
@@ -372,22 +354,6 @@ fn random_number(rng: &mut Rng) -> String {
             format!("{}.{}", digits(rng, len), digits(rng, len))
         }
     }
-}
-
-/// Byte range covered by the input's tokens.
-fn extent(ts: &TokenStream) -> (usize, usize) {
-    let mut lo = usize::MAX;
-    let mut hi = 0;
-    let mut stack: Vec<TokenTree> = ts.clone().into_iter().collect();
-    while let Some(tt) = stack.pop() {
-        let r = tt.span().byte_range();
-        lo = lo.min(r.start);
-        hi = hi.max(r.end);
-        if let TokenTree::Group(g) = tt {
-            stack.extend(g.stream());
-        }
-    }
-    (lo, hi)
 }
 
 /// Spans of every `compile_error!` invocation in an expansion.

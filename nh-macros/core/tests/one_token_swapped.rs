@@ -3,7 +3,10 @@
 //! lexer rejects are skipped), give at most one error, and no error spans
 //! the whole input (or the macro call). `examples/swaps.rs` prints the same
 //! figures for any file.
-use proc_macro2::{Delimiter, TokenStream, TokenTree};
+mod tokens;
+
+use proc_macro2::TokenStream;
+use tokens::{extent, flatten};
 
 const SEEDS: &[&str] = &[
     r#"
@@ -70,43 +73,6 @@ const SEEDS: &[&str] = &[
         outputs { energy, contact_points }
     }"#,
 ];
-
-/// The input as a flat list of token texts, groups as separate delimiters.
-fn flatten(ts: TokenStream, out: &mut Vec<String>) {
-    for tt in ts {
-        match tt {
-            TokenTree::Group(g) => {
-                let (o, c) = match g.delimiter() {
-                    Delimiter::Parenthesis => ("(", ")"),
-                    Delimiter::Brace => ("{", "}"),
-                    Delimiter::Bracket => ("[", "]"),
-                    Delimiter::None => ("", ""),
-                };
-                out.push(o.to_string());
-                flatten(g.stream(), out);
-                out.push(c.to_string());
-            }
-            TokenTree::Punct(p) => out.push(p.as_char().to_string()),
-            other => out.push(other.to_string()),
-        }
-    }
-}
-
-/// Byte range covered by the input's tokens.
-fn extent(ts: &TokenStream) -> (usize, usize) {
-    let mut lo = usize::MAX;
-    let mut hi = 0;
-    let mut stack: Vec<TokenTree> = ts.clone().into_iter().collect();
-    while let Some(tt) = stack.pop() {
-        let r = tt.span().byte_range();
-        lo = lo.min(r.start);
-        hi = hi.max(r.end);
-        if let TokenTree::Group(g) = tt {
-            stack.extend(g.stream());
-        }
-    }
-    (lo, hi)
-}
 
 #[test]
 fn one_swapped_token_gives_at_most_one_error_inside_the_input() {
