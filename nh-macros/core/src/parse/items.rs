@@ -199,9 +199,20 @@ fn unterminated(mut cur: Vec<TokenTree>) -> Item {
     Item::Unterminated(cur)
 }
 
+/// Where a misplaced token may be put back: the tokens, the position, the
+/// statement read so far and the items before it.
+struct Site<'a> {
+    toks: &'a mut Vec<TokenTree>,
+    i: usize,
+    cur: &'a mut Vec<TokenTree>,
+    items: &'a mut Vec<Item>,
+    cx: &'a mut Ctxt,
+}
+
 /// Puts one misplaced token at position `i` back (rewriting `toks`) with an
 /// error at it; whether it did. `cur` holds the statement read so far, and
-/// `items` the items before.
+/// `items` the items before. The repairs are tried in order; the first that
+/// applies is made.
 fn repair(
     toks: &mut Vec<TokenTree>,
     i: usize,
@@ -209,10 +220,39 @@ fn repair(
     items: &mut Vec<Item>,
     cx: &mut Ctxt,
 ) -> bool {
+    let mut site = Site {
+        toks,
+        i,
+        cur,
+        items,
+        cx,
+    };
+    REPAIRS.iter().any(|rule| rule(&mut site))
+}
+
+/// The repairs of [`repair`], in the order they are tried.
+const REPAIRS: [fn(&mut Site) -> bool; 10] = [
+    semicolon_after_next_word,
+    block_name_inside_braces,
+    token_before_braces,
+    next_word_inside_braces,
+    name_after_braces,
+    name_before_let,
+    equals_before_name,
+    equals_before_lagrangian,
+    body_name_before_body,
+    body_name_inside_braces,
+];
+
+/// `.. x let ; Y = ..`: the `;` of the item before went after the next
+/// item's first word
+fn semicolon_after_next_word(site: &mut Site) -> bool {
+    let Site {
+        toks, i, cur, cx, ..
+    } = site;
+    let i = *i;
     let t = toks[i].clone();
     let next = toks.get(i + 1).cloned();
-    // `.. x let ; Y = ..`: the `;` of the item before went after the next
-    // item's first word
     if !cur.is_empty()
         && is_item_word(&t)
         && is_punct(next.as_ref(), ';')
@@ -226,7 +266,16 @@ fn repair(
         toks.swap(i, i + 1);
         return true;
     }
-    // `{ parameters m, g }`: the block's name inside its braces
+    false
+}
+
+/// `{ parameters m, g }`: the block's name inside its braces
+fn block_name_inside_braces(site: &mut Site) -> bool {
+    let Site {
+        toks, i, cur, cx, ..
+    } = site;
+    let i = *i;
+    let t = toks[i].clone();
     if cur.is_empty()
         && let Some(g) = brace(Some(&t))
     {
@@ -241,9 +290,19 @@ fn repair(
             return true;
         }
     }
-    // `parameters m { , g }`: a token between a block's name and its braces
-    // (`body wheel m { ass: .. }` alike: a token between the body's name
-    // and its braces)
+    false
+}
+
+/// `parameters m { , g }`: a token between a block's name and its braces
+/// (`body wheel m { ass: .. }` alike: a token between the body's name
+/// and its braces)
+fn token_before_braces(site: &mut Site) -> bool {
+    let Site {
+        toks, i, cur, cx, ..
+    } = site;
+    let i = *i;
+    let t = toks[i].clone();
+    let next = toks.get(i + 1).cloned();
     let (head, at) = if is_word(Some(&t), "body") && is_ident(next.as_ref()) {
         (i + 1, i + 2)
     } else {
@@ -275,8 +334,17 @@ fn repair(
         toks.splice(i + 1..=i + 2, [TokenTree::Group(regroup(&g, inner))]);
         return true;
     }
-    // a block whose braces end with the next item's first word:
-    // `coordinates { x, y let } X = ..`
+    false
+}
+
+/// a block whose braces end with the next item's first word:
+/// `coordinates { x, y let } X = ..`
+fn next_word_inside_braces(site: &mut Site) -> bool {
+    let Site {
+        toks, i, cur, cx, ..
+    } = site;
+    let i = *i;
+    let t = toks[i].clone();
     let at = if is_word(Some(&t), "body") {
         i + 2
     } else {
@@ -307,8 +375,23 @@ fn repair(
             return true;
         }
     }
-    // `parameters { m, } g coordinates { .. }`: a name after the braces of
-    // a list of names
+    false
+}
+
+/// `parameters { m, } g coordinates { .. }`: a name after the braces of
+/// a list of names
+fn name_after_braces(site: &mut Site) -> bool {
+    let Site {
+        toks,
+        i,
+        cur,
+        items,
+        cx,
+        ..
+    } = site;
+    let i = *i;
+    let t = toks[i].clone();
+    let next = toks.get(i + 1).cloned();
     if cur.is_empty()
         && let TokenTree::Ident(stray) = &t
         && !is_item_word(&t)
@@ -348,7 +431,17 @@ fn repair(
             return true;
         }
     }
-    // `X let = ..`: the name before `let`
+    false
+}
+
+/// `X let = ..`: the name before `let`
+fn name_before_let(site: &mut Site) -> bool {
+    let Site {
+        toks, i, cur, cx, ..
+    } = site;
+    let i = *i;
+    let t = toks[i].clone();
+    let next = toks.get(i + 1).cloned();
     if let [name @ TokenTree::Ident(_)] = cur.as_slice()
         && !is_item_word(name)
         && is_word(Some(&t), "let")
@@ -362,7 +455,15 @@ fn repair(
         toks.insert(i + 1, name);
         return true;
     }
-    // `let = X ..`: `=` before the name
+    false
+}
+
+/// `let = X ..`: `=` before the name
+fn equals_before_name(site: &mut Site) -> bool {
+    let Site { toks, i, cx, .. } = site;
+    let i = *i;
+    let t = toks[i].clone();
+    let next = toks.get(i + 1).cloned();
     if is_word(Some(&t), "let")
         && is_punct(next.as_ref(), '=')
         && toks
@@ -377,7 +478,17 @@ fn repair(
         toks.swap(i + 1, i + 2);
         return true;
     }
-    // `= lagrangian ..`
+    false
+}
+
+/// `= lagrangian ..`
+fn equals_before_lagrangian(site: &mut Site) -> bool {
+    let Site {
+        toks, i, cur, cx, ..
+    } = site;
+    let i = *i;
+    let t = toks[i].clone();
+    let next = toks.get(i + 1).cloned();
     if cur.is_empty() && is_punct(Some(&t), '=') && is_word(next.as_ref(), "lagrangian") {
         cx.error_at(
             t.span(),
@@ -386,7 +497,17 @@ fn repair(
         toks.swap(i, i + 1);
         return true;
     }
-    // `wheel body { .. }`: the body's name before `body`
+    false
+}
+
+/// `wheel body { .. }`: the body's name before `body`
+fn body_name_before_body(site: &mut Site) -> bool {
+    let Site {
+        toks, i, cur, cx, ..
+    } = site;
+    let i = *i;
+    let t = toks[i].clone();
+    let next = toks.get(i + 1).cloned();
     if cur.is_empty()
         && let TokenTree::Ident(name) = &t
         && !is_item_word(&t)
@@ -400,7 +521,17 @@ fn repair(
         toks.swap(i, i + 1);
         return true;
     }
-    // `body { wheel mass: m, .. }`: the body's name inside its braces
+    false
+}
+
+/// `body { wheel mass: m, .. }`: the body's name inside its braces
+fn body_name_inside_braces(site: &mut Site) -> bool {
+    let Site {
+        toks, i, cur, cx, ..
+    } = site;
+    let i = *i;
+    let t = toks[i].clone();
+    let next = toks.get(i + 1).cloned();
     if cur.is_empty()
         && is_word(Some(&t), "body")
         && let Some(g) = brace(next.as_ref()).cloned()
