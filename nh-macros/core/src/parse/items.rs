@@ -227,11 +227,18 @@ fn repair(
         items,
         cx,
     };
-    REPAIRS.iter().any(|rule| rule(&mut site))
+    let t = site.toks[i].clone();
+    let next = site.toks.get(i + 1).cloned();
+    REPAIRS
+        .iter()
+        .any(|rule| rule(&mut site, &t, next.as_ref()))
 }
 
+/// A repair: at the site, with its token `t` and the one after, `next`.
+type Rule = fn(&mut Site, &TokenTree, Option<&TokenTree>) -> bool;
+
 /// The repairs of [`repair`], in the order they are tried.
-const REPAIRS: [fn(&mut Site) -> bool; 10] = [
+const REPAIRS: [Rule; 10] = [
     semicolon_after_next_word,
     block_name_inside_braces,
     token_before_braces,
@@ -246,18 +253,12 @@ const REPAIRS: [fn(&mut Site) -> bool; 10] = [
 
 /// `.. x let ; Y = ..`: the `;` of the item before went after the next
 /// item's first word
-fn semicolon_after_next_word(site: &mut Site) -> bool {
+fn semicolon_after_next_word(site: &mut Site, t: &TokenTree, next: Option<&TokenTree>) -> bool {
     let Site {
         toks, i, cur, cx, ..
     } = site;
     let i = *i;
-    let t = toks[i].clone();
-    let next = toks.get(i + 1).cloned();
-    if !cur.is_empty()
-        && is_item_word(&t)
-        && is_punct(next.as_ref(), ';')
-        && fits_after(&t, toks, i + 2)
-    {
+    if !cur.is_empty() && is_item_word(t) && is_punct(next, ';') && fits_after(t, toks, i + 2) {
         let span = toks[i + 1].span();
         cx.error_at(
             span,
@@ -270,14 +271,13 @@ fn semicolon_after_next_word(site: &mut Site) -> bool {
 }
 
 /// `{ parameters m, g }`: the block's name inside its braces
-fn block_name_inside_braces(site: &mut Site) -> bool {
+fn block_name_inside_braces(site: &mut Site, t: &TokenTree, _next: Option<&TokenTree>) -> bool {
     let Site {
         toks, i, cur, cx, ..
     } = site;
     let i = *i;
-    let t = toks[i].clone();
     if cur.is_empty()
-        && let Some(g) = brace(Some(&t))
+        && let Some(g) = brace(Some(t))
     {
         let inner: Vec<TokenTree> = g.stream().into_iter().collect();
         if let Some(kw) = inner.first().filter(|k| is_block_keyword(k)) {
@@ -296,20 +296,18 @@ fn block_name_inside_braces(site: &mut Site) -> bool {
 /// `parameters m { , g }`: a token between a block's name and its braces
 /// (`body wheel m { ass: .. }` alike: a token between the body's name
 /// and its braces)
-fn token_before_braces(site: &mut Site) -> bool {
+fn token_before_braces(site: &mut Site, t: &TokenTree, next: Option<&TokenTree>) -> bool {
     let Site {
         toks, i, cur, cx, ..
     } = site;
     let i = *i;
-    let t = toks[i].clone();
-    let next = toks.get(i + 1).cloned();
-    let (head, at) = if is_word(Some(&t), "body") && is_ident(next.as_ref()) {
+    let (head, at) = if is_word(Some(t), "body") && is_ident(next) {
         (i + 1, i + 2)
     } else {
         (i, i + 1)
     };
     if cur.is_empty()
-        && (is_block_keyword(&t) || head == i + 1)
+        && (is_block_keyword(t) || head == i + 1)
         && let Some(stray) = toks.get(at).cloned()
         && !is_item_word(&stray)
         && !matches!(stray, TokenTree::Group(_))
@@ -339,13 +337,12 @@ fn token_before_braces(site: &mut Site) -> bool {
 
 /// a block whose braces end with the next item's first word:
 /// `coordinates { x, y let } X = ..`
-fn next_word_inside_braces(site: &mut Site) -> bool {
+fn next_word_inside_braces(site: &mut Site, t: &TokenTree, _next: Option<&TokenTree>) -> bool {
     let Site {
         toks, i, cur, cx, ..
     } = site;
     let i = *i;
-    let t = toks[i].clone();
-    let at = if is_word(Some(&t), "body") {
+    let at = if is_word(Some(t), "body") {
         i + 2
     } else {
         i + 1
@@ -380,7 +377,7 @@ fn next_word_inside_braces(site: &mut Site) -> bool {
 
 /// `parameters { m, } g coordinates { .. }`: a name after the braces of
 /// a list of names
-fn name_after_braces(site: &mut Site) -> bool {
+fn name_after_braces(site: &mut Site, t: &TokenTree, next: Option<&TokenTree>) -> bool {
     let Site {
         toks,
         i,
@@ -390,12 +387,10 @@ fn name_after_braces(site: &mut Site) -> bool {
         ..
     } = site;
     let i = *i;
-    let t = toks[i].clone();
-    let next = toks.get(i + 1).cloned();
     if cur.is_empty()
         && let TokenTree::Ident(stray) = &t
-        && !is_item_word(&t)
-        && brace(next.as_ref()).is_none()
+        && !is_item_word(t)
+        && brace(next).is_none()
         && let Some(Item::Block(kw, g)) = items.last()
         && NAME_BLOCKS.iter().any(|b| kw == b)
     {
@@ -435,17 +430,15 @@ fn name_after_braces(site: &mut Site) -> bool {
 }
 
 /// `X let = ..`: the name before `let`
-fn name_before_let(site: &mut Site) -> bool {
+fn name_before_let(site: &mut Site, t: &TokenTree, next: Option<&TokenTree>) -> bool {
     let Site {
         toks, i, cur, cx, ..
     } = site;
     let i = *i;
-    let t = toks[i].clone();
-    let next = toks.get(i + 1).cloned();
     if let [name @ TokenTree::Ident(_)] = cur.as_slice()
         && !is_item_word(name)
-        && is_word(Some(&t), "let")
-        && is_punct(next.as_ref(), '=')
+        && is_word(Some(t), "let")
+        && is_punct(next, '=')
     {
         cx.error_at(
             name.span(),
@@ -459,13 +452,11 @@ fn name_before_let(site: &mut Site) -> bool {
 }
 
 /// `let = X ..`: `=` before the name
-fn equals_before_name(site: &mut Site) -> bool {
+fn equals_before_name(site: &mut Site, t: &TokenTree, next: Option<&TokenTree>) -> bool {
     let Site { toks, i, cx, .. } = site;
     let i = *i;
-    let t = toks[i].clone();
-    let next = toks.get(i + 1).cloned();
-    if is_word(Some(&t), "let")
-        && is_punct(next.as_ref(), '=')
+    if is_word(Some(t), "let")
+        && is_punct(next, '=')
         && toks
             .get(i + 2)
             .is_some_and(|n| is_ident(Some(n)) && !is_item_word(n))
@@ -482,14 +473,12 @@ fn equals_before_name(site: &mut Site) -> bool {
 }
 
 /// `= lagrangian ..`
-fn equals_before_lagrangian(site: &mut Site) -> bool {
+fn equals_before_lagrangian(site: &mut Site, t: &TokenTree, next: Option<&TokenTree>) -> bool {
     let Site {
         toks, i, cur, cx, ..
     } = site;
     let i = *i;
-    let t = toks[i].clone();
-    let next = toks.get(i + 1).cloned();
-    if cur.is_empty() && is_punct(Some(&t), '=') && is_word(next.as_ref(), "lagrangian") {
+    if cur.is_empty() && is_punct(Some(t), '=') && is_word(next, "lagrangian") {
         cx.error_at(
             t.span(),
             "`=` comes after `lagrangian`: write `lagrangian = ..`",
@@ -501,17 +490,15 @@ fn equals_before_lagrangian(site: &mut Site) -> bool {
 }
 
 /// `wheel body { .. }`: the body's name before `body`
-fn body_name_before_body(site: &mut Site) -> bool {
+fn body_name_before_body(site: &mut Site, t: &TokenTree, next: Option<&TokenTree>) -> bool {
     let Site {
         toks, i, cur, cx, ..
     } = site;
     let i = *i;
-    let t = toks[i].clone();
-    let next = toks.get(i + 1).cloned();
     if cur.is_empty()
         && let TokenTree::Ident(name) = &t
-        && !is_item_word(&t)
-        && is_word(next.as_ref(), "body")
+        && !is_item_word(t)
+        && is_word(next, "body")
         && brace(toks.get(i + 2)).is_some()
     {
         cx.error_at(
@@ -525,16 +512,14 @@ fn body_name_before_body(site: &mut Site) -> bool {
 }
 
 /// `body { wheel mass: m, .. }`: the body's name inside its braces
-fn body_name_inside_braces(site: &mut Site) -> bool {
+fn body_name_inside_braces(site: &mut Site, t: &TokenTree, next: Option<&TokenTree>) -> bool {
     let Site {
         toks, i, cur, cx, ..
     } = site;
     let i = *i;
-    let t = toks[i].clone();
-    let next = toks.get(i + 1).cloned();
     if cur.is_empty()
-        && is_word(Some(&t), "body")
-        && let Some(g) = brace(next.as_ref()).cloned()
+        && is_word(Some(t), "body")
+        && let Some(g) = brace(next).cloned()
     {
         let inner: Vec<TokenTree> = g.stream().into_iter().collect();
         if let Some(TokenTree::Ident(name)) = inner.first()
