@@ -773,40 +773,53 @@ impl Builder {
             let off = lit(num(0, 1), mul(vec![num(side, 1), self.param()]), num(0, 1));
             let c = vadd(Vx::Let(hub), vrot(Rx::Let(h), off));
             let c = self.let_of("W", LetValue::Vector(c));
-            let (inertia, _) = self.inertia(Some(1));
-            let mass = self.positive();
-            self.body(
-                format!("wheel{w}"),
-                mass,
-                Vx::Let(c),
-                Some((rmul(Rx::Let(h), rot(1, Ex::Coord(theta))), inertia)),
-                true,
-            );
-            self.sys.constraints.push(Constraint::Rolls {
-                body: w,
-                radius: r.clone(),
-                axle: Some([0, 1, 0]),
-                tube: None,
-                centre: None,
-            });
-            energy.push(Ex::Kinetic(w));
+            energy.push(self.wheel(w, c, Rx::Let(h), theta, &r));
         }
         let d = lit(mul(vec![num(1, 2), self.param()]), num(0, 1), num(0, 1));
-        let chassis = self.let_of(
-            "K",
-            LetValue::Vector(vadd(Vx::Let(hub), vrot(Rx::Let(h), d))),
+        energy.push(self.chassis(hub, h, d));
+        self.sys.lagrangian = add(energy);
+    }
+
+    /// Wheel `w` (the body of that index) at the centre `let` `c`, turning
+    /// by `theta` about the y axis of `frame`, rolling on radius `r`: its
+    /// kinetic energy.
+    fn wheel(&mut self, w: usize, c: usize, frame: Rx, theta: usize, r: &Ex) -> Ex {
+        let (inertia, _) = self.inertia(Some(1));
+        let mass = self.positive();
+        let orientation = rmul(frame, rot(1, Ex::Coord(theta)));
+        self.body(
+            format!("wheel{w}"),
+            mass,
+            Vx::Let(c),
+            Some((orientation, inertia)),
+            true,
         );
+        self.sys.constraints.push(Constraint::Rolls {
+            body: w,
+            radius: r.clone(),
+            axle: Some([0, 1, 0]),
+            tube: None,
+            centre: None,
+        });
+        Ex::Kinetic(w)
+    }
+
+    /// The chassis over the hub `let` `hub`, turned by the rotation `let`
+    /// `h`, its centre at `d` in its frame: its kinetic energy.
+    fn chassis(&mut self, hub: usize, h: usize, d: Vx) -> Ex {
+        let centre = vadd(Vx::Let(hub), vrot(Rx::Let(h), d));
+        let centre = self.let_of("K", LetValue::Vector(centre));
         let (inertia, diagonal) = self.inertia(None);
         let mass = self.positive();
+        let index = self.sys.bodies.len();
         self.body(
             "chassis",
             mass,
-            Vx::Let(chassis),
+            Vx::Let(centre),
             Some((Rx::Let(h), inertia)),
             diagonal,
         );
-        energy.push(Ex::Kinetic(2));
-        self.sys.lagrangian = add(energy);
+        Ex::Kinetic(index)
     }
 
     /// A cart: a chassis turning with φ on two wheels on a rear axle and a
@@ -839,39 +852,10 @@ impl Builder {
                 "W",
                 LetValue::Vector(vadd(Vx::Let(hub), vrot(Rx::Let(h), off))),
             );
-            let (inertia, _) = self.inertia(Some(1));
-            let mass = self.positive();
-            self.body(
-                format!("wheel{w}"),
-                mass,
-                Vx::Let(c),
-                Some((rmul(frame, rot(1, Ex::Coord(theta))), inertia)),
-                true,
-            );
-            self.sys.constraints.push(Constraint::Rolls {
-                body: w,
-                radius: r.clone(),
-                axle: Some([0, 1, 0]),
-                tube: None,
-                centre: None,
-            });
-            energy.push(Ex::Kinetic(w));
+            energy.push(self.wheel(w, c, frame, theta, &r));
         }
         let d = lit(mul(vec![num(1, 2), self.param()]), num(0, 1), num(1, 5));
-        let chassis = self.let_of(
-            "K",
-            LetValue::Vector(vadd(Vx::Let(hub), vrot(Rx::Let(h), d))),
-        );
-        let (inertia, diagonal) = self.inertia(None);
-        let mass = self.positive();
-        self.body(
-            "chassis",
-            mass,
-            Vx::Let(chassis),
-            Some((Rx::Let(h), inertia)),
-            diagonal,
-        );
-        energy.push(Ex::Kinetic(3));
+        energy.push(self.chassis(hub, h, d));
         energy.extend(self.own_kinetic(&[delta]));
         self.sys.lagrangian = add(energy);
     }
