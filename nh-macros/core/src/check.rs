@@ -8,7 +8,8 @@
 use crate::ctxt::Ctxt;
 use crate::emit::{Node, ZERO_NODE};
 use crate::mechanics::Derivation;
-use crate::model::{Model, Output, Outputs};
+use crate::mechanics::Scene;
+use crate::model::{Output, Outputs};
 use crate::names;
 use crate::parse::SystemDef;
 use crate::sym::ZERO;
@@ -178,7 +179,7 @@ pub fn outputs_for_form(def: &SystemDef, cx: &mut Ctxt) {
 }
 
 /// The derivation stayed within the engine's limits. False after an error.
-pub fn within_limits(def: &SystemDef, m: &Model, cx: &mut Ctxt) -> bool {
+pub fn within_limits(def: &SystemDef, m: &Scene<'_>, cx: &mut Ctxt) -> bool {
     if m.engine.overflowed() {
         cx.error_at(
             def.name.span(),
@@ -191,7 +192,7 @@ pub fn within_limits(def: &SystemDef, m: &Model, cx: &mut Ctxt) -> bool {
 
 /// Every independent velocity carries kinetic energy, and the outputs
 /// requested can be generated for this Lagrangian. False after an error.
-pub fn derivation(def: &SystemDef, m: &Model, dv: &Derivation, cx: &mut Ctxt) -> bool {
+pub fn derivation(def: &SystemDef, m: &Scene<'_>, dv: &Derivation, cx: &mut Ctxt) -> bool {
     let name = &def.name;
     let outputs_span = def
         .outputs
@@ -257,7 +258,7 @@ pub fn derivation(def: &SystemDef, m: &Model, dv: &Derivation, cx: &mut Ctxt) ->
 /// The outputs requested are defined for the forms of the constraints:
 /// `curvature` and `routes` need homogeneous, time-independent velocity
 /// constraints, `energy` time-independent ones. False after an error.
-pub fn forms(def: &SystemDef, m: &Model, cx: &mut Ctxt) -> bool {
+pub fn forms(def: &SystemDef, m: &Scene<'_>, cx: &mut Ctxt) -> bool {
     let Some((kw, list)) = &def.outputs else {
         return true;
     };
@@ -291,7 +292,7 @@ pub fn regular(def: &SystemDef, pivots: &[Node], cx: &mut Ctxt) -> bool {
 
 /// Every constant of the generated code is within the range of `f64`.
 /// False after an error.
-pub fn representable(def: &SystemDef, m: &Model, cx: &mut Ctxt) -> bool {
+pub fn representable(def: &SystemDef, m: &Scene<'_>, cx: &mut Ctxt) -> bool {
     let Some(c) = crate::emit::take_unrepresentable() else {
         return true;
     };

@@ -5,10 +5,11 @@ use crate::api::{Bodies, GeneratedMethod, Method};
 use crate::check;
 use crate::ctxt::Ctxt;
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
+use crate::mechanics::Scene;
 use crate::mechanics::{CurvatureRoute, Derivation, MultiplierRoute};
 use crate::model::{Model, Output};
 use crate::parse::SystemDef;
-use crate::sym::{ExprId, SymId, ZERO};
+use crate::sym::{Engine, ExprId, SymId, ZERO};
 use proc_macro2::{Ident, TokenStream};
 use quote::quote;
 
@@ -139,7 +140,7 @@ pub(crate) struct Args {
 
 impl Args {
     /// The arguments `q` and `rdot` (`speeds`, in generalized speeds).
-    fn vectors(m: &Model) -> Args {
+    fn vectors(m: &Scene<'_>) -> Args {
         let vel = velocity_arg(m);
         Args {
             coord: (0..m.n()).map(|i| quote!(q[#i])).collect(),
@@ -157,7 +158,7 @@ impl Args {
     }
 
     /// The state `x` = [q, ṙ] (or [q, u]).
-    pub(crate) fn state(m: &Model) -> Args {
+    pub(crate) fn state(m: &Scene<'_>) -> Args {
         let (n, k) = (m.n(), m.k());
         Args {
             coord: (0..n).map(|i| quote!(x[#i])).collect(),
@@ -173,12 +174,12 @@ impl Args {
 }
 
 /// The argument holding the state's velocity part: `rdot`, or `speeds`.
-fn velocity_arg(m: &Model) -> Ident {
+fn velocity_arg(m: &Scene<'_>) -> Ident {
     crate::api::velocity_argument(m.speeds.is_some())
 }
 
 /// A graph with every symbol of the model bound to its source.
-pub(crate) fn bound_dag(m: &Model, args: &Args) -> Dag {
+pub(crate) fn bound_dag(m: &Scene<'_>, args: &Args) -> Dag {
     let mut d = Dag::new();
     for (i, c) in m.coordinates.iter().enumerate() {
         let l = d.leaf_named(
@@ -256,7 +257,7 @@ pub(crate) fn bound_dag(m: &Model, args: &Args) -> Dag {
 
 /// The speeds bound to the state's velocity part, and each q̇_i to its
 /// kinematics (S u + σ)_i.
-fn bind_speeds(d: &mut Dag, m: &Model, sp: &crate::model::Speeds, args: &Args) {
+fn bind_speeds(d: &mut Dag, m: &Scene<'_>, sp: &crate::model::Speeds, args: &Args) {
     let mut leaves = Vec::with_capacity(sp.syms.len());
     for (j, (u, &sym)) in sp.names.iter().zip(&sp.syms).enumerate() {
         let name = format!("speed_{}", syn::ext::IdentExt::unraw(u));
@@ -276,11 +277,11 @@ fn bind_speeds(d: &mut Dag, m: &Model, sp: &crate::model::Speeds, args: &Args) {
     }
 }
 
-fn exprs(d: &mut Dag, m: &Model, v: &[ExprId]) -> Vec<Node> {
+fn exprs(d: &mut Dag, m: &Scene<'_>, v: &[ExprId]) -> Vec<Node> {
     v.iter().map(|&e| d.expr(&m.engine, e)).collect()
 }
 
-fn matrix(d: &mut Dag, m: &Model, v: &[Vec<ExprId>]) -> Vec<Vec<Node>> {
+fn matrix(d: &mut Dag, m: &Scene<'_>, v: &[Vec<ExprId>]) -> Vec<Vec<Node>> {
     v.iter().map(|row| exprs(d, m, row)).collect()
 }
 
@@ -297,7 +298,7 @@ struct MultiplierNodes {
     fac: crate::emit::Ldlt,
 }
 
-fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNodes {
+fn multiplier_nodes(d: &mut Dag, m: &Scene<'_>, r: &MultiplierRoute) -> MultiplierNodes {
     let (n, k) = (m.n(), m.k());
     let mass = matrix(d, m, &r.mass);
     for (i, row) in mass.iter().enumerate() {
@@ -387,7 +388,7 @@ fn multiplier_nodes(d: &mut Dag, m: &Model, r: &MultiplierRoute) -> MultiplierNo
 /// those of u = R_z(−ψ)(ẋ, ẏ) and u̇ (see [`planar_columns`]).
 fn in_heading(
     d: &mut Dag,
-    m: &Model,
+    m: &Scene<'_>,
     bt: &crate::mechanics::BodyTerms,
     (c, acc_bias): (&[Vec<Node>], &[Node]),
 ) -> (Vec<Vec<Node>>, Vec<Node>) {
@@ -449,7 +450,7 @@ fn projection(
 /// α = W acc_bias + Ẇ q̇; the rest of the Lagrangian as in (5.9).
 fn body_projection(
     d: &mut Dag,
-    m: &Model,
+    m: &Scene<'_>,
     bt: &crate::mechanics::BodyTerms,
     c: &[Vec<Node>],
     acc_bias: &[Node],
@@ -544,7 +545,11 @@ fn body_projection(
 
 /// A body's inertia T (I + Σ μ(|d|² 1 − d dᵀ)) Tᵀ from its parts
 /// ([`crate::mechanics::Inertia`]), symmetric.
-fn inertia_nodes(d: &mut Dag, m: &Model, inertia: &crate::mechanics::Inertia) -> Vec<Vec<Node>> {
+fn inertia_nodes(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    inertia: &crate::mechanics::Inertia,
+) -> Vec<Vec<Node>> {
     let mut sum = matrix(d, m, &inertia.own.map(|r| r.to_vec()));
     for (mu, offset) in &inertia.masses {
         let mu = d.expr(&m.engine, *mu);
@@ -592,7 +597,7 @@ fn inertia_nodes(d: &mut Dag, m: &Model, inertia: &crate::mechanics::Inertia) ->
 /// J̇_root q̇ + Σ R(α_b × r + ω_b × (ω_b × r)), α_b = Ẇ q̇.
 pub(crate) fn chain_rate(
     d: &mut Dag,
-    m: &Model,
+    m: &Scene<'_>,
     motion: &motion::Motion,
     chain: &crate::mechanics::Chain,
     planar: Option<[usize; 2]>,
@@ -659,7 +664,7 @@ pub(crate) fn planar_columns(j: &mut [Vec<Node>], planar: Option<[usize; 2]>, co
 /// J acc_bias + J̇ q̇: along its chain as screws where its links have frames.
 fn centre_partials(
     d: &mut Dag,
-    m: &Model,
+    m: &Scene<'_>,
     motion: &motion::Motion,
     (jacobian, anchor): (&[Vec<ExprId>; 3], &Option<crate::mechanics::Chain>),
     (c, acc_bias, planar): (&[Vec<Node>], &[Node], Option<[usize; 2]>),
@@ -702,7 +707,7 @@ fn centre_partials(
 /// it has them, else from ω_b's expression.
 fn body_turning(
     d: &mut Dag,
-    m: &Model,
+    m: &Scene<'_>,
     motion: &motion::Motion,
     rot: &crate::mechanics::BodyRotation,
     (c, acc_bias): (&[Vec<Node>], &[Node]),
@@ -735,7 +740,7 @@ struct Turning<'a> {
 /// C S ṡ₀ + C s Ωᵀ(ω × e_k) to the forces at r̈ = 0.
 fn add_wheel(
     d: &mut Dag,
-    m: &Model,
+    m: &Scene<'_>,
     motion: &motion::Motion,
     (wheel, jacobian): (&crate::mechanics::Wheel, &Vec<ExprId>),
     carrier: &Turning,
@@ -857,7 +862,7 @@ fn dot(d: &mut Dag, init: Node, pairs: impl IntoIterator<Item = (Node, Node)>) -
     acc
 }
 
-fn curvature_nodes(d: &mut Dag, m: &Model, r: &CurvatureRoute) -> (Vec<Node>, Vec<Node>) {
+fn curvature_nodes(d: &mut Dag, m: &Scene<'_>, r: &CurvatureRoute) -> (Vec<Node>, Vec<Node>) {
     let mass = matrix(d, m, &r.mass);
     for (a, row) in mass.iter().enumerate() {
         for (b, &x) in row.iter().enumerate().skip(a) {
@@ -935,8 +940,8 @@ impl RouteGraphs {
 
 /// Method bodies computed from the derivation, on demand: a method that is
 /// not requested is never emitted.
-struct Derived<'a> {
-    m: &'a mut Model,
+struct Derived<'a, 'b> {
+    m: &'a mut Scene<'b>,
     dv: Derivation,
     route: Route,
     stats: &'a mut Stats,
@@ -953,7 +958,7 @@ struct Derived<'a> {
     sensitivity_params: Vec<Ident>,
 }
 
-impl Derived<'_> {
+impl Derived<'_, '_> {
     /// Emits a method's values; those that depend on parameters alone are
     /// computed once, when the parameters are set, into a cache the method
     /// reads (see `api::expand`).
@@ -1076,7 +1081,7 @@ impl Derived<'_> {
     }
 }
 
-impl Derived<'_> {
+impl Derived<'_, '_> {
     /// Is the chosen route's r̈ large enough that methods needing it call
     /// [`accelerations`] instead of repeating its code? (Small systems keep
     /// one fused body per method: their shared work is a few operations.)
@@ -1236,14 +1241,15 @@ impl Derived<'_> {
     fn total_diff(&mut self, d: &mut Dag, e: ExprId, z: SymId, dsdot: &[Node]) -> Node {
         let direct = self.m.engine.diff(e, z);
         let mut acc = d.expr(&self.m.engine, direct);
-        for (a, c) in self.m.constraints.iter().enumerate() {
+        let model = self.m.model;
+        for (a, c) in model.constraints.iter().enumerate() {
             if dsdot[a] == ZERO_NODE {
                 continue;
             }
             let de = self
                 .m
                 .engine
-                .diff(e, self.m.coordinates[c.dependent].velocity);
+                .diff(e, model.coordinates[c.dependent].velocity);
             if de != ZERO {
                 let x = d.expr(&self.m.engine, de);
                 let t = d.mul(x, dsdot[a]);
@@ -1288,7 +1294,7 @@ impl Derived<'_> {
     }
 }
 
-impl Derived<'_> {
+impl Derived<'_, '_> {
     /// `dependent_velocities`: ṡ = −A ṙ (5.3).
     fn dependent_velocities_body(&mut self) -> TokenStream {
         let p = self.m.p();
@@ -1636,7 +1642,7 @@ impl Derived<'_> {
     }
 }
 
-impl Bodies for Derived<'_> {
+impl Bodies for Derived<'_, '_> {
     fn method(&mut self, method: GeneratedMethod) -> Method {
         let spec = method.spec();
         if let Some(output) = spec.requested_by
@@ -1793,12 +1799,18 @@ impl Bodies for Derived<'_> {
 /// Builds the whole expansion for a lowered model: derives the mechanics,
 /// checks them, builds each route's graph of r̈ to choose one, and emits
 /// the API from the derivation and those graphs.
-pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, Stats) {
+pub fn generate(
+    def: &SystemDef,
+    model: &Model,
+    engine: &mut Engine,
+    cx: &mut Ctxt,
+) -> (TokenStream, Stats) {
     let mut stats = Stats {
         name: def.name.to_string(),
         ..Stats::default()
     };
     let _ = crate::emit::take_unrepresentable();
+    let mut m = Scene::new(model, engine);
     if m.speeds.is_some() {
         return generate_speeds(def, m, cx, stats);
     }
@@ -1867,7 +1879,12 @@ pub fn generate(def: &SystemDef, mut m: Model, cx: &mut Ctxt) -> (TokenStream, S
 /// The checks of a derivation within the engine's limits, with the energy
 /// derived in between if asked for (once the rest is known to be within
 /// them). False after an error.
-fn derivation_checked(def: &SystemDef, m: &mut Model, dv: &mut Derivation, cx: &mut Ctxt) -> bool {
+fn derivation_checked(
+    def: &SystemDef,
+    m: &mut Scene<'_>,
+    dv: &mut Derivation,
+    cx: &mut Ctxt,
+) -> bool {
     if !check::within_limits(def, m, cx) {
         return false;
     }
@@ -1881,7 +1898,7 @@ fn derivation_checked(def: &SystemDef, m: &mut Model, dv: &mut Derivation, cx: &
 /// generated code is beyond `f64`, with the engine's figures.
 fn finish(
     def: &SystemDef,
-    m: &Model,
+    m: &Scene<'_>,
     cx: &mut Ctxt,
     tokens: TokenStream,
     mut stats: Stats,
@@ -1898,7 +1915,7 @@ fn finish(
 /// numerically, with pivots `pivots`) solved symbolically instead, if that
 /// is cheaper; the solution is then kept in the derivation.
 fn solved_if_cheaper(
-    m: &mut Model,
+    m: &mut Scene<'_>,
     dv: &mut Derivation,
     reduced: (Dag, Vec<Node>),
     pivots: &[Node],
@@ -1924,7 +1941,7 @@ fn solved_if_cheaper(
 /// equations, solved like the curvature route's reduced system.
 fn generate_speeds(
     def: &SystemDef,
-    mut m: Model,
+    mut m: Scene<'_>,
     cx: &mut Ctxt,
     mut stats: Stats,
 ) -> (TokenStream, Stats) {
@@ -1966,7 +1983,7 @@ fn generate_speeds(
 
 /// The documentation of `DEPENDENT` when some constraint is implicit or
 /// holonomic: which coordinate each constraint is solved for.
-fn dependent_doc(m: &Model) -> Option<String> {
+fn dependent_doc(m: &Scene<'_>) -> Option<String> {
     m.chart?;
     let mut doc = String::from(
         " Indices in `q` of the dependent coordinates s (one per constraint), ascending. Each constraint is solved for one of them (DESIGN §9):\n",
@@ -1995,7 +2012,7 @@ struct ComparedRoutes {
 
 /// Builds the graph of r̈ by each route (the curvature route's with the
 /// reduced system solved symbolically, if that is cheaper).
-fn compare_routes(m: &mut Model, dv: &mut Derivation, both_routes: bool) -> ComparedRoutes {
+fn compare_routes(m: &mut Scene<'_>, dv: &mut Derivation, both_routes: bool) -> ComparedRoutes {
     let args_v = Args::vectors(m).moving();
     let mut d1 = bound_dag(m, &args_v);
     let mn = multiplier_nodes(&mut d1, m, &dv.multiplier_route);
@@ -2042,7 +2059,7 @@ impl ComparedRoutes {
     /// the other's, unless its method emits another graph (the curvature
     /// route of a large system is solved from `reduced_system`; solved
     /// symbolically, it is emitted with its steps labelled).
-    fn keep(self, route: Route, m: &Model, dv: &Derivation, stats: &Stats) -> RouteGraphs {
+    fn keep(self, route: Route, m: &Scene<'_>, dv: &Derivation, stats: &Stats) -> RouteGraphs {
         let other_kept = m.outputs.contains(Output::Routes)
             && (route == Route::Curvature
                 || (dv.curvature_route.solution.is_none() && !stats.is_large(route)));

@@ -55,9 +55,9 @@ fn expand_derivation(input: TokenStream) -> (TokenStream, Stats) {
     let mut out = TokenStream::new();
     let mut stats = Stats::default();
     if let Some(def) = &def
-        && let Some(model) = lower::lower(def, &mut cx)
+        && let Some((model, mut engine)) = lower::lower(def, &mut cx)
     {
-        let (tokens, s) = generate::generate(def, model, &mut cx);
+        let (tokens, s) = generate::generate(def, &model, &mut engine, &mut cx);
         out = tokens;
         stats = s;
     }

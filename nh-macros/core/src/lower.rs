@@ -162,9 +162,10 @@ fn declared_names(list: &Option<(Ident, Vec<Ident>)>) -> Vec<Ident> {
     list.as_ref().map(|p| p.1.clone()).unwrap_or_default()
 }
 
-/// Lowers a parsed system. Returns `None` when errors make a model
-/// meaningless; all errors are in `cx`.
-pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
+/// Lowers a parsed system: the model and the engine holding its
+/// expressions. Returns `None` when errors make a model meaningless; all
+/// errors are in `cx`.
+pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<(Model, Engine)> {
     check::coordinates_declared(def, cx);
     let (mut lw, let_ok) = Lowerer::declare(def, cx);
     lw.lower_lets(def, &let_ok);
@@ -204,8 +205,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         Some(_) => Partition::of(0, &mut constraints),
         None => Partition::of(lw.coords.len(), &mut constraints),
     };
-    Some(Model {
-        engine: lw.e,
+    let model = Model {
         parameters: lw.params,
         coordinates: lw.coords,
         inputs: lw.inputs,
@@ -225,13 +225,12 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<Model> {
         velocity_rows: lowered.velocity_rows,
         contact_kinematics: lowered.contact_kinematics,
         points,
-        contact_chains: Vec::new(),
         row_contacts: lowered.row_contacts,
-        block: None,
         huge_constant: lw.huge_constant,
         kinetic,
         written,
-    })
+    };
+    Some((model, lw.e))
 }
 
 impl<'a> Lowerer<'a> {

@@ -10,8 +10,8 @@
 //! the curvature route's (a k × k symmetric matrix and a right side), so the
 //! generation solves it, differentiates it and checks it the same way.
 
+use crate::mechanics::Scene;
 use crate::mechanics::{CurvatureRoute, Derivation};
-use crate::model::Model;
 use crate::sym::{ExprId, ZERO};
 use rustc_hash::FxHashMap as HashMap;
 
@@ -28,18 +28,18 @@ pub struct MaggiTerms {
     pub acc_bias: Vec<ExprId>,
 }
 
-impl Model {
+impl Scene<'_> {
     /// The derivation of a system in generalized speeds: Maggi's equations
     /// as the reduced system (in the curvature route's slot), the
     /// multiplier route's M and h, and the terms of the reaction forces.
     pub fn derive_maggi(&mut self) -> (Derivation, MaggiTerms) {
         let multiplier_route = self.multiplier_route();
-        let (n, k) = (self.n(), self.k());
+        let (n, k) = (self.model.n(), self.model.k());
         let map = self.constrained_velocities();
         let w = self.constrained_qdot();
-        let speeds = self.independent_velocities();
-        let positions: Vec<_> = self.positions().collect();
-        let time = self.time;
+        let speeds = self.model.independent_velocities();
+        let positions: Vec<_> = self.model.positions().collect();
+        let time = self.model.time;
         let e = &mut self.engine;
         let mut memo = HashMap::default();
         let mass: Vec<Vec<ExprId>> = multiplier_route

@@ -6,7 +6,7 @@
 use crate::emit::Node;
 use crate::generate::{Args, bound_dag};
 use crate::lower::linear;
-use crate::model::Model;
+use crate::mechanics::Scene;
 use crate::sym::ExprId;
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -17,7 +17,7 @@ const NEWTON_ITERATIONS: usize = 8;
 /// The trait methods `chart_regularity`, `constraint_residual` and
 /// `project` for state type `xty`; nothing for a system whose constraints
 /// are all explicit (its per-step cost is unchanged).
-pub fn methods(m: &mut Model, xty: &TokenStream) -> TokenStream {
+pub fn methods(m: &mut Scene<'_>, xty: &TokenStream) -> TokenStream {
     let Some(chart) = m.chart else {
         return quote!();
     };
@@ -48,7 +48,7 @@ pub fn methods(m: &mut Model, xty: &TokenStream) -> TokenStream {
 /// `constraint_residual` and `project` for the holonomic constraints
 /// (dependent coordinate, f).
 fn projection(
-    m: &mut Model,
+    m: &mut Scene<'_>,
     args: &Args,
     holonomic: &[(usize, ExprId)],
     xty: &TokenStream,

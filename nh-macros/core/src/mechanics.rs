@@ -350,19 +350,86 @@ pub struct ContactTerms {
     pub frame: Option<Frame>,
 }
 
-impl Model {
+/// A lowered model with the engine its expressions live in, and the
+/// contacts' terms derived from it once: the working state of the stages
+/// after lowering. The model is borrowed immutably (nothing after lowering
+/// writes into it); the engine grows as quantities are derived.
+pub struct Scene<'a> {
+    /// The model, as lowering built it.
+    pub model: &'a Model,
+    /// The engine holding the model's expressions and everything derived.
+    pub engine: &'a mut Engine,
+    /// Per contact, the chain its centre's acceleration follows (see
+    /// [`Chain`]).
+    pub contact_chains: Vec<Option<Chain>>,
+    /// The velocity rows' terms for solving their block numerically (see
+    /// [`BlockTerms`]).
+    pub block: Option<BlockTerms>,
+}
+
+impl std::ops::Deref for Scene<'_> {
+    type Target = Model;
+    fn deref(&self) -> &Model {
+        self.model
+    }
+}
+
+impl<'a> Scene<'a> {
+    /// The scene of `model`, with its contacts' chains and block derived
+    /// (none for a system in generalized speeds, which has no constraints).
+    pub fn new(model: &'a Model, engine: &'a mut Engine) -> Scene<'a> {
+        let mut scene = Scene {
+            model,
+            engine,
+            contact_chains: Vec::new(),
+            block: None,
+        };
+        if model.speeds.is_none() {
+            let frame = scene.heading_frame();
+            scene.contact_chains = scene.contact_chains(&frame);
+            scene.block = scene.block_terms();
+        }
+        scene
+    }
+
+    /// Whether some dependent velocity depends on time explicitly.
+    pub fn rheonomic(&self) -> bool {
+        let m = self.model;
+        m.constraints
+            .iter()
+            .any(|c| self.engine.depends_on(c.velocity, m.time))
+    }
+
+    /// Whether nothing in the definition depends on t explicitly (the
+    /// Lagrangian, the forces, the constraints, the kinematics), so that the
+    /// right-hand side is autonomous.
+    pub fn autonomous(&self) -> bool {
+        let m = self.model;
+        let t = m.time;
+        let forces = m.coordinates.iter().map(|c| c.force);
+        let constraints = m
+            .constraints
+            .iter()
+            .flat_map(|c| std::iter::once(c.velocity).chain(c.holonomic));
+        let kinematics = m.speeds.iter().flat_map(|sp| sp.velocities.iter().copied());
+        !std::iter::once(m.lagrangian)
+            .chain(forces)
+            .chain(constraints)
+            .chain(kinematics)
+            .any(|x| self.engine.depends_on(x, t))
+    }
+}
+
+impl Scene<'_> {
     /// The multiplier route, the curvature and the curvature route (only its
     /// reduced mass matrix unless `both_routes`), and whether the
     /// constraints are integrable.
     pub fn derive(&mut self, both_routes: bool) -> Derivation {
-        let frame = self.heading_frame();
-        self.contact_chains = self.contact_chains(&frame);
-        self.block = self.block_terms();
         let multiplier_route = self.multiplier_route();
         // the full curvature when a route or the output uses it; otherwise
         // only as many entries as it takes to see that one does not vanish
         let (curvature, (integrable, integrable_proved)) =
-            if both_routes || self.outputs.contains(Output::Curvature) {
+            if both_routes || self.model.outputs.contains(Output::Curvature) {
                 let curvature = self.curvature();
                 let integrability = self.integrability(&curvature);
                 (curvature, integrability)
@@ -379,7 +446,7 @@ impl Model {
             }
         };
         let silent = if both_routes {
-            (0..self.k())
+            (0..self.model.k())
                 .map(|a| curvature_route.mass[a][a] == ZERO)
                 .collect()
         } else {
@@ -416,7 +483,7 @@ impl Model {
             return (true, true);
         }
         (
-            vanish_at_random_points(&self.engine, self.pi, &entries),
+            vanish_at_random_points(&self.engine, self.model.pi, &entries),
             false,
         )
     }
@@ -424,27 +491,28 @@ impl Model {
     /// The substitution ṡ_a ↦ −Σ_α A^a_α ṙ_α of (5.11).
     /// For a system in generalized speeds, every q̇_i ↦ (S u + σ)_i.
     pub fn constrained_velocities(&self) -> HashMap<SymId, ExprId> {
-        if let Some(sp) = &self.speeds {
-            let velocities = self.coordinates.iter().map(|c| c.velocity);
+        if let Some(sp) = &self.model.speeds {
+            let velocities = self.model.coordinates.iter().map(|c| c.velocity);
             return velocities.zip(sp.velocities.iter().copied()).collect();
         }
-        self.constraints
+        self.model
+            .constraints
             .iter()
-            .map(|c| (self.coordinates[c.dependent].velocity, c.velocity))
+            .map(|c| (self.model.coordinates[c.dependent].velocity, c.velocity))
             .collect()
     }
 
     /// q̇ at the constrained velocities, per coordinate (S u + σ, for a
     /// system in generalized speeds).
     pub fn constrained_qdot(&mut self) -> Vec<ExprId> {
-        if let Some(sp) = &self.speeds {
+        if let Some(sp) = &self.model.speeds {
             return sp.velocities.clone();
         }
-        let mut out = Vec::with_capacity(self.n());
-        for i in 0..self.n() {
-            match self.constraints.iter().find(|c| c.dependent == i) {
+        let mut out = Vec::with_capacity(self.model.n());
+        for i in 0..self.model.n() {
+            match self.model.constraints.iter().find(|c| c.dependent == i) {
                 Some(c) => out.push(c.velocity),
-                None => out.push(self.engine.sym(self.coordinates[i].velocity)),
+                None => out.push(self.engine.sym(self.model.coordinates[i].velocity)),
             }
         }
         out
@@ -452,23 +520,24 @@ impl Model {
 
     /// The multiplier route's symbolic pieces.
     pub fn multiplier_route(&mut self) -> MultiplierRoute {
-        let n = self.n();
+        let n = self.model.n();
         let bodies = self.body_terms();
         let (mass, bias) = if self.needs_lagrangian_terms(bodies.is_some()) {
-            self.euler_lagrange_terms(self.lagrangian, true)
+            self.euler_lagrange_terms(self.model.lagrangian, true)
         } else {
             (Vec::new(), Vec::new())
         };
         // with a block solved numerically, the accelerations take its rates
         // on the graph; the symbolic −Ȧṙ serves only outputs that
         // differentiate it
-        let dependent_bias = if self.block.is_some() && !self.outputs.differentiate_derivation() {
-            Vec::new()
-        } else if self.velocity_rows.is_empty() {
-            self.dependent_bias_from_solutions()
-        } else {
-            self.dependent_bias_from_rows()
-        };
+        let dependent_bias =
+            if self.block.is_some() && !self.model.outputs.differentiate_derivation() {
+                Vec::new()
+            } else if self.model.velocity_rows.is_empty() {
+                self.dependent_bias_from_solutions()
+            } else {
+                self.dependent_bias_from_rows()
+            };
         debug_assert!(mass.len() == n || (mass.is_empty() && bodies.is_some()));
         MultiplierRoute {
             mass,
@@ -494,16 +563,16 @@ impl Model {
             Output::Routes,
         ];
         !kane
-            || used.into_iter().any(|o| self.outputs.contains(o))
-            || self.outputs.differentiate_derivation()
-            || self.engine.num_terms(self.lagrangian) <= LAGRANGIAN_TERMS_COMPARED
-            || !self.quadratic_in_velocities(self.lagrangian)
+            || used.into_iter().any(|o| self.model.outputs.contains(o))
+            || self.model.outputs.differentiate_derivation()
+            || self.engine.num_terms(self.model.lagrangian) <= LAGRANGIAN_TERMS_COMPARED
+            || !self.quadratic_in_velocities(self.model.lagrangian)
     }
 
     /// Whether `l` is a polynomial of degree at most two in the velocities,
     /// so that vᵀ M v = l(q, v) + l(q, −v) − 2 l(q, 0) exactly.
     fn quadratic_in_velocities(&self, l: ExprId) -> bool {
-        let velocities: Vec<SymId> = self.coordinates.iter().map(|c| c.velocity).collect();
+        let velocities: Vec<SymId> = self.model.coordinates.iter().map(|c| c.velocity).collect();
         velocity_degree(&self.engine, l, &velocities, &mut HashMap::default())
             .is_some_and(|d| d <= 2)
     }
@@ -515,14 +584,16 @@ impl Model {
         l: ExprId,
         with_forces: bool,
     ) -> (Vec<Vec<ExprId>>, Vec<ExprId>) {
-        let n = self.n();
+        let n = self.model.n();
         let momenta: Vec<ExprId> = (0..n)
-            .map(|j| self.engine.diff(l, self.coordinates[j].velocity))
+            .map(|j| self.engine.diff(l, self.model.coordinates[j].velocity))
             .collect();
         let mut mass = vec![vec![ZERO; n]; n];
         for i in 0..n {
             for j in i..n {
-                let m = self.engine.diff(momenta[i], self.coordinates[j].velocity);
+                let m = self
+                    .engine
+                    .diff(momenta[i], self.model.coordinates[j].velocity);
                 mass[i][j] = m;
                 mass[j][i] = m;
             }
@@ -531,8 +602,8 @@ impl Model {
         for (j, &p) in momenta.iter().enumerate() {
             let mut parts = vec![self.along_motion(p)];
             let e = &mut self.engine;
-            let q = &self.coordinates[j];
-            parts.push(e.diff(p, self.time));
+            let q = &self.model.coordinates[j];
+            parts.push(e.diff(p, self.model.time));
             let dl = e.diff(l, q.position);
             parts.push(e.neg(dl));
             if with_forces {
@@ -547,7 +618,7 @@ impl Model {
     pub fn along_motion(&mut self, x: ExprId) -> ExprId {
         let e = &mut self.engine;
         let mut parts = Vec::new();
-        for c in &self.coordinates {
+        for c in &self.model.coordinates {
             let d = e.diff(x, c.position);
             if d != ZERO {
                 let v = e.sym(c.velocity);
@@ -562,10 +633,10 @@ impl Model {
     /// Jacobians of its centre and angular velocity and their rates, and
     /// the terms of the rest of the Lagrangian (with the forces).
     fn body_terms(&mut self) -> Option<BodyTerms> {
-        if self.speeds.is_some() {
+        if self.model.speeds.is_some() {
             return None;
         }
-        let split = self.kinetic.as_ref()?;
+        let split = self.model.kinetic.as_ref()?;
         let rest = split.rest;
         let mut parts: Vec<composite::Part> = split
             .bodies
@@ -652,9 +723,9 @@ impl Model {
         (rest_mass, rest_bias): (&[Vec<ExprId>], &[ExprId]),
     ) -> Option<[usize; 2]> {
         let planar = self.block.as_ref()?.planar?;
-        let coords = planar.columns.map(|a| self.constraints[a].dependent);
+        let coords = planar.columns.map(|a| self.model.constraints[a].dependent);
         for (axis, &i) in coords.iter().enumerate() {
-            let q = self.coordinates[i].position;
+            let q = self.model.coordinates[i].position;
             if !centres.iter().all(|c| self.translates(c, q, axis)) {
                 return None;
             }
@@ -798,14 +869,19 @@ impl Model {
         // homogeneous, time-independent rows only: a row whose coefficients
         // move with t (not affine: b = 0) keeps the symbolic elimination,
         // whose dependent velocities take t
-        let timed = (self.velocity_rows.iter()).any(|&g| self.engine.depends_on(g, self.time));
-        if self.velocity_rows.is_empty() || self.affine || timed || self.speeds.is_some() {
+        let timed =
+            (self.model.velocity_rows.iter()).any(|&g| self.engine.depends_on(g, self.model.time));
+        if self.model.velocity_rows.is_empty()
+            || self.model.affine
+            || timed
+            || self.model.speeds.is_some()
+        {
             return None;
         }
         let planar = self.planar();
         let pivots = self.block_pivots(planar.as_ref())?;
         let frame = self.heading_frame();
-        let contacts = self.contact_kinematics.clone();
+        let contacts = self.model.contact_kinematics.clone();
         let chains = self.contact_chains.clone();
         let contacts = contacts
             .into_iter()
@@ -815,7 +891,7 @@ impl Model {
                 let centre_jacobian = self.in_frame(&frame, centre_jacobian);
                 let omega_jacobian = c.omega.map(|w| self.velocity_jacobian(w));
                 let omega_jacobian = self.in_frame(&frame, omega_jacobian);
-                let turn = |m: &mut Model, v: [ExprId; 3]| match &frame {
+                let turn = |m: &mut Scene<'_>, v: [ExprId; 3]| match &frame {
                     Some(r) => crate::lower::values::mat_vec(&mut m.engine, r, v),
                     None => v,
                 };
@@ -835,10 +911,10 @@ impl Model {
                 }
             })
             .collect();
-        let rows = self.velocity_rows.clone();
+        let rows = self.model.velocity_rows.clone();
         let rows = rows
             .iter()
-            .zip(self.row_contacts.clone())
+            .zip(self.model.row_contacts.clone())
             .map(|(&g, source)| match source {
                 Some((contact, component)) => RowTerms::Contact { contact, component },
                 None => RowTerms::Written {
@@ -861,11 +937,11 @@ impl Model {
     /// translate every contact along e_x and e_y.
     fn planar(&mut self) -> Option<Planar> {
         let psi = self.heading()?;
-        if self.row_contacts.iter().any(Option::is_none) {
+        if self.model.row_contacts.iter().any(Option::is_none) {
             return None;
         }
-        let contacts = self.contact_kinematics.clone();
-        let along = |m: &mut Model, axis: usize| {
+        let contacts = self.model.contact_kinematics.clone();
+        let along = |m: &mut Scene<'_>, axis: usize| {
             let dependent: Vec<usize> = m.constraints.iter().map(|con| con.dependent).collect();
             dependent.into_iter().position(|i| {
                 let (q, v) = (m.coordinates[i].position, m.coordinates[i].velocity);
@@ -916,11 +992,12 @@ impl Model {
     /// and at a random state; `None` if a column has no pivot at either.
     fn block_pivots(&mut self, planar: Option<&Planar>) -> Option<Vec<(usize, usize)>> {
         let deps: Vec<SymId> = self
+            .model
             .constraints
             .iter()
-            .map(|c| self.coordinates[c.dependent].velocity)
+            .map(|c| self.model.coordinates[c.dependent].velocity)
             .collect();
-        let rows = self.velocity_rows.clone();
+        let rows = self.model.velocity_rows.clone();
         let mut block: Vec<Vec<ExprId>> = rows
             .iter()
             .map(|&g| deps.iter().map(|&v| self.engine.diff(g, v)).collect())
@@ -930,9 +1007,9 @@ impl Model {
         }
         let mut rng = crate::sym::Rng::new(0x1319_8A2E_0370_7344);
         let mut at = |zero: bool| -> Vec<Vec<f64>> {
-            let mut vals = rng.point(self.engine.num_symbols(), self.pi);
+            let mut vals = rng.point(self.engine.num_symbols(), self.model.pi);
             if zero {
-                for c in &self.coordinates {
+                for c in &self.model.coordinates {
                     vals[c.position.index()] = Dd::ZERO;
                 }
             }
@@ -971,7 +1048,7 @@ impl Model {
     /// the columns of x and y those of u (e_x, e_y).
     fn planar_block(&mut self, block: &[Vec<ExprId>], planar: &Planar) -> Option<Vec<Vec<ExprId>>> {
         let frame = self.heading_frame()?;
-        let sources = self.row_contacts.clone();
+        let sources = self.model.row_contacts.clone();
         let row_of = |c: usize, x: usize| sources.iter().position(|s| *s == Some((c, x)));
         let mut out = Vec::with_capacity(block.len());
         for source in &sources {
@@ -1014,7 +1091,7 @@ impl Model {
 
     /// The heading ψ every rotating body's orientation starts with.
     fn heading(&self) -> Option<ExprId> {
-        let split = self.kinetic.as_ref()?;
+        let split = self.model.kinetic.as_ref()?;
         let mut headings = split
             .bodies
             .iter()
@@ -1048,7 +1125,8 @@ impl Model {
     /// ∂x/∂q_i for every coordinate.
     fn positional_jacobian(&mut self, x: ExprId) -> Vec<ExprId> {
         let e = &mut self.engine;
-        self.coordinates
+        self.model
+            .coordinates
             .iter()
             .map(|c| e.diff(x, c.position))
             .collect()
@@ -1057,7 +1135,8 @@ impl Model {
     /// ∂x/∂q̇_i for every coordinate.
     fn velocity_jacobian(&mut self, x: ExprId) -> Vec<ExprId> {
         let e = &mut self.engine;
-        self.coordinates
+        self.model
+            .coordinates
             .iter()
             .map(|c| e.diff(x, c.velocity))
             .collect()
@@ -1065,12 +1144,12 @@ impl Model {
 
     /// −(Ȧ ṙ)_a − β̇_a from the solved velocities ṡ_a(q, ṙ, t).
     fn dependent_bias_from_solutions(&mut self) -> Vec<ExprId> {
-        let sdots: Vec<ExprId> = self.constraints.iter().map(|c| c.velocity).collect();
+        let sdots: Vec<ExprId> = self.model.constraints.iter().map(|c| c.velocity).collect();
         sdots
             .into_iter()
             .map(|sdot| {
                 let along = self.along_motion(sdot);
-                let dt = self.engine.diff(sdot, self.time);
+                let dt = self.engine.diff(sdot, self.model.time);
                 self.engine.add(along, dt)
             })
             .collect()
@@ -1082,14 +1161,15 @@ impl Model {
     /// as for the velocities (its pivots shared with them). The rows are
     /// compact where the eliminated solutions are not.
     fn dependent_bias_from_rows(&mut self) -> Vec<ExprId> {
-        let rows = self.velocity_rows.clone();
+        let rows = self.model.velocity_rows.clone();
         let e = &mut self.engine;
-        let q = &self.coordinates;
+        let q = &self.model.coordinates;
         let mut block = Vec::with_capacity(rows.len());
         let mut minus_d = Vec::with_capacity(rows.len());
         for &g in &rows {
             block.push(
-                self.constraints
+                self.model
+                    .constraints
                     .iter()
                     .map(|c| e.diff(g, q[c.dependent].velocity))
                     .collect::<Vec<_>>(),
@@ -1102,7 +1182,7 @@ impl Model {
                     parts.push(e.mul(dg, v));
                 }
             }
-            parts.push(e.diff(g, self.time));
+            parts.push(e.diff(g, self.model.time));
             let d = e.sum(&parts);
             minus_d.push(e.neg(d));
         }
@@ -1113,7 +1193,7 @@ impl Model {
 
     /// B^b_{αβ} of (5.21), p × k × k, antisymmetric in (α, β).
     pub fn curvature(&mut self) -> Vec<Vec<Vec<ExprId>>> {
-        let (k, p) = (self.k(), self.p());
+        let (k, p) = (self.model.k(), self.model.p());
         let mut b = vec![vec![vec![ZERO; k]; k]; p];
         for bb in 0..p {
             for al in 0..k {
@@ -1129,15 +1209,15 @@ impl Model {
 
     /// B^b_{αβ} of (5.21) for α < β.
     fn curvature_entry(&mut self, bb: usize, al: usize, be: usize) -> ExprId {
-        let r = self.of_independent(|c| c.position);
+        let r = self.model.of_independent(|c| c.position);
         let (r_al, r_be) = (r[al], r[be]);
         let e = &mut self.engine;
-        let a = |aa: usize, x: usize| self.constraints[aa].coefficients[x];
+        let a = |aa: usize, x: usize| self.model.constraints[aa].coefficients[x];
         let d1 = e.diff(a(bb, al), r_be);
         let d2 = e.diff(a(bb, be), r_al);
         let mut parts = vec![d1, e.neg(d2)];
-        for (aa, c) in self.constraints.iter().enumerate() {
-            let s_sym = self.coordinates[c.dependent].position;
+        for (aa, c) in self.model.constraints.iter().enumerate() {
+            let s_sym = self.model.coordinates[c.dependent].position;
             let x = e.diff(a(bb, be), s_sym);
             let x = e.mul(a(aa, al), x);
             let y = e.diff(a(bb, al), s_sym);
@@ -1153,7 +1233,7 @@ impl Model {
     /// to vanish at a random point settles it without symbolic derivatives
     /// ([`Model::curvature_entry_seen_nonzero`]).
     fn integrability_entry_by_entry(&mut self) -> (bool, bool) {
-        let (k, p) = (self.k(), self.p());
+        let (k, p) = (self.model.k(), self.model.p());
         let mut proved = true;
         for bb in 0..p {
             for al in 0..k {
@@ -1165,7 +1245,7 @@ impl Model {
                     if v == ZERO {
                         continue;
                     }
-                    if !vanish_at_random_points(&self.engine, self.pi, &[v]) {
+                    if !vanish_at_random_points(&self.engine, self.model.pi, &[v]) {
                         return (false, false);
                     }
                     proved = false;
@@ -1184,13 +1264,13 @@ impl Model {
     fn curvature_entry_seen_nonzero(&self, bb: usize, al: usize, be: usize) -> bool {
         use crate::sym::dd::Dd;
         use crate::sym::dual::Dual;
-        let r = self.of_independent(|c| c.position);
+        let r = self.model.of_independent(|c| c.position);
         let (e, a) = (&self.engine, |aa: usize, x: usize| {
-            self.constraints[aa].coefficients[x]
+            self.model.constraints[aa].coefficients[x]
         });
         let mut rng = crate::sym::Rng::new(0x1319_8A2E_0370_7344);
         for _ in 0..4 {
-            let point = rng.point(e.num_symbols(), self.pi);
+            let point = rng.point(e.num_symbols(), self.model.pi);
             // ∂A^b_x/∂(seed) at the point
             let slope = |x: usize, seed: SymId| -> Dd {
                 let mut vals: Vec<Dual> = point.iter().map(|&v| Dual::constant(v)).collect();
@@ -1198,8 +1278,8 @@ impl Model {
                 e.eval(a(bb, x), &vals).derivative
             };
             let mut parts = vec![slope(al, r[be]), Dd::ZERO - slope(be, r[al])];
-            for (aa, c) in self.constraints.iter().enumerate() {
-                let s = self.coordinates[c.dependent].position;
+            for (aa, c) in self.model.constraints.iter().enumerate() {
+                let s = self.model.coordinates[c.dependent].position;
                 parts.push(e.eval(a(aa, al), &point) * slope(be, s));
                 parts.push(Dd::ZERO - e.eval(a(aa, be), &point) * slope(al, s));
             }
@@ -1232,19 +1312,19 @@ impl Model {
     /// curvature route is not derived.
     fn silent_velocities(&self, mass: &[Vec<ExprId>]) -> Vec<bool> {
         use crate::sym::dd::Dd;
-        let (n, k) = (self.n(), self.k());
+        let (n, k) = (self.model.n(), self.model.k());
         let mut silent = vec![true; k];
         let mut rng = crate::sym::Rng::new(0xA409_3822_299F_31D0);
         for _ in 0..16 {
             if !silent.contains(&true) {
                 break;
             }
-            let mut vals = rng.point(self.engine.num_symbols(), self.pi);
+            let mut vals = rng.point(self.engine.num_symbols(), self.model.pi);
             let mut memo = crate::sym::EvalMemo::default();
             let mut column = |a: usize| -> Vec<Dd> {
                 let mut c = vec![Dd::ZERO; n];
-                c[self.independent()[a]] = Dd::from_f64(1.0);
-                for con in &self.constraints {
+                c[self.model.independent()[a]] = Dd::from_f64(1.0);
+                for con in &self.model.constraints {
                     let x = self.engine.eval_memo(con.coefficients[a], &vals, &mut memo);
                     c[con.dependent] = Dd::ZERO - x;
                 }
@@ -1294,10 +1374,10 @@ impl Model {
     fn mass_sampled_along(&self, c: &[Dd], vals: &mut [Dd]) -> (Dd, Dd) {
         let (mut value, mut scale) = (Dd::ZERO, Dd::ZERO);
         for (sign, weight) in [(1.0, 1.0), (-1.0, 1.0), (0.0, -2.0)] {
-            for (coordinate, &ci) in self.coordinates.iter().zip(c) {
+            for (coordinate, &ci) in self.model.coordinates.iter().zip(c) {
                 vals[coordinate.velocity.index()] = Dd::from_f64(sign) * ci;
             }
-            let (l, size) = self.engine.eval_with_scale(self.lagrangian, vals);
+            let (l, size) = self.engine.eval_with_scale(self.model.lagrangian, vals);
             value = value + Dd::from_f64(weight) * l;
             scale = scale + Dd::from_f64(weight.abs()) * size;
         }
@@ -1305,14 +1385,14 @@ impl Model {
     }
 
     fn curvature_route_parts(&mut self, curvature: &[Vec<Vec<ExprId>>]) -> CurvatureRoute {
-        let (n, k) = (self.n(), self.k());
+        let (n, k) = (self.model.n(), self.model.k());
         let map = self.constrained_velocities();
         let qdot_c = self.constrained_qdot();
-        let l = self.lagrangian;
-        let r_vel = self.independent_velocities();
-        let r_pos = self.of_independent(|c| c.position);
-        let r_force = self.of_independent(|c| c.force);
-        let q = &self.coordinates;
+        let l = self.model.lagrangian;
+        let r_vel = self.model.independent_velocities();
+        let r_pos = self.model.of_independent(|c| c.position);
+        let r_force = self.model.of_independent(|c| c.force);
+        let q = &self.model.coordinates;
         let e = &mut self.engine;
         let mut memo = HashMap::default();
         let lc = e.subst(l, &map, &mut memo); // (5.12)
@@ -1327,6 +1407,7 @@ impl Model {
         }
         // ∂L/∂ṡ_b at the constrained velocities
         let p_dep: Vec<ExprId> = self
+            .model
             .constraints
             .iter()
             .map(|c| {
@@ -1344,12 +1425,12 @@ impl Model {
                     lhs.push(e.mul(d, qdot_c[i]));
                 }
             }
-            lhs.push(e.diff(pc[al], self.time));
+            lhs.push(e.diff(pc[al], self.model.time));
             // − ∂Lc/∂r_α
             let d = e.diff(lc, r_pos[al]);
             lhs.push(e.neg(d));
             // + Σ_a A^a_α ∂Lc/∂s_a
-            for c in &self.constraints {
+            for c in &self.model.constraints {
                 let d = e.diff(lc, q[c.dependent].position);
                 if d != ZERO {
                     lhs.push(e.mul(c.coefficients[al], d));
@@ -1368,7 +1449,7 @@ impl Model {
             }
             // projected forces Q_r − Σ_a A^a_α Q_s at the constrained velocities
             let mut force = vec![r_force[al]];
-            for c in &self.constraints {
+            for c in &self.model.constraints {
                 let qs = q[c.dependent].force;
                 if qs != ZERO {
                     let t = e.mul(c.coefficients[al], qs);
@@ -1456,10 +1537,10 @@ impl Model {
     /// to their solved values.
     pub fn energy(&mut self) -> ExprId {
         let map = self.constrained_velocities();
-        let l = self.lagrangian;
+        let l = self.model.lagrangian;
         let e = &mut self.engine;
         let mut parts = Vec::new();
-        for v in self.coordinates.iter().map(|c| c.velocity) {
+        for v in self.model.coordinates.iter().map(|c| c.velocity) {
             let p = e.diff(l, v);
             let vs = e.sym(v);
             parts.push(e.mul(vs, p));

@@ -3,7 +3,7 @@
 //! constraint says which coordinate it makes dependent and how.
 
 use crate::ctxt::SpanRange;
-use crate::sym::{Engine, ExprId, SymId};
+use crate::sym::{ExprId, SymId};
 use proc_macro2::{Ident, Span};
 
 /// An opt-in output (DESIGN §3), or `routes`.
@@ -245,8 +245,6 @@ impl Partition {
 /// A system after lowering: everything the mechanics needs, as symbols and
 /// expressions of one engine.
 pub struct Model {
-    /// The engine holding every expression below.
-    pub engine: Engine,
     /// Parameters in declared order.
     pub parameters: Vec<Parameter>,
     /// Coordinates in declared order (THE coordinate order).
@@ -305,16 +303,10 @@ pub struct Model {
     /// The vector `let`s free of velocities (world components): points of
     /// the mechanism through which accelerations chain (DESIGN §10).
     pub points: Vec<[ExprId; 3]>,
-    /// Per contact, the chain its centre's acceleration follows, once
-    /// derived (see [`crate::mechanics::Chain`]).
-    pub contact_chains: Vec<Option<crate::mechanics::Chain>>,
     /// Per entry of [`Model::velocity_rows`], the contact and component
     /// (0: x, 1: y, 2: z) of its material velocity it is, if it comes from a
     /// `rolls(..)` line.
     pub row_contacts: Vec<Option<(usize, usize)>>,
-    /// The velocity rows' terms for solving their block numerically, once
-    /// derived (see [`crate::mechanics::BlockTerms`]).
-    pub block: Option<crate::mechanics::BlockTerms>,
     /// The expressions as written (the Lagrangian, the forces, each
     /// written constraint's lhs − rhs, the kinematics), whose poles and
     /// domain edges the runtime guards (`crate::poles`).
@@ -413,34 +405,6 @@ impl Model {
             .iter()
             .map(|&i| f(&self.coordinates[i]))
             .collect()
-    }
-
-    /// Whether some dependent velocity depends on time explicitly.
-    pub fn rheonomic(&self) -> bool {
-        self.constraints
-            .iter()
-            .any(|c| self.engine.depends_on(c.velocity, self.time))
-    }
-
-    /// Whether nothing in the definition depends on t explicitly (the
-    /// Lagrangian, the forces, the constraints, the kinematics), so that the
-    /// right-hand side is autonomous.
-    pub fn autonomous(&self) -> bool {
-        let t = self.time;
-        let forces = self.coordinates.iter().map(|c| c.force);
-        let constraints = self
-            .constraints
-            .iter()
-            .flat_map(|c| std::iter::once(c.velocity).chain(c.holonomic));
-        let kinematics = self
-            .speeds
-            .iter()
-            .flat_map(|sp| sp.velocities.iter().copied());
-        !std::iter::once(self.lagrangian)
-            .chain(forces)
-            .chain(constraints)
-            .chain(kinematics)
-            .any(|x| self.engine.depends_on(x, t))
     }
 
     /// The holonomic constraints: (dependent coordinate, f).

@@ -14,7 +14,7 @@
 //! default (no check, no cost).
 
 use crate::generate::{Args, bound_dag};
-use crate::model::Model;
+use crate::mechanics::Scene;
 use crate::sym::{Atom, Engine, ExprId, Fun, Rational, SymId};
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -30,7 +30,7 @@ pub struct Guard {
 }
 
 /// The guards of the expressions the model was written with.
-pub fn guards(m: &mut Model) -> Vec<Guard> {
+pub fn guards(m: &mut Scene<'_>) -> Vec<Guard> {
     let state: HashSet<SymId> = (m.coordinates.iter())
         .flat_map(|c| [c.position, c.velocity])
         .chain([m.time])
@@ -42,7 +42,7 @@ pub fn guards(m: &mut Model) -> Vec<Guard> {
         seen: HashSet::default(),
         found: Vec::new(),
     };
-    for &x in &m.written {
+    for &x in &m.model.written {
         walk.expr(x);
     }
     walk.found
@@ -150,7 +150,7 @@ impl Walk<'_> {
 
 /// The runtime hook `crossed_pole` for state type `xty`; nothing for a
 /// system without guards.
-pub fn method(m: &mut Model, xty: &TokenStream) -> TokenStream {
+pub fn method(m: &mut Scene<'_>, xty: &TokenStream) -> TokenStream {
     let guards = guards(m);
     if guards.is_empty() {
         return TokenStream::new();

@@ -8,8 +8,8 @@
 use super::motion::Motion;
 use super::{exprs, matrix};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
+use crate::mechanics::Scene;
 use crate::mechanics::{BlockTerms, ContactTerms, RowTerms};
-use crate::model::Model;
 
 /// c_s factored in the elimination's order: for step s, its pivot (row,
 /// column), 1/pivot and the multipliers of the rows it eliminates from;
@@ -28,7 +28,7 @@ struct Offset {
 }
 
 /// The coefficients ∂g_a/∂q̇_i of the block's rows, p × n.
-fn coefficients(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Vec<Node>> {
+fn coefficients(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms) -> Vec<Vec<Node>> {
     let offsets: Vec<Offset> = bt.contacts.iter().map(|c| offset(d, m, c)).collect();
     bt.rows
         .iter()
@@ -56,7 +56,12 @@ fn coefficients(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Vec<Node>> {
 
 /// A contact point's ∂v/∂q̇_i (columns i) as screws: its centre's chain
 /// and the offset o = P − G in the body's own frame; `None` without frames.
-fn screw_columns(d: &mut Dag, m: &Model, c: &ContactTerms, o: [Node; 3]) -> Option<Vec<[Node; 3]>> {
+fn screw_columns(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    c: &ContactTerms,
+    o: [Node; 3],
+) -> Option<Vec<[Node; 3]>> {
     let own = c.frame.as_ref()?;
     let (root, links) = match &c.chain {
         Some(chain) => (&chain.root, chain.links.as_slice()),
@@ -68,7 +73,7 @@ fn screw_columns(d: &mut Dag, m: &Model, c: &ContactTerms, o: [Node; 3]) -> Opti
 }
 
 /// The rows' rates at q̈ = 0, Σ ∂g/∂q_i q̇_i.
-fn rates(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Node> {
+fn rates(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms) -> Vec<Node> {
     let offsets: Vec<Offset> = bt.contacts.iter().map(|c| offset(d, m, c)).collect();
     let motion = Motion::of(d, m, bt.heading_rate);
     let turned = bt.heading_rate.is_some();
@@ -122,7 +127,7 @@ fn rates(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Node> {
 }
 
 /// o = −r w − ρ e_z with w = (e_z − n_z n)/s (w = e_z for a sphere).
-fn offset(d: &mut Dag, m: &Model, c: &ContactTerms) -> Offset {
+fn offset(d: &mut Dag, m: &Scene<'_>, c: &ContactTerms) -> Offset {
     let radius = d.expr(&m.engine, c.radius);
     let tube = d.expr(&m.engine, c.tube);
     let (w, rim) = match &c.axle {
@@ -229,13 +234,13 @@ fn factor(d: &mut Dag, mut a: Vec<Vec<Node>>, pivots: &[(usize, usize)]) -> Lu {
 /// The dependent velocities (or accelerations) x with c_s x = b: the
 /// factored block solved, a [`Planar`](crate::mechanics::Planar) pair turned
 /// back from u to (ẋ, ẏ).
-fn solve_block(d: &mut Dag, m: &Model, bt: &BlockTerms, lu: &Lu, b: Vec<Node>) -> Vec<Node> {
+fn solve_block(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms, lu: &Lu, b: Vec<Node>) -> Vec<Node> {
     let x = solve(d, lu, b);
     turn_back(d, m, bt, x)
 }
 
 /// x with a [`Planar`](crate::mechanics::Planar) pair turned from u to (ẋ, ẏ).
-fn turn_back(d: &mut Dag, m: &Model, bt: &BlockTerms, mut x: Vec<Node>) -> Vec<Node> {
+fn turn_back(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms, mut x: Vec<Node>) -> Vec<Node> {
     if let Some(p) = &bt.planar {
         let u = p.columns.map(|a| x[a]);
         for (row, &a) in p.turn.iter().zip(&p.columns) {
@@ -268,7 +273,7 @@ fn solve(d: &mut Dag, lu: &Lu, mut b: Vec<Node>) -> Vec<Node> {
 
 /// The block's coefficients split into c_s (columns: the constraints'
 /// dependent velocities) factored, and c_r (columns: the independent ones).
-fn factored(d: &mut Dag, m: &Model, bt: &BlockTerms) -> (Lu, Vec<Vec<Node>>) {
+fn factored(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms) -> (Lu, Vec<Vec<Node>>) {
     let coef = coefficients(d, m, bt);
     let cs: Vec<Vec<Node>> = coef
         .iter()
@@ -301,7 +306,7 @@ fn factored(d: &mut Dag, m: &Model, bt: &BlockTerms) -> (Lu, Vec<Vec<Node>>) {
 
 /// −c_s⁻¹ c_r: column b gives the dependent velocities (in the order of
 /// the constraints) per unit of the independent velocity b.
-pub(crate) fn velocity_columns(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Vec<Node>> {
+pub(crate) fn velocity_columns(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms) -> Vec<Vec<Node>> {
     let columns = velocity_columns_in_heading(d, m, bt);
     columns
         .into_iter()
@@ -313,7 +318,7 @@ pub(crate) fn velocity_columns(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<V
 /// rows those of u = R_z(−ψ)(ẋ, ẏ).
 pub(crate) fn velocity_columns_in_heading(
     d: &mut Dag,
-    m: &Model,
+    m: &Scene<'_>,
     bt: &BlockTerms,
 ) -> Vec<Vec<Node>> {
     let (lu, cr) = factored(d, m, bt);
@@ -328,7 +333,7 @@ pub(crate) fn velocity_columns_in_heading(
 /// The dependent velocities −c_s⁻¹ c_r ṙ, in the order of the constraints.
 pub(crate) fn dependent_velocities(
     d: &mut Dag,
-    m: &Model,
+    m: &Scene<'_>,
     bt: &BlockTerms,
     rdot: &[Node],
 ) -> Vec<Node> {
@@ -349,14 +354,14 @@ pub(crate) fn dependent_velocities(
 
 /// The dependent accelerations at r̈ = 0, −c_s⁻¹ ġ, in the order of the
 /// constraints (the dependent velocities bound in `d`).
-pub(crate) fn dependent_bias(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Node> {
+pub(crate) fn dependent_bias(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms) -> Vec<Node> {
     let x = dependent_bias_in_heading(d, m, bt);
     turn_back(d, m, bt, x)
 }
 
 /// [`dependent_bias`] with a [`Planar`](crate::mechanics::Planar) pair's
 /// entries those of u̇ (heading frame, at r̈ = 0).
-pub(crate) fn dependent_bias_in_heading(d: &mut Dag, m: &Model, bt: &BlockTerms) -> Vec<Node> {
+pub(crate) fn dependent_bias_in_heading(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms) -> Vec<Node> {
     let (lu, _) = factored(d, m, bt);
     let rates = rates(d, m, bt);
     let rhs = rates.into_iter().map(|x| d.neg(x)).collect();

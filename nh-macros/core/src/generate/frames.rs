@@ -6,8 +6,8 @@
 use super::motion::Motion;
 use super::{cross_nodes, matrix};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
+use crate::mechanics::Scene;
 use crate::mechanics::{Frame, FrameStep};
-use crate::model::Model;
 
 /// A frame's ω_b and α_b at q̈ = 0 (body axes).
 pub(crate) struct FrameMotion {
@@ -43,7 +43,12 @@ fn turn_rates(
 }
 
 /// The frame's ω_b and α_b at q̈ = 0 (its orientation: [`orientation`]).
-pub(crate) fn frame_motion(d: &mut Dag, m: &Model, motion: &Motion, frame: &Frame) -> FrameMotion {
+pub(crate) fn frame_motion(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    motion: &Motion,
+    frame: &Frame,
+) -> FrameMotion {
     let (mut omega, mut alpha0) = ([ZERO_NODE; 3], [ZERO_NODE; 3]);
     for step in &frame.steps {
         let f = step_turn(d, m, step);
@@ -59,7 +64,7 @@ pub(crate) fn frame_motion(d: &mut Dag, m: &Model, motion: &Motion, frame: &Fram
 /// α = Σ (ω_{<i} × θ̇_i a_i + θ̈_i a_i), ω_{<i} the sum before step i.
 pub(crate) fn world_motion(
     d: &mut Dag,
-    m: &Model,
+    m: &Scene<'_>,
     motion: &Motion,
     frame: &Frame,
 ) -> ([Node; 3], [Node; 3]) {
@@ -86,7 +91,7 @@ pub(crate) fn world_motion(
 }
 
 /// The frame's orientation in the frame of the bodies' J.
-pub(crate) fn orientation(d: &mut Dag, m: &Model, frame: &Frame) -> [[Node; 3]; 3] {
+pub(crate) fn orientation(d: &mut Dag, m: &Scene<'_>, frame: &Frame) -> [[Node; 3]; 3] {
     let mut turn = identity();
     for (i, step) in frame.steps.iter().enumerate() {
         if !(i == 0 && frame.heading_out) {
@@ -98,7 +103,7 @@ pub(crate) fn orientation(d: &mut Dag, m: &Model, frame: &Frame) -> [[Node; 3]; 
 }
 
 /// Each step's axis a_i = R₁⋯R_{i−1} e_k in the frame of the bodies' J.
-pub(crate) fn world_axes(d: &mut Dag, m: &Model, frame: &Frame) -> Vec<[Node; 3]> {
+pub(crate) fn world_axes(d: &mut Dag, m: &Scene<'_>, frame: &Frame) -> Vec<[Node; 3]> {
     let mut turn = identity();
     let mut axes = Vec::with_capacity(frame.steps.len());
     for (i, step) in frame.steps.iter().enumerate() {
@@ -120,6 +125,6 @@ fn identity() -> [[Node; 3]; 3] {
     [0, 1, 2].map(|x| [0, 1, 2].map(|y| if x == y { ONE_NODE } else { ZERO_NODE }))
 }
 
-fn step_turn(d: &mut Dag, m: &Model, step: &FrameStep) -> Vec<Vec<Node>> {
+fn step_turn(d: &mut Dag, m: &Scene<'_>, step: &FrameStep) -> Vec<Vec<Node>> {
     matrix(d, m, &step.turn.map(|row| row.to_vec()))
 }

@@ -4,7 +4,7 @@
 //! subexpression with the Jacobian it comes from.
 
 use crate::emit::{Dag, Node};
-use crate::model::Model;
+use crate::mechanics::Scene;
 use crate::sym::ExprId;
 use rustc_hash::FxHashMap as HashMap;
 
@@ -21,7 +21,7 @@ impl Motion {
     /// The motion of a graph made by `bound_dag`, where every coordinate
     /// and velocity is bound (an unbound one would be an undefined name in
     /// the generated code, never a wrong rate).
-    pub(crate) fn of(d: &mut Dag, m: &Model, heading_rate: Option<ExprId>) -> Motion {
+    pub(crate) fn of(d: &mut Dag, m: &Scene<'_>, heading_rate: Option<ExprId>) -> Motion {
         let mut seeds = HashMap::default();
         let mut held = Vec::with_capacity(m.n());
         for c in &m.coordinates {

@@ -8,8 +8,8 @@
 
 use super::{cross_nodes, dot, exprs, matrix};
 use crate::emit::{Dag, Node, ZERO_NODE};
+use crate::mechanics::Scene;
 use crate::mechanics::{Frame, FrameStep, Link};
-use crate::model::Model;
 use crate::sym::{ExprId, ZERO};
 
 /// J = J_root + Σ_s arm_s ∂θ̇_s/∂q̇ (frame of the bodies' J).
@@ -24,7 +24,7 @@ pub(crate) struct Screws {
 /// link has no frame of elementary rotations.
 pub(crate) fn link_pieces<'a>(
     d: &mut Dag,
-    m: &Model,
+    m: &Scene<'_>,
     links: &'a [Link],
 ) -> Option<Vec<(&'a Frame, [Node; 3])>> {
     let mut pieces = Vec::with_capacity(links.len() + 1);
@@ -43,7 +43,7 @@ impl Screws {
     /// pair's columns e_x, e_y: see [`super::planar_columns`]).
     pub(crate) fn of(
         d: &mut Dag,
-        m: &Model,
+        m: &Scene<'_>,
         root: &[Vec<ExprId>; 3],
         pieces: &[(&Frame, [Node; 3])],
         planar: Option<[usize; 2]>,

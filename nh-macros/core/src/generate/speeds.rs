@@ -8,7 +8,7 @@ use crate::maggi::MaggiTerms;
 use proc_macro2::TokenStream;
 use quote::quote;
 
-impl Derived<'_> {
+impl Derived<'_, '_> {
     /// Maggi's terms (only called for a system in generalized speeds).
     fn terms(&self) -> &MaggiTerms {
         self.maggi

@@ -4,7 +4,7 @@
 //! gravity acts through the partial velocities the bodies need anyway.
 
 use crate::lower::values::{Mat3, Vec3, mat_vec, transpose};
-use crate::model::Model;
+use crate::mechanics::Scene;
 use crate::sym::{ExprId, ONE, SymId, ZERO};
 
 /// A body's orientation, body angular velocity and elementary rotations.
@@ -35,7 +35,7 @@ pub(super) struct Part {
     pub(super) factors: Vec<(usize, ExprId)>,
 }
 
-impl Model {
+impl Scene<'_> {
     /// Folds every centre of mass fixed in another body's frame into that
     /// body's: with d = Rᵀ(C_b − C_a) constant, the pair moves as the mass
     /// M = m_a + m_b at G = C_a + R (m_b/M) d, and the carrier's inertia gains
@@ -156,7 +156,7 @@ impl Model {
             let (v, scale) = (v.to_f64(), scale.to_f64());
             v.is_finite() && v.abs() <= 1e-9 * (1.0 + scale)
         });
-        small && super::vanish_at_random_points(&self.engine, self.pi, &gap)
+        small && super::vanish_at_random_points(&self.engine, self.model.pi, &gap)
     }
 
     /// The chain of a body's centre from a contact's centre whose own rate
@@ -166,6 +166,7 @@ impl Model {
             return None;
         };
         let roots: Vec<Vec3> = self
+            .model
             .contact_kinematics
             .iter()
             .zip(&self.contact_chains)
@@ -178,7 +179,12 @@ impl Model {
     /// Per contact, a chain of its centre from an earlier contact's centre
     /// (none for the roots, whose J̇ q̇ is computed).
     pub(super) fn contact_chains(&mut self, frame: &Option<Mat3>) -> Vec<Option<super::Chain>> {
-        let centres: Vec<Vec3> = self.contact_kinematics.iter().map(|k| k.centre).collect();
+        let centres: Vec<Vec3> = self
+            .model
+            .contact_kinematics
+            .iter()
+            .map(|k| k.centre)
+            .collect();
         let mut roots = Vec::new();
         let mut chains = Vec::new();
         for c in centres {
@@ -208,7 +214,7 @@ impl Model {
                 }
             }
         }
-        let joints: Vec<Vec3> = self.points.clone();
+        let joints: Vec<Vec3> = self.model.points.clone();
         for joint in joints {
             if joint == target || roots.contains(&joint) {
                 continue;
@@ -233,7 +239,7 @@ impl Model {
     /// The orientations, body angular velocities and elementary rotations
     /// of the bodies that do not spin as wheels.
     fn frames(&self) -> Vec<Body> {
-        let Some(split) = &self.kinetic else {
+        let Some(split) = &self.model.kinetic else {
             return Vec::new();
         };
         split
@@ -300,22 +306,24 @@ impl Model {
         }
         let syms = self.engine.free_symbols(x).to_vec();
         let velocities = |s: &SymId| {
-            *s == self.time
-                || self.inputs.iter().any(|u| u.sym == *s)
-                || self.coordinates.iter().any(|c| c.velocity == *s)
+            *s == self.model.time
+                || self.model.inputs.iter().any(|u| u.sym == *s)
+                || self.model.coordinates.iter().any(|c| c.velocity == *s)
         };
         if syms.iter().any(velocities) || self.varies(x) {
             return None;
         }
         let zero: rustc_hash::FxHashMap<SymId, ExprId> = self
+            .model
             .coordinates
             .iter()
             .map(|c| (c.position, ZERO))
             .collect();
         let at_zero = self.engine.subst(x, &zero, &mut Default::default());
         let change = self.engine.sub(x, at_zero);
-        (self.fixed(at_zero) && super::vanish_at_random_points(&self.engine, self.pi, &[change]))
-            .then_some(at_zero)
+        (self.fixed(at_zero)
+            && super::vanish_at_random_points(&self.engine, self.model.pi, &[change]))
+        .then_some(at_zero)
     }
 
     /// Whether Rᵀ(p − q) takes the same value at two states (the same
@@ -339,9 +347,9 @@ impl Model {
     fn two_states(&self) -> [Vec<crate::sym::dd::Dd>; 2] {
         use crate::sym::dd::Dd;
         let mut rng = crate::sym::Rng::new(0x4528_21E6_38D0_1377);
-        let a = rng.point(self.engine.num_symbols(), self.pi);
+        let a = rng.point(self.engine.num_symbols(), self.model.pi);
         let mut b = a.clone();
-        for c in &self.coordinates {
+        for c in &self.model.coordinates {
             b[c.position.index()] = Dd::from_f64(0.3 + 1.1 * rng.next_f64());
         }
         [a, b]
@@ -360,9 +368,10 @@ impl Model {
     /// Whether `x` is free of the coordinates, velocities, inputs and t.
     pub(super) fn fixed(&self, x: ExprId) -> bool {
         let moving = |s: &SymId| {
-            *s == self.time
-                || self.inputs.iter().any(|u| u.sym == *s)
+            *s == self.model.time
+                || self.model.inputs.iter().any(|u| u.sym == *s)
                 || self
+                    .model
                     .coordinates
                     .iter()
                     .any(|c| c.position == *s || c.velocity == *s)
@@ -415,7 +424,7 @@ impl Model {
     /// Every parameter and its negative, ±1 and the leading terms' ratio.
     fn gravity_candidates(&mut self, weight: ExprId, rest: ExprId) -> Vec<ExprId> {
         let mut candidates: Vec<ExprId> = Vec::new();
-        for p in &self.parameters {
+        for p in &self.model.parameters {
             let g = self.engine.sym(p.sym);
             candidates.push(g);
             candidates.push(self.engine.neg(g));
