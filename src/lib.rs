@@ -982,3 +982,33 @@ pub mod __private {
 #[doc = include_str!("../README.md")]
 #[cfg(doctest)]
 pub struct ReadmeDoctests;
+
+/// The user guide's tutorial, compiled and run as doctests.
+#[doc = include_str!("../docs/guide/tutorial.md")]
+#[cfg(doctest)]
+pub struct GuideTutorialDoctests;
+
+/// The user guide's language page, compiled and run as doctests.
+#[doc = include_str!("../docs/guide/language.md")]
+#[cfg(doctest)]
+pub struct GuideLanguageDoctests;
+
+/// The user guide's runtime page, compiled and run as doctests.
+#[doc = include_str!("../docs/guide/runtime.md")]
+#[cfg(doctest)]
+pub struct GuideRuntimeDoctests;
+
+/// The user guide's gallery, compiled and run as doctests.
+#[doc = include_str!("../docs/guide/gallery.md")]
+#[cfg(doctest)]
+pub struct GuideGalleryDoctests;
+
+/// The user guide's performance page, compiled and run as doctests.
+#[doc = include_str!("../docs/guide/performance.md")]
+#[cfg(doctest)]
+pub struct GuidePerformanceDoctests;
+
+/// The user guide's index, compiled and run as doctests.
+#[doc = include_str!("../docs/guide/README.md")]
+#[cfg(doctest)]
+pub struct GuideIndexDoctests;
