@@ -953,7 +953,7 @@ struct Derived<'a, 'b> {
     /// The graphs of r̈ built when the routes were compared.
     graphs: RouteGraphs,
     /// Maggi's terms, for a system in generalized speeds.
-    maggi: Option<crate::maggi::MaggiTerms>,
+    maggi: Option<crate::mechanics::MaggiTerms>,
     /// The parameters of `sensitivities`, in order.
     sensitivity_params: Vec<Ident>,
 }
@@ -1820,7 +1820,7 @@ pub fn generate(
     // (only for homogeneous, time-independent velocity constraints: DESIGN §9)
     let both_routes =
         m.homogeneous && (m.outputs.contains(Output::Routes) || m.k() <= CURVATURE_ROUTE_MAX_K);
-    let mut dv = m.derive(both_routes);
+    let mut dv = crate::mechanics::derive(&mut m, both_routes);
     stats.derived.extend([
         if both_routes {
             "accelerations (both routes)"
@@ -1945,7 +1945,7 @@ fn generate_speeds(
     cx: &mut Ctxt,
     mut stats: Stats,
 ) -> (TokenStream, Stats) {
-    let (mut dv, terms) = m.derive_maggi();
+    let (mut dv, terms) = crate::mechanics::derive_maggi(&mut m);
     stats.derived.push("accelerations (Maggi's equations)");
     if !derivation_checked(def, &mut m, &mut dv, cx) {
         return (TokenStream::new(), stats);

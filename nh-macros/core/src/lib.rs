@@ -20,7 +20,7 @@ mod emit;
 mod errors;
 mod generate;
 mod lower;
-mod maggi;
+
 mod manifold;
 mod mechanics;
 mod model;

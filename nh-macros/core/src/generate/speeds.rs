@@ -4,7 +4,7 @@
 
 use super::{Args, Derived, bound_dag, dot, exprs, matrix, vector_expr};
 use crate::emit::Node;
-use crate::maggi::MaggiTerms;
+use crate::mechanics::MaggiTerms;
 use proc_macro2::TokenStream;
 use quote::quote;
 

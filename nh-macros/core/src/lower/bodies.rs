@@ -670,7 +670,9 @@ impl Lowerer<'_> {
             return None;
         }
         let note = self.value_note(x, v);
-        if v == ZERO || crate::mechanics::vanish_at_random_points(&self.e, self.pi_sym, &[v]) {
+        if v == ZERO
+            || crate::sym::random_points::vanish_at_random_points(&self.e, self.pi_sym, &[v])
+        {
             let fix = if which == "tube" {
                 "leave `tube` out for a thin wheel"
             } else {
@@ -708,7 +710,8 @@ impl Lowerer<'_> {
         let nz2 = self.e.mul(n[2], n[2]);
         let one = self.e.int(1);
         let s2 = self.e.sub(one, nz2);
-        s2 == ZERO || crate::mechanics::vanish_at_random_points(&self.e, self.pi_sym, &[s2])
+        s2 == ZERO
+            || crate::sym::random_points::vanish_at_random_points(&self.e, self.pi_sym, &[s2])
     }
 
     /// Whether the contact's height P_z = G_z − r w_z − ρ cannot vanish
@@ -843,7 +846,11 @@ impl Lowerer<'_> {
         let spin = cross3(&mut self.e, omega, offset);
         let v = add3(&mut self.e, gdot, spin);
         let height = (point[2] != ZERO
-            && !crate::mechanics::vanish_at_random_points(&self.e, self.pi_sym, &[point[2]]))
+            && !crate::sym::random_points::vanish_at_random_points(
+                &self.e,
+                self.pi_sym,
+                &[point[2]],
+            ))
         .then_some(point[2]);
         Contact {
             velocity: [v[0], v[1]],

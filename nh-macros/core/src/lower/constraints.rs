@@ -6,9 +6,9 @@
 use super::linear;
 use super::{Binding, Lowerer, Place};
 use crate::ctxt::SpanRange;
-use crate::mechanics::vanish_at_random_points;
 use crate::model::{Constraint, ConstraintKind};
 use crate::parse::{self, Expr, RollingDef, SystemDef};
+use crate::sym::random_points::vanish_at_random_points;
 use crate::sym::{ExprId, Rational, SymId, ZERO};
 use proc_macro2::Ident;
 use rustc_hash::FxHashMap as HashMap;

@@ -245,8 +245,8 @@ mod tests {
     }
 
     use super::*;
-    use crate::mechanics::vanish_at_random_points;
     use crate::sym::Fun;
+    use crate::sym::random_points::vanish_at_random_points;
 
     /// A 5×5 block with constants, trigonometric entries and zeros.
     fn block(e: &mut Engine) -> (Vec<Vec<ExprId>>, crate::sym::SymId) {

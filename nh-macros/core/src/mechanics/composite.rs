@@ -3,8 +3,11 @@
 //! accelerations chain through the frames that hold them, and a uniform
 //! gravity acts through the partial velocities the bodies need anyway.
 
+use super::chains::{Chain, Link};
+use super::kane::Wheel;
+use super::scene::Scene;
 use crate::lower::values::{Mat3, Vec3, mat_vec, transpose};
-use crate::mechanics::Scene;
+use crate::sym::random_points::vanish_at_random_points;
 use crate::sym::{ExprId, ONE, SymId, ZERO};
 
 /// A body's orientation, body angular velocity and elementary rotations.
@@ -27,10 +30,10 @@ pub(super) struct Part {
     /// The orientation (body → world, by rows).
     pub(super) orientation: Option<Mat3>,
     /// (μ, d) of the centres folded into this body's: its inertia gains
-    /// μ(|d|² 1 − d dᵀ) each (see [`super::Inertia`]).
+    /// μ(|d|² 1 − d dᵀ) each (see [`super::kane::Inertia`]).
     pub(super) masses: Vec<(ExprId, Vec3)>,
     /// The wheels whose rotation was folded into this body's.
-    pub(super) wheels: Vec<super::Wheel>,
+    pub(super) wheels: Vec<Wheel>,
     /// The elementary rotations of the orientation.
     pub(super) factors: Vec<(usize, ExprId)>,
 }
@@ -112,7 +115,7 @@ impl Scene<'_> {
             let rate = self.along_motion(angle);
             for a in 0..parts.len() {
                 if a != b && self.carries(&parts[a], turned, k, rate) {
-                    let wheel = super::Wheel {
+                    let wheel = Wheel {
                         axis: k,
                         moment: inertia[k][k],
                         rate,
@@ -156,12 +159,12 @@ impl Scene<'_> {
             let (v, scale) = (v.to_f64(), scale.to_f64());
             v.is_finite() && v.abs() <= 1e-9 * (1.0 + scale)
         });
-        small && super::vanish_at_random_points(&self.engine, self.model.pi, &gap)
+        small && vanish_at_random_points(&self.engine, self.model.pi, &gap)
     }
 
     /// The chain of a body's centre from a contact's centre whose own rate
     /// is computed (a root, DESIGN §10), if the body does not spin.
-    pub(super) fn anchor(&mut self, part: &Part, frame: &Option<Mat3>) -> Option<super::Chain> {
+    pub(super) fn anchor(&mut self, part: &Part, frame: &Option<Mat3>) -> Option<Chain> {
         let (Some(c), Some((_, _, None))) = (part.centre, part.rotation) else {
             return None;
         };
@@ -178,7 +181,7 @@ impl Scene<'_> {
 
     /// Per contact, a chain of its centre from an earlier contact's centre
     /// (none for the roots, whose J̇ q̇ is computed).
-    pub(super) fn contact_chains(&mut self, frame: &Option<Mat3>) -> Vec<Option<super::Chain>> {
+    pub(super) fn contact_chains(&mut self, frame: &Option<Mat3>) -> Vec<Option<Chain>> {
         let centres: Vec<Vec3> = self
             .model
             .contact_kinematics
@@ -199,12 +202,7 @@ impl Scene<'_> {
 
     /// A chain to `target` from one of `roots`: one frame in which target −
     /// root is fixed, or two through a point of [`Model::points`] (a joint).
-    fn chain_to(
-        &mut self,
-        target: Vec3,
-        roots: &[Vec3],
-        frame: &Option<Mat3>,
-    ) -> Option<super::Chain> {
+    fn chain_to(&mut self, target: Vec3, roots: &[Vec3], frame: &Option<Mat3>) -> Option<Chain> {
         let frames = self.frames();
         for &root in roots {
             for f in &frames {
@@ -265,20 +263,20 @@ impl Scene<'_> {
         Some(out)
     }
 
-    fn link(&mut self, f: &Body, offset: Vec3, frame: &Option<Mat3>) -> super::Link {
+    fn link(&mut self, f: &Body, offset: Vec3, frame: &Option<Mat3>) -> Link {
         let turn = match frame {
             Some(h) => crate::lower::values::mat_mat(&mut self.engine, h, &f.0),
             None => f.0,
         };
         let (kept, tail) = self.trimmed(&f.2);
         match (self.frame_of(&kept, frame.is_some()), tail) {
-            (Some(steps), Some(tail)) => super::Link {
+            (Some(steps), Some(tail)) => Link {
                 omega: f.1,
                 offset: mat_vec(&mut self.engine, &tail, offset),
                 turn,
                 frame: Some(steps),
             },
-            _ => super::Link {
+            _ => Link {
                 omega: f.1,
                 offset,
                 turn,
@@ -287,9 +285,9 @@ impl Scene<'_> {
         }
     }
 
-    fn chain(&mut self, root: Vec3, links: Vec<super::Link>, frame: &Option<Mat3>) -> super::Chain {
+    fn chain(&mut self, root: Vec3, links: Vec<Link>, frame: &Option<Mat3>) -> Chain {
         let jacobian = root.map(|x| self.positional_jacobian(x));
-        super::Chain {
+        Chain {
             root: self.in_frame(frame, jacobian),
             links,
         }
@@ -321,9 +319,8 @@ impl Scene<'_> {
             .collect();
         let at_zero = self.engine.subst(x, &zero, &mut Default::default());
         let change = self.engine.sub(x, at_zero);
-        (self.fixed(at_zero)
-            && super::vanish_at_random_points(&self.engine, self.model.pi, &[change]))
-        .then_some(at_zero)
+        (self.fixed(at_zero) && vanish_at_random_points(&self.engine, self.model.pi, &[change]))
+            .then_some(at_zero)
     }
 
     /// Whether Rᵀ(p − q) takes the same value at two states (the same

@@ -49,6 +49,7 @@ mod graph;
 mod kept;
 mod normal;
 mod power;
+pub mod random_points;
 pub mod rational;
 mod subst;
 

@@ -10,8 +10,9 @@
 //! the curvature route's (a k × k symmetric matrix and a right side), so the
 //! generation solves it, differentiates it and checks it the same way.
 
-use crate::mechanics::Scene;
-use crate::mechanics::{CurvatureRoute, Derivation};
+use super::curvature::CurvatureRoute;
+use super::multipliers::MultiplierRoute;
+use super::scene::Scene;
 use crate::sym::{ExprId, ZERO};
 use rustc_hash::FxHashMap as HashMap;
 
@@ -29,10 +30,10 @@ pub struct MaggiTerms {
 }
 
 impl Scene<'_> {
-    /// The derivation of a system in generalized speeds: Maggi's equations
-    /// as the reduced system (in the curvature route's slot), the
-    /// multiplier route's M and h, and the terms of the reaction forces.
-    pub fn derive_maggi(&mut self) -> (Derivation, MaggiTerms) {
+    /// Maggi's equations of a system in generalized speeds: the multiplier
+    /// route's M and h, the reduced system (Sᵀ M S) u̇ = −Sᵀ (h + M a) and
+    /// the terms of the reaction forces.
+    pub fn maggi_equations(&mut self) -> (MultiplierRoute, CurvatureRoute, MaggiTerms) {
         let multiplier_route = self.multiplier_route();
         let (n, k) = (self.model.n(), self.model.k());
         let map = self.constrained_velocities();
@@ -104,19 +105,10 @@ impl Scene<'_> {
                 e.neg(x)
             })
             .collect();
-        let silent = (0..k).map(|a| reduced[a][a] == ZERO).collect();
-        let derivation = Derivation {
-            silent,
-            multiplier_route,
-            curvature: Vec::new(),
-            curvature_route: CurvatureRoute {
-                mass: reduced,
-                rhs,
-                solution: None,
-            },
-            energy: None,
-            integrable: false,
-            integrable_proved: false,
+        let reduced = CurvatureRoute {
+            mass: reduced,
+            rhs,
+            solution: None,
         };
         let terms = MaggiTerms {
             mass,
@@ -124,6 +116,6 @@ impl Scene<'_> {
             s,
             acc_bias,
         };
-        (derivation, terms)
+        (multiplier_route, reduced, terms)
     }
 }

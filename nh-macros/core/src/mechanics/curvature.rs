@@ -1,0 +1,294 @@
+//! The curvature B^b_{αβ} of (5.21) and the curvature route: the
+//! constrained Lagrangian Lc (5.12) and the reduced equations Mc r̈ = f of
+//! (5.20), solved symbolically when that is cheaper.
+
+use super::scene::Scene;
+use crate::sym::dd::Dd;
+use crate::sym::{ExprId, ZERO};
+use rustc_hash::FxHashMap as HashMap;
+
+/// The curvature route: the reduced equations Mc r̈ = f in closed form.
+pub struct CurvatureRoute {
+    /// ∂²Lc/∂ṙ_α∂ṙ_β, k × k.
+    pub mass: Vec<Vec<ExprId>>,
+    /// Right side f of Mc r̈ = f, from (5.20) with the forces projected.
+    pub rhs: Vec<ExprId>,
+    /// r̈ solved symbolically, when that is cheaper than solving numerically.
+    pub solution: Option<Vec<ExprId>>,
+}
+
+impl Scene<'_> {
+    /// B^b_{αβ} of (5.21), p × k × k, antisymmetric in (α, β).
+    pub fn curvature(&mut self) -> Vec<Vec<Vec<ExprId>>> {
+        let (k, p) = (self.model.k(), self.model.p());
+        let mut b = vec![vec![vec![ZERO; k]; k]; p];
+        for bb in 0..p {
+            for al in 0..k {
+                for be in (al + 1)..k {
+                    let v = self.curvature_entry(bb, al, be);
+                    b[bb][al][be] = v;
+                    b[bb][be][al] = self.engine.neg(v);
+                }
+            }
+        }
+        b
+    }
+
+    /// B^b_{αβ} of (5.21) for α < β.
+    pub(crate) fn curvature_entry(&mut self, bb: usize, al: usize, be: usize) -> ExprId {
+        let r = self.model.of_independent(|c| c.position);
+        let (r_al, r_be) = (r[al], r[be]);
+        let e = &mut self.engine;
+        let a = |aa: usize, x: usize| self.model.constraints[aa].coefficients[x];
+        let d1 = e.diff(a(bb, al), r_be);
+        let d2 = e.diff(a(bb, be), r_al);
+        let mut parts = vec![d1, e.neg(d2)];
+        for (aa, c) in self.model.constraints.iter().enumerate() {
+            let s_sym = self.model.coordinates[c.dependent].position;
+            let x = e.diff(a(bb, be), s_sym);
+            let x = e.mul(a(aa, al), x);
+            let y = e.diff(a(bb, al), s_sym);
+            let y = e.mul(a(aa, be), y);
+            parts.push(x);
+            parts.push(e.neg(y));
+        }
+        e.sum(&parts)
+    }
+
+    /// The curvature route (5.12)–(5.20): Lc, its reduced mass matrix and the
+    /// right side with the curvature term and projected forces.
+    pub fn curvature_route(&mut self, curvature: &[Vec<Vec<ExprId>>]) -> CurvatureRoute {
+        self.curvature_route_parts(curvature)
+    }
+
+    /// Per independent velocity ṙ_a, whether (Cᵀ M C)_aa vanishes, with
+    /// C = [I; −A]: evaluated at 16 random points in double-double
+    /// arithmetic, zero where it stays below 1e-24 of the sum of its terms'
+    /// sizes at every point (as [`vanish_at_random_points`]); cheaper than
+    /// the reduced mass matrix of the constrained Lagrangian when the
+    /// curvature route is not derived.
+    pub(crate) fn silent_velocities(&self, mass: &[Vec<ExprId>]) -> Vec<bool> {
+        use crate::sym::dd::Dd;
+        let (n, k) = (self.model.n(), self.model.k());
+        let mut silent = vec![true; k];
+        let mut rng = crate::sym::Rng::new(0xA409_3822_299F_31D0);
+        for _ in 0..16 {
+            if !silent.contains(&true) {
+                break;
+            }
+            let mut vals = rng.point(self.engine.num_symbols(), self.model.pi);
+            let mut memo = crate::sym::EvalMemo::default();
+            let mut column = |a: usize| -> Vec<Dd> {
+                let mut c = vec![Dd::ZERO; n];
+                c[self.model.independent()[a]] = Dd::from_f64(1.0);
+                for con in &self.model.constraints {
+                    let x = self.engine.eval_memo(con.coefficients[a], &vals, &mut memo);
+                    c[con.dependent] = Dd::ZERO - x;
+                }
+                c
+            };
+            let columns: Vec<Vec<Dd>> = (0..k).map(&mut column).collect();
+            for (a, c) in columns.iter().enumerate() {
+                if !silent[a] {
+                    continue;
+                }
+                let (value, scale) = match mass.is_empty() {
+                    false => self.mass_along(mass, c, &vals, &mut memo),
+                    true => self.mass_sampled_along(c, &mut vals),
+                };
+                if value.abs().to_f64() > 1e-24 * scale.to_f64() {
+                    silent[a] = false;
+                }
+            }
+        }
+        silent
+    }
+
+    /// cᵀ M c from M's entries at a point, with the sum of its terms' sizes.
+    pub(crate) fn mass_along(
+        &self,
+        mass: &[Vec<ExprId>],
+        c: &[Dd],
+        vals: &[Dd],
+        memo: &mut crate::sym::EvalMemo<Dd>,
+    ) -> (Dd, Dd) {
+        let (mut value, mut scale) = (Dd::ZERO, Dd::ZERO);
+        let moving = || (0..c.len()).filter(|&i| c[i].to_f64() != 0.0);
+        for i in moving() {
+            for j in moving() {
+                let m = self.engine.eval_memo(mass[i][j], vals, memo);
+                let t = c[i] * c[j] * m;
+                value = value + t;
+                scale = scale + t.abs();
+            }
+        }
+        (value, scale)
+    }
+
+    /// cᵀ M c sampled from the Lagrangian, quadratic in the velocities:
+    /// L(q, c) + L(q, −c) − 2 L(q, 0), with the sum of the samples' sizes.
+    /// The velocities in `vals` are overwritten.
+    pub(crate) fn mass_sampled_along(&self, c: &[Dd], vals: &mut [Dd]) -> (Dd, Dd) {
+        let (mut value, mut scale) = (Dd::ZERO, Dd::ZERO);
+        for (sign, weight) in [(1.0, 1.0), (-1.0, 1.0), (0.0, -2.0)] {
+            for (coordinate, &ci) in self.model.coordinates.iter().zip(c) {
+                vals[coordinate.velocity.index()] = Dd::from_f64(sign) * ci;
+            }
+            let (l, size) = self.engine.eval_with_scale(self.model.lagrangian, vals);
+            value = value + Dd::from_f64(weight) * l;
+            scale = scale + Dd::from_f64(weight.abs()) * size;
+        }
+        (value, scale)
+    }
+
+    pub(crate) fn curvature_route_parts(
+        &mut self,
+        curvature: &[Vec<Vec<ExprId>>],
+    ) -> CurvatureRoute {
+        let (n, k) = (self.model.n(), self.model.k());
+        let map = self.constrained_velocities();
+        let qdot_c = self.constrained_qdot();
+        let l = self.model.lagrangian;
+        let r_vel = self.model.independent_velocities();
+        let r_pos = self.model.of_independent(|c| c.position);
+        let r_force = self.model.of_independent(|c| c.force);
+        let q = &self.model.coordinates;
+        let e = &mut self.engine;
+        let mut memo = HashMap::default();
+        let lc = e.subst(l, &map, &mut memo); // (5.12)
+        let pc: Vec<ExprId> = r_vel.iter().map(|&v| e.diff(lc, v)).collect();
+        let mut mass = vec![vec![ZERO; k]; k];
+        for al in 0..k {
+            for be in al..k {
+                let m = e.diff(pc[al], r_vel[be]);
+                mass[al][be] = m;
+                mass[be][al] = m;
+            }
+        }
+        // ∂L/∂ṡ_b at the constrained velocities
+        let p_dep: Vec<ExprId> = self
+            .model
+            .constraints
+            .iter()
+            .map(|c| {
+                let d = e.diff(l, q[c.dependent].velocity);
+                e.subst(d, &map, &mut memo)
+            })
+            .collect();
+        let mut rhs = Vec::with_capacity(k);
+        for al in 0..k {
+            let mut lhs = Vec::new();
+            // velocity part of d/dt ∂Lc/∂ṙ_α
+            for i in 0..n {
+                let d = e.diff(pc[al], q[i].position);
+                if d != ZERO {
+                    lhs.push(e.mul(d, qdot_c[i]));
+                }
+            }
+            lhs.push(e.diff(pc[al], self.model.time));
+            // − ∂Lc/∂r_α
+            let d = e.diff(lc, r_pos[al]);
+            lhs.push(e.neg(d));
+            // + Σ_a A^a_α ∂Lc/∂s_a
+            for c in &self.model.constraints {
+                let d = e.diff(lc, q[c.dependent].position);
+                if d != ZERO {
+                    lhs.push(e.mul(c.coefficients[al], d));
+                }
+            }
+            // + Σ_b Σ_β B^b_αβ ṙ_β ∂L/∂ṡ_b   (moved from the right side of (5.20))
+            for (b, pb) in p_dep.iter().enumerate() {
+                for (be, &rv) in r_vel.iter().enumerate() {
+                    let bab = curvature[b][al][be];
+                    if bab != ZERO {
+                        let v = e.sym(rv);
+                        let t = e.mul(bab, v);
+                        lhs.push(e.mul(t, *pb));
+                    }
+                }
+            }
+            // projected forces Q_r − Σ_a A^a_α Q_s at the constrained velocities
+            let mut force = vec![r_force[al]];
+            for c in &self.model.constraints {
+                let qs = q[c.dependent].force;
+                if qs != ZERO {
+                    let t = e.mul(c.coefficients[al], qs);
+                    force.push(e.neg(t));
+                }
+            }
+            let force = e.sum(&force);
+            let force = e.subst(force, &map, &mut memo);
+            let lhs = e.sum(&lhs);
+            rhs.push(e.sub(force, lhs));
+        }
+        CurvatureRoute {
+            mass,
+            rhs,
+            solution: None,
+        }
+    }
+
+    /// Solves the reduced system symbolically by LDLᵀ: exact cancellations
+    /// (common factors such as m R², a pivot that is cos² ψ/4) then cost
+    /// nothing at run time. Only for small systems with small entries, where
+    /// this cannot swell; `None` otherwise or if a pivot is zero.
+    pub fn solve_symbolic(&mut self, mass: &[Vec<ExprId>], rhs: &[ExprId]) -> Option<Vec<ExprId>> {
+        let k = rhs.len();
+        let e = &mut self.engine;
+        if k == 0 || k > 3 {
+            return None;
+        }
+        let small = mass.iter().flatten().all(|&x| e.num_terms(x) <= 24)
+            && rhs.iter().all(|&x| e.num_terms(x) <= 64);
+        if !small {
+            return None;
+        }
+        let mut l = vec![vec![ZERO; k]; k];
+        let mut d = vec![ZERO; k];
+        let mut dinv = vec![ZERO; k];
+        for j in 0..k {
+            let mut dj = mass[j][j];
+            for r in 0..j {
+                let t = e.mul(l[j][r], l[j][r]);
+                let t = e.mul(t, d[r]);
+                dj = e.sub(dj, t);
+            }
+            if dj == ZERO {
+                return None;
+            }
+            d[j] = dj;
+            dinv[j] = e.pow(dj, crate::sym::Rational::MINUS_ONE);
+            for i in (j + 1)..k {
+                let mut v = mass[i][j];
+                for r in 0..j {
+                    let t = e.mul(l[i][r], l[j][r]);
+                    let t = e.mul(t, d[r]);
+                    v = e.sub(v, t);
+                }
+                l[i][j] = e.mul(v, dinv[j]);
+            }
+        }
+        let mut y = vec![ZERO; k];
+        for i in 0..k {
+            let mut v = rhs[i];
+            for r in 0..i {
+                let t = e.mul(l[i][r], y[r]);
+                v = e.sub(v, t);
+            }
+            y[i] = v;
+        }
+        let mut x = vec![ZERO; k];
+        for i in (0..k).rev() {
+            let mut v = e.mul(y[i], dinv[i]);
+            for r in (i + 1)..k {
+                let t = e.mul(l[r][i], x[r]);
+                v = e.sub(v, t);
+            }
+            x[i] = v;
+        }
+        if e.overflowed() {
+            return None;
+        }
+        Some(x)
+    }
+}

@@ -1,0 +1,36 @@
+//! The energy E = Σ q̇_i ∂L/∂q̇_i − L (`outputs { energy }`).
+
+use super::scene::Scene;
+use crate::sym::ExprId;
+use rustc_hash::FxHashMap as HashMap;
+
+impl Scene<'_> {
+    /// E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities: substituted,
+    /// or in the full q̇ whose dependent velocities the emitted code binds
+    /// to their solved values.
+    pub fn energy(&mut self) -> ExprId {
+        let map = self.constrained_velocities();
+        let l = self.model.lagrangian;
+        let e = &mut self.engine;
+        let mut parts = Vec::new();
+        for v in self.model.coordinates.iter().map(|c| c.velocity) {
+            let p = e.diff(l, v);
+            let vs = e.sym(v);
+            parts.push(e.mul(vs, p));
+        }
+        parts.push(e.neg(l));
+        let en = e.sum(&parts);
+        let mut memo = HashMap::default();
+        let substituted = e.subst(en, &map, &mut memo);
+        // Substituting the solved velocities pays when they simplify E (the
+        // closed forms of small systems). When they are large (a block of
+        // implicit rows), E stays in the full q̇: the emitted code binds each
+        // velocity symbol to its solved value, computed once.
+        let solved: usize = map.values().map(|&v| e.num_terms(v)).sum();
+        if e.num_terms(substituted) <= e.num_terms(en) + solved {
+            substituted
+        } else {
+            en
+        }
+    }
+}

@@ -1,0 +1,113 @@
+//! The mechanics stage (DESIGN §4): derived symbolically from the
+//! immutable model, each piece once and only when asked for. One room per
+//! formulation — the multiplier route (`multipliers`), Kane's form of its
+//! terms for bodies (`kane`), the curvature route (`curvature`), Maggi's
+//! equations for a system in generalized speeds (`maggi`) — with the
+//! contacts (`contacts`, `block`, `chains`, `composite`), integrability and
+//! the energy in rooms of their own. [`derive`] is the stage's entry.
+
+mod block;
+mod chains;
+mod composite;
+mod contacts;
+mod curvature;
+mod energy;
+mod integrability;
+mod kane;
+mod maggi;
+mod multipliers;
+mod scene;
+
+pub use block::{BlockTerms, ContactTerms, RowTerms};
+pub use chains::{Chain, Frame, FrameStep, Link};
+pub use curvature::CurvatureRoute;
+pub use kane::{BodyRotation, BodyTerms, Inertia, Wheel};
+pub use maggi::MaggiTerms;
+pub use multipliers::MultiplierRoute;
+pub use scene::Scene;
+
+use crate::model::Output;
+use crate::sym::{ExprId, ZERO};
+
+/// Everything derived symbolically for one system, each piece once.
+pub struct Derivation {
+    /// The multiplier route's pieces.
+    pub multiplier_route: MultiplierRoute,
+    /// B^b_{αβ} of (5.21), p × k × k.
+    pub curvature: Vec<Vec<Vec<ExprId>>>,
+    /// The curvature route (its reduced mass matrix alone when only the
+    /// multiplier route is derived).
+    pub curvature_route: CurvatureRoute,
+    /// The energy, when `outputs { energy }` asks for it (derived once the
+    /// rest is known to be within the engine's limits).
+    pub energy: Option<ExprId>,
+    /// Whether every curvature entry is identically zero.
+    pub integrable: bool,
+    /// Whether that was proved symbolically (otherwise numerically).
+    pub integrable_proved: bool,
+    /// Per independent velocity, whether its entry of the reduced mass
+    /// matrix Cᵀ M C vanishes (it appears nowhere in the constrained
+    /// Lagrangian).
+    pub silent: Vec<bool>,
+}
+
+/// The multiplier route, the curvature and the curvature route (only its
+/// reduced mass matrix unless `both_routes`), and whether the constraints
+/// are integrable.
+pub fn derive(m: &mut Scene<'_>, both_routes: bool) -> Derivation {
+    let multiplier_route = m.multiplier_route();
+    // the full curvature when a route or the output uses it; otherwise
+    // only as many entries as it takes to see that one does not vanish
+    let (curvature, (integrable, integrable_proved)) =
+        if both_routes || m.model.outputs.contains(Output::Curvature) {
+            let curvature = m.curvature();
+            let integrability = m.integrability(&curvature);
+            (curvature, integrability)
+        } else {
+            (Vec::new(), m.integrability_entry_by_entry())
+        };
+    let curvature_route = if both_routes {
+        m.curvature_route(&curvature)
+    } else {
+        CurvatureRoute {
+            mass: Vec::new(),
+            rhs: Vec::new(),
+            solution: None,
+        }
+    };
+    let silent = if both_routes {
+        (0..m.model.k())
+            .map(|a| curvature_route.mass[a][a] == ZERO)
+            .collect()
+    } else {
+        m.silent_velocities(&multiplier_route.mass)
+    };
+    Derivation {
+        silent,
+        multiplier_route,
+        curvature,
+        curvature_route,
+        energy: None,
+        integrable,
+        integrable_proved,
+    }
+}
+
+/// The derivation of a system in generalized speeds: Maggi's equations as
+/// the reduced system (in the curvature route's slot), the multiplier
+/// route's M and h, and the terms of the reaction forces.
+pub fn derive_maggi(m: &mut Scene<'_>) -> (Derivation, MaggiTerms) {
+    let (multiplier_route, reduced, terms) = m.maggi_equations();
+    let k = reduced.mass.len();
+    let silent = (0..k).map(|a| reduced.mass[a][a] == ZERO).collect();
+    let derivation = Derivation {
+        silent,
+        multiplier_route,
+        curvature: Vec::new(),
+        curvature_route: reduced,
+        energy: None,
+        integrable: false,
+        integrable_proved: false,
+    };
+    (derivation, terms)
+}

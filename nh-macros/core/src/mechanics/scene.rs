@@ -1,0 +1,145 @@
+//! The scene the stages after lowering work on: the model, immutable, with
+//! the engine its expressions live in and the contacts' terms derived once;
+//! and the questions every formulation asks of it (the velocities at the
+//! constraints, rates along the motion, Jacobians).
+
+use super::block::BlockTerms;
+use super::chains::Chain;
+use crate::model::Model;
+use crate::sym::{Engine, ExprId, SymId, ZERO};
+use rustc_hash::FxHashMap as HashMap;
+
+/// A lowered model with the engine its expressions live in, and the
+/// contacts' terms derived from it once: the working state of the stages
+/// after lowering. The model is borrowed immutably (nothing after lowering
+/// writes into it); the engine grows as quantities are derived.
+pub struct Scene<'a> {
+    /// The model, as lowering built it.
+    pub model: &'a Model,
+    /// The engine holding the model's expressions and everything derived.
+    pub engine: &'a mut Engine,
+    /// Per contact, the chain its centre's acceleration follows (see
+    /// [`Chain`]).
+    pub contact_chains: Vec<Option<Chain>>,
+    /// The velocity rows' terms for solving their block numerically (see
+    /// [`BlockTerms`]).
+    pub block: Option<BlockTerms>,
+}
+
+impl Scene<'_> {
+    /// The substitution ṡ_a ↦ −Σ_α A^a_α ṙ_α of (5.11).
+    /// For a system in generalized speeds, every q̇_i ↦ (S u + σ)_i.
+    pub fn constrained_velocities(&self) -> HashMap<SymId, ExprId> {
+        if let Some(sp) = &self.model.speeds {
+            let velocities = self.model.coordinates.iter().map(|c| c.velocity);
+            return velocities.zip(sp.velocities.iter().copied()).collect();
+        }
+        self.model
+            .constraints
+            .iter()
+            .map(|c| (self.model.coordinates[c.dependent].velocity, c.velocity))
+            .collect()
+    }
+
+    /// q̇ at the constrained velocities, per coordinate (S u + σ, for a
+    /// system in generalized speeds).
+    pub fn constrained_qdot(&mut self) -> Vec<ExprId> {
+        if let Some(sp) = &self.model.speeds {
+            return sp.velocities.clone();
+        }
+        let mut out = Vec::with_capacity(self.model.n());
+        for i in 0..self.model.n() {
+            match self.model.constraints.iter().find(|c| c.dependent == i) {
+                Some(c) => out.push(c.velocity),
+                None => out.push(self.engine.sym(self.model.coordinates[i].velocity)),
+            }
+        }
+        out
+    }
+
+    /// Σ_i ∂x/∂q_i q̇_i: the rate of x along the motion, t held fixed.
+    pub fn along_motion(&mut self, x: ExprId) -> ExprId {
+        let e = &mut self.engine;
+        let mut parts = Vec::new();
+        for c in &self.model.coordinates {
+            let d = e.diff(x, c.position);
+            if d != ZERO {
+                let v = e.sym(c.velocity);
+                parts.push(e.mul(d, v));
+            }
+        }
+        e.sum(&parts)
+    }
+
+    /// ∂x/∂q_i for every coordinate.
+    pub(crate) fn positional_jacobian(&mut self, x: ExprId) -> Vec<ExprId> {
+        let e = &mut self.engine;
+        self.model
+            .coordinates
+            .iter()
+            .map(|c| e.diff(x, c.position))
+            .collect()
+    }
+
+    /// ∂x/∂q̇_i for every coordinate.
+    pub(crate) fn velocity_jacobian(&mut self, x: ExprId) -> Vec<ExprId> {
+        let e = &mut self.engine;
+        self.model
+            .coordinates
+            .iter()
+            .map(|c| e.diff(x, c.velocity))
+            .collect()
+    }
+}
+impl std::ops::Deref for Scene<'_> {
+    type Target = Model;
+    fn deref(&self) -> &Model {
+        self.model
+    }
+}
+
+impl<'a> Scene<'a> {
+    /// The scene of `model`, with its contacts' chains and block derived
+    /// (none for a system in generalized speeds, which has no constraints).
+    pub fn new(model: &'a Model, engine: &'a mut Engine) -> Scene<'a> {
+        let mut scene = Scene {
+            model,
+            engine,
+            contact_chains: Vec::new(),
+            block: None,
+        };
+        if model.speeds.is_none() {
+            let frame = scene.heading_frame();
+            scene.contact_chains = scene.contact_chains(&frame);
+            scene.block = scene.block_terms();
+        }
+        scene
+    }
+
+    /// Whether some dependent velocity depends on time explicitly.
+    pub fn rheonomic(&self) -> bool {
+        let m = self.model;
+        m.constraints
+            .iter()
+            .any(|c| self.engine.depends_on(c.velocity, m.time))
+    }
+
+    /// Whether nothing in the definition depends on t explicitly (the
+    /// Lagrangian, the forces, the constraints, the kinematics), so that the
+    /// right-hand side is autonomous.
+    pub fn autonomous(&self) -> bool {
+        let m = self.model;
+        let t = m.time;
+        let forces = m.coordinates.iter().map(|c| c.force);
+        let constraints = m
+            .constraints
+            .iter()
+            .flat_map(|c| std::iter::once(c.velocity).chain(c.holonomic));
+        let kinematics = m.speeds.iter().flat_map(|sp| sp.velocities.iter().copied());
+        !std::iter::once(m.lagrangian)
+            .chain(forces)
+            .chain(constraints)
+            .chain(kinematics)
+            .any(|x| self.engine.depends_on(x, t))
+    }
+}
