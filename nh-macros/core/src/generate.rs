@@ -246,7 +246,7 @@ pub(crate) fn bound_dag(m: &Scene<'_>, args: &Args) -> Dag {
     }
     for c in &m.constraints {
         let s = &m.coordinates[c.dependent];
-        let v = d.expr(&m.engine, c.velocity);
+        let v = d.expr(m.engine, c.velocity);
         d.label(v, format!("dot({}): {}", s.name, c.kind.velocity_source()));
         // one node the rates along the motion can hold (Op::Opaque)
         let v = d.opaque(v);
@@ -266,7 +266,7 @@ fn bind_speeds(d: &mut Dag, m: &Scene<'_>, sp: &crate::model::Speeds, args: &Arg
         leaves.push(l);
     }
     for (c, &w) in m.coordinates.iter().zip(&sp.velocities) {
-        let v = d.expr(&m.engine, w);
+        let v = d.expr(m.engine, w);
         if !leaves.contains(&v) {
             d.label(
                 v,
@@ -278,7 +278,7 @@ fn bind_speeds(d: &mut Dag, m: &Scene<'_>, sp: &crate::model::Speeds, args: &Arg
 }
 
 fn exprs(d: &mut Dag, m: &Scene<'_>, v: &[ExprId]) -> Vec<Node> {
-    v.iter().map(|&e| d.expr(&m.engine, e)).collect()
+    v.iter().map(|&e| d.expr(m.engine, e)).collect()
 }
 
 fn matrix(d: &mut Dag, m: &Scene<'_>, v: &[Vec<ExprId>]) -> Vec<Vec<Node>> {
@@ -332,12 +332,12 @@ fn multiplier_nodes(d: &mut Dag, m: &Scene<'_>, r: &MultiplierRoute) -> Multipli
     } else {
         for con in &m.constraints {
             for b in 0..k {
-                let x = d.expr(&m.engine, con.coefficients[b]);
+                let x = d.expr(m.engine, con.coefficients[b]);
                 c[con.dependent][b] = d.neg(x);
             }
         }
         for (a, &s) in m.dependent().iter().enumerate() {
-            acc_bias[s] = d.expr(&m.engine, r.dependent_bias[a]);
+            acc_bias[s] = d.expr(m.engine, r.dependent_bias[a]);
         }
     }
     // Cᵀ M C r̈ = −Cᵀ (M acc_bias + h)   (5.9)
@@ -462,10 +462,10 @@ fn body_projection(
         *f = d.neg(*f);
     }
     let motion = motion::Motion::of(d, m, bt.heading_rate);
-    let gravity = bt.gravity.map(|g| d.expr(&m.engine, g));
+    let gravity = bt.gravity.map(|g| d.expr(m.engine, g));
     for b in &bt.bodies {
         if let Some(jacobian) = &b.jacobian {
-            let mass = d.expr(&m.engine, b.mass);
+            let mass = d.expr(m.engine, b.mass);
             let (v, mut a) = centre_partials(
                 d,
                 m,
@@ -510,7 +510,7 @@ fn body_projection(
             let mut torque: Vec<Node> = (0..3).map(|x| d.add(i_alpha[x], gyro[x])).collect();
             if let Some((k, rate)) = rot.spin {
                 // −θ̇ I (e_k × ω'), from turning α by R_k(θ)
-                let rate = d.expr(&m.engine, rate);
+                let rate = d.expr(m.engine, rate);
                 let mut axis = [ZERO_NODE; 3];
                 axis[k] = ONE_NODE;
                 let ek_omega = cross_nodes(d, &axis, &omega);
@@ -552,7 +552,7 @@ fn inertia_nodes(
 ) -> Vec<Vec<Node>> {
     let mut sum = matrix(d, m, &inertia.own.map(|r| r.to_vec()));
     for (mu, offset) in &inertia.masses {
-        let mu = d.expr(&m.engine, *mu);
+        let mu = d.expr(m.engine, *mu);
         let v = exprs(d, m, offset);
         for a in 0..3 {
             for b in a..3 {
@@ -748,8 +748,8 @@ fn add_wheel(
     (mr, f): (&mut [Vec<Node>], &mut [Node]),
 ) {
     let k = wheel.axis;
-    let moment = d.expr(&m.engine, wheel.moment);
-    let rate = d.expr(&m.engine, wheel.rate);
+    let moment = d.expr(m.engine, wheel.moment);
+    let rate = d.expr(m.engine, wheel.rate);
     let rate0 = motion.rate_of(d, rate);
     let j = vec![exprs(d, m, jacobian)];
     let (theta, theta0) = partial_and_bias(d, &j, &[rate0], c, acc_bias);
@@ -1138,7 +1138,7 @@ impl Derived<'_, '_> {
             for (c, &z) in vars.iter().enumerate() {
                 for al in 0..k {
                     let e = self.m.engine.diff(sol[al], z);
-                    out[n + al][c] = d.expr(&self.m.engine, e);
+                    out[n + al][c] = d.expr(self.m.engine, e);
                 }
             }
             return out;
@@ -1155,11 +1155,11 @@ impl Derived<'_, '_> {
             let mut col_rhs = Vec::with_capacity(k);
             for al in 0..k {
                 let df = self.m.engine.diff(self.dv.curvature_route.rhs[al], z);
-                let mut v = d.expr(&self.m.engine, df);
+                let mut v = d.expr(self.m.engine, df);
                 for be in 0..k {
                     let dm = self.m.engine.diff(self.dv.curvature_route.mass[al][be], z);
                     if dm != ZERO {
-                        let dmn = d.expr(&self.m.engine, dm);
+                        let dmn = d.expr(self.m.engine, dm);
                         let t = d.mul(dmn, rdd[be]);
                         v = d.sub(v, t);
                     }
@@ -1189,7 +1189,7 @@ impl Derived<'_, '_> {
             let dsdot: Vec<Node> = (0..self.m.p())
                 .map(|a| {
                     let e = self.m.engine.diff(self.m.constraints[a].velocity, z);
-                    d.expr(&self.m.engine, e)
+                    d.expr(self.m.engine, e)
                 })
                 .collect();
             // ∂C/∂z: only the rows of the dependent coordinates, −∂A/∂z
@@ -1240,7 +1240,7 @@ impl Derived<'_, '_> {
     /// q and ṙ through the constraints.
     fn total_diff(&mut self, d: &mut Dag, e: ExprId, z: SymId, dsdot: &[Node]) -> Node {
         let direct = self.m.engine.diff(e, z);
-        let mut acc = d.expr(&self.m.engine, direct);
+        let mut acc = d.expr(self.m.engine, direct);
         let model = self.m.model;
         for (a, c) in model.constraints.iter().enumerate() {
             if dsdot[a] == ZERO_NODE {
@@ -1251,7 +1251,7 @@ impl Derived<'_, '_> {
                 .engine
                 .diff(e, model.coordinates[c.dependent].velocity);
             if de != ZERO {
-                let x = d.expr(&self.m.engine, de);
+                let x = d.expr(self.m.engine, de);
                 let t = d.mul(x, dsdot[a]);
                 acc = d.add(acc, t);
             }
@@ -1268,7 +1268,7 @@ impl Derived<'_, '_> {
             for i in 0..n {
                 for (c, &z) in vars.iter().enumerate() {
                     let e = self.m.engine.diff(w[i], z);
-                    out[i][c] = d.expr(&self.m.engine, e);
+                    out[i][c] = d.expr(self.m.engine, e);
                 }
             }
             return out;
@@ -1285,7 +1285,7 @@ impl Derived<'_, '_> {
                     let sdot = con.velocity;
                     for (c, &z) in vars.iter().enumerate() {
                         let e = self.m.engine.diff(sdot, z);
-                        out[i][c] = d.expr(&self.m.engine, e);
+                        out[i][c] = d.expr(self.m.engine, e);
                     }
                 }
             }
@@ -1378,7 +1378,7 @@ impl Derived<'_, '_> {
             for al in 0..k {
                 for be in (al + 1)..k {
                     if mat[al][be] != ZERO {
-                        let x = d.expr(&self.m.engine, mat[al][be]);
+                        let x = d.expr(self.m.engine, mat[al][be]);
                         d.label(x, format!("B^{b}_({al},{be}) (5.21)"));
                         nodes.push(x);
                         places.push((b, al, be));
@@ -1415,7 +1415,7 @@ impl Derived<'_, '_> {
         let args = Args::vectors(self.m);
         let en = self.dv.energy.unwrap_or(ZERO);
         let mut d = bound_dag(self.m, &args);
-        let node = d.expr(&self.m.engine, en);
+        let node = d.expr(self.m.engine, en);
         let (stmts, o) = self.emit_hoisted(&d, &[node]);
         let v = &o[0];
         let vel = velocity_arg(self.m);

@@ -23,7 +23,7 @@ pub fn methods(m: &mut Scene<'_>, xty: &TokenStream) -> TokenStream {
     };
     let args = Args::state(m);
     let mut d = bound_dag(m, &args);
-    let node = d.expr(&m.engine, chart);
+    let node = d.expr(m.engine, chart);
     let (stmts, o) = d.emit(&[node]);
     let rho = &o[0];
     let mut out = quote! {
@@ -66,7 +66,7 @@ fn projection(
         })
         .collect();
     let minus_f: Vec<ExprId> = f.iter().map(|&x| m.engine.neg(x)).collect();
-    let step = linear::solve(&mut m.engine, &jac, &[minus_f]).x.remove(0);
+    let step = linear::solve(m.engine, &jac, &[minus_f]).x.remove(0);
     // the scale of f: the sum of the sizes of its terms, so that a
     // constraint with constant terms (a wheel's radius) has a scale at q = 0
     let mut scale_terms = Vec::new();
@@ -81,7 +81,7 @@ fn projection(
         .iter()
         .chain(&step)
         .chain(&scale_terms)
-        .map(|&e| d.expr(&m.engine, e))
+        .map(|&e| d.expr(m.engine, e))
         .collect();
     let (stmts, o) = d.emit(&outs);
     let (fo, rest) = o.split_at(p);
@@ -92,7 +92,7 @@ fn projection(
         .map(|(a, &(s, _))| quote!(x[#s] += step[#a];));
     let residuals = {
         let mut d = bound_dag(m, args);
-        let outs: Vec<Node> = f.iter().map(|&e| d.expr(&m.engine, e)).collect();
+        let outs: Vec<Node> = f.iter().map(|&e| d.expr(m.engine, e)).collect();
         let (s, o) = d.emit(&outs);
         quote!({ #s [#(#o),*] })
     };

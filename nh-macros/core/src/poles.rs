@@ -37,7 +37,7 @@ pub fn guards(m: &mut Scene<'_>) -> Vec<Guard> {
         .chain(m.speeds.iter().flat_map(|s| s.syms.iter().copied()))
         .collect();
     let mut walk = Walk {
-        e: &mut m.engine,
+        e: m.engine,
         state,
         seen: HashSet::default(),
         found: Vec::new(),
@@ -158,7 +158,7 @@ pub fn method(m: &mut Scene<'_>, xty: &TokenStream) -> TokenStream {
     let count = guards.len();
     let texts: Vec<&str> = guards.iter().map(|g| g.text.as_str()).collect();
     let mut d = bound_dag(m, &Args::state(m));
-    let nodes: Vec<_> = guards.iter().map(|g| d.expr(&m.engine, g.value)).collect();
+    let nodes: Vec<_> = guards.iter().map(|g| d.expr(m.engine, g.value)).collect();
     let (stmts, outs) = d.emit(&nodes);
     quote! {
         /// The first pole or domain edge of the system's expressions

@@ -80,7 +80,7 @@ fn rates(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms) -> Vec<Node> {
     bt.rows
         .iter()
         .map(|row| match row {
-            RowTerms::Written { along, .. } => d.expr(&m.engine, *along),
+            RowTerms::Written { along, .. } => d.expr(m.engine, *along),
             RowTerms::Contact { contact, component } => {
                 let c = &bt.contacts[*contact];
                 let off = &offsets[*contact];
@@ -108,7 +108,7 @@ fn rates(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms) -> Vec<Node> {
                 match &off.rim {
                     None => acc,
                     Some(rim) => {
-                        let radius = d.expr(&m.engine, c.radius);
+                        let radius = d.expr(m.engine, c.radius);
                         let wdot = match c.rim {
                             Some(_) => motion.rate(d, rim.2, turned),
                             None => rim_rate(d, omega, rim),
@@ -128,14 +128,14 @@ fn rates(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms) -> Vec<Node> {
 
 /// o = −r w − ρ e_z with w = (e_z − n_z n)/s (w = e_z for a sphere).
 fn offset(d: &mut Dag, m: &Scene<'_>, c: &ContactTerms) -> Offset {
-    let radius = d.expr(&m.engine, c.radius);
-    let tube = d.expr(&m.engine, c.tube);
+    let radius = d.expr(m.engine, c.radius);
+    let tube = d.expr(m.engine, c.tube);
     let (w, rim) = match &c.axle {
         None => ([ZERO_NODE, ZERO_NODE, ONE_NODE], None),
         Some((n, s)) => {
             let n = exprs(d, m, n);
             let n = [n[0], n[1], n[2]];
-            let s = d.expr(&m.engine, *s);
+            let s = d.expr(m.engine, *s);
             // w_z = (1 − n_z²)/s = s
             let w = match &c.rim {
                 Some(w) => {
@@ -244,7 +244,7 @@ fn turn_back(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms, mut x: Vec<Node>) -> V
     if let Some(p) = &bt.planar {
         let u = p.columns.map(|a| x[a]);
         for (row, &a) in p.turn.iter().zip(&p.columns) {
-            let r = [d.expr(&m.engine, row[0]), d.expr(&m.engine, row[1])];
+            let r = [d.expr(m.engine, row[0]), d.expr(m.engine, row[1])];
             x[a] = super::dot(d, ZERO_NODE, [(r[0], u[0]), (r[1], u[1])]);
         }
     }

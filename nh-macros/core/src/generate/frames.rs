@@ -52,7 +52,7 @@ pub(crate) fn frame_motion(
     let (mut omega, mut alpha0) = ([ZERO_NODE; 3], [ZERO_NODE; 3]);
     for step in &frame.steps {
         let f = step_turn(d, m, step);
-        let rate = d.expr(&m.engine, step.rate);
+        let rate = d.expr(m.engine, step.rate);
         let accel = motion.rate_of(d, rate);
         (omega, alpha0) = turn_rates(d, &f, (step.axis, rate, accel), omega, alpha0);
     }
@@ -71,7 +71,7 @@ pub(crate) fn world_motion(
     let mut turn = identity();
     let (mut omega, mut alpha) = ([ZERO_NODE; 3], [ZERO_NODE; 3]);
     for (i, step) in frame.steps.iter().enumerate() {
-        let rate = d.expr(&m.engine, step.rate);
+        let rate = d.expr(m.engine, step.rate);
         let accel = motion.rate_of(d, rate);
         let axis = [0, 1, 2].map(|x| turn[x][step.axis]);
         let spin = axis.map(|x| d.mul(rate, x));

@@ -33,7 +33,7 @@ impl Motion {
             }
             held.push(v);
         }
-        let heading_rate = heading_rate.map(|h| d.expr(&m.engine, h));
+        let heading_rate = heading_rate.map(|h| d.expr(m.engine, h));
         Motion {
             seeds,
             held,

@@ -76,7 +76,7 @@ impl Scene<'_> {
                 let rate = self.along_motion(angle);
                 FrameStep {
                     axis,
-                    turn: crate::lower::values::elementary(&mut self.engine, axis, angle),
+                    turn: crate::lower::values::elementary(self.engine, axis, angle),
                     rate,
                     rate_jacobian: self.velocity_jacobian(rate),
                 }
@@ -98,9 +98,9 @@ impl Scene<'_> {
                 break;
             }
             kept.pop();
-            let f = crate::lower::values::elementary(&mut self.engine, k, angle);
+            let f = crate::lower::values::elementary(self.engine, k, angle);
             tail = Some(match tail {
-                Some(t) => crate::lower::values::mat_mat(&mut self.engine, &f, &t),
+                Some(t) => crate::lower::values::mat_mat(self.engine, &f, &t),
                 None => f,
             });
         }
@@ -115,9 +115,9 @@ impl Scene<'_> {
             .iter()
             .map(|&(k, angle)| {
                 let rate = self.along_motion(angle);
-                scale3(&mut self.engine, rate, unit(k))
+                scale3(self.engine, rate, unit(k))
             })
             .collect();
-        chain_omega(&mut self.engine, factors, &own, false)
+        chain_omega(self.engine, factors, &own, false)
     }
 }

@@ -159,7 +159,7 @@ impl Scene<'_> {
             let (v, scale) = (v.to_f64(), scale.to_f64());
             v.is_finite() && v.abs() <= 1e-9 * (1.0 + scale)
         });
-        small && vanish_at_random_points(&self.engine, self.model.pi, &gap)
+        small && vanish_at_random_points(self.engine, self.model.pi, &gap)
     }
 
     /// The chain of a body's centre from a contact's centre whose own rate
@@ -265,14 +265,14 @@ impl Scene<'_> {
 
     fn link(&mut self, f: &Body, offset: Vec3, frame: &Option<Mat3>) -> Link {
         let turn = match frame {
-            Some(h) => crate::lower::values::mat_mat(&mut self.engine, h, &f.0),
+            Some(h) => crate::lower::values::mat_mat(self.engine, h, &f.0),
             None => f.0,
         };
         let (kept, tail) = self.trimmed(&f.2);
         match (self.frame_of(&kept, frame.is_some()), tail) {
             (Some(steps), Some(tail)) => Link {
                 omega: f.1,
-                offset: mat_vec(&mut self.engine, &tail, offset),
+                offset: mat_vec(self.engine, &tail, offset),
                 turn,
                 frame: Some(steps),
             },
@@ -319,7 +319,7 @@ impl Scene<'_> {
             .collect();
         let at_zero = self.engine.subst(x, &zero, &mut Default::default());
         let change = self.engine.sub(x, at_zero);
-        (self.fixed(at_zero) && vanish_at_random_points(&self.engine, self.model.pi, &[change]))
+        (self.fixed(at_zero) && vanish_at_random_points(self.engine, self.model.pi, &[change]))
             .then_some(at_zero)
     }
 

@@ -40,7 +40,7 @@ impl Scene<'_> {
                 let omega_jacobian = c.omega.map(|w| self.velocity_jacobian(w));
                 let omega_jacobian = self.in_frame(&frame, omega_jacobian);
                 let turn = |m: &mut Scene<'_>, v: [ExprId; 3]| match &frame {
-                    Some(r) => crate::lower::values::mat_vec(&mut m.engine, r, v),
+                    Some(r) => crate::lower::values::mat_vec(m.engine, r, v),
                     None => v,
                 };
                 ContactTerms {
@@ -100,7 +100,7 @@ impl Scene<'_> {
             })
         };
         let columns = [along(self, 0)?, along(self, 1)?];
-        let r = crate::lower::values::elementary(&mut self.engine, 2, psi);
+        let r = crate::lower::values::elementary(self.engine, 2, psi);
         Some(Planar {
             columns,
             turn: [[r[0][0], r[0][1]], [r[1][0], r[1][1]]],
@@ -232,7 +232,7 @@ impl Scene<'_> {
     pub(crate) fn heading_frame(&mut self) -> Option<[[ExprId; 3]; 3]> {
         let back = self.heading()?;
         let back = self.engine.neg(back);
-        Some(crate::lower::values::elementary(&mut self.engine, 2, back))
+        Some(crate::lower::values::elementary(self.engine, 2, back))
     }
 
     /// ψ̇ of [`Model::heading_frame`]'s heading, if there is one.

@@ -26,7 +26,7 @@ impl Scene<'_> {
             return (true, true);
         }
         (
-            vanish_at_random_points(&self.engine, self.model.pi, &entries),
+            vanish_at_random_points(self.engine, self.model.pi, &entries),
             false,
         )
     }
@@ -48,7 +48,7 @@ impl Scene<'_> {
                     if v == ZERO {
                         continue;
                     }
-                    if !vanish_at_random_points(&self.engine, self.model.pi, &[v]) {
+                    if !vanish_at_random_points(self.engine, self.model.pi, &[v]) {
                         return (false, false);
                     }
                     proved = false;

@@ -123,7 +123,7 @@ impl Scene<'_> {
     /// so that vᵀ M v = l(q, v) + l(q, −v) − 2 l(q, 0) exactly.
     pub(crate) fn quadratic_in_velocities(&self, l: ExprId) -> bool {
         let velocities: Vec<SymId> = self.model.coordinates.iter().map(|c| c.velocity).collect();
-        velocity_degree(&self.engine, l, &velocities, &mut HashMap::default())
+        velocity_degree(self.engine, l, &velocities, &mut HashMap::default())
             .is_some_and(|d| d <= 2)
     }
 
