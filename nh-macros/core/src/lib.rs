@@ -21,12 +21,11 @@ mod errors;
 mod generate;
 mod lower;
 
-mod manifold;
 mod mechanics;
 mod model;
 mod names;
 mod parse;
-mod poles;
+
 pub mod sym;
 
 pub use emit::with_text_parser;

@@ -4,7 +4,7 @@
 //! rates would repeat every product.
 
 use super::motion::Motion;
-use super::{cross_nodes, matrix};
+use super::nodes::{cross_nodes, dot, matrix};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::Scene;
 use crate::mechanics::{Frame, FrameStep};
@@ -17,7 +17,7 @@ pub(crate) struct FrameMotion {
 
 /// Fᵀ v.
 fn back(d: &mut Dag, f: &[Vec<Node>], v: [Node; 3]) -> [Node; 3] {
-    [0, 1, 2].map(|x| super::dot(d, ZERO_NODE, (0..3).map(|y| (f[y][x], v[y]))))
+    [0, 1, 2].map(|x| dot(d, ZERO_NODE, (0..3).map(|y| (f[y][x], v[y]))))
 }
 
 /// ω' = Fᵀ ω + θ̇ e_k and α' = Fᵀ α + (Fᵀ ω) × θ̇ e_k + θ̈ e_k.
@@ -118,7 +118,7 @@ pub(crate) fn world_axes(d: &mut Dag, m: &Scene<'_>, frame: &Frame) -> Vec<[Node
 
 /// R F.
 fn turned(d: &mut Dag, r: [[Node; 3]; 3], f: &[Vec<Node>]) -> [[Node; 3]; 3] {
-    r.map(|row| [0, 1, 2].map(|y| super::dot(d, ZERO_NODE, (0..3).map(|x| (row[x], f[x][y])))))
+    r.map(|row| [0, 1, 2].map(|y| dot(d, ZERO_NODE, (0..3).map(|x| (row[x], f[x][y])))))
 }
 
 fn identity() -> [[Node; 3]; 3] {

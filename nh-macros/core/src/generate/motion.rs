@@ -3,6 +3,7 @@
 //! symbolic derivatives Σ_i ∂(J q̇)/∂q_i q̇_i: a rate then shares every
 //! subexpression with the Jacobian it comes from.
 
+use super::nodes::dot;
 use crate::emit::{Dag, Node};
 use crate::mechanics::Scene;
 use crate::sym::ExprId;
@@ -11,10 +12,10 @@ use rustc_hash::FxHashMap as HashMap;
 /// How the graph's nodes move: each coordinate at its velocity's node, the
 /// velocities (and parameters, time, inputs) held.
 pub(crate) struct Motion {
-    seeds: HashMap<Node, Node>,
-    held: Vec<Node>,
+    pub(crate) seeds: HashMap<Node, Node>,
+    pub(crate) held: Vec<Node>,
     /// ψ̇, when vectors are given in the heading's frame R = R_z(−ψ).
-    heading_rate: Option<Node>,
+    pub(crate) heading_rate: Option<Node>,
 }
 
 impl Motion {
@@ -70,7 +71,7 @@ impl Motion {
     ) -> [Node; 3] {
         let u = [0, 1, 2].map(|x| {
             let pairs = j[x].iter().copied().zip(self.held.iter().copied());
-            super::dot(d, crate::emit::ZERO_NODE, pairs)
+            dot(d, crate::emit::ZERO_NODE, pairs)
         });
         self.rate(d, u, in_heading_frame)
     }

@@ -6,7 +6,8 @@
 //! of every frame that turns with it: a few cross products where the
 //! expanded ∂p/∂q repeats every product of sines and cosines.
 
-use super::{cross_nodes, dot, exprs, matrix};
+use super::chains::planar_columns;
+use super::nodes::{cross_nodes, dot, exprs, matrix};
 use crate::emit::{Dag, Node, ZERO_NODE};
 use crate::mechanics::Scene;
 use crate::mechanics::{Frame, FrameStep, Link};
@@ -15,9 +16,9 @@ use crate::sym::{ExprId, ZERO};
 /// J = J_root + Σ_s arm_s ∂θ̇_s/∂q̇ (frame of the bodies' J).
 pub(crate) struct Screws {
     /// J_root, 3 × n.
-    root: Vec<Vec<Node>>,
+    pub(crate) root: Vec<Vec<Node>>,
     /// Per step that turns: a_s × L_s and ∂θ̇_s/∂q̇ (n).
-    arms: Vec<([Node; 3], Vec<Node>)>,
+    pub(crate) arms: Vec<([Node; 3], Vec<Node>)>,
 }
 
 /// The offsets R_l r_l of a chain's links with their frames; `None` if a
@@ -40,7 +41,7 @@ pub(crate) fn link_pieces<'a>(
 
 impl Screws {
     /// The screws of a point at root + Σ offsets of `pieces` (with a planar
-    /// pair's columns e_x, e_y: see [`super::planar_columns`]).
+    /// pair's columns e_x, e_y: see [`planar_columns`]).
     pub(crate) fn of(
         d: &mut Dag,
         m: &Scene<'_>,
@@ -71,7 +72,7 @@ impl Screws {
             })
             .collect();
         let mut root = matrix(d, m, root);
-        super::planar_columns(&mut root, planar, true);
+        planar_columns(&mut root, planar, true);
         Screws { root, arms }
     }
 

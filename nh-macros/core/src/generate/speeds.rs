@@ -2,7 +2,9 @@
 //! (DESIGN §9): the kinematics, the reaction forces, the mass matrix in the
 //! speeds, the runtime's right side and the chart's regularity.
 
-use super::{Args, Derived, bound_dag, dot, exprs, matrix, vector_expr};
+use super::graph::{Args, bound_dag};
+use super::methods::Derived;
+use super::nodes::{dot, exprs, matrix, vector_expr};
 use crate::emit::Node;
 use crate::mechanics::MaggiTerms;
 use proc_macro2::TokenStream;
@@ -10,7 +12,7 @@ use quote::quote;
 
 impl Derived<'_, '_> {
     /// Maggi's terms (only called for a system in generalized speeds).
-    fn terms(&self) -> &MaggiTerms {
+    pub(crate) fn terms(&self) -> &MaggiTerms {
         self.maggi
             .as_ref()
             .expect("the bodies of a system in generalized speeds have its terms")

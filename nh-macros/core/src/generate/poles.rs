@@ -13,7 +13,7 @@
 //! `cosh`) are left out; a system without guards keeps the runtime's
 //! default (no check, no cost).
 
-use crate::generate::{Args, bound_dag};
+use super::graph::{Args, bound_dag};
 use crate::mechanics::Scene;
 use crate::sym::{Atom, Engine, ExprId, Fun, Rational, SymId};
 use proc_macro2::TokenStream;
@@ -56,7 +56,7 @@ struct Walk<'a> {
 }
 
 impl Walk<'_> {
-    fn expr(&mut self, x: ExprId) {
+    pub(crate) fn expr(&mut self, x: ExprId) {
         if !self.seen.insert(x) {
             return;
         }
@@ -69,7 +69,7 @@ impl Walk<'_> {
         }
     }
 
-    fn factor(&mut self, atom: crate::sym::AtomId, exponent: Rational) {
+    pub(crate) fn factor(&mut self, atom: crate::sym::AtomId, exponent: Rational) {
         let a = self.e.atom(atom).clone();
         let base = match &a {
             Atom::Sym(s) => self.e.sym(*s),
@@ -103,7 +103,7 @@ impl Walk<'_> {
     }
 
     /// The domain edge of `f(arg)`, if it has one.
-    fn function(&mut self, f: Fun, arg: ExprId) {
+    pub(crate) fn function(&mut self, f: Fun, arg: ExprId) {
         let shown = self.e.display_capped(arg, 80);
         match f {
             Fun::Ln => self.guard(arg, format!("ln({shown})")),
@@ -117,7 +117,7 @@ impl Walk<'_> {
         }
     }
 
-    fn guard(&mut self, g: ExprId, text: String) {
+    pub(crate) fn guard(&mut self, g: ExprId, text: String) {
         let free = self.e.free_symbols(g);
         if !free.iter().any(|s| self.state.contains(s)) || self.positive(g) {
             return;
@@ -132,7 +132,7 @@ impl Walk<'_> {
     /// cannot be negative (even integer powers, `exp`, `cosh`): then g > 0
     /// wherever it has a constant term, and g ≥ 0 otherwise (such a guard
     /// is kept).
-    fn positive(&self, g: ExprId) -> bool {
+    pub(crate) fn positive(&self, g: ExprId) -> bool {
         let terms = self.e.terms(g);
         let constant = terms
             .iter()

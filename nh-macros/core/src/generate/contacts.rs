@@ -5,8 +5,9 @@
 //! contact are assembled from the contact's kinematics (DESIGN §10), whose
 //! expanded forms would carry 1/|e_z × n| into every term.
 
+use super::chains::{chain_rate, planar_columns};
 use super::motion::Motion;
-use super::{exprs, matrix};
+use super::nodes::{dot, exprs, matrix};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::Scene;
 use crate::mechanics::{BlockTerms, ContactTerms, RowTerms};
@@ -15,10 +16,10 @@ use crate::mechanics::{BlockTerms, ContactTerms, RowTerms};
 /// column), 1/pivot and the multipliers of the rows it eliminates from;
 /// the rows of U.
 pub(crate) struct Lu {
-    pivots: Vec<(usize, usize)>,
-    inverse: Vec<Node>,
-    multipliers: Vec<Vec<(usize, Node)>>,
-    upper: Vec<Vec<Node>>,
+    pub(crate) pivots: Vec<(usize, usize)>,
+    pub(crate) inverse: Vec<Node>,
+    pub(crate) multipliers: Vec<Vec<(usize, Node)>>,
+    pub(crate) upper: Vec<Vec<Node>>,
 }
 
 /// A contact's offset o = P − G and, for a disc or torus, (n, s, w).
@@ -96,10 +97,10 @@ fn rates(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms) -> Vec<Node> {
                     .planar
                     .map(|p| p.columns.map(|a| m.constraints[a].dependent));
                 let a0 = match &c.chain {
-                    Some(chain) => super::chain_rate(d, m, &motion, chain, planar)[*component],
+                    Some(chain) => chain_rate(d, m, &motion, chain, planar)[*component],
                     None => {
                         let mut jg = matrix(d, m, &c.centre_jacobian);
-                        super::planar_columns(&mut jg, planar, false);
+                        planar_columns(&mut jg, planar, false);
                         motion.rate_of_jacobian(d, &jg, turned)[*component]
                     }
                 };
@@ -245,7 +246,7 @@ fn turn_back(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms, mut x: Vec<Node>) -> V
         let u = p.columns.map(|a| x[a]);
         for (row, &a) in p.turn.iter().zip(&p.columns) {
             let r = [d.expr(m.engine, row[0]), d.expr(m.engine, row[1])];
-            x[a] = super::dot(d, ZERO_NODE, [(r[0], u[0]), (r[1], u[1])]);
+            x[a] = dot(d, ZERO_NODE, [(r[0], u[0]), (r[1], u[1])]);
         }
     }
     x

@@ -3,8 +3,8 @@
 //! residual of the holonomic constraints, and the projection onto them by
 //! Newton's method on their dependent coordinates.
 
+use super::graph::{Args, bound_dag};
 use crate::emit::Node;
-use crate::generate::{Args, bound_dag};
 use crate::lower::linear;
 use crate::mechanics::Scene;
 use crate::sym::ExprId;

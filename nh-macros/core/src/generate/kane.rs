@@ -1,0 +1,317 @@
+//! Kane's form on the graph (DESIGN §10): each body's generalized inertia
+//! forces projected on the partial velocities, from its centre, rotation,
+//! inertia and wheels.
+
+use super::chains::{chain_rate, planar_columns};
+use super::multipliers::projection;
+use super::nodes::{cross_nodes, dot, exprs, force_along, matrix};
+use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
+use crate::mechanics::Scene;
+use crate::sym::ExprId;
+
+/// Cᵀ M C and −Cᵀ (M acc_bias + h) of (5.9) body by body (Kane's form,
+/// DESIGN §10): with the partial velocities V = J C and Ω = W C,
+/// Cᵀ M C = Σ m VᵀV + Ωᵀ I Ω, and the inertia forces at r̈ = 0 are
+/// m Vᵀ a + Ωᵀ (I α + ω × I ω) with a = J acc_bias + J̇ q̇,
+/// α = W acc_bias + Ẇ q̇; the rest of the Lagrangian as in (5.9).
+pub(crate) fn body_projection(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    bt: &crate::mechanics::BodyTerms,
+    c: &[Vec<Node>],
+    acc_bias: &[Node],
+) -> (Vec<Vec<Node>>, Vec<Node>) {
+    let rest_mass = matrix(d, m, &bt.rest_mass);
+    let rest_bias = exprs(d, m, &bt.rest_bias);
+    let (mut mr, mut f) = projection(d, &rest_mass, &rest_bias, c, acc_bias);
+    for f in f.iter_mut() {
+        *f = d.neg(*f);
+    }
+    let motion = super::motion::Motion::of(d, m, bt.heading_rate);
+    let gravity = bt.gravity.map(|g| d.expr(m.engine, g));
+    for b in &bt.bodies {
+        if let Some(jacobian) = &b.jacobian {
+            let mass = d.expr(m.engine, b.mass);
+            let (v, mut a) = centre_partials(
+                d,
+                m,
+                &motion,
+                (jacobian, &b.anchor),
+                (c, acc_bias, bt.planar),
+            );
+            if let Some(g) = gravity {
+                // the weight through the partial velocities: m Vᵀ (a + γ e_z)
+                a[2] = d.add(a[2], g);
+            }
+            // m VᵀV: the mass multiplies each sum, not each partial velocity
+            for i in 0..mr.len() {
+                for j in i..mr.len() {
+                    let vv = dot(d, ZERO_NODE, (0..3).map(|x| (v[x][i], v[x][j])));
+                    mr[i][j] = dot(d, mr[i][j], [(mass, vv)]);
+                    mr[j][i] = mr[i][j];
+                }
+            }
+            let ma: Vec<Node> = a.iter().map(|&x| d.mul(mass, x)).collect();
+            for (i, fi) in f.iter_mut().enumerate() {
+                *fi = force_along(d, *fi, &v, &ma, i);
+            }
+        }
+        if let Some(rot) = &b.rotation {
+            let (omega, om, alpha) = body_turning(d, m, &motion, rot, (c, acc_bias));
+            let inertia = inertia_nodes(d, m, &rot.inertia);
+            let i_om: Vec<Vec<Node>> = (0..3)
+                .map(|x| {
+                    (0..om[0].len())
+                        .map(|a| dot(d, ZERO_NODE, (0..3).map(|y| (inertia[x][y], om[y][a]))))
+                        .collect()
+                })
+                .collect();
+            let i_alpha: Vec<Node> = (0..3)
+                .map(|x| dot(d, ZERO_NODE, (0..3).map(|y| (inertia[x][y], alpha[y]))))
+                .collect();
+            let i_omega: Vec<Node> = (0..3)
+                .map(|x| dot(d, ZERO_NODE, (0..3).map(|y| (inertia[x][y], omega[y]))))
+                .collect();
+            let gyro = cross_nodes(d, &omega, &i_omega);
+            let mut torque: Vec<Node> = (0..3).map(|x| d.add(i_alpha[x], gyro[x])).collect();
+            if let Some((k, rate)) = rot.spin {
+                // −θ̇ I (e_k × ω'), from turning α by R_k(θ)
+                let rate = d.expr(m.engine, rate);
+                let mut axis = [ZERO_NODE; 3];
+                axis[k] = ONE_NODE;
+                let ek_omega = cross_nodes(d, &axis, &omega);
+                for (x, t) in torque.iter_mut().enumerate() {
+                    let i_e = dot(d, ZERO_NODE, (0..3).map(|y| (inertia[x][y], ek_omega[y])));
+                    let s = d.mul(rate, i_e);
+                    *t = d.sub(*t, s);
+                }
+            }
+            add_inertia(d, &mut mr, &mut f, &om, &i_om, &torque);
+            for (wheel, jacobian) in &rot.wheels {
+                let turning = Turning {
+                    omega: &omega,
+                    om: &om,
+                    alpha: &alpha,
+                };
+                add_wheel(
+                    d,
+                    m,
+                    &motion,
+                    (wheel, jacobian),
+                    &turning,
+                    (c, acc_bias),
+                    (&mut mr, &mut f),
+                );
+            }
+        }
+    }
+    let f = f.into_iter().map(|x| d.neg(x)).collect();
+    (mr, f)
+}
+
+/// A body's inertia T (I + Σ μ(|d|² 1 − d dᵀ)) Tᵀ from its parts
+/// ([`crate::mechanics::Inertia`]), symmetric.
+pub(crate) fn inertia_nodes(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    inertia: &crate::mechanics::Inertia,
+) -> Vec<Vec<Node>> {
+    let mut sum = matrix(d, m, &inertia.own.map(|r| r.to_vec()));
+    for (mu, offset) in &inertia.masses {
+        let mu = d.expr(m.engine, *mu);
+        let v = exprs(d, m, offset);
+        for a in 0..3 {
+            for b in a..3 {
+                // (|d|² 1 − d dᵀ)_ab: Σ_{k≠a} d_k² on the diagonal, −d_a d_b off it
+                let t = match a == b {
+                    true => (0..3)
+                        .filter(|&k| k != a)
+                        .fold(ZERO_NODE, |acc, k| dot(d, acc, [(v[k], v[k])])),
+                    false => {
+                        let p = d.mul(v[a], v[b]);
+                        d.neg(p)
+                    }
+                };
+                let t = d.mul(mu, t);
+                sum[a][b] = d.add(sum[a][b], t);
+                sum[b][a] = sum[a][b];
+            }
+        }
+    }
+    let Some(tail) = &inertia.tail else {
+        return sum;
+    };
+    let t = matrix(d, m, &tail.map(|r| r.to_vec()));
+    let ts: Vec<Vec<Node>> = (0..3)
+        .map(|a| {
+            (0..3)
+                .map(|b| dot(d, ZERO_NODE, (0..3).map(|k| (t[a][k], sum[k][b]))))
+                .collect()
+        })
+        .collect();
+    let mut out = vec![vec![ZERO_NODE; 3]; 3];
+    for a in 0..3 {
+        for b in a..3 {
+            out[a][b] = dot(d, ZERO_NODE, (0..3).map(|k| (ts[a][k], t[b][k])));
+            out[b][a] = out[a][b];
+        }
+    }
+    out
+}
+
+/// A body centre's partial velocities V = J C and acceleration at r̈ = 0,
+/// J acc_bias + J̇ q̇: along its chain as screws where its links have frames.
+pub(crate) fn centre_partials(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    motion: &super::motion::Motion,
+    (jacobian, anchor): (&[Vec<ExprId>; 3], &Option<crate::mechanics::Chain>),
+    (c, acc_bias, planar): (&[Vec<Node>], &[Node], Option<[usize; 2]>),
+) -> (Vec<Vec<Node>>, Vec<Node>) {
+    let j = |d: &mut Dag| {
+        let mut j = matrix(d, m, jacobian);
+        planar_columns(&mut j, planar, true);
+        j
+    };
+    let Some(chain) = anchor else {
+        let j = j(d);
+        let mut moving = j.clone();
+        planar_columns(&mut moving, planar, false);
+        let accel0 = motion.rate_of_jacobian(d, &moving, true);
+        return partial_and_bias(d, &j, &accel0, c, acc_bias);
+    };
+    let accel0 = chain_rate(d, m, motion, chain, planar);
+    let Some(pieces) = super::screws::link_pieces(d, m, &chain.links) else {
+        let j = j(d);
+        return partial_and_bias(d, &j, &accel0, c, acc_bias);
+    };
+    let screws = super::screws::Screws::of(d, m, &chain.root, &pieces, planar);
+    let k = c.first().map_or(0, Vec::len);
+    let columns: Vec<[Node; 3]> = (0..k)
+        .map(|a| {
+            let col: Vec<Node> = c.iter().map(|row| row[a]).collect();
+            screws.times(d, &col)
+        })
+        .collect();
+    let v = (0..3)
+        .map(|x| columns.iter().map(|col| col[x]).collect())
+        .collect();
+    let bias = screws.times(d, acc_bias);
+    let a = (0..3).map(|x| d.add(accel0[x], bias[x])).collect();
+    (v, a)
+}
+
+/// A body's ω, its partial angular velocities Ω = W C and α at r̈ = 0
+/// (body axes): step by step along its frame's elementary rotations where
+/// it has them, else from ω_b's expression.
+pub(crate) fn body_turning(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    motion: &super::motion::Motion,
+    rot: &crate::mechanics::BodyRotation,
+    (c, acc_bias): (&[Vec<Node>], &[Node]),
+) -> (Vec<Node>, Vec<Vec<Node>>, Vec<Node>) {
+    let w = matrix(d, m, &rot.jacobian);
+    let (omega, alpha0) = match &rot.frame {
+        Some(frame) => {
+            let f = super::frames::frame_motion(d, m, motion, frame);
+            (f.omega, f.alpha0)
+        }
+        None => {
+            let omega = exprs(d, m, &rot.omega);
+            let omega = [omega[0], omega[1], omega[2]];
+            (omega, motion.rate(d, omega, false))
+        }
+    };
+    let (om, alpha) = partial_and_bias(d, &w, &alpha0, c, acc_bias);
+    (omega.to_vec(), om, alpha)
+}
+
+/// A body's ω, its partial angular velocities Ω and α at r̈ = 0 (body axes).
+pub(crate) struct Turning<'a> {
+    pub(crate) omega: &'a [Node],
+    pub(crate) om: &'a [Vec<Node>],
+    pub(crate) alpha: &'a [Node],
+}
+
+/// The inertia forces of a wheel folded into `carrier` (DESIGN §10): its
+/// spin s = ω_k + θ̇ with S = ∂s/∂ṙ adds C S Sᵀ to Cᵀ M C and
+/// C S ṡ₀ + C s Ωᵀ(ω × e_k) to the forces at r̈ = 0.
+pub(crate) fn add_wheel(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    motion: &super::motion::Motion,
+    (wheel, jacobian): (&crate::mechanics::Wheel, &Vec<ExprId>),
+    carrier: &Turning,
+    (c, acc_bias): (&[Vec<Node>], &[Node]),
+    (mr, f): (&mut [Vec<Node>], &mut [Node]),
+) {
+    let k = wheel.axis;
+    let moment = d.expr(m.engine, wheel.moment);
+    let rate = d.expr(m.engine, wheel.rate);
+    let rate0 = motion.rate_of(d, rate);
+    let j = vec![exprs(d, m, jacobian)];
+    let (theta, theta0) = partial_and_bias(d, &j, &[rate0], c, acc_bias);
+    let s = d.add(carrier.omega[k], rate);
+    let partial: Vec<Node> = (0..f.len())
+        .map(|a| d.add(carrier.om[k][a], theta[0][a]))
+        .collect();
+    let sdot0 = d.add(carrier.alpha[k], theta0[0]);
+    let c_partial: Vec<Node> = partial.iter().map(|&x| d.mul(moment, x)).collect();
+    let c_sdot0 = d.mul(moment, sdot0);
+    add_inertia(d, mr, f, &[partial], &[c_partial], &[c_sdot0]);
+    let mut axis = [ZERO_NODE; 3];
+    axis[k] = ONE_NODE;
+    let gyro = cross_nodes(d, carrier.omega, &axis);
+    let c_s = d.mul(moment, s);
+    for (a, fa) in f.iter_mut().enumerate() {
+        let along = dot(d, ZERO_NODE, (0..3).map(|x| (carrier.om[x][a], gyro[x])));
+        *fa = dot(d, *fa, [(c_s, along)]);
+    }
+}
+
+/// The partial velocities P = J C (rows of J × k) and the rate at r̈ = 0,
+/// J acc_bias + rate0.
+pub(crate) fn partial_and_bias(
+    d: &mut Dag,
+    j: &[Vec<Node>],
+    rate0: &[Node],
+    c: &[Vec<Node>],
+    acc_bias: &[Node],
+) -> (Vec<Vec<Node>>, Vec<Node>) {
+    let (n, k) = (c.len(), c.first().map_or(0, Vec::len));
+    let p = j
+        .iter()
+        .map(|row| {
+            (0..k)
+                .map(|a| dot(d, ZERO_NODE, (0..n).map(|i| (row[i], c[i][a]))))
+                .collect()
+        })
+        .collect();
+    let rate = j
+        .iter()
+        .zip(rate0)
+        .map(|(row, &r0)| dot(d, r0, (0..n).map(|i| (row[i], acc_bias[i]))))
+        .collect();
+    (p, rate)
+}
+
+/// mr += Pᵀ Q (upper triangle mirrored) and f += Pᵀ force.
+pub(crate) fn add_inertia(
+    d: &mut Dag,
+    mr: &mut [Vec<Node>],
+    f: &mut [Node],
+    p: &[Vec<Node>],
+    q: &[Vec<Node>],
+    force: &[Node],
+) {
+    let k = f.len();
+    for a in 0..k {
+        for b in a..k {
+            let x = dot(d, mr[a][b], (0..p.len()).map(|x| (p[x][a], q[x][b])));
+            mr[a][b] = x;
+            mr[b][a] = x;
+        }
+        f[a] = force_along(d, f[a], p, force, a);
+    }
+}

@@ -1,0 +1,267 @@
+//! Assembly of the generated struct, its inherent methods and its runtime
+//! trait implementation (DESIGN §3), from the derived mechanics.
+
+use crate::check;
+use crate::ctxt::Ctxt;
+use crate::mechanics::Derivation;
+use crate::mechanics::Scene;
+use crate::model::{Model, Output};
+use crate::parse::SystemDef;
+use crate::sym::Engine;
+use proc_macro2::TokenStream;
+
+mod bodies;
+mod chains;
+mod contacts;
+mod curvature;
+mod derivatives;
+mod frames;
+mod graph;
+mod kane;
+mod manifold;
+mod methods;
+mod motion;
+mod multipliers;
+mod nodes;
+mod poles;
+mod routes;
+mod screws;
+mod speeds;
+mod stand_in;
+
+use curvature::curvature_nodes;
+use graph::{Args, bound_dag};
+use methods::Derived;
+use routes::{CURVATURE_ROUTE_MAX_K, RouteGraphs, compare_routes, solved_if_cheaper};
+pub use routes::{Route, Stats};
+pub use stand_in::{shape_of, stand_in_shape};
+
+/// Builds the whole expansion for a lowered model: derives the mechanics,
+/// checks them, builds each route's graph of r̈ to choose one, and emits
+/// the API from the derivation and those graphs.
+pub fn generate(
+    def: &SystemDef,
+    model: &Model,
+    engine: &mut Engine,
+    cx: &mut Ctxt,
+) -> (TokenStream, Stats) {
+    let mut stats = Stats {
+        name: def.name.to_string(),
+        ..Stats::default()
+    };
+    let _ = crate::emit::take_unrepresentable();
+    let mut m = Scene::new(model, engine);
+    if m.speeds.is_some() {
+        return generate_speeds(def, m, cx, stats);
+    }
+    // the curvature route pays for small systems (its closed forms); beyond
+    // CURVATURE_ROUTE_MAX_K independent coordinates it is derived only when
+    // `routes` asks for it, and `accelerations` takes the multiplier route
+    // (only for homogeneous, time-independent velocity constraints: DESIGN §9)
+    let both_routes =
+        m.homogeneous && (m.outputs.contains(Output::Routes) || m.k() <= CURVATURE_ROUTE_MAX_K);
+    let mut dv = crate::mechanics::derive(&mut m, both_routes);
+    stats.derived.extend([
+        if both_routes {
+            "accelerations (both routes)"
+        } else {
+            "accelerations (multiplier route)"
+        },
+        "curvature terms",
+    ]);
+    // (5.21) decides integrability of the homogeneous part only: with affine
+    // or time-dependent terms the constraints are not called integrable
+    dv.integrable &= !m.affine;
+    stats.integrable = dv.integrable;
+    stats.integrable_proved = dv.integrable_proved;
+    if !derivation_checked(def, &mut m, &mut dv, cx) {
+        return (TokenStream::new(), stats);
+    }
+    let compared = compare_routes(&mut m, &mut dv, both_routes);
+    if !check::regular(def, &compared.pivots, cx) {
+        return (TokenStream::new(), stats);
+    }
+    let route = compared.choose(&mut stats);
+    let graphs = compared.keep(route, &m, &dv, &stats);
+    let (integrable, proved) = (dv.integrable, dv.integrable_proved);
+    let mut shape = shape_of(def);
+    shape.integrable = integrable;
+    shape.outputs = m.outputs;
+    shape.independent = m.independent().to_vec();
+    shape.dependent = m.dependent().to_vec();
+    shape.dependent_doc = dependent_doc(&m);
+    shape.affine = m.affine;
+    shape.rheonomic = m.rheonomic();
+    let mut bodies = Derived {
+        m: &mut m,
+        dv,
+        route,
+        stats: &mut stats,
+        hoist_blocks: Vec::new(),
+        hoist_len: 0,
+        hoist_seen: rustc_hash::FxHashMap::default(),
+        graphs,
+        maggi: None,
+        sensitivity_params: shape.sensitivity_params.clone(),
+    };
+    let mut tokens = crate::api::expand(&shape, &mut bodies);
+    let velocity_constraints = m.constraints.iter().any(|c| c.holonomic.is_none());
+    if integrable && velocity_constraints {
+        tokens.extend(integrability_warning(
+            def,
+            m.constraints_span.unwrap_or(def.name.span()),
+            proved,
+        ));
+    }
+    finish(def, &m, cx, tokens, stats)
+}
+
+/// The checks of a derivation within the engine's limits, with the energy
+/// derived in between if asked for (once the rest is known to be within
+/// them). False after an error.
+fn derivation_checked(
+    def: &SystemDef,
+    m: &mut Scene<'_>,
+    dv: &mut Derivation,
+    cx: &mut Ctxt,
+) -> bool {
+    if !check::within_limits(def, m, cx) {
+        return false;
+    }
+    if m.outputs.contains(Output::Energy) {
+        dv.energy = Some(m.energy());
+    }
+    check::derivation(def, m, dv, cx) && check::forms(def, m, cx)
+}
+
+/// The expansion once every method is emitted: empty if a constant of the
+/// generated code is beyond `f64`, with the engine's figures.
+fn finish(
+    def: &SystemDef,
+    m: &Scene<'_>,
+    cx: &mut Ctxt,
+    tokens: TokenStream,
+    mut stats: Stats,
+) -> (TokenStream, Stats) {
+    if !check::representable(def, m, cx) {
+        return (TokenStream::new(), stats);
+    }
+    stats.graph_size = m.engine.num_exprs();
+    stats.derivatives = m.engine.counters.derivatives;
+    (tokens, stats)
+}
+
+/// The expansion of a system in generalized speeds (DESIGN §9): Maggi's
+/// equations, solved like the curvature route's reduced system.
+fn generate_speeds(
+    def: &SystemDef,
+    mut m: Scene<'_>,
+    cx: &mut Ctxt,
+    mut stats: Stats,
+) -> (TokenStream, Stats) {
+    let (mut dv, terms) = crate::mechanics::derive_maggi(&mut m);
+    stats.derived.push("accelerations (Maggi's equations)");
+    if !derivation_checked(def, &mut m, &mut dv, cx) {
+        return (TokenStream::new(), stats);
+    }
+    let mut d = bound_dag(&m, &Args::vectors(&m));
+    let (udot, pivots) = curvature_nodes(&mut d, &m, &dv.curvature_route);
+    if !check::regular(def, &pivots, cx) {
+        return (TokenStream::new(), stats);
+    }
+    let (d, udot) = solved_if_cheaper(&mut m, &mut dv, (d, udot), &pivots);
+    stats.ops_curvature = d.op_count(&udot);
+    stats.cost_curvature = d.cost_estimate(&udot);
+    stats.route = Some(Route::Curvature);
+    stats.maggi = true;
+    let mut shape = shape_of(def);
+    shape.outputs = m.outputs;
+    let mut bodies = Derived {
+        m: &mut m,
+        dv,
+        route: Route::Curvature,
+        stats: &mut stats,
+        hoist_blocks: Vec::new(),
+        hoist_len: 0,
+        hoist_seen: rustc_hash::FxHashMap::default(),
+        graphs: RouteGraphs {
+            multiplier: None,
+            curvature: Some((d, udot)),
+        },
+        maggi: Some(terms),
+        sensitivity_params: shape.sensitivity_params.clone(),
+    };
+    let tokens = crate::api::expand(&shape, &mut bodies);
+    finish(def, &m, cx, tokens, stats)
+}
+
+/// The documentation of `DEPENDENT` when some constraint is implicit or
+/// holonomic: which coordinate each constraint is solved for.
+fn dependent_doc(m: &Scene<'_>) -> Option<String> {
+    m.chart?;
+    let mut doc = String::from(
+        " Indices in `q` of the dependent coordinates s (one per constraint), ascending. Each constraint is solved for one of them (DESIGN §9):\n",
+    );
+    for c in &m.constraints {
+        doc.push_str(&format!(
+            "\n - `{}` ({}): solved for `{}`",
+            c.source,
+            c.kind.describe(),
+            m.coordinates[c.dependent].name
+        ));
+    }
+    doc.push_str("\n\n`dependent_velocities` and `multipliers` follow this order; the multiplier λ_a belongs to the constraint solved for s_a, normalised as ṡ_a + Σ A^a_α ṙ_α + β_a = 0.");
+    Some(doc)
+}
+
+/// A compile-time warning on stable Rust, which has no warning a
+/// procedural macro can emit: the use of a deprecated item, whose note is
+/// the message. rustc words it "use of deprecated {kind} `{path}`: {note}";
+/// the item is a `macro_rules!` macro local to an anonymous constant,
+/// whose path is its bare name, so the warning's first words say what it is:
+/// "use of deprecated macro `LineWheel_has_integrable_constraints`: a
+/// warning, not a deprecation: ..." (a constant's path would read
+/// `_::name`). Its invocation carries the span of the `constraints`
+/// keyword, where the warning points; it is the lint `deprecated`, so
+/// `#[allow(deprecated)]` on the system silences it.
+fn integrability_warning(def: &SystemDef, span: proc_macro2::Span, proved: bool) -> TokenStream {
+    let how = if proved {
+        "every curvature coefficient B^b_αβ of (5.21) vanishes identically"
+    } else {
+        "every curvature coefficient B^b_αβ of (5.21) evaluates to zero (to 1e-24 of its terms, in 32-digit arithmetic) at 16 random points, though the simplifier could not prove it"
+    };
+    let name = syn::ext::IdentExt::unraw(&def.name);
+    let note = format!(
+        "a warning, not a deprecation: {how}, so the constraints of `{name}` are holonomic in disguise. Integrate them and eliminate the dependent coordinates (a smaller system with no constraints), or keep them: the equations of motion are still correct. `{name}::INTEGRABLE` is `true`; `#[allow(deprecated)]` on the struct silences this warning."
+    );
+    let item = proc_macro2::Ident::new(&format!("{name}_has_integrable_constraints"), span);
+    let inherited = crate::attrs::inherited(&def.attrs);
+    quote::quote_spanned! {span=>
+        #(#inherited)*
+        const _: () = {
+            #[deprecated(note = #note)]
+            macro_rules! #item {
+                () => {};
+            }
+            #item!();
+        };
+    }
+}
+
+/// Lines of code the way a pretty-printer lays them out: one per statement,
+/// item, attribute and brace.
+pub fn count_lines(tokens: &TokenStream) -> usize {
+    let mut lines = 0;
+    for tt in tokens.clone() {
+        match tt {
+            proc_macro2::TokenTree::Punct(p) if p.as_char() == ';' || p.as_char() == '#' => {
+                lines += 1
+            }
+            proc_macro2::TokenTree::Group(g) if g.delimiter() == proc_macro2::Delimiter::Brace => {
+                lines += 2 + count_lines(&g.stream())
+            }
+            _ => {}
+        }
+    }
+    lines
+}

@@ -1,0 +1,185 @@
+//! The multiplier route on the graph: q̈ = C r̈ + a, the reduced system
+//! Cᵀ M C r̈ = −Cᵀ (h + M a) factored by LDLᵀ, with Kane's form of the
+//! bodies' terms when the derivation has it.
+
+use super::kane::body_projection;
+use super::nodes::{dot, exprs, matrix};
+use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
+use crate::mechanics::MultiplierRoute;
+use crate::mechanics::Scene;
+
+/// The multiplier route in the graph: returns (r̈, q̈-independent parts) and
+/// keeps the mass matrix and bias for the multipliers.
+pub(crate) struct MultiplierNodes {
+    pub(crate) rdd: Vec<Node>,
+    pub(crate) mass: Vec<Vec<Node>>,
+    pub(crate) bias: Vec<Node>,
+    pub(crate) c: Vec<Vec<Node>>,
+    pub(crate) acc_bias: Vec<Node>,
+    pub(crate) pivots: Vec<Node>,
+    /// The LDLᵀ factorisation of Cᵀ M C, reused for derivatives.
+    pub(crate) fac: crate::emit::Ldlt,
+}
+
+pub(crate) fn multiplier_nodes(d: &mut Dag, m: &Scene<'_>, r: &MultiplierRoute) -> MultiplierNodes {
+    let (n, k) = (m.n(), m.k());
+    let mass = matrix(d, m, &r.mass);
+    for (i, row) in mass.iter().enumerate() {
+        for (j, &x) in row.iter().enumerate().skip(i) {
+            d.label(x, format!("mass matrix ∂²L/∂q̇{i}∂q̇{j}"));
+        }
+    }
+    let bias = exprs(d, m, &r.bias);
+    for (i, &x) in bias.iter().enumerate() {
+        d.label(
+            x,
+            format!("Euler–Lagrange term {i} without accelerations (3.9), forces included"),
+        );
+    }
+    // q̇ = C ṙ with C = [I; −A] (rows in coordinate order)
+    let mut c = vec![vec![ZERO_NODE; k]; n];
+    for (j, &i) in m.independent().iter().enumerate() {
+        c[i][j] = ONE_NODE;
+    }
+    // q̈ = C r̈ + acc_bias, acc_bias_s = −Ȧ ṙ
+    let mut acc_bias = vec![ZERO_NODE; n];
+    if let Some(bt) = &m.block {
+        let columns = super::contacts::velocity_columns(d, m, bt);
+        let bias = super::contacts::dependent_bias(d, m, bt);
+        for (a, con) in m.constraints.iter().enumerate() {
+            for b in 0..k {
+                c[con.dependent][b] = columns[b][a];
+            }
+            acc_bias[con.dependent] = bias[a];
+        }
+    } else {
+        for con in &m.constraints {
+            for b in 0..k {
+                let x = d.expr(m.engine, con.coefficients[b]);
+                c[con.dependent][b] = d.neg(x);
+            }
+        }
+        for (a, &s) in m.dependent().iter().enumerate() {
+            acc_bias[s] = d.expr(m.engine, r.dependent_bias[a]);
+        }
+    }
+    // Cᵀ M C r̈ = −Cᵀ (M acc_bias + h)   (5.9)
+    // Kane's form where it is cheaper than the expanded Lagrangian's terms
+    // (without the expanded terms, Kane's form alone: LAGRANGIAN_TERMS_COMPARED)
+    let lagrange = (!r.mass.is_empty()).then(|| projection(d, &mass, &bias, &c, &acc_bias));
+    let (mr, f) = match &r.bodies {
+        Some(bt) => {
+            let ops = |d: &Dag, (mr, f): &(Vec<Vec<Node>>, Vec<Node>)| {
+                let all: Vec<Node> = mr.iter().flatten().chain(f).copied().collect();
+                d.op_count(&all)
+            };
+            let (c, acc_bias) = in_heading(d, m, bt, (&c, &acc_bias));
+            let kane = body_projection(d, m, bt, &c, &acc_bias);
+            match lagrange {
+                Some(lagrange) if ops(d, &lagrange) <= ops(d, &kane) => lagrange,
+                _ => kane,
+            }
+        }
+        // without Kane's form the expanded terms are always derived
+        None => lagrange.unwrap_or_default(),
+    };
+    for (a, row) in mr.iter().enumerate() {
+        for (b, &x) in row.iter().enumerate().skip(a) {
+            d.label(
+                x,
+                format!("projected mass matrix (Cᵀ M C)[{a}][{b}] of (5.9)"),
+            );
+        }
+    }
+    let fac = d.factor_symmetric(&mr);
+    let rdd = d.solve_factored(&fac, &f);
+    for (a, &v) in rdd.iter().enumerate() {
+        d.label(v, format!("r̈{a}: (5.9) solved by LDLᵀ"));
+    }
+    MultiplierNodes {
+        rdd,
+        mass,
+        bias,
+        c,
+        acc_bias,
+        pivots: fac.d.clone(),
+        fac,
+    }
+}
+
+/// C and acc_bias for Kane's sums: with a planar pair (x, y), its rows
+/// those of u = R_z(−ψ)(ẋ, ẏ) and u̇ (see [`planar_columns`]).
+pub(crate) fn in_heading(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    bt: &crate::mechanics::BodyTerms,
+    (c, acc_bias): (&[Vec<Node>], &[Node]),
+) -> (Vec<Vec<Node>>, Vec<Node>) {
+    let (mut c, mut acc_bias) = (c.to_vec(), acc_bias.to_vec());
+    if let (Some(planar), Some(block)) = (bt.planar, &m.block) {
+        let columns = super::contacts::velocity_columns_in_heading(d, m, block);
+        let bias = super::contacts::dependent_bias_in_heading(d, m, block);
+        for (a, con) in m.constraints.iter().enumerate() {
+            if planar.contains(&con.dependent) {
+                for (b, col) in columns.iter().enumerate() {
+                    c[con.dependent][b] = col[a];
+                }
+                acc_bias[con.dependent] = bias[a];
+            }
+        }
+    }
+    (c, acc_bias)
+}
+
+/// Cᵀ M C and −Cᵀ (M acc_bias + h) of (5.9).
+pub(crate) fn projection(
+    d: &mut Dag,
+    mass: &[Vec<Node>],
+    bias: &[Node],
+    c: &[Vec<Node>],
+    acc_bias: &[Node],
+) -> (Vec<Vec<Node>>, Vec<Node>) {
+    let (n, k) = (c.len(), c.first().map_or(0, Vec::len));
+    let mut mc = vec![vec![ZERO_NODE; k]; n];
+    for i in 0..n {
+        for b in 0..k {
+            mc[i][b] = dot(d, ZERO_NODE, (0..n).map(|j| (mass[i][j], c[j][b])));
+        }
+    }
+    let mut mr = vec![vec![ZERO_NODE; k]; k];
+    for a in 0..k {
+        for b in a..k {
+            let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], mc[i][b])));
+            mr[a][b] = acc;
+            mr[b][a] = acc;
+        }
+    }
+    let g: Vec<Node> = (0..n)
+        .map(|i| dot(d, bias[i], (0..n).map(|j| (mass[i][j], acc_bias[j]))))
+        .collect();
+    let f = (0..k)
+        .map(|a| {
+            let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], g[i])));
+            d.neg(acc)
+        })
+        .collect();
+    (mr, f)
+}
+
+impl MultiplierNodes {
+    /// q̈ = C r̈ + acc_bias at these nodes' r̈.
+    pub(crate) fn qdd(&self, d: &mut Dag) -> Vec<Node> {
+        (0..self.c.len())
+            .map(|i| {
+                let pairs = self.c[i].iter().copied().zip(self.rdd.iter().copied());
+                dot(d, self.acc_bias[i], pairs)
+            })
+            .collect()
+    }
+
+    /// The Euler–Lagrange term E_i = (M q̈ + h)_i (3.9) at accelerations `qdd`.
+    pub(crate) fn euler_lagrange(&self, d: &mut Dag, i: usize, qdd: &[Node]) -> Node {
+        let pairs = self.mass[i].iter().copied().zip(qdd.iter().copied());
+        dot(d, self.bias[i], pairs)
+    }
+}
