@@ -1,8 +1,8 @@
 //! Accelerations along a kinematic chain on the graph (DESIGN §10), and
 //! the planar columns of a Jacobian in the heading's frame.
 
-use super::nodes::{cross_nodes, dot, exprs, matrix};
-use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
+use super::nodes::{cross_nodes, dot, exprs, matrix, planar_columns};
+use crate::emit::{Dag, Node};
 use crate::mechanics::Scene;
 
 /// A point's acceleration at q̈ = 0 along its chain (DESIGN §10):
@@ -54,20 +54,4 @@ pub(crate) fn chain_rate(
         a = [0, 1, 2].map(|x| dot(d, a[x], (0..3).map(|y| (turn[x][y], body[y]))));
     }
     a
-}
-
-/// The columns of a planar pair (x, y) of a Jacobian in the heading's
-/// frame: e_x and e_y where the dependent rows are u = R_z(−ψ)(ẋ, ẏ)
-/// (`constant`), or zero in a rate at q̈ = 0, to which a column constant in
-/// the world adds nothing.
-pub(crate) fn planar_columns(j: &mut [Vec<Node>], planar: Option<[usize; 2]>, constant: bool) {
-    for (axis, i) in planar.into_iter().flat_map(|p| p.into_iter().enumerate()) {
-        for (x, row) in j.iter_mut().enumerate() {
-            row[i] = if constant && x == axis {
-                ONE_NODE
-            } else {
-                ZERO_NODE
-            };
-        }
-    }
 }

@@ -5,8 +5,9 @@
 //! contact are assembled from the contact's kinematics (DESIGN §10), whose
 //! expanded forms would carry 1/|e_z × n| into every term.
 
-use super::chains::{chain_rate, planar_columns};
+use super::chains::chain_rate;
 use super::motion::Motion;
+use super::nodes::planar_columns;
 use super::nodes::{dot, exprs, matrix};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::Scene;

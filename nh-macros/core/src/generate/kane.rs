@@ -2,8 +2,9 @@
 //! forces projected on the partial velocities, from its centre, rotation,
 //! inertia and wheels.
 
-use super::chains::{chain_rate, planar_columns};
-use super::multipliers::projection;
+use super::chains::chain_rate;
+use super::nodes::{planar_columns, projection};
+
 use super::nodes::{cross_nodes, dot, exprs, force_along, matrix};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::Scene;

@@ -3,7 +3,7 @@
 //! bodies' terms when the derivation has it.
 
 use super::kane::body_projection;
-use super::nodes::{dot, exprs, matrix};
+use super::nodes::{dot, exprs, matrix, projection};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::MultiplierRoute;
 use crate::mechanics::Scene;
@@ -129,41 +129,6 @@ pub(crate) fn in_heading(
         }
     }
     (c, acc_bias)
-}
-
-/// Cᵀ M C and −Cᵀ (M acc_bias + h) of (5.9).
-pub(crate) fn projection(
-    d: &mut Dag,
-    mass: &[Vec<Node>],
-    bias: &[Node],
-    c: &[Vec<Node>],
-    acc_bias: &[Node],
-) -> (Vec<Vec<Node>>, Vec<Node>) {
-    let (n, k) = (c.len(), c.first().map_or(0, Vec::len));
-    let mut mc = vec![vec![ZERO_NODE; k]; n];
-    for i in 0..n {
-        for b in 0..k {
-            mc[i][b] = dot(d, ZERO_NODE, (0..n).map(|j| (mass[i][j], c[j][b])));
-        }
-    }
-    let mut mr = vec![vec![ZERO_NODE; k]; k];
-    for a in 0..k {
-        for b in a..k {
-            let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], mc[i][b])));
-            mr[a][b] = acc;
-            mr[b][a] = acc;
-        }
-    }
-    let g: Vec<Node> = (0..n)
-        .map(|i| dot(d, bias[i], (0..n).map(|j| (mass[i][j], acc_bias[j]))))
-        .collect();
-    let f = (0..k)
-        .map(|a| {
-            let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], g[i])));
-            d.neg(acc)
-        })
-        .collect();
-    (mr, f)
 }
 
 impl MultiplierNodes {

@@ -1,6 +1,6 @@
 //! Small products on the graph shared by the routes and the bodies.
 
-use crate::emit::{Dag, Node};
+use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::Scene;
 use crate::sym::ExprId;
 use proc_macro2::TokenStream;
@@ -49,4 +49,55 @@ pub(crate) fn exprs(d: &mut Dag, m: &Scene<'_>, v: &[ExprId]) -> Vec<Node> {
 
 pub(crate) fn matrix(d: &mut Dag, m: &Scene<'_>, v: &[Vec<ExprId>]) -> Vec<Vec<Node>> {
     v.iter().map(|row| exprs(d, m, row)).collect()
+}
+
+/// Cᵀ M C and −Cᵀ (M acc_bias + h) of (5.9).
+pub(crate) fn projection(
+    d: &mut Dag,
+    mass: &[Vec<Node>],
+    bias: &[Node],
+    c: &[Vec<Node>],
+    acc_bias: &[Node],
+) -> (Vec<Vec<Node>>, Vec<Node>) {
+    let (n, k) = (c.len(), c.first().map_or(0, Vec::len));
+    let mut mc = vec![vec![ZERO_NODE; k]; n];
+    for i in 0..n {
+        for b in 0..k {
+            mc[i][b] = dot(d, ZERO_NODE, (0..n).map(|j| (mass[i][j], c[j][b])));
+        }
+    }
+    let mut mr = vec![vec![ZERO_NODE; k]; k];
+    for a in 0..k {
+        for b in a..k {
+            let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], mc[i][b])));
+            mr[a][b] = acc;
+            mr[b][a] = acc;
+        }
+    }
+    let g: Vec<Node> = (0..n)
+        .map(|i| dot(d, bias[i], (0..n).map(|j| (mass[i][j], acc_bias[j]))))
+        .collect();
+    let f = (0..k)
+        .map(|a| {
+            let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], g[i])));
+            d.neg(acc)
+        })
+        .collect();
+    (mr, f)
+}
+
+/// The columns of a planar pair (x, y) of a Jacobian in the heading's
+/// frame: e_x and e_y where the dependent rows are u = R_z(−ψ)(ẋ, ẏ)
+/// (`constant`), or zero in a rate at q̈ = 0, to which a column constant in
+/// the world adds nothing.
+pub(crate) fn planar_columns(j: &mut [Vec<Node>], planar: Option<[usize; 2]>, constant: bool) {
+    for (axis, i) in planar.into_iter().flat_map(|p| p.into_iter().enumerate()) {
+        for (x, row) in j.iter_mut().enumerate() {
+            row[i] = if constant && x == axis {
+                ONE_NODE
+            } else {
+                ZERO_NODE
+            };
+        }
+    }
 }

@@ -6,7 +6,7 @@
 //! of every frame that turns with it: a few cross products where the
 //! expanded ∂p/∂q repeats every product of sines and cosines.
 
-use super::chains::planar_columns;
+use super::nodes::planar_columns;
 use super::nodes::{cross_nodes, dot, exprs, matrix};
 use crate::emit::{Dag, Node, ZERO_NODE};
 use crate::mechanics::Scene;

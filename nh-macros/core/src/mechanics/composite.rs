@@ -4,7 +4,6 @@
 //! gravity acts through the partial velocities the bodies need anyway.
 
 use super::chains::{Chain, Link};
-use super::kane::Wheel;
 use super::scene::Scene;
 use crate::lower::values::{Mat3, Vec3, mat_vec, transpose};
 use crate::sym::random_points::vanish_at_random_points;
@@ -30,7 +29,7 @@ pub(super) struct Part {
     /// The orientation (body → world, by rows).
     pub(super) orientation: Option<Mat3>,
     /// (μ, d) of the centres folded into this body's: its inertia gains
-    /// μ(|d|² 1 − d dᵀ) each (see [`super::kane::Inertia`]).
+    /// μ(|d|² 1 − d dᵀ) each (see the body's `Inertia`).
     pub(super) masses: Vec<(ExprId, Vec3)>,
     /// The wheels whose rotation was folded into this body's.
     pub(super) wheels: Vec<Wheel>,
@@ -444,4 +443,19 @@ impl Scene<'_> {
         let c = self.engine.constant(ratio);
         Some(self.engine.neg(c))
     }
+}
+
+/// A wheel turning at θ̇ about axis k of the body that carries it, whose
+/// rotation is folded into its carrier's (DESIGN §10): the carrier's
+/// inertia holds the wheel's transverse moment A, and the wheel adds only
+/// its spin s = ω_k + θ̇ about the axle, with the moment C: the generalized
+/// inertia forces C S ṡ + C s Ωᵀ(ω × e_k), S = ∂s/∂ṙ.
+#[derive(Clone, Copy)]
+pub struct Wheel {
+    /// k.
+    pub axis: usize,
+    /// C, the moment about the axle.
+    pub moment: ExprId,
+    /// θ̇.
+    pub rate: ExprId,
 }

@@ -3,7 +3,7 @@
 //! body's centre and rotation, for the multiplier route.
 
 use super::chains::{Chain, Frame};
-use super::composite;
+use super::composite::{self, Wheel};
 use super::scene::Scene;
 use crate::sym::{ExprId, ZERO};
 
@@ -78,21 +78,6 @@ pub struct Inertia {
     pub masses: Vec<(ExprId, [ExprId; 3])>,
     /// T, if the body's axes are turned by trailing constant factors.
     pub tail: Option<[[ExprId; 3]; 3]>,
-}
-
-/// A wheel turning at θ̇ about axis k of the body that carries it, whose
-/// rotation is folded into its carrier's (DESIGN §10): the carrier's
-/// inertia holds the wheel's transverse moment A, and the wheel adds only
-/// its spin s = ω_k + θ̇ about the axle, with the moment C: the generalized
-/// inertia forces C S ṡ + C s Ωᵀ(ω × e_k), S = ∂s/∂ṙ.
-#[derive(Clone, Copy)]
-pub struct Wheel {
-    /// k.
-    pub axis: usize,
-    /// C, the moment about the axle.
-    pub moment: ExprId,
-    /// θ̇.
-    pub rate: ExprId,
 }
 
 impl Scene<'_> {

@@ -12,6 +12,7 @@ mod composite;
 mod contacts;
 mod curvature;
 mod energy;
+mod frames;
 mod integrability;
 mod kane;
 mod maggi;
@@ -20,8 +21,9 @@ mod scene;
 
 pub use block::{BlockTerms, ContactTerms, RowTerms};
 pub use chains::{Chain, Frame, FrameStep, Link};
+pub use composite::Wheel;
 pub use curvature::CurvatureRoute;
-pub use kane::{BodyRotation, BodyTerms, Inertia, Wheel};
+pub use kane::{BodyRotation, BodyTerms, Inertia};
 pub use maggi::MaggiTerms;
 pub use multipliers::MultiplierRoute;
 pub use scene::Scene;
