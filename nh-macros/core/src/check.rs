@@ -214,7 +214,7 @@ pub fn derivation(def: &SystemDef, m: &Scene<'_>, dv: &Derivation, cx: &mut Ctxt
     // a speed that carries no kinetic energy
     if let Some(sp) = &m.speeds {
         for (a, u) in sp.names.iter().enumerate() {
-            if dv.curvature_route.mass[a][a] == ZERO {
+            if dv.reduced.mass[a][a] == ZERO {
                 cx.error_at(u.span(), format!("the speed `{u}` carries no kinetic energy (the Lagrangian does not depend on it once q̇ = S u + σ is substituted), so the mass matrix Sᵀ M S is singular and its rate is undetermined; give the velocities it moves a kinetic energy term or remove it"));
             }
         }
@@ -238,7 +238,7 @@ pub fn derivation(def: &SystemDef, m: &Scene<'_>, dv: &Derivation, cx: &mut Ctxt
                 || m.engine.depends_on(e, m.time)
         }) || (m.speeds.is_some()
             && dv
-                .curvature_route
+                .reduced
                 .mass
                 .iter()
                 .flatten()

@@ -43,8 +43,8 @@ impl Derived<'_, '_> {
         let k = self.m.k();
         let args = Args::vectors(self.m);
         let mut d = bound_dag(self.m, &args);
-        let mass = matrix(&mut d, self.m, &self.dv.curvature_route.mass);
-        let rhs = exprs(&mut d, self.m, &self.dv.curvature_route.rhs);
+        let mass = matrix(&mut d, self.m, &self.dv.reduced.mass);
+        let rhs = exprs(&mut d, self.m, &self.dv.reduced.rhs);
         let mut outs: Vec<Node> = mass.iter().flatten().copied().collect();
         outs.extend(&rhs);
         let (stmts, o) = self.emit_hoisted(&d, &outs);
@@ -288,7 +288,7 @@ impl Derived<'_, '_> {
             .iter()
             .map(|c| d.bound(c.velocity).unwrap_or(ZERO_NODE))
             .collect();
-        f.extend(self.acc_nodes(d, self.route));
+        f.extend(self.acc_nodes(d, self.route()));
         f
     }
 

@@ -3,14 +3,10 @@
 
 use super::nodes::{exprs, matrix};
 use crate::emit::{Dag, Node};
-use crate::mechanics::CurvatureRoute;
+use crate::mechanics::Reduced;
 use crate::mechanics::Scene;
 
-pub(crate) fn curvature_nodes(
-    d: &mut Dag,
-    m: &Scene<'_>,
-    r: &CurvatureRoute,
-) -> (Vec<Node>, Vec<Node>) {
+pub(crate) fn curvature_nodes(d: &mut Dag, m: &Scene<'_>, r: &Reduced) -> (Vec<Node>, Vec<Node>) {
     let mass = matrix(d, m, &r.mass);
     for (a, row) in mass.iter().enumerate() {
         for (b, &x) in row.iter().enumerate().skip(a) {

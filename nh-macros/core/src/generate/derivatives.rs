@@ -8,6 +8,7 @@ use super::multipliers::multiplier_nodes;
 use super::nodes::{dot, exprs, matrix, vector_expr};
 use super::routes::Route;
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
+use crate::mechanics::Formulation;
 use crate::sym::{ExprId, SymId, ZERO};
 use proc_macro2::TokenStream;
 use quote::quote;
@@ -17,7 +18,7 @@ impl Derived<'_, '_> {
     /// [`accelerations`] instead of repeating its code? (Small systems keep
     /// one fused body per method: their shared work is a few operations.)
     pub(crate) fn is_large(&self) -> bool {
-        self.stats.is_large(self.route)
+        self.stats.is_large(self.route())
     }
 
     /// `, u` when the system has inputs (to forward them to another method).
@@ -62,7 +63,7 @@ impl Derived<'_, '_> {
     /// (∂Mc/∂z) r̈), with one factorisation for every column.
     pub(crate) fn derivative_columns(&mut self, d: &mut Dag, vars: &[SymId]) -> Vec<Vec<Node>> {
         let (n, k) = (self.m.n(), self.m.k());
-        if let Some(sol) = self.dv.curvature_route.solution.clone() {
+        if let Some(sol) = self.dv.reduced.solution.clone() {
             // r̈ in closed form: differentiate it directly (factors that cancel
             // in r̈, such as the mass, then cancel in its derivatives too)
             let mut out = self.velocity_rows(d, vars);
@@ -74,21 +75,21 @@ impl Derived<'_, '_> {
             }
             return out;
         }
-        if self.route == Route::Multiplier {
+        if self.route() == Route::Multiplier {
             return self.multiplier_columns(d, vars);
         }
-        let mass = matrix(d, self.m, &self.dv.curvature_route.mass);
-        let rhs = exprs(d, self.m, &self.dv.curvature_route.rhs);
+        let mass = matrix(d, self.m, &self.dv.reduced.mass);
+        let rhs = exprs(d, self.m, &self.dv.reduced.rhs);
         let fac = d.factor_symmetric(&mass);
         let rdd = d.solve_factored(&fac, &rhs);
         let mut out = self.velocity_rows(d, vars);
         for (c, &z) in vars.iter().enumerate() {
             let mut col_rhs = Vec::with_capacity(k);
             for al in 0..k {
-                let df = self.m.engine.diff(self.dv.curvature_route.rhs[al], z);
+                let df = self.m.engine.diff(self.dv.reduced.rhs[al], z);
                 let mut v = d.expr(self.m.engine, df);
                 for be in 0..k {
-                    let dm = self.m.engine.diff(self.dv.curvature_route.mass[al][be], z);
+                    let dm = self.m.engine.diff(self.dv.reduced.mass[al][be], z);
                     if dm != ZERO {
                         let dmn = d.expr(self.m.engine, dm);
                         let t = d.mul(dmn, rdd[be]);
@@ -194,7 +195,7 @@ impl Derived<'_, '_> {
     pub(crate) fn velocity_rows(&mut self, d: &mut Dag, vars: &[SymId]) -> Vec<Vec<Node>> {
         let (n, k) = (self.m.n(), self.m.k());
         let mut out = vec![vec![ZERO_NODE; vars.len()]; n + k];
-        if self.m.speeds.is_some() {
+        if self.formulation == Formulation::Maggi {
             let w = self.m.constrained_qdot();
             for i in 0..n {
                 for (c, &z) in vars.iter().enumerate() {

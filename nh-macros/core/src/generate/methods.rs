@@ -10,6 +10,7 @@ use super::routes::{Route, RouteGraphs, Stats};
 use crate::api::{Bodies, GeneratedMethod, Method};
 use crate::emit::{Dag, Node};
 use crate::mechanics::Derivation;
+use crate::mechanics::Formulation;
 use crate::mechanics::Scene;
 use crate::model::Output;
 use proc_macro2::{Ident, TokenStream};
@@ -20,7 +21,7 @@ use quote::quote;
 pub(crate) struct Derived<'a, 'b> {
     pub(crate) m: &'a mut Scene<'b>,
     pub(crate) dv: Derivation,
-    pub(crate) route: Route,
+    pub(crate) formulation: Formulation,
     pub(crate) stats: &'a mut Stats,
     /// Parameter-only values hoisted out of the methods: the code computing
     /// each method's share of the cache, and the cache length so far.
@@ -98,7 +99,7 @@ impl Derived<'_, '_> {
     pub(crate) fn acc_nodes(&self, d: &mut Dag, route: Route) -> Vec<Node> {
         match route {
             Route::Multiplier => multiplier_nodes(d, self.m, &self.dv.multiplier_route).rdd,
-            Route::Curvature => curvature_nodes(d, self.m, &self.dv.curvature_route).0,
+            Route::Curvature => curvature_nodes(d, self.m, &self.dv.reduced).0,
         }
     }
 
@@ -133,8 +134,8 @@ impl Derived<'_, '_> {
         } else {
             "\n\n`u` holds the inputs in declared order."
         };
-        let used = self.ops(self.route);
-        let other = match self.ops(self.route.other()) {
+        let used = self.ops(self.route());
+        let other = match self.ops(self.route().other()) {
             0 if !self.m.homogeneous => {
                 "the curvature route needs homogeneous, time-independent velocity constraints"
                     .to_string()
@@ -147,7 +148,7 @@ impl Derived<'_, '_> {
         format!(
             "{}{u_doc}\n\nDerived by {}; {used} operations after common-subexpression elimination ({other}). The k × k reduced mass matrix is factorised as LDLᵀ, unrolled, with its structural zeros pruned.",
             GeneratedMethod::Accelerations.spec().doc,
-            self.route.doc(),
+            self.route().doc(),
         )
     }
 
@@ -160,6 +161,25 @@ impl Derived<'_, '_> {
             self.ops(route)
         )
     }
+
+    /// `jacobian` as the matrix A of `linearization` (one copy of the code),
+    /// documented as `doc` describes the system.
+    pub(crate) fn jacobian_from_linearization(&self, doc: &str) -> (String, TokenStream) {
+        let u = self.u_forward();
+        let doc = format!(
+            "{doc}: the matrix A of [`Self::linearization`], derived symbolically through the reduced solve.",
+        );
+        (doc, quote! { self.linearization(t, x #u).0 })
+    }
+
+    /// The route `accelerations` takes (Maggi's equations are solved as
+    /// the curvature route's reduced system).
+    pub(crate) fn route(&self) -> Route {
+        match self.formulation {
+            Formulation::Multipliers => Route::Multiplier,
+            Formulation::Curvature | Formulation::Maggi => Route::Curvature,
+        }
+    }
 }
 
 impl Bodies for Derived<'_, '_> {
@@ -170,36 +190,30 @@ impl Bodies for Derived<'_, '_> {
         {
             self.stats.derived.push(spec.name);
         }
+        if self.formulation == Formulation::Maggi
+            && let Some((doc, body)) = self.maggi_method(method)
+        {
+            return Method { doc, body };
+        }
         let static_doc = || spec.doc.to_string();
         let (doc, body) = match method {
             GeneratedMethod::DependentVelocities => {
                 (static_doc(), self.dependent_velocities_body())
             }
-            GeneratedMethod::Accelerations if self.maggi.is_some() => {
-                (self.speeds_accelerations_doc(), self.accelerations(self.route))
-            }
             GeneratedMethod::Accelerations => {
-                (self.accelerations_doc(), self.accelerations(self.route))
+                (self.accelerations_doc(), self.accelerations(self.route()))
             }
             GeneratedMethod::Velocities => (static_doc(), self.velocities_body()),
             GeneratedMethod::ReactionForces => (static_doc(), self.reaction_forces_body()),
-            GeneratedMethod::MassMatrix if self.maggi.is_some() => (
-                "The mass matrix in the speeds, Sᵀ M S (the mass matrix of Maggi's equations (Sᵀ M S) u̇ = .., with M = ∂²L/∂q̇∂q̇ and S = ∂q̇/∂u): rows and columns follow [`Self::SPEEDS`].".to_string(),
-                self.speeds_mass_matrix_body(),
-            ),
-            GeneratedMethod::Rhs if self.maggi.is_some() => (
-                "ẋ for the state x = [q, u]: ẋ = [S u + σ, u̇], with u̇ from Maggi's equations.".to_string(),
-                self.speeds_rhs_body(),
-            ),
             GeneratedMethod::AccelerationsMultiplierRoute
             | GeneratedMethod::AccelerationsCurvatureRoute
-                if method == self.route.method() =>
+                if method == self.route().method() =>
             {
                 let u = self.u_forward();
                 let doc = format!(
                     "r̈ by {}, the route [`Self::accelerations`] uses ({} operations).",
-                    self.route.doc(),
-                    self.ops(self.route)
+                    self.route().doc(),
+                    self.ops(self.route())
                 );
                 (doc, quote! { self.accelerations(t, q, rdot #u) })
             }
@@ -222,27 +236,9 @@ impl Bodies for Derived<'_, '_> {
             GeneratedMethod::ConstraintMatrix => (static_doc(), self.constraint_matrix_body()),
             GeneratedMethod::ContactPoints => (static_doc(), self.contact_points_body()),
             GeneratedMethod::MassMatrix => (static_doc(), self.mass_matrix_body()),
-            GeneratedMethod::Linearization if self.maggi.is_some() => (
-                "The linearisation of the first-order system ẋ = f(t, x, u), x = [q, u_speeds], at (t, x, u): A = ∂f/∂x and B = ∂f/∂u, derived symbolically through Maggi's equations (as for the Jacobian). For controller design: δẋ ≈ A δx + B δu.".to_string(),
-                self.linearization_body(),
-            ),
             GeneratedMethod::Linearization => (static_doc(), self.linearization_body()),
             GeneratedMethod::Jacobian if self.m.outputs.contains(Output::Linearization) => {
-                // the linearisation's A is this Jacobian: one copy of the code
-                let u = self.u_forward();
-                let system = if self.maggi.is_some() {
-                    "The Jacobian ∂f/∂x of the first-order system x = [q, u] ↦ [S u + σ, u̇]"
-                } else {
-                    spec.doc
-                };
-                let doc = format!(
-                    "{system}: the matrix A of [`Self::linearization`], derived symbolically through the reduced solve.",
-                );
-                (doc, quote! { self.linearization(t, x #u).0 })
-            }
-            GeneratedMethod::Jacobian if self.maggi.is_some() => {
-                let doc = "The Jacobian ∂f/∂x of the first-order system x = [q, u] ↦ [S u + σ, u̇], derived symbolically: the kinematics differentiated directly, u̇ through Maggi's equations, ∂u̇/∂z = (Sᵀ M S)⁻¹ (∂f/∂z − ∂(Sᵀ M S)/∂z u̇) with one factorisation for every column.".to_string();
-                (doc, self.jacobian_body())
+                self.jacobian_from_linearization(spec.doc)
             }
             GeneratedMethod::Jacobian => {
                 let doc = format!(
@@ -260,17 +256,13 @@ impl Bodies for Derived<'_, '_> {
             ),
             // q̇ and r̈ from their methods, inlined (one copy of the code;
             // measured as fast as a fused body)
-            GeneratedMethod::Rhs if self.maggi.is_some() => (
-                "ẋ for the state x = [q, u] of a system in generalized speeds: ẋ = [S u + σ, u̇], u̇ by Maggi's equations.".to_string(),
-                self.rhs_body(),
-            ),
             GeneratedMethod::Rhs => (static_doc(), self.rhs_body()),
         };
         Method { doc, body }
     }
 
     fn runtime_hooks(&mut self, xty: &TokenStream) -> TokenStream {
-        let mut hooks = if self.maggi.is_some() {
+        let mut hooks = if self.formulation == Formulation::Maggi {
             self.chart_regularity()
         } else {
             super::manifold::methods(self.m, xty)
@@ -300,7 +292,7 @@ impl Bodies for Derived<'_, '_> {
 
     fn route_consts(&mut self) -> TokenStream {
         let (om, oc) = (self.stats.ops_multiplier, self.stats.ops_curvature);
-        let chosen = match self.route {
+        let chosen = match self.route() {
             Route::Multiplier => "multiplier",
             Route::Curvature => "curvature",
         };

@@ -4,6 +4,7 @@
 use crate::check;
 use crate::ctxt::Ctxt;
 use crate::mechanics::Derivation;
+use crate::mechanics::Formulation;
 use crate::mechanics::Scene;
 use crate::model::{Model, Output};
 use crate::parse::SystemDef;
@@ -18,6 +19,7 @@ mod derivatives;
 mod frames;
 mod graph;
 mod kane;
+mod maggi;
 mod manifold;
 mod methods;
 mod motion;
@@ -26,7 +28,7 @@ mod nodes;
 mod poles;
 mod routes;
 mod screws;
-mod speeds;
+
 mod stand_in;
 
 use curvature::curvature_nodes;
@@ -95,7 +97,10 @@ pub fn generate(
     let mut bodies = Derived {
         m: &mut m,
         dv,
-        route,
+        formulation: match route {
+            Route::Multiplier => Formulation::Multipliers,
+            Route::Curvature => Formulation::Curvature,
+        },
         stats: &mut stats,
         hoist_blocks: Vec::new(),
         hoist_len: 0,
@@ -165,7 +170,7 @@ fn generate_speeds(
         return (TokenStream::new(), stats);
     }
     let mut d = bound_dag(&m, &Args::vectors(&m));
-    let (udot, pivots) = curvature_nodes(&mut d, &m, &dv.curvature_route);
+    let (udot, pivots) = curvature_nodes(&mut d, &m, &dv.reduced);
     if !check::regular(def, &pivots, cx) {
         return (TokenStream::new(), stats);
     }
@@ -179,7 +184,7 @@ fn generate_speeds(
     let mut bodies = Derived {
         m: &mut m,
         dv,
-        route: Route::Curvature,
+        formulation: Formulation::Maggi,
         stats: &mut stats,
         hoist_blocks: Vec::new(),
         hoist_len: 0,

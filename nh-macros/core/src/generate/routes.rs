@@ -158,7 +158,7 @@ impl RouteGraphs {
     }
 }
 
-/// The reduced system of `dv.curvature_route` (graph `reduced`, solved
+/// The reduced system of `dv.reduced` (graph `reduced`, solved
 /// numerically, with pivots `pivots`) solved symbolically instead, if that
 /// is cheaper; the solution is then kept in the derivation.
 pub(crate) fn solved_if_cheaper(
@@ -167,17 +167,14 @@ pub(crate) fn solved_if_cheaper(
     reduced: (Dag, Vec<Node>),
     pivots: &[Node],
 ) -> (Dag, Vec<Node>) {
-    let (cmass, crhs) = (
-        dv.curvature_route.mass.clone(),
-        dv.curvature_route.rhs.clone(),
-    );
+    let (cmass, crhs) = (dv.reduced.mass.clone(), dv.reduced.rhs.clone());
     if pivots.iter().all(|&p| p != ZERO_NODE)
         && let Some(sol) = m.solve_symbolic(&cmass, &crhs)
     {
         let mut d3 = bound_dag(m, &Args::vectors(m));
         let x3 = exprs(&mut d3, m, &sol);
         if d3.cost_estimate(&x3) < reduced.0.cost_estimate(&reduced.1) {
-            dv.curvature_route.solution = Some(sol);
+            dv.reduced.solution = Some(sol);
             return (d3, x3);
         }
     }
@@ -206,7 +203,7 @@ pub(crate) fn compare_routes(
     let mn = multiplier_nodes(&mut d1, m, &dv.multiplier_route);
     let mut d2 = bound_dag(m, &args_v);
     let (mut rdd2, piv2) = if both_routes {
-        curvature_nodes(&mut d2, m, &dv.curvature_route)
+        curvature_nodes(&mut d2, m, &dv.reduced)
     } else {
         (Vec::new(), Vec::new())
     };
@@ -256,7 +253,7 @@ impl ComparedRoutes {
     ) -> RouteGraphs {
         let other_kept = m.outputs.contains(Output::Routes)
             && (route == Route::Curvature
-                || (dv.curvature_route.solution.is_none() && !stats.is_large(route)));
+                || (dv.reduced.solution.is_none() && !stats.is_large(route)));
         let mut graphs = RouteGraphs::default();
         let (multiplier, curvature) = (self.multiplier, self.curvature);
         if route == Route::Multiplier || other_kept {

@@ -2,20 +2,11 @@
 //! constrained Lagrangian Lc (5.12) and the reduced equations Mc r̈ = f of
 //! (5.20), solved symbolically when that is cheaper.
 
+use super::reduced::Reduced;
 use super::scene::Scene;
 use crate::sym::dd::Dd;
 use crate::sym::{ExprId, ZERO};
 use rustc_hash::FxHashMap as HashMap;
-
-/// The curvature route: the reduced equations Mc r̈ = f in closed form.
-pub struct CurvatureRoute {
-    /// ∂²Lc/∂ṙ_α∂ṙ_β, k × k.
-    pub mass: Vec<Vec<ExprId>>,
-    /// Right side f of Mc r̈ = f, from (5.20) with the forces projected.
-    pub rhs: Vec<ExprId>,
-    /// r̈ solved symbolically, when that is cheaper than solving numerically.
-    pub solution: Option<Vec<ExprId>>,
-}
 
 impl Scene<'_> {
     /// B^b_{αβ} of (5.21), p × k × k, antisymmetric in (α, β).
@@ -57,7 +48,7 @@ impl Scene<'_> {
 
     /// The curvature route (5.12)–(5.20): Lc, its reduced mass matrix and the
     /// right side with the curvature term and projected forces.
-    pub fn curvature_route(&mut self, curvature: &[Vec<Vec<ExprId>>]) -> CurvatureRoute {
+    pub fn curvature_route(&mut self, curvature: &[Vec<Vec<ExprId>>]) -> Reduced {
         self.curvature_route_parts(curvature)
     }
 
@@ -141,10 +132,7 @@ impl Scene<'_> {
         (value, scale)
     }
 
-    pub(crate) fn curvature_route_parts(
-        &mut self,
-        curvature: &[Vec<Vec<ExprId>>],
-    ) -> CurvatureRoute {
+    pub(crate) fn curvature_route_parts(&mut self, curvature: &[Vec<Vec<ExprId>>]) -> Reduced {
         let (n, k) = (self.model.n(), self.model.k());
         let map = self.constrained_velocities();
         let qdot_c = self.constrained_qdot();
@@ -221,7 +209,7 @@ impl Scene<'_> {
             let lhs = e.sum(&lhs);
             rhs.push(e.sub(force, lhs));
         }
-        CurvatureRoute {
+        Reduced {
             mass,
             rhs,
             solution: None,

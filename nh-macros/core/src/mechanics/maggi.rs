@@ -10,8 +10,8 @@
 //! the curvature route's (a k × k symmetric matrix and a right side), so the
 //! generation solves it, differentiates it and checks it the same way.
 
-use super::curvature::CurvatureRoute;
 use super::multipliers::MultiplierRoute;
+use super::reduced::Reduced;
 use super::scene::Scene;
 use crate::sym::{ExprId, ZERO};
 use rustc_hash::FxHashMap as HashMap;
@@ -33,7 +33,7 @@ impl Scene<'_> {
     /// Maggi's equations of a system in generalized speeds: the multiplier
     /// route's M and h, the reduced system (Sᵀ M S) u̇ = −Sᵀ (h + M a) and
     /// the terms of the reaction forces.
-    pub fn maggi_equations(&mut self) -> (MultiplierRoute, CurvatureRoute, MaggiTerms) {
+    pub fn maggi_equations(&mut self) -> (MultiplierRoute, Reduced, MaggiTerms) {
         let multiplier_route = self.multiplier_route();
         let (n, k) = (self.model.n(), self.model.k());
         let map = self.constrained_velocities();
@@ -105,7 +105,7 @@ impl Scene<'_> {
                 e.neg(x)
             })
             .collect();
-        let reduced = CurvatureRoute {
+        let reduced = Reduced {
             mass: reduced,
             rhs,
             solution: None,

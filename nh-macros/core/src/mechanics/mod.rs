@@ -17,19 +17,37 @@ mod integrability;
 mod kane;
 mod maggi;
 mod multipliers;
+mod reduced;
 mod scene;
 
 pub use block::{BlockTerms, ContactTerms, RowTerms};
 pub use chains::{Chain, Frame, FrameStep, Link};
 pub use composite::Wheel;
-pub use curvature::CurvatureRoute;
 pub use kane::{BodyRotation, BodyTerms, Inertia};
 pub use maggi::MaggiTerms;
 pub use multipliers::MultiplierRoute;
+pub use reduced::Reduced;
 pub use scene::Scene;
 
 use crate::model::Output;
 use crate::sym::{ExprId, ZERO};
+
+/// The formulation that gives a system's equations of motion (DESIGN §9),
+/// decided once per system: Maggi's equations for a system written in
+/// generalized speeds; otherwise the route to r̈ that costs less.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Formulation {
+    /// The multiplier route (5.9)/(5.10): the Euler–Lagrange terms of the
+    /// whole Lagrangian ([`MultiplierRoute`], or Kane's form of them for
+    /// bodies), reduced on the graph.
+    Multipliers,
+    /// The curvature route (5.20): the constrained Lagrangian's reduced
+    /// equations ([`Reduced`]).
+    Curvature,
+    /// Maggi's equations of a system in generalized speeds ([`Reduced`],
+    /// with [`MaggiTerms`] for the reaction forces).
+    Maggi,
+}
 
 /// Everything derived symbolically for one system, each piece once.
 pub struct Derivation {
@@ -37,9 +55,11 @@ pub struct Derivation {
     pub multiplier_route: MultiplierRoute,
     /// B^b_{αβ} of (5.21), p × k × k.
     pub curvature: Vec<Vec<Vec<ExprId>>>,
-    /// The curvature route (its reduced mass matrix alone when only the
-    /// multiplier route is derived).
-    pub curvature_route: CurvatureRoute,
+    /// The reduced equations Mc r̈ = f of the curvature route (its reduced
+    /// mass matrix alone when only the multiplier route is derived), or
+    /// Maggi's (Sᵀ M S) u̇ = −Sᵀ (h + M a) for a system in speeds: the
+    /// shape both formulations that reduce symbolically return.
+    pub reduced: Reduced,
     /// The energy, when `outputs { energy }` asks for it (derived once the
     /// rest is known to be within the engine's limits).
     pub energy: Option<ExprId>,
@@ -68,10 +88,10 @@ pub fn derive(m: &mut Scene<'_>, both_routes: bool) -> Derivation {
         } else {
             (Vec::new(), m.integrability_entry_by_entry())
         };
-    let curvature_route = if both_routes {
+    let reduced = if both_routes {
         m.curvature_route(&curvature)
     } else {
-        CurvatureRoute {
+        Reduced {
             mass: Vec::new(),
             rhs: Vec::new(),
             solution: None,
@@ -79,7 +99,7 @@ pub fn derive(m: &mut Scene<'_>, both_routes: bool) -> Derivation {
     };
     let silent = if both_routes {
         (0..m.model.k())
-            .map(|a| curvature_route.mass[a][a] == ZERO)
+            .map(|a| reduced.mass[a][a] == ZERO)
             .collect()
     } else {
         m.silent_velocities(&multiplier_route.mass)
@@ -88,7 +108,7 @@ pub fn derive(m: &mut Scene<'_>, both_routes: bool) -> Derivation {
         silent,
         multiplier_route,
         curvature,
-        curvature_route,
+        reduced,
         energy: None,
         integrable,
         integrable_proved,
@@ -106,7 +126,7 @@ pub fn derive_maggi(m: &mut Scene<'_>) -> (Derivation, MaggiTerms) {
         silent,
         multiplier_route,
         curvature: Vec::new(),
-        curvature_route: reduced,
+        reduced,
         energy: None,
         integrable: false,
         integrable_proved: false,

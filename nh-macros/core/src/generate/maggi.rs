@@ -1,16 +1,54 @@
-//! The method bodies particular to a system in generalized speeds
-//! (DESIGN §9): the kinematics, the reaction forces, the mass matrix in the
-//! speeds, the runtime's right side and the chart's regularity.
+//! Maggi's equations on the generated side (DESIGN §9): the methods whose
+//! bodies or documentation differ for a system in generalized speeds (the
+//! kinematics, the reaction forces, the mass matrix in the speeds, the
+//! runtime's right side, the linearisation and the chart's regularity),
+//! dispatched from one place ([`Derived::maggi_method`]).
 
 use super::graph::{Args, bound_dag};
 use super::methods::Derived;
 use super::nodes::{dot, exprs, matrix, vector_expr};
+use crate::api::GeneratedMethod;
 use crate::emit::Node;
 use crate::mechanics::MaggiTerms;
+use crate::model::Output;
 use proc_macro2::TokenStream;
 use quote::quote;
 
 impl Derived<'_, '_> {
+    /// The methods whose bodies or documentation differ for Maggi's
+    /// equations; `None` for the others, which are built as for any system.
+    pub(crate) fn maggi_method(
+        &mut self,
+        method: GeneratedMethod,
+    ) -> Option<(String, TokenStream)> {
+        Some(match method {
+            GeneratedMethod::Accelerations => {
+                (self.speeds_accelerations_doc(), self.accelerations(self.route()))
+            }
+            GeneratedMethod::MassMatrix => (
+                "The mass matrix in the speeds, Sᵀ M S (the mass matrix of Maggi's equations (Sᵀ M S) u̇ = .., with M = ∂²L/∂q̇∂q̇ and S = ∂q̇/∂u): rows and columns follow [`Self::SPEEDS`].".to_string(),
+                self.speeds_mass_matrix_body(),
+            ),
+            GeneratedMethod::Rhs => (
+                "ẋ for the state x = [q, u]: ẋ = [S u + σ, u̇], with u̇ from Maggi's equations.".to_string(),
+                self.speeds_rhs_body(),
+            ),
+            GeneratedMethod::Linearization => (
+                "The linearisation of the first-order system ẋ = f(t, x, u), x = [q, u_speeds], at (t, x, u): A = ∂f/∂x and B = ∂f/∂u, derived symbolically through Maggi's equations (as for the Jacobian). For controller design: δẋ ≈ A δx + B δu.".to_string(),
+                self.linearization_body(),
+            ),
+            GeneratedMethod::Jacobian if self.m.outputs.contains(Output::Linearization) => self
+                .jacobian_from_linearization(
+                    "The Jacobian ∂f/∂x of the first-order system x = [q, u] ↦ [S u + σ, u̇]",
+                ),
+            GeneratedMethod::Jacobian => {
+                let doc = "The Jacobian ∂f/∂x of the first-order system x = [q, u] ↦ [S u + σ, u̇], derived symbolically: the kinematics differentiated directly, u̇ through Maggi's equations, ∂u̇/∂z = (Sᵀ M S)⁻¹ (∂f/∂z − ∂(Sᵀ M S)/∂z u̇) with one factorisation for every column.".to_string();
+                (doc, self.jacobian_body())
+            }
+            _ => return None,
+        })
+    }
+
     /// Maggi's terms (only called for a system in generalized speeds).
     pub(crate) fn terms(&self) -> &MaggiTerms {
         self.maggi
@@ -25,7 +63,7 @@ impl Derived<'_, '_> {
         } else {
             "\n\n`u` holds the inputs in declared order."
         };
-        let how = if self.dv.curvature_route.solution.is_some() {
+        let how = if self.dv.reduced.solution.is_some() {
             "solved symbolically (LDLᵀ)"
         } else {
             "solved by an unrolled LDLᵀ factorisation with its structural zeros pruned"
@@ -86,14 +124,7 @@ impl Derived<'_, '_> {
     /// `mass_matrix` in generalized speeds: Sᵀ M S.
     pub(super) fn speeds_mass_matrix_body(&mut self) -> TokenStream {
         let k = self.m.k();
-        let flat: Vec<_> = self
-            .dv
-            .curvature_route
-            .mass
-            .iter()
-            .flatten()
-            .copied()
-            .collect();
+        let flat: Vec<_> = self.dv.reduced.mass.iter().flatten().copied().collect();
         self.matrix_of_q(k, k, &flat)
     }
 
@@ -123,7 +154,7 @@ impl Derived<'_, '_> {
         let (n, k) = (self.m.n(), self.m.k());
         let dim = n + k;
         let mut d = bound_dag(self.m, &Args::state(self.m));
-        let mass = matrix(&mut d, self.m, &self.dv.curvature_route.mass);
+        let mass = matrix(&mut d, self.m, &self.dv.reduced.mass);
         let fac = d.factor_symmetric(&mass);
         let mut ratio = crate::emit::ONE_NODE;
         for (a, &p) in fac.d.iter().enumerate() {
