@@ -15,7 +15,7 @@
 //! that starts the next item (`.. let ; X =`), and the name and `=` of `let`,
 //! `lagrangian` and `body` in the wrong order.
 
-use super::BLOCKS;
+use super::blocks::BLOCKS;
 use crate::ctxt::Ctxt;
 use crate::names;
 use proc_macro2::{Delimiter, Group, Ident, Punct, Spacing, Span, TokenStream, TokenTree};
