@@ -28,6 +28,7 @@ mod names;
 mod parse;
 mod poles;
 pub mod sym;
+mod words;
 
 pub use emit::with_text_parser;
 pub use errors::{ReportedError, reported_errors};

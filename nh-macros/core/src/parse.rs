@@ -15,6 +15,7 @@ pub use expr::MAX_DEPTH;
 
 use crate::ctxt::Ctxt;
 use crate::names;
+use crate::words::{Block, Keyword};
 use blocks::{parse_block, parse_fields};
 use expr::parse_expr_all;
 use items::{Item, split_items};
@@ -209,7 +210,11 @@ fn headless(item: &Item) -> bool {
         Item::Statement(t) | Item::Unterminated(t) => t,
         _ => return false,
     };
-    !matches!(toks.first(), Some(TokenTree::Ident(id)) if id == "let" || id == "lagrangian")
+    let word = match toks.first() {
+        Some(TokenTree::Ident(id)) => Keyword::of(id),
+        _ => None,
+    };
+    !matches!(word, Some(Keyword::Let | Keyword::Lagrangian))
 }
 
 /// A statement: `lagrangian = ..;` or `let name = ..;`; whether it parsed.
@@ -218,8 +223,8 @@ fn parse_statement_item(toks: Vec<TokenTree>, def: &mut SystemDef, cx: &mut Ctxt
         return true;
     }
     match (&toks[0], toks.get(1)) {
-        (TokenTree::Ident(kw), _) if kw == "lagrangian" => def.lagrangian_written = true,
-        (TokenTree::Ident(kw), Some(TokenTree::Ident(name))) if kw == "let" => {
+        (TokenTree::Ident(kw), _) if *kw == Keyword::Lagrangian => def.lagrangian_written = true,
+        (TokenTree::Ident(kw), Some(TokenTree::Ident(name))) if *kw == Keyword::Let => {
             def.poisoned.push(names::canonical(name.clone()))
         }
         _ => {}
@@ -266,18 +271,26 @@ fn parse_statement(input: ParseStream) -> syn::Result<Statement> {
             "expected an item: `let NAME = ..;`, `lagrangian = ..;` or a block such as `constraints { .. }`",
         )
     })?;
-    if kw == "lagrangian" {
+    if kw == Keyword::Lagrangian {
         let _: Token![=] = input
             .parse()
             .map_err(|e| syn::Error::new(e.span(), "expected `=` after `lagrangian`"))?;
         let value = parse_expr_all(input)?;
         return Ok(Statement::Lagrangian(kw, value));
     }
-    let hint = crate::names::suggest(&kw.to_string(), &["lagrangian"]);
+    let hint = names::suggest(&kw.to_string(), &[Keyword::Lagrangian.name()]);
+    // every block but `dependent`, which only chooses the coordinates the
+    // constraints are solved for
+    let blocks: Vec<String> = Block::ALL
+        .into_iter()
+        .filter(|b| *b != Block::Dependent)
+        .map(|b| format!("`{b} {{ .. }}`"))
+        .collect();
     Err(syn::Error::new(
         kw.span(),
         format!(
-            "unexpected `{kw}`{hint}: an item is `let NAME = ..;`, `lagrangian = ..;` or a block `parameters {{ .. }}`, `coordinates {{ .. }}`, `inputs {{ .. }}`, `forces {{ .. }}`, `constraints {{ .. }}`, `speeds {{ .. }}`, `kinematics {{ .. }}`, `outputs {{ .. }}`"
+            "unexpected `{kw}`{hint}: an item is `let NAME = ..;`, `lagrangian = ..;` or a block {}",
+            blocks.join(", ")
         ),
     ))
 }

@@ -3,6 +3,7 @@
 
 use crate::ctxt::SpanRange;
 use crate::sym::Rational;
+use crate::words::{Block, Output, Spelled};
 use proc_macro2::{Ident, Span, TokenStream};
 use syn::Visibility;
 
@@ -266,10 +267,10 @@ pub struct SystemDef {
     /// `constraints { .. }`
     pub constraints: Option<(Ident, Vec<Constraint>)>,
     /// `outputs { .. }`
-    pub outputs: Option<(Ident, Vec<Ident>)>,
+    pub outputs: Option<(Ident, Vec<Spelled<Output>>)>,
     /// The outputs of `outputs { .. }` written with a list of names,
     /// `sensitivities(m, k)`: (the output, the names), in order
-    pub output_arguments: Vec<(Ident, Vec<Ident>)>,
+    pub output_arguments: Vec<(Spelled<Output>, Vec<Ident>)>,
     /// `dependent { .. }`: the coordinates the implicit and holonomic
     /// constraints are solved for, in the order of those constraints
     pub dependent: Option<(Ident, Vec<Ident>)>,
@@ -293,6 +294,22 @@ pub struct SystemDef {
     pub krate: TokenStream,
 }
 
+impl SystemDef {
+    /// The slot of a block of names other than `outputs` (`parameters`,
+    /// `coordinates`, `inputs`, `speeds`, `dependent`); `None` for another
+    /// block.
+    pub(super) fn names_block(&mut self, block: Block) -> Option<&mut Option<(Ident, Vec<Ident>)>> {
+        Some(match block {
+            Block::Parameters => &mut self.parameters,
+            Block::Coordinates => &mut self.coordinates,
+            Block::Inputs => &mut self.inputs,
+            Block::Speeds => &mut self.speeds,
+            Block::Dependent => &mut self.dependent,
+            Block::Forces | Block::Constraints | Block::Kinematics | Block::Outputs => return None,
+        })
+    }
+}
+
 /// What items rejected by the parser were meant to declare: the stand-in
 /// emitted next to the errors keeps the dimensions the user meant (a
 /// parameter list with a syntax error still gives `new` its arguments, a
@@ -303,8 +320,11 @@ pub struct Rejected {
     /// The names of blocks of names that did not parse (or a misspelled
     /// block's, under the block it was taken for), read leniently: every
     /// identifier is a name, and a comma-separated entry without one (`2`)
-    /// a placeholder.
-    pub names: Vec<(&'static str, Vec<Ident>)>,
+    /// a placeholder. The outputs of `outputs` are in `outputs`.
+    pub names: Vec<(Block, Vec<Ident>)>,
+    /// The outputs of the first `outputs` block that did not parse (or a
+    /// block misspelled for it), read like `names`.
+    pub outputs: Option<Vec<Spelled<Output>>>,
     /// The lines of `constraints` (or of a block misspelled for it) that did
     /// not parse.
     pub constraint_lines: usize,
@@ -318,7 +338,7 @@ pub struct Rejected {
 
 impl Rejected {
     /// The names block `which` was meant to declare, if it was rejected.
-    pub fn names_of(&self, which: &str) -> Option<&[Ident]> {
+    pub fn names_of(&self, which: Block) -> Option<&[Ident]> {
         self.names
             .iter()
             .find(|(w, _)| *w == which)

@@ -6,7 +6,8 @@ use super::expr::{parse_expr, parse_expr_all};
 use super::{Constraint, Field, Force, RollingDef, SystemDef};
 use crate::ctxt::{Ctxt, SpanRange};
 use crate::names;
-use proc_macro2::{Ident, Span, TokenTree};
+use crate::words::{Block, Keyword, Output, Spelled, and_list};
+use proc_macro2::{Group, Ident, Span, TokenTree};
 use syn::Token;
 use syn::ext::IdentExt;
 use syn::parse::{ParseStream, Parser};
@@ -14,7 +15,7 @@ use syn::parse::{ParseStream, Parser};
 /// The names a block of names that failed to parse was meant to declare:
 /// each identifier, and a placeholder for each comma-separated entry with
 /// none (`parameters { m, 2 }` meant two parameters).
-fn names_meant(group: &proc_macro2::Group) -> Vec<Ident> {
+fn names_meant(group: &Group) -> Vec<Ident> {
     let mut names = Vec::new();
     let mut entry_named = false;
     let mut entry_empty = true;
@@ -41,32 +42,23 @@ fn names_meant(group: &proc_macro2::Group) -> Vec<Ident> {
     names
 }
 
-/// The blocks of a definition, in the order messages list them.
-pub(crate) const BLOCKS: [&str; 9] = [
-    "parameters",
-    "coordinates",
-    "inputs",
-    "forces",
-    "constraints",
-    "dependent",
-    "speeds",
-    "kinematics",
-    "outputs",
-];
-
 /// A block `kw { .. }`.
-pub(super) fn parse_block(
-    kw: Ident,
-    group: &proc_macro2::Group,
-    def: &mut SystemDef,
-    cx: &mut Ctxt,
-) {
-    let which = kw.to_string();
-    match which.as_str() {
-        "parameters" | "coordinates" | "inputs" | "speeds" | "outputs" | "dependent" => {
-            parse_name_block(kw, group, def, cx)
-        }
-        "kinematics" => {
+pub(super) fn parse_block(kw: Ident, group: &Group, def: &mut SystemDef, cx: &mut Ctxt) {
+    let Some(block) = Block::of(&kw) else {
+        let which = kw.to_string();
+        let hint = Block::suggest(&which);
+        reject_misspelled_block(&which, group, def);
+        cx.error_at(
+            kw.span(),
+            format!(
+                "unknown block `{which}`{hint}; the blocks are {}",
+                and_list(Block::ALL.map(Block::name))
+            ),
+        );
+        return;
+    };
+    match block {
+        Block::Kinematics => {
             let list = parse_each(group, parse_kinematics_line, headless_equation, cx);
             def.rejected.kinematics_lines += split_statements(group).len() - list.len();
             set_once(&mut def.kinematics, kw, list, cx, |_| {
@@ -74,109 +66,118 @@ pub(super) fn parse_block(
                     .to_string()
             });
         }
-        "constraints" => {
-            let mut list = Vec::new();
-            let mut rolling = Vec::new();
-            let lines = parse_each(group, parse_constraint_line, headless_equation, cx);
-            def.rejected.constraint_lines += split_statements(group).len() - lines.len();
-            // the rejected lines that were rolling contacts (two rows each)
-            let rolling_written = split_statements(group)
-                .iter()
-                .filter(|(toks, _)| mentions_rolls(toks))
-                .count();
-            let rolling_parsed = lines
-                .iter()
-                .filter(|l| matches!(l, Line::Rolling(_)))
-                .count();
-            def.rejected.rolling_lines += rolling_written.saturating_sub(rolling_parsed);
-            for line in lines {
-                match line {
-                    Line::Equation(c) => list.push(c),
-                    Line::Rolling(mut r) => {
-                        r.position = list.len();
-                        rolling.push(r);
-                    }
-                }
-            }
-            if def.constraints.is_none() {
-                def.rolling = rolling;
-            }
-            set_once(&mut def.constraints, kw, list, cx, |_| {
-                "duplicate `constraints` block: write all constraints in one block".to_string()
-            });
-        }
-        "forces" => {
+        Block::Constraints => parse_constraints(kw, group, def, cx),
+        Block::Forces => {
             let list = parse_each(group, parse_force, headless_force, cx);
             set_once(&mut def.forces, kw, list, cx, |_| {
                 "duplicate `forces` block: write all forces in one block".to_string()
             });
         }
-        _ => {
-            let hint = crate::names::suggest(&which, &BLOCKS);
-            reject_misspelled_block(&which, group, def);
-            cx.error_at(
-                kw.span(),
-                format!(
-                    "unknown block `{which}`{hint}; the blocks are `parameters`, `coordinates`, `inputs`, `forces`, `constraints`, `dependent`, `speeds`, `kinematics` and `outputs`"
-                ),
-            );
+        Block::Outputs => parse_outputs_block(kw, group, def, cx),
+        Block::Parameters
+        | Block::Coordinates
+        | Block::Inputs
+        | Block::Speeds
+        | Block::Dependent => parse_name_block(block, kw, group, def, cx),
+    }
+}
+
+/// `constraints { .. }`: its equations and rolling contacts.
+fn parse_constraints(kw: Ident, group: &Group, def: &mut SystemDef, cx: &mut Ctxt) {
+    let mut list = Vec::new();
+    let mut rolling = Vec::new();
+    let lines = parse_each(group, parse_constraint_line, headless_equation, cx);
+    def.rejected.constraint_lines += split_statements(group).len() - lines.len();
+    // the rejected lines that were rolling contacts (two rows each)
+    let rolling_written = split_statements(group)
+        .iter()
+        .filter(|(toks, _)| mentions_rolls(toks))
+        .count();
+    let rolling_parsed = lines
+        .iter()
+        .filter(|l| matches!(l, Line::Rolling(_)))
+        .count();
+    def.rejected.rolling_lines += rolling_written.saturating_sub(rolling_parsed);
+    for line in lines {
+        match line {
+            Line::Equation(c) => list.push(c),
+            Line::Rolling(mut r) => {
+                r.position = list.len();
+                rolling.push(r);
+            }
         }
     }
+    if def.constraints.is_none() {
+        def.rolling = rolling;
+    }
+    set_once(&mut def.constraints, kw, list, cx, |_| {
+        "duplicate `constraints` block: write all constraints in one block".to_string()
+    });
 }
 
 /// What a misspelled block (`constraint { .. }`) was meant to declare, for
 /// the stand-in: the names of a block of names, or the number of lines of
 /// `constraints`.
-fn reject_misspelled_block(which: &str, group: &proc_macro2::Group, def: &mut SystemDef) {
-    match crate::names::closest(which, BLOCKS) {
-        Some("constraints") => {
+fn reject_misspelled_block(which: &str, group: &Group, def: &mut SystemDef) {
+    match Block::closest(which) {
+        Some(Block::Constraints) => {
             def.rejected.constraint_lines += split_statements(group).len();
         }
-        Some(block @ ("parameters" | "coordinates" | "inputs" | "speeds" | "outputs")) => {
-            def.rejected.names.push((block, names_meant(group)));
-        }
+        Some(
+            block @ (Block::Parameters
+            | Block::Coordinates
+            | Block::Inputs
+            | Block::Speeds
+            | Block::Outputs),
+        ) => reject_names(block, group, def),
         _ => {}
     }
 }
 
-/// A block of names: `parameters`, `coordinates`, `inputs` or `outputs`.
-fn parse_name_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, cx: &mut Ctxt) {
-    let which = kw.to_string();
-    let parsed = if which == "outputs" {
-        parse_output_list
-            .parse2(group.stream())
-            .map(|(names, arguments)| {
-                if def.outputs.is_none() {
-                    def.output_arguments = arguments;
-                }
-                names
-            })
+/// Records what a rejected block of names was meant to declare (the first
+/// rejected `outputs` block's outputs).
+fn reject_names(block: Block, group: &Group, def: &mut SystemDef) {
+    let names = names_meant(group);
+    if block == Block::Outputs {
+        let outputs = names.into_iter().map(Spelled::new).collect();
+        def.rejected.outputs.get_or_insert(outputs);
     } else {
-        parse_name_list.parse2(group.stream())
-    };
-    let list = match parsed {
-        Ok(n) => n,
-        Err(e) => {
-            cx.syn_error(e);
-            // the names it meant to declare must not cause follow-up errors
-            for tt in group.stream() {
-                if let TokenTree::Ident(id) = tt {
-                    def.poisoned.push(names::canonical(id));
-                }
-            }
-            if let Some(block) = BLOCKS.into_iter().find(|b| *b == which) {
-                def.rejected.names.push((block, names_meant(group)));
-            }
-            return;
+        def.rejected.names.push((block, names));
+    }
+}
+
+/// A block of names that did not parse: its error, and the names it meant
+/// to declare, which must not cause follow-up errors.
+fn reject_name_block(
+    error: syn::Error,
+    block: Block,
+    group: &Group,
+    def: &mut SystemDef,
+    cx: &mut Ctxt,
+) {
+    cx.syn_error(error);
+    for tt in group.stream() {
+        if let TokenTree::Ident(id) = tt {
+            def.poisoned.push(names::canonical(id));
         }
+    }
+    reject_names(block, group, def);
+}
+
+/// A block of names: `parameters`, `coordinates`, `inputs`, `speeds` or
+/// `dependent`.
+fn parse_name_block(block: Block, kw: Ident, group: &Group, def: &mut SystemDef, cx: &mut Ctxt) {
+    let list = match parse_name_list.parse2(group.stream()) {
+        Ok(n) => n,
+        Err(e) => return reject_name_block(e, block, group, def, cx),
     };
     // a keyword is reported here, once, at the name; it stays
     // declared, so its uses raise no follow-up errors
-    let kind = match which.as_str() {
-        "parameters" => Some("a parameter"),
-        "coordinates" => Some("a coordinate"),
-        "inputs" => Some("an input"),
-        "speeds" => Some("a speed"),
+    let kind = match block {
+        Block::Parameters => Some("a parameter"),
+        Block::Coordinates => Some("a coordinate"),
+        Block::Inputs => Some("an input"),
+        Block::Speeds => Some("a speed"),
         _ => None,
     };
     for id in &list {
@@ -184,17 +185,36 @@ fn parse_name_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, 
             cx.error_at(id.span(), msg);
         }
     }
-    let slot = match which.as_str() {
-        "parameters" => &mut def.parameters,
-        "coordinates" => &mut def.coordinates,
-        "inputs" => &mut def.inputs,
-        "speeds" => &mut def.speeds,
-        "dependent" => &mut def.dependent,
-        _ => &mut def.outputs,
+    if let Some(slot) = def.names_block(block) {
+        set_once(slot, kw, list, cx, duplicate_names(block));
+    }
+}
+
+/// `outputs { .. }`: the outputs, and the lists of names some are written
+/// with.
+fn parse_outputs_block(kw: Ident, group: &Group, def: &mut SystemDef, cx: &mut Ctxt) {
+    let list = match parse_output_list.parse2(group.stream()) {
+        Ok((names, arguments)) => {
+            if def.outputs.is_none() {
+                def.output_arguments = arguments;
+            }
+            names
+        }
+        Err(e) => return reject_name_block(e, Block::Outputs, group, def, cx),
     };
-    set_once(slot, kw, list, cx, |prev| {
-        format!("duplicate `{which}` block: list all names in the first `{prev}` block")
-    });
+    set_once(
+        &mut def.outputs,
+        kw,
+        list,
+        cx,
+        duplicate_names(Block::Outputs),
+    );
+}
+
+/// The error at a second block of names of its kind, given the first's
+/// keyword.
+fn duplicate_names(block: Block) -> impl FnOnce(&Ident) -> String {
+    move |prev| format!("duplicate `{block}` block: list all names in the first `{prev}` block")
 }
 
 /// Each `;`-separated statement of a block parsed by `parser`; the errors
@@ -204,7 +224,7 @@ fn parse_name_block(kw: Ident, group: &proc_macro2::Group, def: &mut SystemDef, 
 /// (`headless`) right after one with an error is taken as its rest, whose
 /// error covers it.
 fn parse_each<T>(
-    group: &proc_macro2::Group,
+    group: &Group,
     parser: fn(ParseStream) -> syn::Result<T>,
     headless: fn(&[TokenTree]) -> bool,
     cx: &mut Ctxt,
@@ -285,12 +305,12 @@ fn moved_across<T>(
 /// its first tokens (or first in its first parentheses).
 fn mentions_rolls(toks: &[TokenTree]) -> bool {
     toks.iter().take(3).any(|t| match t {
-        TokenTree::Ident(id) => id == "rolls",
+        TokenTree::Ident(id) => *id == Keyword::Rolls,
         TokenTree::Group(g) => g
             .stream()
             .into_iter()
             .next()
-            .is_some_and(|f| matches!(f, TokenTree::Ident(id) if id == "rolls")),
+            .is_some_and(|f| matches!(f, TokenTree::Ident(id) if id == Keyword::Rolls)),
         _ => false,
     })
 }
@@ -327,7 +347,7 @@ fn set_once<T>(
 /// The `;`-separated statements of a block, each ending in its `;` (the last
 /// one, which may omit it, gets one at the closing brace) so that an error
 /// at the end of a statement points into the source, not at the macro call.
-fn split_statements(group: &proc_macro2::Group) -> Vec<(Vec<TokenTree>, Span)> {
+fn split_statements(group: &Group) -> Vec<(Vec<TokenTree>, Span)> {
     let mut out = Vec::new();
     let mut cur = Vec::new();
     for tt in group.stream() {
@@ -377,7 +397,9 @@ fn parse_name_list(input: ParseStream) -> syn::Result<Vec<Ident>> {
 /// parenthesised list of names (`sensitivities(m, k)`); returns the names
 /// and those lists.
 #[allow(clippy::type_complexity)]
-fn parse_output_list(input: ParseStream) -> syn::Result<(Vec<Ident>, Vec<(Ident, Vec<Ident>)>)> {
+fn parse_output_list(
+    input: ParseStream,
+) -> syn::Result<(Vec<Spelled<Output>>, Vec<(Spelled<Output>, Vec<Ident>)>)> {
     let mut names = Vec::new();
     let mut arguments = Vec::new();
     while !input.is_empty() {
@@ -387,7 +409,7 @@ fn parse_output_list(input: ParseStream) -> syn::Result<(Vec<Ident>, Vec<(Ident,
                 "expected the name of an output: this block is a comma-separated list of outputs, such as `energy, jacobian` or `sensitivities(m, k)`",
             )
         })?;
-        let id = names::canonical(id);
+        let id = Spelled::new(names::canonical(id));
         if input.peek(syn::token::Paren) {
             let content;
             syn::parenthesized!(content in input);
@@ -418,8 +440,10 @@ enum Line {
 
 fn parse_constraint_line(input: ParseStream) -> syn::Result<Line> {
     let fork = input.fork();
-    let is_rolling =
-        fork.call(Ident::parse_any).is_ok_and(|id| id == "rolls") && fork.peek(syn::token::Paren);
+    let is_rolling = fork
+        .call(Ident::parse_any)
+        .is_ok_and(|id| id == Keyword::Rolls)
+        && fork.peek(syn::token::Paren);
     if is_rolling {
         return parse_rolling(input).map(Line::Rolling);
     }
@@ -482,7 +506,7 @@ fn parse_field(input: ParseStream) -> syn::Result<Field> {
 /// The comma-separated `name: expr` fields of a `body` item, each parsed on
 /// its own so that one error does not hide the others; and whether one did
 /// not parse.
-pub(super) fn parse_fields(group: &proc_macro2::Group, cx: &mut Ctxt) -> (Vec<Field>, bool) {
+pub(super) fn parse_fields(group: &Group, cx: &mut Ctxt) -> (Vec<Field>, bool) {
     let mut out = Vec::new();
     let mut rejected = false;
     let mut failed = false;
