@@ -1,6 +1,7 @@
 //! The words of the input language, each typed once: the blocks
 //! (`parameters { .. }`, ...), the other keywords (`let`, `lagrangian`,
-//! `body`, `rolls`) and the outputs (`energy`, ...).
+//! `body`, `rolls`), the outputs (`energy`, ...), the functions of the
+//! expressions (`sin`, ..., `cross`, ...) and the constants (`t`, `pi`).
 //!
 //! Each kind of word is an enum, and [`words!`] writes each word's spelling
 //! once, next to its variant: the parser reads a word into its enum, later
@@ -143,6 +144,77 @@ words! {
         /// equations, for forward sensitivities; implies `jacobian`
         Sensitivities = "sensitivities",
     }
+
+    /// A function of the expressions: the scalar functions, `dot` (the
+    /// time derivative, and the dot product of two vectors) and the
+    /// functions of vectors, rotations and bodies. A name is a function only
+    /// where it is called, so `abs` or `atan` can still name a coordinate.
+    pub enum Function {
+        /// sine
+        Sin = "sin",
+        /// cosine
+        Cos = "cos",
+        /// tangent
+        Tan = "tan",
+        /// cotangent
+        Cot = "cot",
+        /// secant
+        Sec = "sec",
+        /// cosecant
+        Csc = "csc",
+        /// inverse sine
+        Asin = "asin",
+        /// inverse cosine
+        Acos = "acos",
+        /// inverse tangent
+        Atan = "atan",
+        /// `atan2(y, x)`: the angle of the point (x, y)
+        Atan2 = "atan2",
+        /// hyperbolic sine
+        Sinh = "sinh",
+        /// hyperbolic cosine
+        Cosh = "cosh",
+        /// hyperbolic tangent
+        Tanh = "tanh",
+        /// exponential
+        Exp = "exp",
+        /// natural logarithm
+        Ln = "ln",
+        /// square root
+        Sqrt = "sqrt",
+        /// absolute value
+        Abs = "abs",
+        /// `dot(q)`: the time derivative; `dot(a, b)`: the dot product
+        Dot = "dot",
+        /// `cross(a, b)`: the cross product
+        Cross = "cross",
+        /// `norm(v)`: the length of a vector
+        Norm = "norm",
+        /// `transpose(R)`
+        Transpose = "transpose",
+        /// `rot_x(angle)`: the rotation about the x axis
+        RotX = "rot_x",
+        /// `rot_y(angle)`: the rotation about the y axis
+        RotY = "rot_y",
+        /// `rot_z(angle)`: the rotation about the z axis
+        RotZ = "rot_z",
+        /// `diag(a, b, c)`: a diagonal matrix
+        Diag = "diag",
+        /// `omega(R)`: the angular velocity, world components
+        Omega = "omega",
+        /// `omega_body(R)`: the angular velocity, body components
+        OmegaBody = "omega_body",
+        /// `kinetic_energy(body)`
+        KineticEnergy = "kinetic_energy",
+    }
+
+    /// A constant of the expressions: a name no item declares.
+    pub enum Constant {
+        /// `t`: time
+        Time = "t",
+        /// `pi`: π
+        Pi = "pi",
+    }
 }
 
 /// A word as written where a word of kind `W` is expected: the identifier
@@ -198,6 +270,65 @@ impl Keyword {
     }
 }
 
+impl Function {
+    /// Whether it is a function of vectors, rotations or bodies (`dot`,
+    /// also the time derivative, is not counted among them).
+    pub fn of_vectors(self) -> bool {
+        matches!(
+            self,
+            Function::Cross
+                | Function::Norm
+                | Function::Transpose
+                | Function::RotX
+                | Function::RotY
+                | Function::RotZ
+                | Function::Diag
+                | Function::Omega
+                | Function::OmegaBody
+                | Function::KineticEnergy
+        )
+    }
+
+    /// Whether it is a scalar function: of one argument (`sin` .. `abs`)
+    /// or `atan2`; not `dot` nor a function of vectors.
+    pub fn is_scalar(self) -> bool {
+        self != Function::Dot && !self.of_vectors()
+    }
+
+    /// Whether its name cannot be declared: `dot` and the first functions
+    /// of the language. The functions added later are not reserved, so a
+    /// coordinate, parameter or `let` named `abs`, `atan` or `sinh` keeps
+    /// working.
+    pub fn is_reserved(self) -> bool {
+        matches!(
+            self,
+            Function::Dot
+                | Function::Sin
+                | Function::Cos
+                | Function::Tan
+                | Function::Exp
+                | Function::Ln
+                | Function::Sqrt
+        )
+    }
+
+    /// The scalar functions and `dot` as the messages list them: "`sin`,
+    /// `cos`, ..., `abs` and `dot` (time derivative)".
+    pub fn listed() -> String {
+        let names = Function::ALL
+            .into_iter()
+            .filter(|f| !f.of_vectors())
+            .map(Function::name);
+        format!("{} (time derivative)", and_list(names))
+    }
+}
+
+/// Whether `text` is a word that cannot be declared as a name: a constant
+/// (`t`, `pi`) or a reserved function ([`Function::is_reserved`]).
+pub fn is_reserved(text: &str) -> bool {
+    Constant::parse(text).is_some() || Function::parse(text).is_some_and(Function::is_reserved)
+}
+
 /// Words for a message: "`a`, `b` and `c`".
 pub fn and_list<'a>(words: impl IntoIterator<Item = &'a str>) -> String {
     let quoted: Vec<String> = words.into_iter().map(|w| format!("`{w}`")).collect();
@@ -228,7 +359,7 @@ mod tests {
 
     #[test]
     fn every_word_parses_back_from_its_name() {
-        round_trip!(Block, Keyword, Output);
+        round_trip!(Block, Keyword, Output, Function, Constant);
     }
 
     #[test]
@@ -238,6 +369,9 @@ mod tests {
         }
         for (i, b) in Block::ALL.into_iter().enumerate() {
             assert_eq!(b as usize, i);
+        }
+        for (i, f) in Function::ALL.into_iter().enumerate() {
+            assert_eq!(f as usize, i);
         }
     }
 
@@ -262,13 +396,22 @@ mod tests {
             Some(Output::ConstraintMatrix)
         );
         assert_eq!(Output::parse("sensitivities"), Some(Output::Sensitivities));
+        assert_eq!(Function::parse("atan2"), Some(Function::Atan2));
+        assert_eq!(Function::parse("rot_z"), Some(Function::RotZ));
+        assert_eq!(
+            Function::parse("kinetic_energy"),
+            Some(Function::KineticEnergy)
+        );
+        assert_eq!(Constant::parse("t"), Some(Constant::Time));
+        assert_eq!(Constant::parse("pi"), Some(Constant::Pi));
         // the spelling is exact: no case folding, no plural
         assert_eq!(Block::parse("Parameters"), None);
         assert_eq!(Block::parse("constraint"), None);
         assert_eq!(Output::parse("Energy"), None);
         // a word of one kind is not one of another
         assert_eq!(Block::parse("let"), None);
-        assert_eq!(Output::parse("let"), None);
+        assert_eq!(Function::parse("t"), None);
+        assert_eq!(Output::parse("sin"), None);
     }
 
     #[test]
@@ -292,6 +435,9 @@ mod tests {
             " (did you mean `mass_matrix`?)"
         );
         assert_eq!(Keyword::closest("lagrangain"), Some(Keyword::Lagrangian));
+        assert_eq!(Function::closest("cso"), Some(Function::Cos));
+        assert_eq!(Function::closest("atna"), Some(Function::Atan));
+        assert_eq!(Function::closest("crosss"), Some(Function::Cross));
         let span = Span::call_site();
         let spelled = Spelled::<Output>::new(Ident::new("energie", span));
         assert_eq!(spelled.word, None);
@@ -317,6 +463,16 @@ mod tests {
             ]
         );
         assert!(Keyword::Let.starts_item() && !Keyword::Rolls.starts_item());
+        let scalar = Function::ALL.into_iter().filter(|f| f.is_scalar()).count();
+        assert_eq!(scalar, 17);
+        assert!(Function::Atan2.is_scalar() && !Function::Dot.is_scalar());
+        assert!(Function::Cross.of_vectors() && !Function::Dot.of_vectors());
+        for word in ["t", "pi", "dot", "sin", "cos", "tan", "exp", "ln", "sqrt"] {
+            assert!(is_reserved(word), "{word}");
+        }
+        for word in ["abs", "atan", "sinh", "cross", "x", "energy"] {
+            assert!(!is_reserved(word), "{word}");
+        }
     }
 
     #[test]
@@ -327,6 +483,10 @@ mod tests {
         assert_eq!(
             and_list(Block::ALL.map(Block::name)),
             "`parameters`, `coordinates`, `inputs`, `forces`, `constraints`, `dependent`, `speeds`, `kinematics` and `outputs`"
+        );
+        assert_eq!(
+            Function::listed(),
+            "`sin`, `cos`, `tan`, `cot`, `sec`, `csc`, `asin`, `acos`, `atan`, `atan2`, `sinh`, `cosh`, `tanh`, `exp`, `ln`, `sqrt`, `abs` and `dot` (time derivative)"
         );
     }
 }

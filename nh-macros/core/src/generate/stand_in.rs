@@ -13,7 +13,7 @@
 
 use crate::api::Shape;
 use crate::parse::{Expr, SystemDef};
-use crate::words::{Block, Output};
+use crate::words::{Block, Constant, Function, Output};
 use proc_macro2::Ident;
 use syn::ext::IdentExt;
 
@@ -109,7 +109,7 @@ fn rows_meant(def: &SystemDef) -> usize {
                 .constraints
                 .iter()
                 .flat_map(|(_, list)| list)
-                .filter(|c| matches!(c.lhs.call1("dot"), Some(Expr::Name(_))))
+                .filter(|c| matches!(c.lhs.call1(Function::Dot), Some(Expr::Name(_))))
                 .count();
             explicit + names.len()
         }
@@ -127,7 +127,7 @@ fn dependent_coordinates(def: &SystemDef, coords: &[Ident], wanted: usize) -> Ve
         .constraints
         .iter()
         .flat_map(|(_, list)| list)
-        .filter_map(|c| match c.lhs.call1("dot") {
+        .filter_map(|c| match c.lhs.call1(Function::Dot) {
             Some(Expr::Name(id)) => Some(id),
             _ => None,
         });
@@ -201,7 +201,7 @@ fn speeds_meant(def: &SystemDef) -> Vec<Ident> {
 
 /// `t` and `pi`: names of the language that are not declared.
 fn is_constant(id: &Ident) -> bool {
-    id == "t" || id == "pi"
+    Constant::of(id).is_some()
 }
 
 /// Whether a constraint depends on time explicitly, directly or through a
@@ -211,14 +211,14 @@ fn is_constant(id: &Ident) -> bool {
 fn constraints_mention_time(def: &SystemDef) -> bool {
     let mut timed: Vec<&Ident> = Vec::new();
     for l in &def.lets {
-        if mentions(&l.value, |id| id == "t" || timed.contains(&id)) {
+        if mentions(&l.value, |id| *id == Constant::Time || timed.contains(&id)) {
             timed.push(&l.name);
         }
     }
     let Some((_, lines)) = &def.constraints else {
         return false;
     };
-    let is_timed = |id: &Ident| id == "t" || timed.contains(&id);
+    let is_timed = |id: &Ident| *id == Constant::Time || timed.contains(&id);
     let equations = lines
         .iter()
         .any(|c| [&c.lhs, &c.rhs].into_iter().any(|e| mentions(e, is_timed)));

@@ -3,7 +3,7 @@
 
 use crate::ctxt::SpanRange;
 use crate::sym::Rational;
-use crate::words::{Block, Output, Spelled};
+use crate::words::{Block, Function, Output, Spelled};
 use proc_macro2::{Ident, Span, TokenStream};
 use syn::Visibility;
 
@@ -154,9 +154,9 @@ impl Expr {
     }
 
     /// The argument of a one-argument call of `func` (`dot(x)`: `x`).
-    pub fn call1(&self, func: &str) -> Option<&Expr> {
+    pub fn call1(&self, func: Function) -> Option<&Expr> {
         match self {
-            Expr::Call { func: f, args, .. } if f == func && args.len() == 1 => Some(&args[0]),
+            Expr::Call { func: f, args, .. } if *f == func && args.len() == 1 => Some(&args[0]),
             _ => None,
         }
     }
