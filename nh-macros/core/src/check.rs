@@ -13,13 +13,14 @@ use crate::model::{Output, Outputs};
 use crate::names;
 use crate::parse::SystemDef;
 use crate::sym::ZERO;
+use crate::words::Block;
 use proc_macro2::Span;
 
 /// A system declares at least one coordinate.
 pub fn coordinates_declared(def: &SystemDef, cx: &mut Ctxt) {
     match &def.coordinates {
         // a list that did not parse: already reported
-        None if def.rejected.names_of("coordinates").is_some() => {}
+        None if def.rejected.names_of(Block::Coordinates).is_some() => {}
         None => cx.error_at(
             def.name.span(),
             "missing `coordinates { .. }`: list the generalized coordinates, e.g. `coordinates { x, y, theta }`",
@@ -56,17 +57,20 @@ pub fn outputs(def: &SystemDef, cx: &mut Ctxt) -> Outputs {
     };
     for o in list {
         let name = o.to_string();
-        match outputs.set(&name) {
-            Some(true) => cx.error_at(
-                o.span(),
-                format!("output `{name}` is listed twice: remove one"),
-            ),
-            Some(false) => {}
+        match o.word {
+            Some(output) => {
+                if outputs.set(output) {
+                    cx.error_at(
+                        o.ident.span(),
+                        format!("output `{name}` is listed twice: remove one"),
+                    );
+                }
+            }
             None => {
                 let all = Output::ALL.map(Output::name);
-                let hint = names::suggest(&name, &all);
+                let hint = Output::suggest(&name);
                 cx.error_at(
-                    o.span(),
+                    o.ident.span(),
                     format!(
                         "unknown output `{name}`{hint}; the outputs are {}",
                         all.map(|s| format!("`{s}`")).join(", ")
@@ -84,18 +88,20 @@ pub fn outputs(def: &SystemDef, cx: &mut Ctxt) -> Outputs {
 /// once; and `sensitivities` is for systems without inputs.
 fn output_arguments(def: &SystemDef, cx: &mut Ctxt) {
     for (output, list) in &def.output_arguments {
-        if output != "sensitivities" {
-            if Output::ALL.iter().any(|o| output == o.name()) {
+        match output.word {
+            Some(Output::Sensitivities) => {}
+            Some(_) => {
                 cx.error_at(
-                    output.span(),
+                    output.ident.span(),
                     format!("output `{output}` takes no list of names: write `{output}` alone"),
                 );
+                continue;
             }
-            continue;
+            None => continue,
         }
         if list.is_empty() {
             cx.error_at(
-                output.span(),
+                output.ident.span(),
                 "`sensitivities()` lists no parameter: name the parameters to differentiate by, `sensitivities(m, k)`, or write `sensitivities` for all of them",
             );
         }
@@ -145,34 +151,38 @@ pub fn outputs_for_form(def: &SystemDef, cx: &mut Ctxt) {
         return;
     };
     // a list of speeds that did not parse still makes a system in speeds
-    let in_speeds = def.speeds.is_some() || def.rejected.names_of("speeds").is_some();
+    let in_speeds = def.speeds.is_some() || def.rejected.names_of(Block::Speeds).is_some();
     for o in list {
-        let why = match (o.to_string().as_str(), in_speeds) {
-            ("multipliers", true) => {
+        let why = match (o.word, in_speeds) {
+            (Some(Output::Multipliers), true) => {
                 "a system in generalized speeds has no Lagrange multipliers: the constraint forces are `reaction_forces` (E − Q, orthogonal to the columns of S)"
             }
-            ("curvature", true) => {
+            (Some(Output::Curvature), true) => {
                 "a system in generalized speeds has no constraint connection to take the curvature of: its kinematics q̇ = S u + σ are given directly"
             }
-            ("constraint_matrix", true) => {
+            (Some(Output::ConstraintMatrix), true) => {
                 "a system in generalized speeds has no constraint matrix A: its kinematic matrix S is the derivative of `velocities` with respect to the speeds"
             }
-            ("routes", true) => {
+            (Some(Output::Routes), true) => {
                 "a system in generalized speeds has one derivation, Maggi's equations (Sᵀ M S) u̇ = Sᵀ(Q − h − M(Ṡ u + σ̇)): there are no routes to compare"
             }
-            ("contact_points", _) if def.rolling.is_empty() && def.rejected.rolling_lines == 0 => {
+            (Some(Output::ContactPoints), _)
+                if def.rolling.is_empty() && def.rejected.rolling_lines == 0 =>
+            {
                 "`contact_points` gives the points of the rolling contacts, and this system has none (`rolls(BODY, radius: .., ..);` in `constraints`)"
             }
-            ("sensitivities", _) if def.inputs.as_ref().is_some_and(|(_, l)| !l.is_empty()) => {
+            (Some(Output::Sensitivities), _)
+                if def.inputs.as_ref().is_some_and(|(_, l)| !l.is_empty()) =>
+            {
                 "the sensitivities are derived for systems without inputs, x' = f(t, x; p); to differentiate a motion under a constant input, declare the input as a parameter instead"
             }
-            ("reaction_forces", false) => {
+            (Some(Output::ReactionForces), false) => {
                 "`reaction_forces` is for systems in generalized speeds (`speeds` and `kinematics`); with `constraints`, the constraint forces are the `multipliers`"
             }
             _ => continue,
         };
         cx.error_at(
-            o.span(),
+            o.ident.span(),
             format!("output `{o}` is not available here: {why}; remove it from `outputs`"),
         );
     }
@@ -265,13 +275,13 @@ pub fn forms(def: &SystemDef, m: &Scene<'_>, cx: &mut Ctxt) -> bool {
     let time_dependent = m.rheonomic();
     for o in list {
         let name = o.to_string();
-        let why = match name.as_str() {
-            "curvature" | "routes" if !m.homogeneous => format!("output `{name}` needs homogeneous, time-independent velocity constraints (the curvature route (5.12)–(5.21) has no terms for an affine or time-dependent part, nor for holonomic constraints); this system uses the multiplier route alone: remove `{name}` from `outputs`"),
-            "constraint_matrix" if time_dependent => "output `constraint_matrix` takes only `q`, but a constraint depends on time `t`: remove `constraint_matrix` from `outputs` (`dependent_velocities(t, q, rdot)` gives ṡ)".to_string(),
-            "energy" if time_dependent => "output `energy` needs time-independent constraints: the constraint forces of a moving constraint do work, so E is not a constant of the motion; remove `energy` from `outputs`".to_string(),
+        let why = match o.word {
+            Some(Output::Curvature | Output::Routes) if !m.homogeneous => format!("output `{name}` needs homogeneous, time-independent velocity constraints (the curvature route (5.12)–(5.21) has no terms for an affine or time-dependent part, nor for holonomic constraints); this system uses the multiplier route alone: remove `{name}` from `outputs`"),
+            Some(Output::ConstraintMatrix) if time_dependent => "output `constraint_matrix` takes only `q`, but a constraint depends on time `t`: remove `constraint_matrix` from `outputs` (`dependent_velocities(t, q, rdot)` gives ṡ)".to_string(),
+            Some(Output::Energy) if time_dependent => "output `energy` needs time-independent constraints: the constraint forces of a moving constraint do work, so E is not a constant of the motion; remove `energy` from `outputs`".to_string(),
             _ => continue,
         };
-        cx.error_at(o.span(), why);
+        cx.error_at(o.ident.span(), why);
     }
     let _ = kw;
     cx.is_empty()

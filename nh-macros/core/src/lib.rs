@@ -27,6 +27,7 @@ mod names;
 mod parse;
 
 pub mod sym;
+mod words;
 
 pub use emit::with_text_parser;
 pub use errors::{ReportedError, reported_errors};

@@ -24,19 +24,6 @@ use values::Value;
 
 mod speeds;
 
-/// The scalar functions of one argument of the input language (`atan2`
-/// takes two; see `lower::functions`).
-pub const FUNCTIONS: [&str; 16] = [
-    "sin", "cos", "tan", "cot", "sec", "csc", "asin", "acos", "atan", "sinh", "cosh", "tanh",
-    "exp", "ln", "sqrt", "abs",
-];
-
-/// Names that cannot be declared: the language's own words. The functions
-/// added after the first six are not reserved: a name is one of them only
-/// where it is called, so a coordinate, parameter or `let` named `abs`,
-/// `atan` or `sinh` keeps working.
-const RESERVED: [&str; 9] = ["t", "pi", "dot", "sin", "cos", "tan", "exp", "ln", "sqrt"];
-
 /// The prefix of the names the generated code binds (its fields, locals,
 /// helper functions and hidden module): no user name may start with it.
 pub const RESERVED_PREFIX: &str = "__nh_";
@@ -108,7 +95,7 @@ impl Declarations {
     /// error, for a reserved word or a name declared before.
     fn declare(&mut self, cx: &mut Ctxt, id: &Ident, kind: &'static str) -> bool {
         let s = id.to_string();
-        if RESERVED.contains(&s.as_str()) {
+        if crate::words::is_reserved(&s) {
             let what = match s.as_str() {
                 "t" => "`t` is time",
                 "pi" => "`pi` is the constant π",

@@ -6,67 +6,7 @@ use crate::ctxt::SpanRange;
 use crate::sym::{ExprId, SymId};
 use proc_macro2::{Ident, Span};
 
-/// An opt-in output (DESIGN §3), or `routes`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Output {
-    /// `multipliers`
-    Multipliers,
-    /// `curvature`
-    Curvature,
-    /// `energy`
-    Energy,
-    /// `constraint_matrix`
-    ConstraintMatrix,
-    /// `mass_matrix`
-    MassMatrix,
-    /// `jacobian`
-    Jacobian,
-    /// `linearization`: A = ∂f/∂x and B = ∂f/∂u
-    Linearization,
-    /// `routes`: both derivation routes as separate methods
-    Routes,
-    /// `reaction_forces`: E − Q of a system in generalized speeds (DESIGN §9)
-    ReactionForces,
-    /// `contact_points`: the contact points of the rolling contacts (DESIGN §10)
-    ContactPoints,
-    /// `sensitivities` (or `sensitivities(p, ..)`): ∂f/∂p and the variational
-    /// equations, for forward sensitivities; implies `jacobian`
-    Sensitivities,
-}
-
-impl Output {
-    /// Every output, in the order the messages list them.
-    pub const ALL: [Output; 11] = [
-        Output::Multipliers,
-        Output::Curvature,
-        Output::Energy,
-        Output::ConstraintMatrix,
-        Output::MassMatrix,
-        Output::Jacobian,
-        Output::Linearization,
-        Output::Routes,
-        Output::ReactionForces,
-        Output::ContactPoints,
-        Output::Sensitivities,
-    ];
-
-    /// The name written in `outputs { .. }`.
-    pub fn name(self) -> &'static str {
-        match self {
-            Output::Multipliers => "multipliers",
-            Output::Curvature => "curvature",
-            Output::Energy => "energy",
-            Output::ConstraintMatrix => "constraint_matrix",
-            Output::MassMatrix => "mass_matrix",
-            Output::Jacobian => "jacobian",
-            Output::Linearization => "linearization",
-            Output::Routes => "routes",
-            Output::ReactionForces => "reaction_forces",
-            Output::ContactPoints => "contact_points",
-            Output::Sensitivities => "sensitivities",
-        }
-    }
-}
+pub use crate::words::Output;
 
 /// Which opt-in outputs a system asked for.
 #[derive(Clone, Copy, Debug, Default)]
@@ -110,13 +50,9 @@ impl Outputs {
         })
     }
 
-    /// Sets the flag of output `name`; `Some(previous)` if the name is known.
-    pub fn set(&mut self, name: &str) -> Option<bool> {
-        let output = Output::ALL.into_iter().find(|o| o.name() == name)?;
-        Some(std::mem::replace(
-            &mut self.requested[output as usize],
-            true,
-        ))
+    /// Sets the flag of `output`; whether it was set before.
+    pub fn set(&mut self, output: Output) -> bool {
+        std::mem::replace(&mut self.requested[output as usize], true)
     }
 }
 
@@ -434,10 +370,9 @@ mod tests {
         for (i, o) in Output::ALL.into_iter().enumerate() {
             assert_eq!(o as usize, i);
             let mut outputs = Outputs::default();
-            assert_eq!(outputs.set(o.name()), Some(false));
+            assert!(!outputs.set(o));
             assert!(outputs.contains(o));
-            assert_eq!(outputs.set(o.name()), Some(true));
+            assert!(outputs.set(o));
         }
-        assert_eq!(Outputs::default().set("unknown"), None);
     }
 }

@@ -13,13 +13,14 @@
 
 use crate::api::Shape;
 use crate::parse::{Expr, SystemDef};
+use crate::words::{Block, Constant, Function, Output};
 use proc_macro2::Ident;
 use syn::ext::IdentExt;
 
 /// The shape of the API for a definition, as far as it could be parsed
 /// (used for the stand-in of a system with errors).
 pub fn shape_of(def: &SystemDef) -> Shape<'_> {
-    let coords = declared(def, &def.coordinates, "coordinates");
+    let coords = declared(def, &def.coordinates, Block::Coordinates);
     let dependent = dependent_coordinates(def, &coords, rows_meant(def));
     let independent = (0..coords.len())
         .filter(|i| !dependent.contains(i))
@@ -30,9 +31,9 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
         krate: &def.krate,
         vis: &def.vis,
         name: &def.name,
-        params: declared(def, &def.parameters, "parameters"),
+        params: declared(def, &def.parameters, Block::Parameters),
         coords: as_written(&coords),
-        inputs: as_written(&declared(def, &def.inputs, "inputs")),
+        inputs: as_written(&declared(def, &def.inputs, Block::Inputs)),
         independent,
         dependent,
         outputs: outputs_meant(def),
@@ -52,7 +53,7 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
 pub fn stand_in_shape(def: &SystemDef, rows: Option<usize>) -> Shape<'_> {
     let mut shape = shape_of(def);
     if let Some(rows) = rows {
-        let coords = declared(def, &def.coordinates, "coordinates");
+        let coords = declared(def, &def.coordinates, Block::Coordinates);
         shape.dependent = dependent_coordinates(def, &coords, rows);
         shape.independent = (0..coords.len())
             .filter(|i| !shape.dependent.contains(i))
@@ -65,19 +66,18 @@ pub fn stand_in_shape(def: &SystemDef, rows: Option<usize>) -> Shape<'_> {
 /// `sensitivities(m, k)` (as written, known or not: the stand-in keeps the
 /// dimensions meant), or every parameter.
 fn sensitivity_parameters(def: &SystemDef) -> Vec<Ident> {
-    let names = crate::model::Output::ALL.map(|o| o.name());
-    let listed = def.output_arguments.iter().find(|(o, _)| {
-        let o = o.to_string();
-        o == "sensitivities" || crate::names::closest(&o, names) == Some("sensitivities")
-    });
+    let listed = def
+        .output_arguments
+        .iter()
+        .find(|(o, _)| o.meant() == Some(Output::Sensitivities));
     match listed {
         Some((_, list)) => list.clone(),
-        None => declared(def, &def.parameters, "parameters"),
+        None => declared(def, &def.parameters, Block::Parameters),
     }
 }
 
 /// The names of a block: as parsed, or as meant if the block was rejected.
-fn declared(def: &SystemDef, block: &Option<(Ident, Vec<Ident>)>, which: &str) -> Vec<Ident> {
+fn declared(def: &SystemDef, block: &Option<(Ident, Vec<Ident>)>, which: Block) -> Vec<Ident> {
     match block {
         Some((_, names)) => names.clone(),
         None => def
@@ -109,7 +109,7 @@ fn rows_meant(def: &SystemDef) -> usize {
                 .constraints
                 .iter()
                 .flat_map(|(_, list)| list)
-                .filter(|c| matches!(c.lhs.call1("dot"), Some(Expr::Name(_))))
+                .filter(|c| matches!(c.lhs.call1(Function::Dot), Some(Expr::Name(_))))
                 .count();
             explicit + names.len()
         }
@@ -127,7 +127,7 @@ fn dependent_coordinates(def: &SystemDef, coords: &[Ident], wanted: usize) -> Ve
         .constraints
         .iter()
         .flat_map(|(_, list)| list)
-        .filter_map(|c| match c.lhs.call1("dot") {
+        .filter_map(|c| match c.lhs.call1(Function::Dot) {
             Some(Expr::Name(id)) => Some(id),
             _ => None,
         });
@@ -158,12 +158,12 @@ fn dependent_coordinates(def: &SystemDef, coords: &[Ident], wanted: usize) -> Ve
 /// closest to (its error says "did you mean ..?").
 fn outputs_meant(def: &SystemDef) -> crate::model::Outputs {
     let mut outputs = crate::model::Outputs::default();
-    let names = crate::model::Output::ALL.map(|o| o.name());
-    for o in declared(def, &def.outputs, "outputs") {
-        let name = o.to_string();
-        if outputs.set(&name).is_none()
-            && let Some(meant) = crate::names::closest(&name, names)
-        {
+    let written = match &def.outputs {
+        Some((_, list)) => Some(list),
+        None => def.rejected.outputs.as_ref(),
+    };
+    for o in written.into_iter().flatten() {
+        if let Some(meant) = o.meant() {
             outputs.set(meant);
         }
     }
@@ -173,7 +173,7 @@ fn outputs_meant(def: &SystemDef) -> crate::model::Outputs {
 /// The speeds: as declared, or, for `kinematics` without `speeds`, the
 /// names its right sides use that nothing declares, in order of first use.
 fn speeds_meant(def: &SystemDef) -> Vec<Ident> {
-    let declared_speeds = declared(def, &def.speeds, "speeds");
+    let declared_speeds = declared(def, &def.speeds, Block::Speeds);
     let Some((_, lines)) = def
         .kinematics
         .as_ref()
@@ -201,7 +201,7 @@ fn speeds_meant(def: &SystemDef) -> Vec<Ident> {
 
 /// `t` and `pi`: names of the language that are not declared.
 fn is_constant(id: &Ident) -> bool {
-    id == "t" || id == "pi"
+    Constant::of(id).is_some()
 }
 
 /// Whether a constraint depends on time explicitly, directly or through a
@@ -211,14 +211,14 @@ fn is_constant(id: &Ident) -> bool {
 fn constraints_mention_time(def: &SystemDef) -> bool {
     let mut timed: Vec<&Ident> = Vec::new();
     for l in &def.lets {
-        if mentions(&l.value, |id| id == "t" || timed.contains(&id)) {
+        if mentions(&l.value, |id| *id == Constant::Time || timed.contains(&id)) {
             timed.push(&l.name);
         }
     }
     let Some((_, lines)) = &def.constraints else {
         return false;
     };
-    let is_timed = |id: &Ident| id == "t" || timed.contains(&id);
+    let is_timed = |id: &Ident| *id == Constant::Time || timed.contains(&id);
     let equations = lines
         .iter()
         .any(|c| [&c.lhs, &c.rhs].into_iter().any(|e| mentions(e, is_timed)));

@@ -13,21 +13,6 @@ use crate::sym::{ExprId, Rational, SymId, ZERO};
 use proc_macro2::Ident;
 use std::rc::Rc;
 
-/// The functions of vectors, rotations and bodies.
-pub const VECTOR_FUNCTIONS: [&str; 11] = [
-    "cross",
-    "norm",
-    "transpose",
-    "rot_x",
-    "rot_y",
-    "rot_z",
-    "diag",
-    "omega",
-    "omega_body",
-    "kinetic_energy",
-    "dot",
-];
-
 /// A body, lowered: world components, body-axis inertia.
 pub(crate) struct Body {
     /// The mass.

@@ -3,7 +3,7 @@
 //! token.
 
 use super::values::Value;
-use super::{Binding, FUNCTIONS, Lowerer, Place, short, show};
+use super::{Binding, Lowerer, Place, short, show};
 use crate::ctxt::SpanRange;
 use crate::names;
 use crate::parse::{BinOp, Expr};
@@ -266,7 +266,7 @@ impl Lowerer<'_> {
             None => match s.as_str() {
                 "t" => Some(self.e.sym(self.t_sym)),
                 "pi" => Some(self.e.sym(self.pi_sym)),
-                _ if FUNCTIONS.contains(&s.as_str()) || s == "dot" || s == "atan2" => {
+                _ if crate::words::Function::parse(&s).is_some_and(|f| !f.of_vectors()) => {
                     let (args, example) = match s.as_str() {
                         "atan2" => ("two arguments", "atan2(y, x)".to_string()),
                         _ => ("an argument", format!("{s}(x)")),

@@ -4,15 +4,37 @@
 //! outside a function's domain reported at the argument, and exact values
 //! at constant arguments folded (`acos(0)` is `pi/2`).
 
-use super::{FUNCTIONS, Lowerer, bodies};
+use super::Lowerer;
 use crate::ctxt::SpanRange;
 use crate::names;
 use crate::parse::Expr;
 use crate::sym::{ExprId, Fun, Rational, ZERO, exact_atan2, exact_value};
+use crate::words::Function;
 use proc_macro2::Ident;
 
-/// The scalar functions as the messages list them.
-const FUNCTION_LIST: &str = "`sin`, `cos`, `tan`, `cot`, `sec`, `csc`, `asin`, `acos`, `atan`, `atan2`, `sinh`, `cosh`, `tanh`, `exp`, `ln`, `sqrt`, `abs` and `dot` (time derivative)";
+/// The engine's function for a scalar function of one argument; `None`
+/// for `sqrt`, a power (and for the other words, which are not lowered
+/// here).
+fn symbolic(f: Function) -> Option<Fun> {
+    Some(match f {
+        Function::Sin => Fun::Sin,
+        Function::Cos => Fun::Cos,
+        Function::Tan => Fun::Tan,
+        Function::Cot => Fun::Cot,
+        Function::Sec => Fun::Sec,
+        Function::Csc => Fun::Csc,
+        Function::Asin => Fun::Asin,
+        Function::Acos => Fun::Acos,
+        Function::Atan => Fun::Atan,
+        Function::Sinh => Fun::Sinh,
+        Function::Cosh => Fun::Cosh,
+        Function::Tanh => Fun::Tanh,
+        Function::Exp => Fun::Exp,
+        Function::Ln => Fun::Ln,
+        Function::Abs => Fun::Abs,
+        _ => return None,
+    })
+}
 
 impl Lowerer<'_> {
     /// A call of a scalar function (`func` is neither `dot` nor a function
@@ -25,14 +47,14 @@ impl Lowerer<'_> {
         depth: usize,
     ) -> Option<ExprId> {
         let f = func.to_string();
-        if f != "atan2" && !FUNCTIONS.contains(&f.as_str()) {
+        let Some(word) = Function::parse(&f).filter(|w| w.is_scalar()) else {
             self.unknown_function(func, args, depth);
             return None;
-        }
-        let arity = if f == "atan2" { 2 } else { 1 };
+        };
+        let arity = if word == Function::Atan2 { 2 } else { 1 };
         if args.len() != arity {
-            let msg = match f.as_str() {
-                "atan2" => {
+            let msg = match word {
+                Function::Atan2 => {
                     "`atan2` takes two arguments: `atan2(y, x)` is the angle of the point (x, y)"
                         .to_string()
                 }
@@ -41,12 +63,12 @@ impl Lowerer<'_> {
             self.cx.error(range, msg);
             return None;
         }
-        if f == "atan2" {
+        if word == Function::Atan2 {
             return self.lower_atan2(&args[0], &args[1], range, depth);
         }
         let arg = &args[0];
         let a = self.lower(arg, depth + 1)?;
-        let fun = Fun::from_name(&f);
+        let fun = symbolic(word);
         if let Some(msg) = self.domain_error(fun, arg, a) {
             // the functions before `abs` and the others kept their message
             // on the whole call; the others point at the argument
@@ -68,16 +90,16 @@ impl Lowerer<'_> {
     /// errors inside them.
     fn unknown_function(&mut self, func: &Ident, args: &[Expr], depth: usize) {
         let f = func.to_string();
-        let mut cands: Vec<&str> = FUNCTIONS.to_vec();
-        cands.push("atan2");
-        cands.extend(bodies::VECTOR_FUNCTIONS);
         let hint = match names::function_meaning(&f) {
             Some(meaning) => format!(" ({meaning})"),
-            None => names::suggest(&f, &cands),
+            None => Function::suggest(&f),
         };
         self.cx.error_at(
             func.span(),
-            format!("unknown function `{f}`{hint}; the functions are {FUNCTION_LIST}"),
+            format!(
+                "unknown function `{f}`{hint}; the functions are {}",
+                Function::listed()
+            ),
         );
         for a in args {
             let _ = self.lower_value(a, depth + 1);

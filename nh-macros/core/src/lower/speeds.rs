@@ -6,6 +6,7 @@ use super::{Lowerer, Place};
 use crate::model::Speeds;
 use crate::parse::SystemDef;
 use crate::sym::ExprId;
+use crate::words::Block;
 
 /// Random points at which the rank of S is evaluated.
 const RANK_POINTS: usize = 8;
@@ -17,7 +18,7 @@ impl Lowerer<'_> {
         let (speeds_kw, names) = match (&def.speeds, &def.kinematics) {
             (None, None) => return None,
             // a list of speeds that did not parse: already reported
-            (None, Some(_)) if def.rejected.names_of("speeds").is_some() => return None,
+            (None, Some(_)) if def.rejected.names_of(Block::Speeds).is_some() => return None,
             (None, Some((kw, _))) => {
                 self.cx.error_at(kw.span(), "`kinematics` without `speeds`: declare the generalized speeds the right sides use, e.g. `speeds { v, omega }`");
                 return None;

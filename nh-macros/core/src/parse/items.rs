@@ -15,9 +15,9 @@
 //! that starts the next item (`.. let ; X =`), and the name and `=` of `let`,
 //! `lagrangian` and `body` in the wrong order.
 
-use super::BLOCKS;
 use crate::ctxt::Ctxt;
 use crate::names;
+use crate::words::{Block, Keyword};
 use proc_macro2::{Delimiter, Group, Ident, Punct, Spacing, Span, TokenStream, TokenTree};
 
 /// One top-level item of the body.
@@ -36,22 +36,12 @@ pub(super) enum Item {
 /// The most misplaced tokens put back in one system.
 const MAX_REPAIRS: usize = 32;
 
-/// The block keywords whose content is a list of names.
-const NAME_BLOCKS: [&str; 6] = [
-    "parameters",
-    "coordinates",
-    "inputs",
-    "speeds",
-    "outputs",
-    "dependent",
-];
-
 fn is_block_keyword(t: &TokenTree) -> bool {
-    matches!(t, TokenTree::Ident(id) if BLOCKS.iter().any(|b| id == b))
+    matches!(t, TokenTree::Ident(id) if Block::of(id).is_some())
 }
 
-fn is_word(t: Option<&TokenTree>, word: &str) -> bool {
-    matches!(t, Some(TokenTree::Ident(id)) if id == word)
+fn is_word(t: Option<&TokenTree>, word: Keyword) -> bool {
+    matches!(t, Some(TokenTree::Ident(id)) if *id == word)
 }
 
 fn is_punct(t: Option<&TokenTree>, c: char) -> bool {
@@ -90,9 +80,11 @@ fn starts_item(toks: &[TokenTree], i: usize, at_start: bool) -> bool {
     let t = &toks[i];
     let next = toks.get(i + 1);
     match t {
-        TokenTree::Ident(id) if id == "let" => true,
-        TokenTree::Ident(id) if id == "lagrangian" => is_punct(next, '='),
-        TokenTree::Ident(id) if id == "body" && is_ident(next) => brace(toks.get(i + 2)).is_some(),
+        TokenTree::Ident(id) if *id == Keyword::Let => true,
+        TokenTree::Ident(id) if *id == Keyword::Lagrangian => is_punct(next, '='),
+        TokenTree::Ident(id) if *id == Keyword::Body && is_ident(next) => {
+            brace(toks.get(i + 2)).is_some()
+        }
         TokenTree::Ident(_) => brace(next).is_some() && (at_start || is_block_keyword(t)),
         _ => false,
     }
@@ -104,9 +96,9 @@ fn starts_item(toks: &[TokenTree], i: usize, at_start: bool) -> bool {
 fn fits_after(word: &TokenTree, toks: &[TokenTree], at: usize) -> bool {
     let next = toks.get(at);
     match word {
-        TokenTree::Ident(id) if id == "let" => is_ident(next),
-        TokenTree::Ident(id) if id == "lagrangian" => is_punct(next, '='),
-        TokenTree::Ident(id) if id == "body" => {
+        TokenTree::Ident(id) if *id == Keyword::Let => is_ident(next),
+        TokenTree::Ident(id) if *id == Keyword::Lagrangian => is_punct(next, '='),
+        TokenTree::Ident(id) if *id == Keyword::Body => {
             next.is_some_and(|n| is_ident(Some(n)) && !is_item_word(n))
                 && brace(toks.get(at + 1)).is_some()
         }
@@ -118,9 +110,7 @@ fn fits_after(word: &TokenTree, toks: &[TokenTree], at: usize) -> bool {
 /// Whether a token is a word that starts an item (`let`, `lagrangian`,
 /// `body` or a block keyword).
 fn is_item_word(t: &TokenTree) -> bool {
-    is_word(Some(t), "let")
-        || is_word(Some(t), "lagrangian")
-        || is_word(Some(t), "body")
+    matches!(t, TokenTree::Ident(id) if Keyword::of(id).is_some_and(Keyword::starts_item))
         || is_block_keyword(t)
 }
 
@@ -147,13 +137,13 @@ pub(super) fn split_items(stream: TokenStream, cx: &mut Ctxt) -> Vec<Item> {
             let t = toks[i].clone();
             match (&t, toks.get(i + 1).cloned(), toks.get(i + 2).cloned()) {
                 (TokenTree::Ident(kw), Some(TokenTree::Ident(name)), Some(TokenTree::Group(g)))
-                    if kw == "body" =>
+                    if *kw == Keyword::Body =>
                 {
                     items.push(Item::Body(names::canonical(name), g));
                     i += 3;
                 }
                 (TokenTree::Ident(kw), Some(TokenTree::Group(g)), _)
-                    if kw != "let" && kw != "lagrangian" =>
+                    if *kw != Keyword::Let && *kw != Keyword::Lagrangian =>
                 {
                     items.push(Item::Block(kw.clone(), g));
                     i += 2;
@@ -301,7 +291,7 @@ fn token_before_braces(site: &mut Site, t: &TokenTree, next: Option<&TokenTree>)
         toks, i, cur, cx, ..
     } = site;
     let i = *i;
-    let (head, at) = if is_word(Some(t), "body") && is_ident(next) {
+    let (head, at) = if is_word(Some(t), Keyword::Body) && is_ident(next) {
         (i + 1, i + 2)
     } else {
         (i, i + 1)
@@ -342,7 +332,7 @@ fn next_word_inside_braces(site: &mut Site, t: &TokenTree, _next: Option<&TokenT
         toks, i, cur, cx, ..
     } = site;
     let i = *i;
-    let at = if is_word(Some(t), "body") {
+    let at = if is_word(Some(t), Keyword::Body) {
         i + 2
     } else {
         i + 1
@@ -392,7 +382,7 @@ fn name_after_braces(site: &mut Site, t: &TokenTree, next: Option<&TokenTree>) -
         && !is_item_word(t)
         && brace(next).is_none()
         && let Some(Item::Block(kw, g)) = items.last()
-        && NAME_BLOCKS.iter().any(|b| kw == b)
+        && Block::of(kw).is_some_and(Block::lists_names)
     {
         // the names up to the next item
         let mut end = i;
@@ -404,7 +394,7 @@ fn name_after_braces(site: &mut Site, t: &TokenTree, next: Option<&TokenTree>) -
         }
         let ends_here = end == toks.len() || starts_item(toks, end, false);
         // `X let = ..` is the name of the `let`
-        let let_name = is_word(toks.get(end), "let") && is_punct(toks.get(end + 1), '=');
+        let let_name = is_word(toks.get(end), Keyword::Let) && is_punct(toks.get(end + 1), '=');
         if ends_here && !let_name {
             cx.error_at(
                 stray.span(),
@@ -437,7 +427,7 @@ fn name_before_let(site: &mut Site, t: &TokenTree, next: Option<&TokenTree>) -> 
     let i = *i;
     if let [name @ TokenTree::Ident(_)] = cur.as_slice()
         && !is_item_word(name)
-        && is_word(Some(t), "let")
+        && is_word(Some(t), Keyword::Let)
         && is_punct(next, '=')
     {
         cx.error_at(
@@ -455,7 +445,7 @@ fn name_before_let(site: &mut Site, t: &TokenTree, next: Option<&TokenTree>) -> 
 fn equals_before_name(site: &mut Site, t: &TokenTree, next: Option<&TokenTree>) -> bool {
     let Site { toks, i, cx, .. } = site;
     let i = *i;
-    if is_word(Some(t), "let")
+    if is_word(Some(t), Keyword::Let)
         && is_punct(next, '=')
         && toks
             .get(i + 2)
@@ -478,7 +468,7 @@ fn equals_before_lagrangian(site: &mut Site, t: &TokenTree, next: Option<&TokenT
         toks, i, cur, cx, ..
     } = site;
     let i = *i;
-    if cur.is_empty() && is_punct(Some(t), '=') && is_word(next, "lagrangian") {
+    if cur.is_empty() && is_punct(Some(t), '=') && is_word(next, Keyword::Lagrangian) {
         cx.error_at(
             t.span(),
             "`=` comes after `lagrangian`: write `lagrangian = ..`",
@@ -498,7 +488,7 @@ fn body_name_before_body(site: &mut Site, t: &TokenTree, next: Option<&TokenTree
     if cur.is_empty()
         && let TokenTree::Ident(name) = &t
         && !is_item_word(t)
-        && is_word(next, "body")
+        && is_word(next, Keyword::Body)
         && brace(toks.get(i + 2)).is_some()
     {
         cx.error_at(
@@ -518,7 +508,7 @@ fn body_name_inside_braces(site: &mut Site, t: &TokenTree, next: Option<&TokenTr
     } = site;
     let i = *i;
     if cur.is_empty()
-        && is_word(Some(t), "body")
+        && is_word(Some(t), Keyword::Body)
         && let Some(g) = brace(next).cloned()
     {
         let inner: Vec<TokenTree> = g.stream().into_iter().collect();

@@ -110,30 +110,6 @@ impl Fun {
             Fun::Atan => "atan",
         }
     }
-
-    /// The function of the input language called `name`, if any (`sqrt`,
-    /// a power, and `atan2`, of two arguments, are not a `Fun`; nor is the
-    /// internal `sign`).
-    pub fn from_name(name: &str) -> Option<Fun> {
-        Some(match name {
-            "sin" => Fun::Sin,
-            "cos" => Fun::Cos,
-            "tan" => Fun::Tan,
-            "exp" => Fun::Exp,
-            "ln" => Fun::Ln,
-            "abs" => Fun::Abs,
-            "cot" => Fun::Cot,
-            "sec" => Fun::Sec,
-            "csc" => Fun::Csc,
-            "sinh" => Fun::Sinh,
-            "cosh" => Fun::Cosh,
-            "tanh" => Fun::Tanh,
-            "asin" => Fun::Asin,
-            "acos" => Fun::Acos,
-            "atan" => Fun::Atan,
-            _ => return None,
-        })
-    }
 }
 
 /// An atom: what a monomial is a product of.
