@@ -27,6 +27,8 @@ mod names;
 mod parse;
 
 pub mod sym;
+#[cfg(test)]
+mod testing;
 mod words;
 
 pub use emit::with_text_parser;

@@ -274,3 +274,24 @@ impl Scene<'_> {
         turned
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::scene::Scene;
+    use crate::testing::{DISC, SLED, lowered};
+
+    /// The disc's rolling contact gets its chain from the centre, and the
+    /// heading's frame (its orientation starts with rot_z(φ)); the sled has
+    /// no contact and no block.
+    #[test]
+    fn the_discs_contact_has_a_chain_and_the_sled_has_none() {
+        let (model, mut engine) = lowered(DISC);
+        let mut scene = Scene::new(&model, &mut engine);
+        assert_eq!(scene.contact_chains.len(), 1);
+        assert!(scene.heading().is_some());
+        assert!(scene.heading_frame().is_some());
+        let (model, mut engine) = lowered(SLED);
+        let scene = Scene::new(&model, &mut engine);
+        assert!(scene.contact_chains.is_empty() && scene.block.is_none());
+    }
+}

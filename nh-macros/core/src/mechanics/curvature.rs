@@ -280,3 +280,36 @@ impl Scene<'_> {
         Some(x)
     }
 }
+
+#[cfg(test)]
+mod sled_tests {
+    use super::super::scene::Scene;
+    use crate::testing::{SLED, close, lowered, sled_at, value};
+
+    /// The sled's curvature B^y_{xθ} = −B^y_{θx} = ±sec²θ, and its reduced
+    /// equations Mc = diag(m sec²θ, J) whose solution is the closed form of
+    /// the motion: the speed along the blade ẋ/cos θ is constant, so
+    /// ẍ = −tan θ θ̇ ẋ, and θ̈ = 0.
+    #[test]
+    fn the_sleds_curvature_and_reduced_equations() {
+        let (model, mut engine) = lowered(SLED);
+        let mut scene = Scene::new(&model, &mut engine);
+        let b = scene.curvature();
+        let reduced = scene.curvature_route(&b);
+        let at = sled_at();
+        let v = |e| value(&model, scene.engine, e, &at);
+        let sec2 = 1.0 / 0.3f64.cos().powi(2);
+        assert!(close(v(b[0][0][1]).abs(), sec2));
+        assert!(close(v(b[0][1][0]), -v(b[0][0][1])));
+        assert_eq!((v(b[0][0][0]), v(b[0][1][1])), (0.0, 0.0));
+        let mass = [[2.0 * sec2, 0.0], [0.0, 0.5]];
+        for (row, want) in reduced.mass.iter().zip(mass) {
+            for (&e, w) in row.iter().zip(want) {
+                assert!(close(v(e), w));
+            }
+        }
+        let xdd = v(reduced.rhs[0]) / (2.0 * sec2);
+        assert!(close(xdd, -(0.3f64.tan()) * -1.1 * 0.7), "{xdd}");
+        assert_eq!(v(reduced.rhs[1]), 0.0);
+    }
+}

@@ -34,3 +34,20 @@ impl Scene<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::scene::Scene;
+    use crate::testing::{SLED, close, lowered, sled_at, value};
+
+    /// The sled's energy is its kinetic energy m/2 (ẋ² + ẏ²) + J/2 θ̇².
+    #[test]
+    fn the_sleds_energy_is_its_kinetic_energy() {
+        let (model, mut engine) = lowered(SLED);
+        let mut scene = Scene::new(&model, &mut engine);
+        let e = scene.energy();
+        let ydot = 0.3f64.tan() * 0.7;
+        let want = 1.0 * (0.49 + ydot * ydot) + 0.25 * 1.21;
+        assert!(close(value(&model, scene.engine, e, &sled_at()), want));
+    }
+}

@@ -101,3 +101,32 @@ impl Scene<'_> {
         false
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::scene::Scene;
+    use crate::testing::{SLED, lowered};
+
+    /// The sled's constraint is not integrable (a nonzero entry seen, so
+    /// nothing to prove); ẏ = 2 ẋ is (y = 2x + c), proved symbolically,
+    /// entry by entry as with the full curvature.
+    #[test]
+    fn the_sled_is_nonholonomic_and_a_line_is_not() {
+        let (model, mut engine) = lowered(SLED);
+        let mut scene = Scene::new(&model, &mut engine);
+        let b = scene.curvature();
+        assert_eq!(scene.integrability(&b), (false, false));
+        assert!(!scene.integrability_entry_by_entry().0);
+        let line = "pub struct Line {
+            parameters { m }
+            coordinates { x, y }
+            lagrangian = m/2*(dot(x)^2 + dot(y)^2);
+            constraints { dot(y) = 2*dot(x); }
+        }";
+        let (model, mut engine) = lowered(line);
+        let mut scene = Scene::new(&model, &mut engine);
+        let b = scene.curvature();
+        assert_eq!(scene.integrability(&b), (true, true));
+        assert_eq!(scene.integrability_entry_by_entry(), (true, true));
+    }
+}

@@ -257,3 +257,24 @@ impl Scene<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::scene::Scene;
+    use crate::testing::{DISC, SLED, lowered};
+
+    /// The disc written as a body takes Kane's form (one body, its rotation
+    /// with the inertia as written); the sled, without bodies, does not.
+    #[test]
+    fn a_body_takes_kanes_form_and_a_plain_lagrangian_does_not() {
+        let (model, mut engine) = lowered(DISC);
+        let mut scene = Scene::new(&model, &mut engine);
+        let terms = scene.body_terms().expect("Kane's form for the disc");
+        assert_eq!(terms.bodies.len(), 1);
+        let body = &terms.bodies[0];
+        assert!(body.rotation.is_some());
+        assert_eq!(terms.rest_mass.len(), 5);
+        let (model, mut engine) = lowered(SLED);
+        assert!(Scene::new(&model, &mut engine).body_terms().is_none());
+    }
+}

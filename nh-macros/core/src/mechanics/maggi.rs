@@ -119,3 +119,36 @@ impl Scene<'_> {
         (multiplier_route, reduced, terms)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::super::scene::Scene;
+    use crate::testing::{SLED_SPEEDS, close, lowered, value};
+
+    /// The sled in speeds (ẋ = v cos θ, ẏ = v sin θ, θ̇ = ω): Maggi's
+    /// equations are m v̇ = 0, J ω̇ = 0, with S = ∂q̇/∂u.
+    #[test]
+    fn the_sled_in_speeds_has_maggis_diagonal_equations() {
+        let (model, mut engine) = lowered(SLED_SPEEDS);
+        let mut scene = Scene::new(&model, &mut engine);
+        let (_, reduced, terms) = scene.maggi_equations();
+        let at = [
+            ("theta", 0.3),
+            ("v", 0.7),
+            ("omega", -1.1),
+            ("m", 2.0),
+            ("J", 0.5),
+        ];
+        let v = |e| value(&model, scene.engine, e, &at);
+        let mass = [[2.0, 0.0], [0.0, 0.5]];
+        for (row, want) in reduced.mass.iter().zip(mass) {
+            for (&e, w) in row.iter().zip(want) {
+                assert!(close(v(e), w));
+            }
+        }
+        assert!(reduced.rhs.iter().all(|&f| close(v(f), 0.0)));
+        assert!(close(v(terms.s[0][0]), 0.3f64.cos()));
+        assert!(close(v(terms.s[2][0]), 0.3f64.sin()));
+        assert_eq!(v(terms.s[1][1]), 1.0);
+    }
+}

@@ -248,3 +248,31 @@ mod tests {
         assert_eq!(degree(&e, cube), Some(3));
     }
 }
+
+#[cfg(test)]
+mod sled_tests {
+    use super::super::scene::Scene;
+    use crate::testing::{SLED, close, lowered, sled_at, value};
+
+    /// The sled's multiplier route: M = diag(m, J, m) in coordinate order,
+    /// no bias (L depends on no coordinate), and the dependent bias
+    /// s̈ − A r̈ = sec²θ θ̇ ẋ of ẏ = tan θ ẋ differentiated.
+    #[test]
+    fn the_sleds_euler_lagrange_terms_and_dependent_bias() {
+        let (model, mut engine) = lowered(SLED);
+        let mut scene = Scene::new(&model, &mut engine);
+        let route = scene.multiplier_route();
+        let at = sled_at();
+        let v = |e| value(&model, scene.engine, e, &at);
+        let expected = [[2.0, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 2.0]];
+        for (row, want) in route.mass.iter().zip(expected) {
+            for (&e, w) in row.iter().zip(want) {
+                assert!(close(v(e), w), "{} against {w}", v(e));
+            }
+        }
+        assert!(route.bias.iter().all(|&h| v(h) == 0.0));
+        let sec2 = 1.0 / 0.3f64.cos().powi(2);
+        assert!(close(v(route.dependent_bias[0]), sec2 * -1.1 * 0.7));
+        assert!(route.bodies.is_none());
+    }
+}

@@ -1,0 +1,108 @@
+//! Test support for the stages' unit tests: a system lowered from its
+//! source, and its expressions evaluated at values given by name.
+
+use crate::ctxt::Ctxt;
+use crate::model::Model;
+use crate::sym::{Engine, ExprId};
+
+/// The Chaplygin sled with its blade at the centre of mass: L = m/2 (ẋ² +
+/// ẏ²) + J/2 θ̇², ẏ = tan θ ẋ (y dependent).
+pub const SLED: &str = "pub struct Sled {
+    parameters { m, J }
+    coordinates { x, theta, y }
+    lagrangian = m/2*(dot(x)^2 + dot(y)^2) + J/2*dot(theta)^2;
+    constraints { dot(y) = tan(theta)*dot(x); }
+}";
+
+/// The same sled in generalized speeds: ẋ = v cos θ, ẏ = v sin θ, θ̇ = ω.
+pub const SLED_SPEEDS: &str = "pub struct SledSpeeds {
+    parameters { m, J }
+    coordinates { x, theta, y }
+    lagrangian = m/2*(dot(x)^2 + dot(y)^2) + J/2*dot(theta)^2;
+    speeds { v, omega }
+    kinematics { dot(x) = v*cos(theta); dot(y) = v*sin(theta); dot(theta) = omega; }
+}";
+
+/// The rolling disc written with a body and a rolling contact.
+pub const DISC: &str = "pub struct Disc {
+    parameters { m, R, g }
+    coordinates { theta, phi, psi, x, y }
+    let F = rot_z(phi) * rot_x(-psi);
+    let C = [x, y, 0] + R*(F*[0, 0, 1]);
+    body disc {
+        mass: m, centre: C, orientation: F*rot_y(theta),
+        inertia: diag(m*R^2/4, m*R^2/2, m*R^2/4),
+    }
+    lagrangian = kinetic_energy(disc) - m*g*C.z;
+    constraints { rolls(disc, radius: R, axle: [0, 1, 0]); }
+}";
+
+/// The model and engine of `src`, which must lower without errors.
+pub fn lowered(src: &str) -> (Model, Engine) {
+    let mut cx = Ctxt::new();
+    let def = crate::parse::parse_system(src.parse().expect("lexes"), &mut cx);
+    let lowered = def.as_ref().and_then(|d| crate::lower::lower(d, &mut cx));
+    if let Err(e) = cx.finish() {
+        panic!("{src} does not lower: {e}");
+    }
+    lowered.expect("lowers")
+}
+
+/// The value of `e` with the coordinates (`"x"`), velocities (`"dot(x)"`),
+/// parameters, inputs and `"t"` given by name; π has its value and any
+/// other symbol is NaN (so that a value that should not depend on it
+/// shows).
+pub fn value(model: &Model, engine: &Engine, e: ExprId, at: &[(&str, f64)]) -> f64 {
+    let mut vals = vec![f64::NAN; engine.num_symbols()];
+    vals[model.pi.index()] = std::f64::consts::PI;
+    for &(name, v) in at {
+        let named = |n: &proc_macro2::Ident| n == name;
+        let sym = if name == "t" {
+            model.time
+        } else if let Some(c) = name.strip_prefix("dot(").and_then(|r| r.strip_suffix(')')) {
+            model
+                .coordinates
+                .iter()
+                .find(|q| q.name == c)
+                .expect("a coordinate")
+                .velocity
+        } else if let Some(q) = model.coordinates.iter().find(|q| named(&q.name)) {
+            q.position
+        } else if let Some(p) = model.parameters.iter().find(|p| named(&p.name)) {
+            p.sym
+        } else if let Some(sp) = &model.speeds
+            && let Some(i) = sp.names.iter().position(named)
+        {
+            sp.syms[i]
+        } else {
+            model
+                .inputs
+                .iter()
+                .find(|u| named(&u.name))
+                .expect("a name")
+                .sym
+        };
+        vals[sym.index()] = v;
+    }
+    engine.eval(e, &vals)
+}
+
+/// The sled's state used by the tests: θ = 0.3, ẋ = 0.7, θ̇ = −1.1, ẏ =
+/// tan θ ẋ from the constraint, m = 2, J = 0.5.
+pub fn sled_at() -> Vec<(&'static str, f64)> {
+    vec![
+        ("x", 0.2),
+        ("theta", 0.3),
+        ("y", -0.4),
+        ("dot(x)", 0.7),
+        ("dot(theta)", -1.1),
+        ("dot(y)", 0.3f64.tan() * 0.7),
+        ("m", 2.0),
+        ("J", 0.5),
+    ]
+}
+
+/// Whether `a` and `b` agree to 1e-12 relative to the larger.
+pub fn close(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(1.0)
+}
