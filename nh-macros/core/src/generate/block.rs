@@ -7,6 +7,7 @@
 
 use super::motion::Motion;
 use super::{exprs, matrix};
+use crate::algebra::cross_component;
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::{BlockTerms, ContactTerms, RowTerms};
 use crate::model::Model;
@@ -185,14 +186,6 @@ fn rim_rate(d: &mut Dag, omega: [Node; 3], rim: &([Node; 3], Node, [Node; 3])) -
     })
 }
 
-/// Component `x` of u × v.
-fn cross_component(d: &mut Dag, u: [Node; 3], v: [Node; 3], x: usize) -> Node {
-    let (y, z) = ((x + 1) % 3, (x + 2) % 3);
-    let a = d.mul(u[y], v[z]);
-    let b = d.mul(u[z], v[y]);
-    d.sub(a, b)
-}
-
 /// LU of `a` (p × p) by the given steps (pivot row, column).
 fn factor(d: &mut Dag, mut a: Vec<Vec<Node>>, pivots: &[(usize, usize)]) -> Lu {
     let p = pivots.len();
@@ -240,7 +233,7 @@ fn turn_back(d: &mut Dag, m: &Model, bt: &BlockTerms, mut x: Vec<Node>) -> Vec<N
         let u = p.columns.map(|a| x[a]);
         for (row, &a) in p.turn.iter().zip(&p.columns) {
             let r = [d.expr(&m.engine, row[0]), d.expr(&m.engine, row[1])];
-            x[a] = super::dot(d, ZERO_NODE, [(r[0], u[0]), (r[1], u[1])]);
+            x[a] = crate::algebra::dot(d, [(r[0], u[0]), (r[1], u[1])]);
         }
     }
     x

@@ -1,0 +1,108 @@
+//! The linear algebra of the derivation, written once over a [`Carrier`]
+//! of values: the symbolic engine ([`Engine`], values [`ExprId`]: canonical
+//! forms) and the code graph ([`Dag`], values [`Node`]: the straight-line
+//! code emitted). [`vector`] holds the products of 3-vectors and 3 × 3
+//! matrices.
+//!
+//! The order of the operations of every function here is part of its
+//! contract: the engine interns in call order (and its sums are ordered by
+//! the ids of their monomials), the graph emits in call order, so the
+//! generated code depends on it. Where the two carriers' algorithms differ,
+//! the difference is a parameter of the one function ([`Carrier::plus`] for
+//! sums), never a second copy.
+
+pub mod vector;
+
+#[cfg(test)]
+mod tests;
+
+#[cfg_attr(
+    not(test),
+    expect(unused_imports, reason = "for generate.rs's `dot(d, init, pairs)`")
+)]
+pub use vector::dot_from;
+pub use vector::{
+    Mat3, Vec3, add3, cross, cross_component, dot, dot3, mat_mat, mat_t_vec, mat_vec, scale3, sub3,
+    transpose,
+};
+
+use crate::emit::{Dag, Node, ZERO_NODE};
+use crate::sym::{Engine, ExprId, ZERO};
+
+/// The arithmetic the algebra needs from a carrier of values.
+pub trait Carrier {
+    /// A value: an expression of the engine, a node of the graph.
+    type Value: Copy + Eq + std::fmt::Debug;
+    /// A sum being formed (see [`Carrier::plus`]).
+    type Sum;
+    /// 0 (every zero the carrier finds is this value).
+    const ZERO: Self::Value;
+
+    /// a + b.
+    fn add(&mut self, a: Self::Value, b: Self::Value) -> Self::Value;
+    /// a − b.
+    fn sub(&mut self, a: Self::Value, b: Self::Value) -> Self::Value;
+    /// a · b.
+    fn mul(&mut self, a: Self::Value, b: Self::Value) -> Self::Value;
+
+    /// An empty sum.
+    fn begin_sum(&mut self) -> Self::Sum;
+    /// Adds a term to a sum: the engine collects the terms and forms their
+    /// canonical sum at once in [`Carrier::total`]; the graph adds each
+    /// term as it comes, the code's additions in the order of the terms.
+    fn plus(&mut self, s: &mut Self::Sum, x: Self::Value);
+    /// The value of a sum.
+    fn total(&mut self, s: Self::Sum) -> Self::Value;
+}
+
+impl Carrier for Engine {
+    type Value = ExprId;
+    type Sum = Vec<ExprId>;
+    const ZERO: ExprId = ZERO;
+
+    fn add(&mut self, a: ExprId, b: ExprId) -> ExprId {
+        Engine::add(self, a, b)
+    }
+    fn sub(&mut self, a: ExprId, b: ExprId) -> ExprId {
+        Engine::sub(self, a, b)
+    }
+    fn mul(&mut self, a: ExprId, b: ExprId) -> ExprId {
+        Engine::mul(self, a, b)
+    }
+
+    fn begin_sum(&mut self) -> Vec<ExprId> {
+        Vec::new()
+    }
+    fn plus(&mut self, s: &mut Vec<ExprId>, x: ExprId) {
+        s.push(x);
+    }
+    fn total(&mut self, s: Vec<ExprId>) -> ExprId {
+        Engine::sum(self, &s)
+    }
+}
+
+impl Carrier for Dag {
+    type Value = Node;
+    type Sum = Node;
+    const ZERO: Node = ZERO_NODE;
+
+    fn add(&mut self, a: Node, b: Node) -> Node {
+        Dag::add(self, a, b)
+    }
+    fn sub(&mut self, a: Node, b: Node) -> Node {
+        Dag::sub(self, a, b)
+    }
+    fn mul(&mut self, a: Node, b: Node) -> Node {
+        Dag::mul(self, a, b)
+    }
+
+    fn begin_sum(&mut self) -> Node {
+        ZERO_NODE
+    }
+    fn plus(&mut self, s: &mut Node, x: Node) {
+        *s = Dag::add(self, *s, x);
+    }
+    fn total(&mut self, s: Node) -> Node {
+        s
+    }
+}
