@@ -2,15 +2,16 @@
 //! of values: the symbolic engine ([`Engine`], values [`ExprId`]: canonical
 //! forms) and the code graph ([`Dag`], values [`Node`]: the straight-line
 //! code emitted). [`vector`] holds the products of 3-vectors and 3 × 3
-//! matrices.
+//! matrices, [`ldlt`] the symmetric solves.
 //!
 //! The order of the operations of every function here is part of its
 //! contract: the engine interns in call order (and its sums are ordered by
 //! the ids of their monomials), the graph emits in call order, so the
 //! generated code depends on it. Where the two carriers' algorithms differ,
 //! the difference is a parameter of the one function ([`Carrier::plus`] for
-//! sums), never a second copy.
+//! sums, [`ldlt::Updates`]), never a second copy.
 
+pub mod ldlt;
 pub mod vector;
 
 #[cfg(test)]
@@ -26,8 +27,8 @@ pub use vector::{
     transpose,
 };
 
-use crate::emit::{Dag, Node, ZERO_NODE};
-use crate::sym::{Engine, ExprId, ZERO};
+use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
+use crate::sym::{Engine, ExprId, Rational, ZERO};
 
 /// The arithmetic the algebra needs from a carrier of values.
 pub trait Carrier {
@@ -44,6 +45,13 @@ pub trait Carrier {
     fn sub(&mut self, a: Self::Value, b: Self::Value) -> Self::Value;
     /// a · b.
     fn mul(&mut self, a: Self::Value, b: Self::Value) -> Self::Value;
+    /// 1/a.
+    fn recip(&mut self, a: Self::Value) -> Self::Value;
+
+    /// Whether `a` is structurally zero.
+    fn is_zero(&self, a: Self::Value) -> bool {
+        a == Self::ZERO
+    }
 
     /// An empty sum.
     fn begin_sum(&mut self) -> Self::Sum;
@@ -68,6 +76,10 @@ impl Carrier for Engine {
     }
     fn mul(&mut self, a: ExprId, b: ExprId) -> ExprId {
         Engine::mul(self, a, b)
+    }
+    /// a^−1 (not 1 · a^−1).
+    fn recip(&mut self, a: ExprId) -> ExprId {
+        Engine::pow(self, a, Rational::MINUS_ONE)
     }
 
     fn begin_sum(&mut self) -> Vec<ExprId> {
@@ -94,6 +106,10 @@ impl Carrier for Dag {
     }
     fn mul(&mut self, a: Node, b: Node) -> Node {
         Dag::mul(self, a, b)
+    }
+    /// 1/a as a division (folded: a constant's reciprocal is a constant).
+    fn recip(&mut self, a: Node) -> Node {
+        Dag::div(self, ONE_NODE, a)
     }
 
     fn begin_sum(&mut self) -> Node {
