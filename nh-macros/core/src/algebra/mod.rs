@@ -2,16 +2,19 @@
 //! of values: the symbolic engine ([`Engine`], values [`ExprId`]: canonical
 //! forms) and the code graph ([`Dag`], values [`Node`]: the straight-line
 //! code emitted). [`vector`] holds the products of 3-vectors and 3 × 3
-//! matrices, [`ldlt`] the symmetric solves.
+//! matrices, [`ldlt`] the symmetric solves, [`lu`] elimination with pivots
+//! given or chosen as it goes, Laplace determinants and Cramer's rule.
 //!
 //! The order of the operations of every function here is part of its
 //! contract: the engine interns in call order (and its sums are ordered by
 //! the ids of their monomials), the graph emits in call order, so the
 //! generated code depends on it. Where the two carriers' algorithms differ,
 //! the difference is a parameter of the one function ([`Carrier::plus`] for
-//! sums, [`ldlt::Updates`]), never a second copy.
+//! sums, [`ldlt::Updates`], [`lu::Order`], the pivot rule of [`lu::factor`]),
+//! never a second copy.
 
 pub mod ldlt;
+pub mod lu;
 pub mod vector;
 
 #[cfg(test)]
@@ -28,7 +31,7 @@ pub use vector::{
 };
 
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
-use crate::sym::{Engine, ExprId, Rational, ZERO};
+use crate::sym::{Engine, ExprId, ONE, Rational, ZERO};
 
 /// The arithmetic the algebra needs from a carrier of values.
 pub trait Carrier {
@@ -38,7 +41,11 @@ pub trait Carrier {
     type Sum;
     /// 0 (every zero the carrier finds is this value).
     const ZERO: Self::Value;
+    /// 1.
+    const ONE: Self::Value;
 
+    /// The integer `n`.
+    fn int(&mut self, n: i128) -> Self::Value;
     /// a + b.
     fn add(&mut self, a: Self::Value, b: Self::Value) -> Self::Value;
     /// a − b.
@@ -59,6 +66,9 @@ pub trait Carrier {
     /// canonical sum at once in [`Carrier::total`]; the graph adds each
     /// term as it comes, the code's additions in the order of the terms.
     fn plus(&mut self, s: &mut Self::Sum, x: Self::Value);
+    /// Subtracts a term from a sum (the engine collects −x, the graph
+    /// subtracts: a − x, not a + (−x)).
+    fn minus(&mut self, s: &mut Self::Sum, x: Self::Value);
     /// The value of a sum.
     fn total(&mut self, s: Self::Sum) -> Self::Value;
 }
@@ -67,7 +77,11 @@ impl Carrier for Engine {
     type Value = ExprId;
     type Sum = Vec<ExprId>;
     const ZERO: ExprId = ZERO;
+    const ONE: ExprId = ONE;
 
+    fn int(&mut self, n: i128) -> ExprId {
+        Engine::int(self, n)
+    }
     fn add(&mut self, a: ExprId, b: ExprId) -> ExprId {
         Engine::add(self, a, b)
     }
@@ -88,6 +102,10 @@ impl Carrier for Engine {
     fn plus(&mut self, s: &mut Vec<ExprId>, x: ExprId) {
         s.push(x);
     }
+    fn minus(&mut self, s: &mut Vec<ExprId>, x: ExprId) {
+        let n = Engine::neg(self, x);
+        s.push(n);
+    }
     fn total(&mut self, s: Vec<ExprId>) -> ExprId {
         Engine::sum(self, &s)
     }
@@ -97,7 +115,11 @@ impl Carrier for Dag {
     type Value = Node;
     type Sum = Node;
     const ZERO: Node = ZERO_NODE;
+    const ONE: Node = ONE_NODE;
 
+    fn int(&mut self, n: i128) -> Node {
+        Dag::constant(self, Rational::int(n))
+    }
     fn add(&mut self, a: Node, b: Node) -> Node {
         Dag::add(self, a, b)
     }
@@ -117,6 +139,9 @@ impl Carrier for Dag {
     }
     fn plus(&mut self, s: &mut Node, x: Node) {
         *s = Dag::add(self, *s, x);
+    }
+    fn minus(&mut self, s: &mut Node, x: Node) {
+        *s = Dag::sub(self, *s, x);
     }
     fn total(&mut self, s: Node) -> Node {
         s

@@ -4,10 +4,10 @@
 //! constant node, and with leaves, whose operations are counted.
 
 use super::ldlt::{self, Updates};
+use super::lu::{self, Order};
 use super::*;
-use crate::emit::ONE_NODE;
 use crate::mechanics::vanish_at_random_points;
-use crate::sym::{ONE, Rational, SymId};
+use crate::sym::SymId;
 use quote::quote;
 
 /// An engine with π and the symbols `names`, as expressions.
@@ -226,4 +226,148 @@ fn ldlt_on_the_graph_skips_structural_zeros() {
     assert_eq!(counts[2], 6);
     // keeping L·D saves a product per update
     assert!(ops(dense, Updates::Kept) < ops(dense, Updates::Formed));
+}
+
+/// A 3 × 3 with a zero where a pivot in order would be: m₀₀ = 0.
+fn needs_pivoting(e: &mut Engine, s: &[ExprId]) -> Vec<Vec<ExprId>> {
+    let two = e.int(2);
+    vec![
+        vec![ZERO, s[0], s[1]],
+        vec![s[2], two, s[3]],
+        vec![s[4], s[5], ONE],
+    ]
+}
+
+#[test]
+fn lu_with_given_pivots_in_the_engine() {
+    let (mut e, pi, s) = symbols(&["a", "b", "c", "d", "f", "g", "u", "v", "w"]);
+    let m = needs_pivoting(&mut e, &s);
+    let rhs = vec![s[6], s[7], s[8]];
+    // row 0 takes column 1, row 1 column 0, row 2 column 2 (an odd permutation)
+    let steps = [(0, 1), (1, 0), (2, 2)];
+    let lu = lu::factor_at(&mut e, m.clone(), &steps);
+    assert!(lu.complete());
+    for order in [Order::Columns, Order::Pivots] {
+        let x = lu::solve(&mut e, &lu, rhs.clone(), order);
+        let residuals: Vec<ExprId> = (0..3)
+            .map(|i| {
+                let mx = dot(&mut e, m[i].iter().copied().zip(x.iter().copied()));
+                e.sub(mx, rhs[i])
+            })
+            .collect();
+        assert!(vanish_at_random_points(&e, pi, &residuals));
+    }
+    // the pivots' product with the permutation's sign is the determinant
+    let det = lu::det(&mut e, &lu);
+    let want = lu::laplace(&mut e, &m);
+    let diff = e.sub(det, want);
+    assert!(vanish_at_random_points(&e, pi, &[diff]));
+    assert!(!vanish_at_random_points(&e, pi, &[det]));
+}
+
+#[test]
+fn lu_with_pivots_chosen_as_it_goes_and_right_sides_carried() {
+    let (mut e, pi, s) = symbols(&["a", "b", "c", "d", "f", "g"]);
+    let m = needs_pivoting(&mut e, &s);
+    // the first nonzero entry of the rows and columns left
+    let first = |_: &Engine, a: &[Vec<ExprId>], left: lu::Left| {
+        let n = a.len();
+        (0..n)
+            .flat_map(|i| (0..n).map(move |j| (i, j)))
+            .find(|&(i, j)| !left.row_done[i] && !left.col_done[j] && a[i][j] != ZERO)
+    };
+    let mut carried = vec![vec![ONE, ZERO, ZERO], vec![ZERO, ONE, ZERO]];
+    let lu = lu::factor(&mut e, m.clone(), first, &mut carried);
+    assert_eq!(lu.pivots[0], (0, 1));
+    let x = lu::back(&mut e, &lu, &carried, Order::Columns);
+    // the first two columns of m⁻¹: m x_k = e_k
+    let mut residuals = Vec::new();
+    for (k, xk) in x.iter().enumerate() {
+        for (i, row) in m.iter().enumerate() {
+            let mx = dot(&mut e, row.iter().copied().zip(xk.iter().copied()));
+            let ek = if i == k { ONE } else { ZERO };
+            residuals.push(e.sub(mx, ek));
+        }
+    }
+    assert!(vanish_at_random_points(&e, pi, &residuals));
+    // a structurally singular matrix: no pivot left, det 0
+    let mut singular = m.clone();
+    for row in &mut singular {
+        row[2] = ZERO;
+    }
+    let lu = lu::factor(&mut e, singular, first, &mut []);
+    assert!(!lu.complete());
+    assert_eq!(lu::det(&mut e, &lu), ZERO);
+}
+
+#[test]
+fn lu_on_the_graph_evaluates_exactly_and_skips_zeros() {
+    let mut d = Dag::new();
+    // [[0, 1, 2], [3, 2, 1], [1, 1, 3]] x = (8, 10, 12): x = (1, 2, 3),
+    // with m₀₀ = 0 passed over by the pivots
+    let steps = [(1, 0), (0, 1), (2, 2)];
+    let m = constants(&mut d, &[&[0, 1, 2], &[3, 2, 1], &[1, 1, 3]]);
+    let b = constants(&mut d, &[&[8, 10, 12]]);
+    let want = [1, 2, 3].map(|x| q(&mut d, x, 1));
+    let lu = lu::factor_at(&mut d, m.clone(), &steps);
+    for order in [Order::Pivots, Order::Columns] {
+        assert_eq!(lu::solve(&mut d, &lu, b[0].clone(), order), want);
+    }
+    // det = 0·5 − 1·8 + 2·1, an odd permutation of pivots 3, 1, 2
+    let det = lu::det(&mut d, &lu);
+    assert_eq!(det, q(&mut d, -6, 1));
+    assert_eq!(lu::laplace(&mut d, &m), det);
+    // a singular one: its last pivot is exactly zero
+    let m = constants(&mut d, &[&[0, 1, 2], &[3, 2, 1], &[1, 1, 1]]);
+    let lu = lu::factor_at(&mut d, m.clone(), &steps);
+    assert_eq!(lu::det(&mut d, &lu), ZERO_NODE);
+    assert_eq!(lu::laplace(&mut d, &m), ZERO_NODE);
+    // structural zeros: a zero below a pivot is no multiplier, a zero in
+    // the pivot row no update
+    let count = |zeros: &[(usize, usize)]| {
+        let mut d = Dag::new();
+        let l = leaves(&mut d, 9);
+        let mut m: Vec<Vec<Node>> = (0..3).map(|i| l[3 * i..3 * i + 3].to_vec()).collect();
+        for &(i, j) in zeros {
+            m[i][j] = ZERO_NODE;
+        }
+        let lu = lu::factor_at(&mut d, m, &[(0, 0), (1, 1), (2, 2)]);
+        let x = lu::solve(&mut d, &lu, l[..3].to_vec(), Order::Pivots);
+        d.op_count(&x)
+    };
+    let (dense, sparse) = (count(&[]), count(&[(1, 0), (0, 2), (2, 1)]));
+    assert!(sparse < dense, "{sparse} !< {dense}");
+}
+
+/// det of a 3 × 3 by Laplace against the cofactor expansion written out,
+/// a(ei − fh) − b(di − fg) + c(dh − eg): the same polynomial.
+#[test]
+fn laplace_determinant_against_the_cofactor_expansion() {
+    let (mut e, pi, s) = symbols(&["a", "b", "c", "d", "e", "f", "g", "h", "i"]);
+    let m: Vec<Vec<ExprId>> = s.chunks(3).map(<[ExprId]>::to_vec).collect();
+    let minor = |e: &mut Engine, p: usize, q: usize, r: usize, t: usize| {
+        let x = e.mul(s[p], s[q]);
+        let y = e.mul(s[r], s[t]);
+        e.sub(x, y)
+    };
+    let m0 = minor(&mut e, 4, 8, 5, 7);
+    let m1 = minor(&mut e, 3, 8, 5, 6);
+    let m2 = minor(&mut e, 3, 7, 4, 6);
+    let t0 = e.mul(s[0], m0);
+    let t1 = e.mul(s[1], m1);
+    let t2 = e.mul(s[2], m2);
+    let t01 = e.sub(t0, t1);
+    let want = e.add(t01, t2);
+    assert_eq!(lu::laplace(&mut e, &m), want);
+    // Cramer's rule: m (m⁻¹ w) = w
+    let w = [s[0], ONE, s[8]];
+    let inv = e.recip(want);
+    let x = lu::cramer(&mut e, &m, &w, inv);
+    let residuals: Vec<ExprId> = (0..3)
+        .map(|i| {
+            let mx = dot(&mut e, m[i].iter().copied().zip(x.iter().copied()));
+            e.sub(mx, w[i])
+        })
+        .collect();
+    assert!(vanish_at_random_points(&e, pi, &residuals));
 }
