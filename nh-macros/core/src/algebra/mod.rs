@@ -5,6 +5,38 @@
 //! matrices, [`ldlt`] the symmetric solves, [`lu`] elimination with pivots
 //! given or chosen as it goes, Laplace determinants and Cramer's rule.
 //!
+//! Which carrier a quantity is built on follows from what is done with it
+//! next: what is differentiated, tested for zero or simplified by exact
+//! cancellation is derived symbolically; what is only evaluated is built on
+//! the graph, which shares every subexpression and prunes structural zeros
+//! where expanded forms would swell.
+//!
+//! * Symbolically (the engine, DESIGN §4, §9, §10): the Lagrangian's
+//!   derivatives, M = ∂²L/∂q̇² and the Euler–Lagrange terms, when an output
+//!   or the route needs them; the block of implicit and holonomic rows solved
+//!   for A and β (`lower/linear.rs`: Cramer up to three rows, else
+//!   elimination with Markowitz pivots and the right sides carried along),
+//!   its determinant (the singularity test, `chart_regularity`) and the
+//!   Newton step of `project`; the curvature B, whose zero test decides
+//!   integrability; the curvature route's reduced mass matrix and right side
+//!   (5.12)–(5.20), and their LDLᵀ solve when k ≤ 3, the entries are small
+//!   and it is cheaper (a pivot cos² ψ/4 or a factor m R² cancels); the
+//!   derivatives of the reduced system's entries (or of a closed-form r̈)
+//!   for `jacobian` and `linearization`; the values, vectors, rotations, ω
+//!   and kinetic energies the user writes. A canonical zero is exact, so the
+//!   zeros found here are structural zeros of the graph.
+//! * On the graph (DESIGN §9, §10): the accelerations' solves (the LDLᵀ of
+//!   Cᵀ M C, or of the reduced mass matrix, unrolled with the structural
+//!   zeros pruned, and reused for the Jacobian's columns; its pivots give
+//!   `chart_regularity` in speeds); Kane's sums body by body; the rates along
+//!   the motion (J̇ q̇, Ẇ q̇ by forward differentiation of the nodes); the
+//!   frames' ω and α step by step, chains of rates and screws with their
+//!   cross products; and a block of more than three homogeneous,
+//!   time-independent implicit or holonomic rows, solved by LU with the
+//!   pivots chosen at expansion (`generate/block.rs`): differentiating the
+//!   symbolic elimination's quotients swells, and a contact's expanded rows
+//!   carry 1/|e_z × n| into every term.
+//!
 //! The order of the operations of every function here is part of its
 //! contract: the engine interns in call order (and its sums are ordered by
 //! the ids of their monomials), the graph emits in call order, so the
