@@ -12,6 +12,7 @@
 // Index loops over matrices read like the formulas they implement.
 #![allow(clippy::needless_range_loop)]
 
+mod algebra;
 mod api;
 mod attrs;
 mod check;

@@ -8,20 +8,12 @@
 use super::chains::chain_rate;
 use super::motion::Motion;
 use super::nodes::planar_columns;
-use super::nodes::{dot, exprs, matrix};
+use super::nodes::{exprs, matrix};
+use crate::algebra::cross_component;
+use crate::algebra::lu::{self, Lu, Order};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::Scene;
 use crate::mechanics::{BlockTerms, ContactTerms, RowTerms};
-
-/// c_s factored in the elimination's order: for step s, its pivot (row,
-/// column), 1/pivot and the multipliers of the rows it eliminates from;
-/// the rows of U.
-pub(crate) struct Lu {
-    pub(crate) pivots: Vec<(usize, usize)>,
-    pub(crate) inverse: Vec<Node>,
-    pub(crate) multipliers: Vec<Vec<(usize, Node)>>,
-    pub(crate) upper: Vec<Vec<Node>>,
-}
 
 /// A contact's offset o = P − G and, for a disc or torus, (n, s, w).
 struct Offset {
@@ -192,52 +184,17 @@ fn rim_rate(d: &mut Dag, omega: [Node; 3], rim: &([Node; 3], Node, [Node; 3])) -
     })
 }
 
-/// Component `x` of u × v.
-fn cross_component(d: &mut Dag, u: [Node; 3], v: [Node; 3], x: usize) -> Node {
-    let (y, z) = ((x + 1) % 3, (x + 2) % 3);
-    let a = d.mul(u[y], v[z]);
-    let b = d.mul(u[z], v[y]);
-    d.sub(a, b)
-}
-
-/// LU of `a` (p × p) by the given steps (pivot row, column).
-fn factor(d: &mut Dag, mut a: Vec<Vec<Node>>, pivots: &[(usize, usize)]) -> Lu {
-    let p = pivots.len();
-    let (mut rows, mut cols) = (vec![true; p], vec![true; p]);
-    let mut inverse = Vec::with_capacity(p);
-    let mut multipliers = Vec::with_capacity(p);
-    for &(r, j) in pivots {
-        rows[r] = false;
-        cols[j] = false;
-        let inv = d.div(ONE_NODE, a[r][j]);
-        inverse.push(inv);
-        let mut step = Vec::new();
-        let below: Vec<usize> = (0..p)
-            .filter(|&i| rows[i] && a[i][j] != ZERO_NODE)
-            .collect();
-        for i in below {
-            let f = d.mul(a[i][j], inv);
-            for c in (0..p).filter(|&c| cols[c]) {
-                let t = d.mul(f, a[r][c]);
-                a[i][c] = d.sub(a[i][c], t);
-            }
-            step.push((i, f));
-        }
-        multipliers.push(step);
-    }
-    Lu {
-        pivots: pivots.to_vec(),
-        inverse,
-        multipliers,
-        upper: a,
-    }
-}
-
 /// The dependent velocities (or accelerations) x with c_s x = b: the
 /// factored block solved, a [`Planar`](crate::mechanics::Planar) pair turned
 /// back from u to (ẋ, ẏ).
-fn solve_block(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms, lu: &Lu, b: Vec<Node>) -> Vec<Node> {
-    let x = solve(d, lu, b);
+fn solve_block(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    bt: &BlockTerms,
+    lu: &Lu<Node>,
+    b: Vec<Node>,
+) -> Vec<Node> {
+    let x = lu::solve(d, lu, b, Order::Pivots);
     turn_back(d, m, bt, x)
 }
 
@@ -247,35 +204,15 @@ fn turn_back(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms, mut x: Vec<Node>) -> V
         let u = p.columns.map(|a| x[a]);
         for (row, &a) in p.turn.iter().zip(&p.columns) {
             let r = [d.expr(m.engine, row[0]), d.expr(m.engine, row[1])];
-            x[a] = dot(d, ZERO_NODE, [(r[0], u[0]), (r[1], u[1])]);
+            x[a] = crate::algebra::dot(d, [(r[0], u[0]), (r[1], u[1])]);
         }
-    }
-    x
-}
-
-/// x with c_s x = b.
-fn solve(d: &mut Dag, lu: &Lu, mut b: Vec<Node>) -> Vec<Node> {
-    for (&(r, _), step) in lu.pivots.iter().zip(&lu.multipliers) {
-        for &(i, f) in step {
-            let t = d.mul(f, b[r]);
-            b[i] = d.sub(b[i], t);
-        }
-    }
-    let mut x = vec![ZERO_NODE; lu.pivots.len()];
-    for (s, &(r, j)) in lu.pivots.iter().enumerate().rev() {
-        let mut v = b[r];
-        for &(_, c) in &lu.pivots[s + 1..] {
-            let t = d.mul(lu.upper[r][c], x[c]);
-            v = d.sub(v, t);
-        }
-        x[j] = d.mul(v, lu.inverse[s]);
     }
     x
 }
 
 /// The block's coefficients split into c_s (columns: the constraints'
 /// dependent velocities) factored, and c_r (columns: the independent ones).
-fn factored(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms) -> (Lu, Vec<Vec<Node>>) {
+fn factored(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms) -> (Lu<Node>, Vec<Vec<Node>>) {
     let coef = coefficients(d, m, bt);
     let cs: Vec<Vec<Node>> = coef
         .iter()
@@ -303,7 +240,7 @@ fn factored(d: &mut Dag, m: &Scene<'_>, bt: &BlockTerms) -> (Lu, Vec<Vec<Node>>)
         .iter()
         .map(|row| m.independent().iter().map(|&i| row[i]).collect())
         .collect();
-    (factor(d, cs, &bt.pivots), cr)
+    (lu::factor_at(d, cs, &bt.pivots), cr)
 }
 
 /// −c_s⁻¹ c_r: column b gives the dependent velocities (in the order of
@@ -327,7 +264,7 @@ pub(crate) fn velocity_columns_in_heading(
     (0..m.k())
         .map(|b| {
             let rhs = cr.iter().map(|row: &Vec<Node>| d.neg(row[b])).collect();
-            solve(d, &lu, rhs)
+            lu::solve(d, &lu, rhs, Order::Pivots)
         })
         .collect()
 }
@@ -367,5 +304,5 @@ pub(crate) fn dependent_bias_in_heading(d: &mut Dag, m: &Scene<'_>, bt: &BlockTe
     let (lu, _) = factored(d, m, bt);
     let rates = rates(d, m, bt);
     let rhs = rates.into_iter().map(|x| d.neg(x)).collect();
-    solve(d, &lu, rhs)
+    lu::solve(d, &lu, rhs, Order::Pivots)
 }

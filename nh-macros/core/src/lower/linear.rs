@@ -2,7 +2,8 @@
 //! dependent velocities, the Jacobian of the projection): Cramer's rule up to
 //! [`CRAMER_MAX`] rows, sparse Gaussian elimination beyond.
 
-use crate::sym::{Engine, ExprId, ONE, ZERO};
+use crate::algebra::lu::{self, Left, Order, cramer, laplace};
+use crate::sym::{Engine, ExprId, ZERO};
 
 /// The largest block solved by Cramer's rule (its closed forms are small);
 /// larger blocks are eliminated.
@@ -40,67 +41,13 @@ pub fn solve(e: &mut Engine, m: &[Vec<ExprId>], w: &[Vec<ExprId>]) -> Solved {
     eliminate(e, m, w)
 }
 
-/// The determinant of a small square matrix (Laplace expansion).
-fn laplace(e: &mut Engine, m: &[Vec<ExprId>]) -> ExprId {
-    match m.len() {
-        0 => ONE,
-        1 => m[0][0],
-        n => {
-            let mut parts = Vec::with_capacity(n);
-            for j in 0..n {
-                if m[0][j] == ZERO {
-                    continue;
-                }
-                let minor: Vec<Vec<ExprId>> = m[1..]
-                    .iter()
-                    .map(|row| {
-                        row.iter()
-                            .enumerate()
-                            .filter(|&(c, _)| c != j)
-                            .map(|(_, &x)| x)
-                            .collect()
-                    })
-                    .collect();
-                let d = laplace(e, &minor);
-                let t = e.mul(m[0][j], d);
-                parts.push(if j % 2 == 0 { t } else { e.neg(t) });
-            }
-            e.sum(&parts)
-        }
-    }
-}
-
-/// x = m⁻¹ w by Cramer's rule, `inv` = 1/det m.
-fn cramer(e: &mut Engine, m: &[Vec<ExprId>], w: &[ExprId], inv: ExprId) -> Vec<ExprId> {
-    (0..w.len())
-        .map(|j| {
-            let mj: Vec<Vec<ExprId>> = m
-                .iter()
-                .zip(w)
-                .map(|(row, &wi)| {
-                    let mut row = row.clone();
-                    row[j] = wi;
-                    row
-                })
-                .collect();
-            let dj = laplace(e, &mj);
-            e.mul(dj, inv)
-        })
-        .collect()
-}
-
 /// The next pivot among the rows and columns not yet eliminated: a nonzero
 /// constant if there is one, else the structurally nonzero entry of least
 /// Markowitz cost (r − 1)(c − 1), r and c the nonzeros of its row and
 /// column; ties to fewer terms, then to the first row and column.
-fn pivot(
-    e: &Engine,
-    a: &[Vec<ExprId>],
-    row_done: &[bool],
-    col_done: &[bool],
-) -> Option<(usize, usize)> {
+fn pivot(e: &Engine, a: &[Vec<ExprId>], left: Left) -> Option<(usize, usize)> {
     let n = a.len();
-    let live = |i: usize, j: usize| !row_done[i] && !col_done[j] && a[i][j] != ZERO;
+    let live = |i: usize, j: usize| !left.row_done[i] && !left.col_done[j] && a[i][j] != ZERO;
     let row_count: Vec<usize> = (0..n)
         .map(|i| (0..n).filter(|&j| live(i, j)).count())
         .collect();
@@ -117,88 +64,21 @@ fn pivot(
         })
 }
 
-/// m X = [w_1 | .. | w_k] by Gaussian elimination that keeps the sparsity:
-/// pivots by [`pivot`], only the rows with a nonzero in the pivot column are
-/// updated, then back substitution; the right sides are carried along, so
-/// no inverse is formed. Long products stay atoms in the engine, so the
-/// entries grow additively.
+/// m X = [w_1 | .. | w_k] by Gaussian elimination that keeps the sparsity
+/// ([`lu::factor`]): pivots by [`pivot`], the right sides carried along,
+/// so no inverse is formed, then back substitution by column. Long
+/// products stay atoms in the engine, so the entries grow additively.
 fn eliminate(e: &mut Engine, m: &[Vec<ExprId>], w: &[Vec<ExprId>]) -> Solved {
     let n = m.len();
-    let mut a = m.to_vec();
-    // the right sides by row
-    let mut r: Vec<Vec<ExprId>> = (0..n).map(|i| w.iter().map(|wj| wj[i]).collect()).collect();
-    let (mut row_done, mut col_done) = (vec![false; n], vec![false; n]);
-    let mut order: Vec<(usize, usize)> = Vec::with_capacity(n);
-    while order.len() < n {
-        let Some((p, c)) = pivot(e, &a, &row_done, &col_done) else {
-            let x = vec![vec![ZERO; n]; w.len()];
-            return Solved { x, det: ZERO };
-        };
-        row_done[p] = true;
-        col_done[c] = true;
-        order.push((p, c));
-        let inv = e.pow(a[p][c], crate::sym::Rational::MINUS_ONE);
-        let below: Vec<usize> = (0..n)
-            .filter(|&i| !row_done[i] && a[i][c] != ZERO)
-            .collect();
-        let across: Vec<usize> = (0..n)
-            .filter(|&j| !col_done[j] && a[p][j] != ZERO)
-            .collect();
-        for i in below {
-            let f = e.mul(a[i][c], inv);
-            for &j in &across {
-                let t = e.mul(f, a[p][j]);
-                a[i][j] = e.sub(a[i][j], t);
-            }
-            a[i][c] = ZERO;
-            for k in 0..w.len() {
-                if r[p][k] != ZERO {
-                    let t = e.mul(f, r[p][k]);
-                    r[i][k] = e.sub(r[i][k], t);
-                }
-            }
-        }
+    let mut r = w.to_vec();
+    let lu = lu::factor(e, m.to_vec(), pivot, &mut r);
+    if !lu.complete() {
+        let x = vec![vec![ZERO; n]; w.len()];
+        return Solved { x, det: ZERO };
     }
-    // back substitution, last pivot first
-    let mut x = vec![vec![ZERO; n]; w.len()];
-    for &(p, c) in order.iter().rev() {
-        let inv = e.pow(a[p][c], crate::sym::Rational::MINUS_ONE);
-        for (k, xk) in x.iter_mut().enumerate() {
-            let mut parts = vec![r[p][k]];
-            for j in (0..n).filter(|&j| j != c && a[p][j] != ZERO) {
-                let t = e.mul(a[p][j], xk[j]);
-                parts.push(e.neg(t));
-            }
-            let s = e.sum(&parts);
-            xk[c] = e.mul(s, inv);
-        }
-    }
-    let mut det = if permutation_is_odd(&order) {
-        e.int(-1)
-    } else {
-        ONE
-    };
-    for &(p, c) in &order {
-        det = e.mul(det, a[p][c]);
-    }
+    let x = lu::back(e, &lu, &r, Order::Columns);
+    let det = lu::det(e, &lu);
     Solved { x, det }
-}
-
-/// Whether the permutation row ↦ column of the pivots is odd.
-fn permutation_is_odd(order: &[(usize, usize)]) -> bool {
-    let mut col_of = vec![0; order.len()];
-    for &(p, c) in order {
-        col_of[p] = c;
-    }
-    let mut inversions = 0;
-    for i in 0..col_of.len() {
-        for j in i + 1..col_of.len() {
-            if col_of[i] > col_of[j] {
-                inversions += 1;
-            }
-        }
-    }
-    inversions % 2 == 1
 }
 
 /// Whether row `a` of `m` lies in the span of the rows `basis` (numbers at
@@ -245,8 +125,8 @@ mod tests {
     }
 
     use super::*;
-    use crate::sym::Fun;
     use crate::sym::random_points::vanish_at_random_points;
+    use crate::sym::{Fun, ONE};
 
     /// A 5×5 block with constants, trigonometric entries and zeros.
     fn block(e: &mut Engine) -> (Vec<Vec<ExprId>>, crate::sym::SymId) {
@@ -303,12 +183,5 @@ mod tests {
             row[1] = ZERO;
         }
         assert_eq!(det(&mut e, &m), ZERO);
-    }
-
-    #[test]
-    fn permutation_parity() {
-        assert!(!permutation_is_odd(&[(0, 0), (1, 1), (2, 2)]));
-        assert!(permutation_is_odd(&[(0, 1), (1, 0), (2, 2)]));
-        assert!(!permutation_is_odd(&[(2, 0), (0, 1), (1, 2)]));
     }
 }

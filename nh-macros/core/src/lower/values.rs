@@ -8,10 +8,14 @@ use crate::parse::{BinOp, Expr};
 use crate::sym::{Engine, ExprId, Fun, ONE, ZERO};
 use std::rc::Rc;
 
+pub(crate) use crate::algebra::{
+    add3, cross as cross3, dot3, mat_mat, mat_t_vec, mat_vec, scale3, sub3, transpose,
+};
+
 /// A vector's world (or body) components.
-pub(crate) type Vec3 = [ExprId; 3];
+pub(crate) type Vec3 = crate::algebra::Vec3<ExprId>;
 /// A matrix by rows.
-pub(crate) type Mat3 = [[ExprId; 3]; 3];
+pub(crate) type Mat3 = crate::algebra::Mat3<ExprId>;
 
 /// The value of an expression or a `let`, with its kind.
 #[derive(Clone)]
@@ -66,53 +70,6 @@ impl Value {
     }
 }
 
-/// a + b.
-pub(crate) fn add3(e: &mut Engine, a: Vec3, b: Vec3) -> Vec3 {
-    [0, 1, 2].map(|i| e.add(a[i], b[i]))
-}
-
-/// a − b.
-pub(crate) fn sub3(e: &mut Engine, a: Vec3, b: Vec3) -> Vec3 {
-    [0, 1, 2].map(|i| e.sub(a[i], b[i]))
-}
-
-/// s·v.
-pub(crate) fn scale3(e: &mut Engine, s: ExprId, v: Vec3) -> Vec3 {
-    v.map(|x| e.mul(s, x))
-}
-
-/// a · b.
-pub(crate) fn dot3(e: &mut Engine, a: Vec3, b: Vec3) -> ExprId {
-    let p = [0, 1, 2].map(|i| e.mul(a[i], b[i]));
-    e.sum(&p)
-}
-
-/// a × b.
-pub(crate) fn cross3(e: &mut Engine, a: Vec3, b: Vec3) -> Vec3 {
-    [0, 1, 2].map(|i| {
-        let (j, k) = ((i + 1) % 3, (i + 2) % 3);
-        let l = e.mul(a[j], b[k]);
-        let r = e.mul(a[k], b[j]);
-        e.sub(l, r)
-    })
-}
-
-/// M v.
-pub(crate) fn mat_vec(e: &mut Engine, m: &Mat3, v: Vec3) -> Vec3 {
-    [0, 1, 2].map(|i| dot3(e, m[i], v))
-}
-
-/// A B.
-pub(crate) fn mat_mat(e: &mut Engine, a: &Mat3, b: &Mat3) -> Mat3 {
-    let bt = transpose(b);
-    [0, 1, 2].map(|i| [0, 1, 2].map(|j| dot3(e, a[i], bt[j])))
-}
-
-/// Mᵀ.
-pub(crate) fn transpose(m: &Mat3) -> Mat3 {
-    [0, 1, 2].map(|i| [0, 1, 2].map(|j| m[j][i]))
-}
-
 /// The unit vector along axis `k`.
 pub(crate) fn unit(k: usize) -> Vec3 {
     [0, 1, 2].map(|i| if i == k { ONE } else { ZERO })
@@ -151,7 +108,7 @@ pub(crate) fn chain_omega(
         let f = elementary(e, k, a);
         let turned = match world {
             true => mat_vec(e, &f, acc),
-            false => mat_vec(e, &transpose(&f), acc),
+            false => mat_t_vec(e, &f, acc),
         };
         acc = add3(e, turned, own[i]);
     }

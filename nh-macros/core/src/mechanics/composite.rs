@@ -68,7 +68,7 @@ impl Scene<'_> {
         if !self.offset_may_be_fixed(&r, cb, ca) {
             return false;
         }
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         let rel = [0, 1, 2].map(|x| e.sub(cb[x], ca[x]));
         let d = mat_vec(e, &transpose(&r), rel);
         let (Some(d0), Some(d1), Some(d2)) = (
@@ -82,7 +82,7 @@ impl Scene<'_> {
         if !(self.fixed(ma) && self.fixed(mb)) {
             return false;
         }
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         let total = e.add(ma, mb);
         let share = e.div(mb, total);
         let offset = d.map(|x| e.mul(share, x));
@@ -108,7 +108,7 @@ impl Scene<'_> {
             let Some((omega, inertia, Some((k, angle)))) = parts[b].rotation else {
                 continue;
             };
-            let e = &mut self.engine;
+            let e = &mut *self.engine;
             let turn = crate::lower::values::elementary(e, k, angle);
             let turned = mat_vec(e, &turn, omega);
             let rate = self.along_motion(angle);
@@ -143,7 +143,7 @@ impl Scene<'_> {
         let Some((omega, _, None)) = carrier.rotation else {
             return false;
         };
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         let gap = [0, 1, 2].map(|x| {
             let own = if x == k {
                 e.sub(turned[x], rate)
@@ -252,7 +252,7 @@ impl Scene<'_> {
         if !self.offset_may_be_fixed(r, p, q) {
             return None;
         }
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         let rel = [0, 1, 2].map(|x| e.sub(p[x], q[x]));
         let offset = mat_vec(e, &transpose(r), rel);
         let mut out = [ZERO; 3];
@@ -380,7 +380,7 @@ impl Scene<'_> {
     /// fewer than rest has, and that remainder. Its Euler–Lagrange terms
     /// are then γ Σ m_b ∂C_b,z/∂q, projected γ Σ m_b V_b,z.
     pub(super) fn gravity(&mut self, parts: &[Part], rest: ExprId) -> Option<(ExprId, ExprId)> {
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         let heights: Vec<ExprId> = parts
             .iter()
             .filter_map(|p| p.centre.map(|c| e.mul(p.mass, c[2])))
@@ -406,7 +406,7 @@ impl Scene<'_> {
         }
         let mut best = (self.engine.num_terms(rest), None);
         for g in candidates {
-            let e = &mut self.engine;
+            let e = &mut *self.engine;
             let w = e.mul(g, weight);
             let r = e.add(rest, w);
             let n = e.num_terms(r);

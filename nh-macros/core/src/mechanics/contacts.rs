@@ -117,7 +117,7 @@ impl Scene<'_> {
 
     /// w = (e_z − n_z n)/s (w_z = s) if s has no fractional powers.
     pub(crate) fn rim_without_root(&mut self, n: [ExprId; 3], s: ExprId) -> Option<[ExprId; 3]> {
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         let rooted = e
             .terms(s)
             .iter()
@@ -262,7 +262,7 @@ impl Scene<'_> {
         let Some(r) = frame else {
             return jacobian;
         };
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         let mut turned: [Vec<ExprId>; 3] = [Vec::new(), Vec::new(), Vec::new()];
         for i in 0..jacobian[0].len() {
             let column = [jacobian[0][i], jacobian[1][i], jacobian[2][i]];

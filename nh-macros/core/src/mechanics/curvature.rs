@@ -29,7 +29,7 @@ impl Scene<'_> {
     pub(crate) fn curvature_entry(&mut self, bb: usize, al: usize, be: usize) -> ExprId {
         let r = self.model.of_independent(|c| c.position);
         let (r_al, r_be) = (r[al], r[be]);
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         let a = |aa: usize, x: usize| self.model.constraints[aa].coefficients[x];
         let d1 = e.diff(a(bb, al), r_be);
         let d2 = e.diff(a(bb, be), r_al);
@@ -141,7 +141,7 @@ impl Scene<'_> {
         let r_pos = self.model.of_independent(|c| c.position);
         let r_force = self.model.of_independent(|c| c.force);
         let q = &self.model.coordinates;
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         let mut memo = HashMap::default();
         let lc = e.subst(l, &map, &mut memo); // (5.12)
         let pc: Vec<ExprId> = r_vel.iter().map(|&v| e.diff(lc, v)).collect();
@@ -222,7 +222,7 @@ impl Scene<'_> {
     /// this cannot swell; `None` otherwise or if a pivot is zero.
     pub fn solve_symbolic(&mut self, mass: &[Vec<ExprId>], rhs: &[ExprId]) -> Option<Vec<ExprId>> {
         let k = rhs.len();
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         if k == 0 || k > 3 {
             return None;
         }

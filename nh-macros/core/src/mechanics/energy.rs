@@ -11,7 +11,7 @@ impl Scene<'_> {
     pub fn energy(&mut self) -> ExprId {
         let map = self.constrained_velocities();
         let l = self.model.lagrangian;
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         let mut parts = Vec::new();
         for v in self.model.coordinates.iter().map(|c| c.velocity) {
             let p = e.diff(l, v);

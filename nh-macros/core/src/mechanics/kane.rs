@@ -200,7 +200,7 @@ impl Scene<'_> {
     ) -> BodyRotation {
         let (omega, spin) = match spin {
             Some((k, angle)) => {
-                let e = &mut self.engine;
+                let e = &mut *self.engine;
                 let turn = crate::lower::values::elementary(e, k, angle);
                 let omega = crate::lower::values::mat_vec(e, &turn, omega);
                 (omega, Some((k, self.along_motion(angle))))

@@ -41,7 +41,7 @@ impl Scene<'_> {
         let speeds = self.model.independent_velocities();
         let positions: Vec<_> = self.model.positions().collect();
         let time = self.model.time;
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         let mut memo = HashMap::default();
         let mass: Vec<Vec<ExprId>> = multiplier_route
             .mass

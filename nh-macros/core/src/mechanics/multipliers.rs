@@ -151,7 +151,7 @@ impl Scene<'_> {
         let mut bias = Vec::with_capacity(n);
         for (j, &p) in momenta.iter().enumerate() {
             let mut parts = vec![self.along_motion(p)];
-            let e = &mut self.engine;
+            let e = &mut *self.engine;
             let q = &self.model.coordinates[j];
             parts.push(e.diff(p, self.model.time));
             let dl = e.diff(l, q.position);
@@ -184,7 +184,7 @@ impl Scene<'_> {
     /// compact where the eliminated solutions are not.
     pub(crate) fn dependent_bias_from_rows(&mut self) -> Vec<ExprId> {
         let rows = self.model.velocity_rows.clone();
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         let q = &self.model.coordinates;
         let mut block = Vec::with_capacity(rows.len());
         let mut minus_d = Vec::with_capacity(rows.len());

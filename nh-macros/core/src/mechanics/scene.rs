@@ -59,7 +59,7 @@ impl Scene<'_> {
 
     /// Σ_i ∂x/∂q_i q̇_i: the rate of x along the motion, t held fixed.
     pub fn along_motion(&mut self, x: ExprId) -> ExprId {
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         let mut parts = Vec::new();
         for c in &self.model.coordinates {
             let d = e.diff(x, c.position);
@@ -73,7 +73,7 @@ impl Scene<'_> {
 
     /// ∂x/∂q_i for every coordinate.
     pub(crate) fn positional_jacobian(&mut self, x: ExprId) -> Vec<ExprId> {
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         self.model
             .coordinates
             .iter()
@@ -83,7 +83,7 @@ impl Scene<'_> {
 
     /// ∂x/∂q̇_i for every coordinate.
     pub(crate) fn velocity_jacobian(&mut self, x: ExprId) -> Vec<ExprId> {
-        let e = &mut self.engine;
+        let e = &mut *self.engine;
         self.model
             .coordinates
             .iter()
