@@ -24,10 +24,6 @@ pub enum Updates {
     /// is an operation of the code (the graph's form).
     Kept,
     /// (l_ir l_jr) · d_r, formed from L and D (the engine's form).
-    #[cfg_attr(
-        not(test),
-        expect(dead_code, reason = "for mechanics.rs's `solve_symbolic`")
-    )]
     Formed,
 }
 
@@ -136,10 +132,6 @@ pub fn solve_symmetric<C: Carrier>(
 
 /// m x = f solved by [`factor`] and [`solve`], or `None` at the first zero
 /// pivot, before anything is built past it.
-#[cfg_attr(
-    not(test),
-    expect(dead_code, reason = "for mechanics.rs's `solve_symbolic`")
-)]
 pub fn solve_nonsingular<C: Carrier>(
     c: &mut C,
     m: &[Vec<C::Value>],

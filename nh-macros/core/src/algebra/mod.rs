@@ -52,10 +52,6 @@ pub mod vector;
 #[cfg(test)]
 mod tests;
 
-#[cfg_attr(
-    not(test),
-    expect(unused_imports, reason = "for generate.rs's `dot(d, init, pairs)`")
-)]
 pub use vector::dot_from;
 pub use vector::{
     Mat3, Vec3, add3, cross, cross_component, dot, dot3, mat_mat, mat_t_vec, mat_vec, scale3, sub3,

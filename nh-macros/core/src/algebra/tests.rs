@@ -6,8 +6,8 @@
 use super::ldlt::{self, Updates};
 use super::lu::{self, Order};
 use super::*;
-use crate::sym::random_points::vanish_at_random_points;
 use crate::sym::SymId;
+use crate::sym::random_points::vanish_at_random_points;
 use quote::quote;
 
 /// An engine with π and the symbols `names`, as expressions.

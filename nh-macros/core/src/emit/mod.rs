@@ -11,14 +11,13 @@
 //! and `cos` of one angle become one `sin_cos` call.
 //!
 //! The graph and its nodes are defined here; `fold` holds the folded
-//! arithmetic on nodes, `from_sym` the nodes of engine expressions, `ldlt`
-//! the linear solves, `live` what outputs need and cost, `text` the
+//! arithmetic on nodes, `from_sym` the nodes of engine expressions (the
+//! linear solves on nodes are in `crate::algebra`), `live` what outputs need and cost, `text` the
 //! emission as text and `chunk` the blocks of large functions.
 
 mod chunk;
 mod fold;
 mod from_sym;
-mod ldlt;
 mod live;
 mod tangent;
 mod text;
@@ -27,7 +26,6 @@ use crate::sym::{AtomId, ExprId, Fun, Rational, SymId};
 use proc_macro2::TokenStream;
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
-pub use ldlt::Ldlt;
 pub use text::{parse_text, take_unrepresentable, with_text_parser};
 
 crate::sym::id_type! {

@@ -3,7 +3,8 @@
 use super::graph::{Args, bound_dag, velocity_arg};
 use super::methods::Derived;
 use super::multipliers::multiplier_nodes;
-use super::nodes::{dot, exprs, matrix, vector_expr};
+use super::nodes::{exprs, matrix, vector_expr};
+use crate::algebra;
 use crate::emit::{Dag, Node, ZERO_NODE};
 use crate::sym::{ExprId, SymId, ZERO};
 use proc_macro2::TokenStream;
@@ -263,7 +264,7 @@ impl Derived<'_, '_> {
                 for j in 0..width {
                     let init = if bias { row[dim + j] } else { ZERO_NODE };
                     let pairs = (0..dim).map(|i| (row[i], sens[i][j]));
-                    outs.push(dot(&mut d, init, pairs));
+                    outs.push(algebra::dot_from(&mut d, init, pairs));
                 }
             }
         }

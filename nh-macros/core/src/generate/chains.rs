@@ -1,7 +1,8 @@
 //! Accelerations along a kinematic chain on the graph (DESIGN §10), and
 //! the planar columns of a Jacobian in the heading's frame.
 
-use super::nodes::{cross_nodes, dot, exprs, matrix, planar_columns};
+use super::nodes::{exprs, matrix, planar_columns};
+use crate::algebra;
 use crate::emit::{Dag, Node};
 use crate::mechanics::Scene;
 
@@ -21,9 +22,9 @@ pub(crate) fn chain_rate(
         // in the frame of J: α × R r + ω × (ω × R r) per link
         for (frame, off) in pieces {
             let (omega, alpha) = super::frames::world_motion(d, m, motion, frame);
-            let tangential = cross_nodes(d, &alpha, &off);
-            let wr = cross_nodes(d, &omega, &off);
-            let normal = cross_nodes(d, &omega, &wr);
+            let tangential = algebra::cross(d, alpha, off);
+            let wr = algebra::cross(d, omega, off);
+            let normal = algebra::cross(d, omega, wr);
             a = [0, 1, 2].map(|x| {
                 let t = d.add(tangential[x], normal[x]);
                 d.add(a[x], t)
@@ -47,11 +48,11 @@ pub(crate) fn chain_rate(
             }
         };
         let r = exprs(d, m, &link.offset);
-        let tangential = cross_nodes(d, &alpha0, &r);
-        let wr = cross_nodes(d, &omega, &r);
-        let normal = cross_nodes(d, &omega, &wr);
+        let tangential = algebra::cross(d, alpha0, &r);
+        let wr = algebra::cross(d, omega, &r);
+        let normal = algebra::cross(d, omega, wr);
         let body: Vec<Node> = (0..3).map(|x| d.add(tangential[x], normal[x])).collect();
-        a = [0, 1, 2].map(|x| dot(d, a[x], (0..3).map(|y| (turn[x][y], body[y]))));
+        a = [0, 1, 2].map(|x| algebra::dot_from(d, a[x], (0..3).map(|y| (turn[x][y], body[y]))));
     }
     a
 }

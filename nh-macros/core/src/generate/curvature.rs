@@ -2,6 +2,7 @@
 //! (5.20) factored by LDLᵀ (or its symbolic solution).
 
 use super::nodes::{exprs, matrix};
+use crate::algebra::ldlt::{self, Updates};
 use crate::emit::{Dag, Node};
 use crate::mechanics::Reduced;
 use crate::mechanics::Scene;
@@ -30,7 +31,7 @@ pub(crate) fn curvature_nodes(d: &mut Dag, m: &Scene<'_>, r: &Reduced) -> (Vec<N
     for (a, &x) in rhs.iter().enumerate() {
         d.label(x, format!("right side {a} of (5.20): projected forces minus the velocity terms and the curvature term Σ B ṙ ∂L/∂ṡ (5.21)"));
     }
-    let (x, piv) = d.solve_symmetric(&mass, &rhs);
+    let (x, piv) = ldlt::solve_symmetric(d, &mass, &rhs, Updates::Kept);
     for (a, &v) in x.iter().enumerate() {
         d.label(v, format!("r̈{a}: the reduced mass matrix solved by LDLᵀ"));
     }

@@ -5,8 +5,10 @@
 use super::graph::{Args, bound_dag};
 use super::methods::Derived;
 use super::multipliers::multiplier_nodes;
-use super::nodes::{dot, exprs, matrix, vector_expr};
+use super::nodes::{exprs, matrix, vector_expr};
 use super::routes::Route;
+use crate::algebra;
+use crate::algebra::ldlt::{self, Updates};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::Formulation;
 use crate::sym::{ExprId, SymId, ZERO};
@@ -40,7 +42,7 @@ impl Derived<'_, '_> {
             .map(|a| (0..k).map(|b| d.leaf(quote!(__nh_mc[(#a, #b)]))).collect())
             .collect();
         let rhs: Vec<Node> = (0..k).map(|a| d.leaf(quote!(__nh_f[#a]))).collect();
-        let (x, _) = d.solve_symmetric(&mass, &rhs);
+        let (x, _) = ldlt::solve_symmetric(&mut d, &mass, &rhs, Updates::Kept);
         let (stmts, o) = d.emit(&x);
         let ret = vector_expr(k, &o);
         quote! {
@@ -80,8 +82,8 @@ impl Derived<'_, '_> {
         }
         let mass = matrix(d, self.m, &self.dv.reduced.mass);
         let rhs = exprs(d, self.m, &self.dv.reduced.rhs);
-        let fac = d.factor_symmetric(&mass);
-        let rdd = d.solve_factored(&fac, &rhs);
+        let fac = ldlt::factor(d, &mass, Updates::Kept);
+        let rdd = ldlt::solve(d, &fac, &rhs);
         let mut out = self.velocity_rows(d, vars);
         for (c, &z) in vars.iter().enumerate() {
             let mut col_rhs = Vec::with_capacity(k);
@@ -98,7 +100,7 @@ impl Derived<'_, '_> {
                 }
                 col_rhs.push(v);
             }
-            let col = d.solve_factored(&fac, &col_rhs);
+            let col = ldlt::solve(d, &fac, &col_rhs);
             for al in 0..k {
                 out[n + al][c] = col[al];
             }
@@ -137,7 +139,7 @@ impl Derived<'_, '_> {
             let mut dqdd = vec![ZERO_NODE; n];
             for (a, &s) in dependent.iter().enumerate() {
                 let acc = self.total_diff(d, self.dv.multiplier_route.dependent_bias[a], z, &dsdot);
-                dqdd[s] = dot(d, acc, (0..k).map(|b| (dc[s][b], mn.rdd[b])));
+                dqdd[s] = algebra::dot_from(d, acc, (0..k).map(|b| (dc[s][b], mn.rdd[b])));
             }
             // ∂E/∂z = ∂M/∂z q̈ + M ∂q̈/∂z + ∂h/∂z
             let mut de = Vec::with_capacity(n);
@@ -156,10 +158,10 @@ impl Derived<'_, '_> {
             let mut rhs = Vec::with_capacity(k);
             for al in 0..k {
                 let pairs = (0..n).flat_map(|i| [(dc[i][al], e_nodes[i]), (mn.c[i][al], de[i])]);
-                let acc = dot(d, ZERO_NODE, pairs);
+                let acc = algebra::dot(d, pairs);
                 rhs.push(d.neg(acc));
             }
-            let x = d.solve_factored(&mn.fac, &rhs);
+            let x = ldlt::solve(d, &mn.fac, &rhs);
             for al in 0..k {
                 out[n + al][col] = x[al];
             }

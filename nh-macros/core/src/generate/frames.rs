@@ -4,7 +4,8 @@
 //! rates would repeat every product.
 
 use super::motion::Motion;
-use super::nodes::{cross_nodes, dot, matrix};
+use super::nodes::matrix;
+use crate::algebra;
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::Scene;
 use crate::mechanics::{Frame, FrameStep};
@@ -17,7 +18,7 @@ pub(crate) struct FrameMotion {
 
 /// Fᵀ v.
 fn back(d: &mut Dag, f: &[Vec<Node>], v: [Node; 3]) -> [Node; 3] {
-    [0, 1, 2].map(|x| dot(d, ZERO_NODE, (0..3).map(|y| (f[y][x], v[y]))))
+    algebra::mat_t_vec(d, f, v)
 }
 
 /// ω' = Fᵀ ω + θ̇ e_k and α' = Fᵀ α + (Fᵀ ω) × θ̇ e_k + θ̈ e_k.
@@ -31,7 +32,7 @@ fn turn_rates(
     let w = back(d, f, omega);
     let mut spin = [ZERO_NODE; 3];
     spin[k] = rate;
-    let carried = cross_nodes(d, &w, &spin);
+    let carried = algebra::cross(d, w, spin);
     let a = back(d, f, alpha);
     let mut omega = w;
     omega[k] = d.add(w[k], rate);
@@ -74,8 +75,8 @@ pub(crate) fn world_motion(
         let rate = d.expr(m.engine, step.rate);
         let accel = motion.rate_of(d, rate);
         let axis = [0, 1, 2].map(|x| turn[x][step.axis]);
-        let spin = axis.map(|x| d.mul(rate, x));
-        let carried = cross_nodes(d, &omega, &spin);
+        let spin = algebra::scale3(d, rate, axis);
+        let carried = algebra::cross(d, omega, spin);
         for x in 0..3 {
             let t = d.mul(accel, axis[x]);
             let t = d.add(carried[x], t);
@@ -118,7 +119,7 @@ pub(crate) fn world_axes(d: &mut Dag, m: &Scene<'_>, frame: &Frame) -> Vec<[Node
 
 /// R F.
 fn turned(d: &mut Dag, r: [[Node; 3]; 3], f: &[Vec<Node>]) -> [[Node; 3]; 3] {
-    r.map(|row| [0, 1, 2].map(|y| dot(d, ZERO_NODE, (0..3).map(|x| (row[x], f[x][y])))))
+    algebra::mat_mat(d, &r, f)
 }
 
 fn identity() -> [[Node; 3]; 3] {

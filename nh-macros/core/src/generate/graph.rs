@@ -2,8 +2,8 @@
 //! symbols bound to them (coordinates, velocities, parameters, inputs, the
 //! dependent velocities solved from the constraints).
 
-use super::nodes::dot;
-use crate::emit::{Dag, ZERO_NODE};
+use crate::algebra;
+use crate::emit::Dag;
 use crate::mechanics::Scene;
 use proc_macro2::{Ident, TokenStream};
 use quote::quote;
@@ -107,7 +107,7 @@ pub(crate) fn bound_dag(m: &Scene<'_>, args: &Args) -> Dag {
             (0..m.constraints.len())
                 .map(|a| {
                     let pairs = columns.iter().zip(&rdot).map(|(c, &v)| (c[a], v));
-                    dot(&mut d, ZERO_NODE, pairs)
+                    algebra::dot(&mut d, pairs)
                 })
                 .collect()
         } else {

@@ -4,8 +4,9 @@
 
 use super::chains::chain_rate;
 use super::nodes::{planar_columns, projection};
+use crate::algebra;
 
-use super::nodes::{cross_nodes, dot, exprs, force_along, matrix};
+use super::nodes::{exprs, force_along, matrix};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::Scene;
 use crate::sym::ExprId;
@@ -47,8 +48,8 @@ pub(crate) fn body_projection(
             // m VᵀV: the mass multiplies each sum, not each partial velocity
             for i in 0..mr.len() {
                 for j in i..mr.len() {
-                    let vv = dot(d, ZERO_NODE, (0..3).map(|x| (v[x][i], v[x][j])));
-                    mr[i][j] = dot(d, mr[i][j], [(mass, vv)]);
+                    let vv = algebra::dot(d, (0..3).map(|x| (v[x][i], v[x][j])));
+                    mr[i][j] = algebra::dot_from(d, mr[i][j], [(mass, vv)]);
                     mr[j][i] = mr[i][j];
                 }
             }
@@ -63,26 +64,26 @@ pub(crate) fn body_projection(
             let i_om: Vec<Vec<Node>> = (0..3)
                 .map(|x| {
                     (0..om[0].len())
-                        .map(|a| dot(d, ZERO_NODE, (0..3).map(|y| (inertia[x][y], om[y][a]))))
+                        .map(|a| algebra::dot(d, (0..3).map(|y| (inertia[x][y], om[y][a]))))
                         .collect()
                 })
                 .collect();
             let i_alpha: Vec<Node> = (0..3)
-                .map(|x| dot(d, ZERO_NODE, (0..3).map(|y| (inertia[x][y], alpha[y]))))
+                .map(|x| algebra::dot(d, (0..3).map(|y| (inertia[x][y], alpha[y]))))
                 .collect();
             let i_omega: Vec<Node> = (0..3)
-                .map(|x| dot(d, ZERO_NODE, (0..3).map(|y| (inertia[x][y], omega[y]))))
+                .map(|x| algebra::dot(d, (0..3).map(|y| (inertia[x][y], omega[y]))))
                 .collect();
-            let gyro = cross_nodes(d, &omega, &i_omega);
+            let gyro = algebra::cross(d, &omega, &i_omega);
             let mut torque: Vec<Node> = (0..3).map(|x| d.add(i_alpha[x], gyro[x])).collect();
             if let Some((k, rate)) = rot.spin {
                 // −θ̇ I (e_k × ω'), from turning α by R_k(θ)
                 let rate = d.expr(m.engine, rate);
                 let mut axis = [ZERO_NODE; 3];
                 axis[k] = ONE_NODE;
-                let ek_omega = cross_nodes(d, &axis, &omega);
+                let ek_omega = algebra::cross(d, axis, &omega);
                 for (x, t) in torque.iter_mut().enumerate() {
-                    let i_e = dot(d, ZERO_NODE, (0..3).map(|y| (inertia[x][y], ek_omega[y])));
+                    let i_e = algebra::dot(d, (0..3).map(|y| (inertia[x][y], ek_omega[y])));
                     let s = d.mul(rate, i_e);
                     *t = d.sub(*t, s);
                 }
@@ -125,9 +126,9 @@ pub(crate) fn inertia_nodes(
             for b in a..3 {
                 // (|d|² 1 − d dᵀ)_ab: Σ_{k≠a} d_k² on the diagonal, −d_a d_b off it
                 let t = match a == b {
-                    true => (0..3)
-                        .filter(|&k| k != a)
-                        .fold(ZERO_NODE, |acc, k| dot(d, acc, [(v[k], v[k])])),
+                    true => (0..3).filter(|&k| k != a).fold(ZERO_NODE, |acc, k| {
+                        algebra::dot_from(d, acc, [(v[k], v[k])])
+                    }),
                     false => {
                         let p = d.mul(v[a], v[b]);
                         d.neg(p)
@@ -146,14 +147,14 @@ pub(crate) fn inertia_nodes(
     let ts: Vec<Vec<Node>> = (0..3)
         .map(|a| {
             (0..3)
-                .map(|b| dot(d, ZERO_NODE, (0..3).map(|k| (t[a][k], sum[k][b]))))
+                .map(|b| algebra::dot(d, (0..3).map(|k| (t[a][k], sum[k][b]))))
                 .collect()
         })
         .collect();
     let mut out = vec![vec![ZERO_NODE; 3]; 3];
     for a in 0..3 {
         for b in a..3 {
-            out[a][b] = dot(d, ZERO_NODE, (0..3).map(|k| (ts[a][k], t[b][k])));
+            out[a][b] = algebra::dot(d, (0..3).map(|k| (ts[a][k], t[b][k])));
             out[b][a] = out[a][b];
         }
     }
@@ -263,11 +264,11 @@ pub(crate) fn add_wheel(
     add_inertia(d, mr, f, &[partial], &[c_partial], &[c_sdot0]);
     let mut axis = [ZERO_NODE; 3];
     axis[k] = ONE_NODE;
-    let gyro = cross_nodes(d, carrier.omega, &axis);
+    let gyro = algebra::cross(d, carrier.omega, axis);
     let c_s = d.mul(moment, s);
     for (a, fa) in f.iter_mut().enumerate() {
-        let along = dot(d, ZERO_NODE, (0..3).map(|x| (carrier.om[x][a], gyro[x])));
-        *fa = dot(d, *fa, [(c_s, along)]);
+        let along = algebra::dot(d, (0..3).map(|x| (carrier.om[x][a], gyro[x])));
+        *fa = algebra::dot_from(d, *fa, [(c_s, along)]);
     }
 }
 
@@ -285,14 +286,14 @@ pub(crate) fn partial_and_bias(
         .iter()
         .map(|row| {
             (0..k)
-                .map(|a| dot(d, ZERO_NODE, (0..n).map(|i| (row[i], c[i][a]))))
+                .map(|a| algebra::dot(d, (0..n).map(|i| (row[i], c[i][a]))))
                 .collect()
         })
         .collect();
     let rate = j
         .iter()
         .zip(rate0)
-        .map(|(row, &r0)| dot(d, r0, (0..n).map(|i| (row[i], acc_bias[i]))))
+        .map(|(row, &r0)| algebra::dot_from(d, r0, (0..n).map(|i| (row[i], acc_bias[i]))))
         .collect();
     (p, rate)
 }
@@ -309,7 +310,7 @@ pub(crate) fn add_inertia(
     let k = f.len();
     for a in 0..k {
         for b in a..k {
-            let x = dot(d, mr[a][b], (0..p.len()).map(|x| (p[x][a], q[x][b])));
+            let x = algebra::dot_from(d, mr[a][b], (0..p.len()).map(|x| (p[x][a], q[x][b])));
             mr[a][b] = x;
             mr[b][a] = x;
         }

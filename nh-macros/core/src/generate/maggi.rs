@@ -6,7 +6,9 @@
 
 use super::graph::{Args, bound_dag};
 use super::methods::Derived;
-use super::nodes::{dot, exprs, matrix, vector_expr};
+use super::nodes::{exprs, matrix, vector_expr};
+use crate::algebra;
+use crate::algebra::ldlt::{self, Updates};
 use crate::api::GeneratedMethod;
 use crate::emit::Node;
 use crate::mechanics::MaggiTerms;
@@ -103,11 +105,11 @@ impl Derived<'_, '_> {
         let acc = exprs(&mut d, self.m, &acc);
         // q̈ = S u̇ + a
         let qdd: Vec<Node> = (0..n)
-            .map(|i| dot(&mut d, acc[i], (0..k).map(|b| (s[i][b], udot[b]))))
+            .map(|i| algebra::dot_from(&mut d, acc[i], (0..k).map(|b| (s[i][b], udot[b]))))
             .collect();
         let out: Vec<Node> = (0..n)
             .map(|i| {
-                let r = dot(&mut d, bias[i], (0..n).map(|j| (mass[i][j], qdd[j])));
+                let r = algebra::dot_from(&mut d, bias[i], (0..n).map(|j| (mass[i][j], qdd[j])));
                 d.label(r, format!("reaction force {i}: (M q̈ + h)_{i}, E − Q (3.9)"));
                 r
             })
@@ -155,7 +157,7 @@ impl Derived<'_, '_> {
         let dim = n + k;
         let mut d = bound_dag(self.m, &Args::state(self.m));
         let mass = matrix(&mut d, self.m, &self.dv.reduced.mass);
-        let fac = d.factor_symmetric(&mass);
+        let fac = ldlt::factor(&mut d, &mass, Updates::Kept);
         let mut ratio = crate::emit::ONE_NODE;
         for (a, &p) in fac.d.iter().enumerate() {
             let r = d.div(p, mass[a][a]);

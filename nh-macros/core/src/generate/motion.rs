@@ -3,7 +3,7 @@
 //! symbolic derivatives Σ_i ∂(J q̇)/∂q_i q̇_i: a rate then shares every
 //! subexpression with the Jacobian it comes from.
 
-use super::nodes::dot;
+use crate::algebra;
 use crate::emit::{Dag, Node};
 use crate::mechanics::Scene;
 use crate::sym::ExprId;
@@ -71,7 +71,7 @@ impl Motion {
     ) -> [Node; 3] {
         let u = [0, 1, 2].map(|x| {
             let pairs = j[x].iter().copied().zip(self.held.iter().copied());
-            dot(d, crate::emit::ZERO_NODE, pairs)
+            algebra::dot(d, pairs)
         });
         self.rate(d, u, in_heading_frame)
     }

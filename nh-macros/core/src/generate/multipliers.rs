@@ -3,7 +3,9 @@
 //! bodies' terms when the derivation has it.
 
 use super::kane::body_projection;
-use super::nodes::{dot, exprs, matrix, projection};
+use super::nodes::{exprs, matrix, projection};
+use crate::algebra;
+use crate::algebra::ldlt::{self, Updates};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::MultiplierRoute;
 use crate::mechanics::Scene;
@@ -18,7 +20,7 @@ pub(crate) struct MultiplierNodes {
     pub(crate) acc_bias: Vec<Node>,
     pub(crate) pivots: Vec<Node>,
     /// The LDLᵀ factorisation of Cᵀ M C, reused for derivatives.
-    pub(crate) fac: crate::emit::Ldlt,
+    pub(crate) fac: ldlt::Ldlt<Node>,
 }
 
 pub(crate) fn multiplier_nodes(d: &mut Dag, m: &Scene<'_>, r: &MultiplierRoute) -> MultiplierNodes {
@@ -91,8 +93,8 @@ pub(crate) fn multiplier_nodes(d: &mut Dag, m: &Scene<'_>, r: &MultiplierRoute) 
             );
         }
     }
-    let fac = d.factor_symmetric(&mr);
-    let rdd = d.solve_factored(&fac, &f);
+    let fac = ldlt::factor(d, &mr, Updates::Kept);
+    let rdd = ldlt::solve(d, &fac, &f);
     for (a, &v) in rdd.iter().enumerate() {
         d.label(v, format!("r̈{a}: (5.9) solved by LDLᵀ"));
     }
@@ -137,7 +139,7 @@ impl MultiplierNodes {
         (0..self.c.len())
             .map(|i| {
                 let pairs = self.c[i].iter().copied().zip(self.rdd.iter().copied());
-                dot(d, self.acc_bias[i], pairs)
+                algebra::dot_from(d, self.acc_bias[i], pairs)
             })
             .collect()
     }
@@ -145,6 +147,6 @@ impl MultiplierNodes {
     /// The Euler–Lagrange term E_i = (M q̈ + h)_i (3.9) at accelerations `qdd`.
     pub(crate) fn euler_lagrange(&self, d: &mut Dag, i: usize, qdd: &[Node]) -> Node {
         let pairs = self.mass[i].iter().copied().zip(qdd.iter().copied());
-        dot(d, self.bias[i], pairs)
+        algebra::dot_from(d, self.bias[i], pairs)
     }
 }

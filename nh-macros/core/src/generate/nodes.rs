@@ -1,5 +1,6 @@
 //! Small products on the graph shared by the routes and the bodies.
 
+use crate::algebra;
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::Scene;
 use crate::sym::ExprId;
@@ -14,29 +15,7 @@ pub(crate) fn force_along(
     force: &[Node],
     a: usize,
 ) -> Node {
-    dot(d, fa, (0..p.len()).map(|x| (p[x][a], force[x])))
-}
-
-/// u × v.
-pub(crate) fn cross_nodes(d: &mut Dag, u: &[Node], v: &[Node]) -> Vec<Node> {
-    (0..3)
-        .map(|x| {
-            let (y, z) = ((x + 1) % 3, (x + 2) % 3);
-            let a = d.mul(u[y], v[z]);
-            let b = d.mul(u[z], v[y]);
-            d.sub(a, b)
-        })
-        .collect()
-}
-
-/// `init + Σ x·y` over `pairs`, added up in order.
-pub(crate) fn dot(d: &mut Dag, init: Node, pairs: impl IntoIterator<Item = (Node, Node)>) -> Node {
-    let mut acc = init;
-    for (x, y) in pairs {
-        let t = d.mul(x, y);
-        acc = d.add(acc, t);
-    }
-    acc
+    algebra::dot_from(d, fa, (0..p.len()).map(|x| (p[x][a], force[x])))
 }
 
 pub(crate) fn vector_expr(k: usize, items: &[TokenStream]) -> TokenStream {
@@ -63,23 +42,23 @@ pub(crate) fn projection(
     let mut mc = vec![vec![ZERO_NODE; k]; n];
     for i in 0..n {
         for b in 0..k {
-            mc[i][b] = dot(d, ZERO_NODE, (0..n).map(|j| (mass[i][j], c[j][b])));
+            mc[i][b] = algebra::dot(d, (0..n).map(|j| (mass[i][j], c[j][b])));
         }
     }
     let mut mr = vec![vec![ZERO_NODE; k]; k];
     for a in 0..k {
         for b in a..k {
-            let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], mc[i][b])));
+            let acc = algebra::dot(d, (0..n).map(|i| (c[i][a], mc[i][b])));
             mr[a][b] = acc;
             mr[b][a] = acc;
         }
     }
     let g: Vec<Node> = (0..n)
-        .map(|i| dot(d, bias[i], (0..n).map(|j| (mass[i][j], acc_bias[j]))))
+        .map(|i| algebra::dot_from(d, bias[i], (0..n).map(|j| (mass[i][j], acc_bias[j]))))
         .collect();
     let f = (0..k)
         .map(|a| {
-            let acc = dot(d, ZERO_NODE, (0..n).map(|i| (c[i][a], g[i])));
+            let acc = algebra::dot(d, (0..n).map(|i| (c[i][a], g[i])));
             d.neg(acc)
         })
         .collect();

@@ -7,7 +7,8 @@
 //! expanded ∂p/∂q repeats every product of sines and cosines.
 
 use super::nodes::planar_columns;
-use super::nodes::{cross_nodes, dot, exprs, matrix};
+use super::nodes::{exprs, matrix};
+use crate::algebra;
 use crate::emit::{Dag, Node, ZERO_NODE};
 use crate::mechanics::Scene;
 use crate::mechanics::{Frame, FrameStep, Link};
@@ -33,7 +34,7 @@ pub(crate) fn link_pieces<'a>(
         let frame = link.frame.as_ref()?;
         let turn = super::frames::orientation(d, m, frame);
         let r = exprs(d, m, &link.offset);
-        let off = [0, 1, 2].map(|x| dot(d, ZERO_NODE, (0..3).map(|y| (turn[x][y], r[y]))));
+        let off = algebra::mat_vec(d, &turn, &r);
         pieces.push((frame, off));
     }
     Some(pieces)
@@ -55,7 +56,7 @@ impl Screws {
             for (j, axis) in axes.into_iter().enumerate() {
                 let prefix = &frame.steps[..=j];
                 match steps.iter_mut().find(|(s, _, _)| same_steps(s, prefix)) {
-                    Some((_, _, lever)) => *lever = [0, 1, 2].map(|x| d.add(lever[x], off[x])),
+                    Some((_, _, lever)) => *lever = algebra::add3(d, *lever, off),
                     None => steps.push((prefix, axis, off)),
                 }
             }
@@ -67,7 +68,7 @@ impl Screws {
                 if step.rate_jacobian.iter().all(|&x| x == ZERO) {
                     return None;
                 }
-                let arm = cross_nodes(d, &axis, &lever);
+                let arm = algebra::cross(d, axis, lever);
                 Some(([arm[0], arm[1], arm[2]], exprs(d, m, &step.rate_jacobian)))
             })
             .collect();
@@ -83,7 +84,7 @@ impl Screws {
             .map(|i| {
                 [0, 1, 2].map(|x| {
                     let pairs = self.arms.iter().map(|(arm, rates)| (rates[i], arm[x]));
-                    dot(d, self.root[x][i], pairs)
+                    algebra::dot_from(d, self.root[x][i], pairs)
                 })
             })
             .collect()
@@ -94,10 +95,10 @@ impl Screws {
         let along: Vec<Node> = self
             .arms
             .iter()
-            .map(|(_, rates)| dot(d, ZERO_NODE, rates.iter().copied().zip(v.iter().copied())))
+            .map(|(_, rates)| algebra::dot(d, rates.iter().copied().zip(v.iter().copied())))
             .collect();
         [0, 1, 2].map(|x| {
-            let root = dot(
+            let root = algebra::dot_from(
                 d,
                 ZERO_NODE,
                 self.root[x].iter().copied().zip(v.iter().copied()),
@@ -107,7 +108,7 @@ impl Screws {
                 .iter()
                 .zip(&along)
                 .map(|((arm, _), &t)| (t, arm[x]));
-            dot(d, root, pairs)
+            algebra::dot_from(d, root, pairs)
         })
     }
 }

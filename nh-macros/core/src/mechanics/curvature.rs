@@ -4,6 +4,7 @@
 
 use super::reduced::Reduced;
 use super::scene::Scene;
+use crate::algebra::ldlt::Updates;
 use crate::sym::dd::Dd;
 use crate::sym::{ExprId, ZERO};
 use rustc_hash::FxHashMap as HashMap;
@@ -231,49 +232,7 @@ impl Scene<'_> {
         if !small {
             return None;
         }
-        let mut l = vec![vec![ZERO; k]; k];
-        let mut d = vec![ZERO; k];
-        let mut dinv = vec![ZERO; k];
-        for j in 0..k {
-            let mut dj = mass[j][j];
-            for r in 0..j {
-                let t = e.mul(l[j][r], l[j][r]);
-                let t = e.mul(t, d[r]);
-                dj = e.sub(dj, t);
-            }
-            if dj == ZERO {
-                return None;
-            }
-            d[j] = dj;
-            dinv[j] = e.pow(dj, crate::sym::Rational::MINUS_ONE);
-            for i in (j + 1)..k {
-                let mut v = mass[i][j];
-                for r in 0..j {
-                    let t = e.mul(l[i][r], l[j][r]);
-                    let t = e.mul(t, d[r]);
-                    v = e.sub(v, t);
-                }
-                l[i][j] = e.mul(v, dinv[j]);
-            }
-        }
-        let mut y = vec![ZERO; k];
-        for i in 0..k {
-            let mut v = rhs[i];
-            for r in 0..i {
-                let t = e.mul(l[i][r], y[r]);
-                v = e.sub(v, t);
-            }
-            y[i] = v;
-        }
-        let mut x = vec![ZERO; k];
-        for i in (0..k).rev() {
-            let mut v = e.mul(y[i], dinv[i]);
-            for r in (i + 1)..k {
-                let t = e.mul(l[r][i], x[r]);
-                v = e.sub(v, t);
-            }
-            x[i] = v;
-        }
+        let x = crate::algebra::ldlt::solve_nonsingular(e, mass, rhs, Updates::Formed)?;
         if e.overflowed() {
             return None;
         }
