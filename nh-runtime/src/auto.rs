@@ -5,7 +5,8 @@ use nalgebra::{RealField, SMatrix, SVector};
 
 use crate::ScalarTolerance;
 use crate::Stats;
-use crate::common::{Adaptive, adaptive_builders, c, integrator_impl, jacobian_entry_points};
+use crate::common::{Adaptive, adaptive_builders, integrator_impl, jacobian_entry_points};
+use crate::numeric::c;
 use crate::dopri5::Dopri5;
 use crate::driver::{Failure, Method, Pi, Tolerance};
 use crate::jacobian::{Analytic, FiniteDifference};

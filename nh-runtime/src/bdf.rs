@@ -8,10 +8,8 @@ use nalgebra::{RealField, SMatrix, SVector};
 
 use crate::ScalarTolerance;
 use crate::Stats;
-use crate::common::{
-    Adaptive, adaptive_builders, all_finite, c, integrator_impl, jacobian_entry_points,
-    machine_epsilon,
-};
+use crate::common::{Adaptive, adaptive_builders, integrator_impl, jacobian_entry_points};
+use crate::numeric::{all_finite, c, machine_epsilon};
 use crate::driver::{Failure, Method, Pi, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource};
 use crate::linalg::Lu;

@@ -3,7 +3,8 @@
 use nalgebra::{RealField, SVector};
 
 use crate::ScalarTolerance;
-use crate::common::{Adaptive, adaptive_builders, c, integrator_impl, scaled, stage_point};
+use crate::common::{Adaptive, adaptive_builders, integrator_impl, scaled};
+use crate::numeric::{c, stage_point};
 use crate::driver::{Failure, Method, Pi, Tolerance, counted, stiffness_estimate};
 use crate::step::{Poly, hermite_terms};
 use crate::{OdeSystem, Stats};

@@ -9,9 +9,11 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::common::{all_finite, c, check_arguments, check_positive, initial_step, min_step};
+use crate::checks::{check_arguments, check_positive};
+use crate::numeric::{all_finite, c, machine_epsilon};
 use crate::sink::Sink;
 use crate::step::Poly;
+use crate::step_size::{initial_step, min_step};
 use crate::{EventHit, OdeSystem, Outcome, SimError, Singularity, Stats, Step};
 
 /// Why a trial step could not be computed.
@@ -311,7 +313,7 @@ where
     *rec = Record::default();
     let dir = check_arguments(t0, &x0, t1)?;
     check_settings(settings)?;
-    let eps = crate::common::machine_epsilon::<T>();
+    let eps = machine_epsilon::<T>();
     let mut run = Run {
         t: t0,
         x: x0,

@@ -6,7 +6,7 @@ use core::cmp::Ordering;
 
 use nalgebra::{RealField, SVector};
 
-use crate::common::{c, machine_epsilon};
+use crate::numeric::{c, machine_epsilon};
 use crate::sink::Sink;
 use crate::{Outcome, SimError, Stats, Step};
 

@@ -6,10 +6,8 @@ use alloc::vec::Vec;
 use nalgebra::{RealField, SVector};
 
 use crate::Stats;
-use crate::common::{
-    Adaptive, all_finite, c, fixed_builders, integrator_impl, jacobian_entry_points,
-    machine_epsilon,
-};
+use crate::common::{Adaptive, fixed_builders, integrator_impl, jacobian_entry_points};
+use crate::numeric::{all_finite, c, machine_epsilon};
 use crate::driver::{Failure, Method, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource};
 use crate::linalg::{factor, matvec, solve};

@@ -3,7 +3,7 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::common::{c, machine_epsilon};
+use crate::numeric::{c, machine_epsilon};
 use crate::{OdeJacobian, OdeSystem, Stats};
 
 /// A right-hand side together with a way to obtain `∂f/∂x`, so that the

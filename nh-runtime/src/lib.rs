@@ -139,6 +139,7 @@ extern crate alloc;
 
 mod auto;
 mod bdf;
+mod checks;
 mod common;
 mod dop853;
 mod dopri5;
@@ -150,6 +151,7 @@ mod events;
 mod gauss;
 mod jacobian;
 mod linalg;
+mod numeric;
 mod outcome;
 mod rk4;
 mod rodas_tableau;
@@ -158,6 +160,7 @@ mod sensitivity;
 mod sink;
 mod state;
 mod step;
+mod step_size;
 mod system;
 mod tolerance;
 

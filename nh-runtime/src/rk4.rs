@@ -2,7 +2,8 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::common::{Adaptive, all_finite_in, c, fixed_builders, integrator_impl};
+use crate::common::{Adaptive, fixed_builders, integrator_impl};
+use crate::numeric::{all_finite_in, c};
 use crate::driver::{Failure, Method, Tolerance};
 use crate::step::Poly;
 use crate::{OdeSystem, Stats};

@@ -10,9 +10,9 @@ use nalgebra::{RealField, SMatrix, SVector};
 use crate::ScalarTolerance;
 use crate::Stats;
 use crate::common::{
-    Adaptive, adaptive_builders, all_finite, all_finite_in, c, error_norm, integrator_impl,
-    jacobian_entry_points,
+    Adaptive, adaptive_builders, error_norm, integrator_impl, jacobian_entry_points,
 };
+use crate::numeric::{all_finite, all_finite_in, c};
 use crate::driver::{Failure, Method, Pi, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource, time_derivative};
 use crate::linalg::{all_finite_matrix, factor, solve};

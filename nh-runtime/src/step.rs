@@ -71,7 +71,7 @@ impl<T: RealField + Copy, const D: usize> Poly<T, D> {
 
     /// Whether every coefficient is finite.
     pub(crate) fn is_finite(&self) -> bool {
-        crate::common::all_finite_in(&self.c[..self.n])
+        crate::numeric::all_finite_in(&self.c[..self.n])
     }
 
     /// Horner evaluation at `θ`.
