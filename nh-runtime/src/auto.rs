@@ -6,12 +6,13 @@ use nalgebra::{RealField, SMatrix, SVector};
 use crate::ScalarTolerance;
 use crate::Stats;
 use crate::common::{Adaptive, adaptive_builders, integrator_impl, jacobian_entry_points};
-use crate::numeric::c;
 use crate::dopri5::Dopri5;
-use crate::driver::{Failure, Method, Pi, Tolerance};
 use crate::jacobian::{Analytic, FiniteDifference};
+use crate::method::{Failure, Method, Pi};
+use crate::numeric::c;
 use crate::rosenbrock::rodas4;
 use crate::step::Poly;
+use crate::tolerance::Tolerance;
 
 /// Consecutive accepted explicit steps held at the stability boundary
 /// (`|h|·ρ > STIFF_FRACTION · STIFF_LIMIT`, Hairer's estimate of `ρ`) that

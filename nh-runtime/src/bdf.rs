@@ -9,11 +9,12 @@ use nalgebra::{RealField, SMatrix, SVector};
 use crate::ScalarTolerance;
 use crate::Stats;
 use crate::common::{Adaptive, adaptive_builders, integrator_impl, jacobian_entry_points};
-use crate::numeric::{all_finite, c, machine_epsilon};
-use crate::driver::{Failure, Method, Pi, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource};
 use crate::linalg::Lu;
+use crate::method::{Failure, Method, Pi, counted};
+use crate::numeric::{all_finite, c, machine_epsilon};
 use crate::step::Poly;
+use crate::tolerance::Tolerance;
 
 /// The highest order.
 const MAX_ORDER: usize = 5;

@@ -2,7 +2,8 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::driver::{Control, Method, Record, Settings, drive};
+use crate::driver::{Control, Record, Settings, drive};
+use crate::method::Method;
 use crate::numeric::{c, machine_epsilon};
 use crate::sink::Sink;
 pub(crate) use crate::tolerance::{error_norm, scaled};

@@ -4,9 +4,10 @@ use nalgebra::{RealField, SVector};
 
 use crate::ScalarTolerance;
 use crate::common::{Adaptive, adaptive_builders, integrator_impl, scaled};
+use crate::method::{Failure, Method, Pi, counted, stiffness_estimate};
 use crate::numeric::{all_finite, all_finite_in, c, stage_point};
-use crate::driver::{Failure, Method, Pi, Tolerance, counted, stiffness_estimate};
 use crate::step::{Poly, hermite_terms};
+use crate::tolerance::Tolerance;
 use crate::{OdeSystem, Stats};
 
 // Coefficients of DOP853 (Hairer, Nørsett & Wanner, Solving ODEs I, and

@@ -7,11 +7,12 @@ use nalgebra::{RealField, SVector};
 
 use crate::Stats;
 use crate::common::{Adaptive, fixed_builders, integrator_impl, jacobian_entry_points};
-use crate::numeric::{all_finite, c, machine_epsilon};
-use crate::driver::{Failure, Method, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource};
 use crate::linalg::{factor, matvec, solve};
+use crate::method::{Failure, Method, counted};
+use crate::numeric::{all_finite, c, machine_epsilon};
 use crate::step::{Poly, hermite_terms};
+use crate::tolerance::Tolerance;
 
 /// `√3`, to full precision.
 const SQRT3: f64 = 1.732_050_807_568_877_2;

@@ -151,6 +151,7 @@ mod events;
 mod gauss;
 mod jacobian;
 mod linalg;
+mod method;
 mod numeric;
 mod outcome;
 mod rk4;

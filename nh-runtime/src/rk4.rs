@@ -3,9 +3,10 @@
 use nalgebra::{RealField, SVector};
 
 use crate::common::{Adaptive, fixed_builders, integrator_impl};
+use crate::method::{Failure, Method};
 use crate::numeric::{all_finite_in, c};
-use crate::driver::{Failure, Method, Tolerance};
 use crate::step::Poly;
+use crate::tolerance::Tolerance;
 use crate::{OdeSystem, Stats};
 
 /// Classical fourth-order Runge–Kutta with a fixed step `h`.

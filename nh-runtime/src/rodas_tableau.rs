@@ -3,7 +3,7 @@
 // The coefficients are kept digit for digit as published.
 #![allow(clippy::excessive_precision)]
 
-use crate::driver::Pi;
+use crate::method::Pi;
 
 /// A stiffly accurate Rosenbrock–Wanner method with `S` stages in Hairer's
 /// transformed formulation (Hairer & Wanner, *Solving ODEs II*, IV.7,

@@ -12,12 +12,13 @@ use crate::Stats;
 use crate::common::{
     Adaptive, adaptive_builders, error_norm, integrator_impl, jacobian_entry_points,
 };
-use crate::numeric::{all_finite, all_finite_in, c};
-use crate::driver::{Failure, Method, Pi, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource, time_derivative};
 use crate::linalg::{all_finite_matrix, factor, solve};
+use crate::method::{Failure, Method, Pi, counted};
+use crate::numeric::{all_finite, all_finite_in, c};
 use crate::rodas_tableau::{Rodas4, Rodas5PScheme, Scheme};
 use crate::step::Poly;
+use crate::tolerance::Tolerance;
 
 /// RODAS4: a 6-stage, L-stable, stiffly accurate Rosenbrock–Wanner method of
 /// order 4 with an embedded 3rd-order error estimate and a 3rd-order dense
