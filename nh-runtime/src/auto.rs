@@ -5,12 +5,12 @@ use nalgebra::{RealField, SMatrix, SVector};
 
 use crate::ScalarTolerance;
 use crate::Stats;
-use crate::common::{Adaptive, adaptive_builders, integrator_impl, jacobian_entry_points};
 use crate::dopri5::Dopri5;
 use crate::jacobian::{Analytic, FiniteDifference};
 use crate::method::{Failure, Method, Pi};
 use crate::numeric::c;
 use crate::rosenbrock::rodas4;
+use crate::settings::{Settings, adaptive_builders, integrator_impl, jacobian_entry_points};
 use crate::step::Poly;
 use crate::tolerance::Tolerance;
 
@@ -143,7 +143,7 @@ impl<T: Copy> SwitchLog<T> {
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AutoSwitch<T, Tol = ScalarTolerance<T>> {
-    a: Adaptive<T, Tol>,
+    a: Settings<T, Tol>,
     log: SwitchLog<T>,
 }
 

@@ -8,11 +8,11 @@ use nalgebra::{RealField, SMatrix, SVector};
 
 use crate::ScalarTolerance;
 use crate::Stats;
-use crate::common::{Adaptive, adaptive_builders, integrator_impl, jacobian_entry_points};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource};
 use crate::linalg::Lu;
 use crate::method::{Failure, Method, Pi, counted};
 use crate::numeric::{all_finite, c, machine_epsilon};
+use crate::settings::{Settings, adaptive_builders, integrator_impl, jacobian_entry_points};
 use crate::step::Poly;
 use crate::tolerance::Tolerance;
 
@@ -190,7 +190,7 @@ const DENSE_BASIS: [[f64; MAX_ORDER + 1]; MAX_ORDER + 1] = [
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Bdf<T, Tol = ScalarTolerance<T>> {
-    a: Adaptive<T, Tol>,
+    a: Settings<T, Tol>,
 }
 
 adaptive_builders!(Bdf);

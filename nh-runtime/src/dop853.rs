@@ -3,11 +3,11 @@
 use nalgebra::{RealField, SVector};
 
 use crate::ScalarTolerance;
-use crate::common::{Adaptive, adaptive_builders, integrator_impl, scaled};
 use crate::method::{Failure, Method, Pi, counted, stiffness_estimate};
 use crate::numeric::{all_finite, all_finite_in, c, stage_point};
+use crate::settings::{Settings, adaptive_builders, integrator_impl};
 use crate::step::{Poly, hermite_terms};
-use crate::tolerance::Tolerance;
+use crate::tolerance::{Tolerance, scaled};
 use crate::{OdeSystem, Stats};
 
 // Coefficients of DOP853 (Hairer, Nørsett & Wanner, Solving ODEs I, and
@@ -248,7 +248,7 @@ const PI: Pi = Pi {
 /// norm](crate#tolerances-and-the-error-norm).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Dop853<T, Tol = ScalarTolerance<T>> {
-    a: Adaptive<T, Tol>,
+    a: Settings<T, Tol>,
 }
 
 adaptive_builders!(Dop853);

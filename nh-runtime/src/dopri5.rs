@@ -3,11 +3,11 @@
 use nalgebra::{RealField, SVector};
 
 use crate::ScalarTolerance;
-use crate::common::{Adaptive, adaptive_builders, integrator_impl, scaled};
 use crate::method::{Failure, Method, Pi, counted, stiffness_estimate};
 use crate::numeric::{c, stage_point};
+use crate::settings::{Settings, adaptive_builders, integrator_impl};
 use crate::step::{Poly, hermite_terms};
-use crate::tolerance::Tolerance;
+use crate::tolerance::{Tolerance, scaled};
 use crate::{OdeSystem, Stats};
 
 // Butcher tableau of RK5(4)7M (Dormand & Prince 1980), FSAL.
@@ -138,7 +138,7 @@ const PI: Pi = Pi {
 /// [`DormandPrince::with_tolerances`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct DormandPrince<T, Tol = ScalarTolerance<T>> {
-    a: Adaptive<T, Tol>,
+    a: Settings<T, Tol>,
 }
 
 adaptive_builders!(DormandPrince);

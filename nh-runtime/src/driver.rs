@@ -32,7 +32,7 @@ pub(crate) enum Control<T> {
 
 /// Everything [`drive`] needs besides the method.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Settings<T, const D: usize> {
+pub(crate) struct RunSettings<T, const D: usize> {
     pub(crate) control: Control<T>,
     pub(crate) tol: Tolerance<T, D>,
     /// The first trial step (magnitude) instead of Hairer's `hinit`.
@@ -104,7 +104,7 @@ struct Run<'r, T, H: ?Sized, const D: usize> {
 pub(crate) fn drive<T, M, H, K, const D: usize>(
     method: &mut M,
     sys: &H,
-    settings: &Settings<T, D>,
+    settings: &RunSettings<T, D>,
     (t0, x0, t1): (T, SVector<T, D>, T),
     sink: &mut K,
     rec: &mut Record<T>,
@@ -153,7 +153,7 @@ where
 
 /// `InvalidInput` unless the tolerances and step settings are usable.
 fn check_settings<T: RealField + Copy, const D: usize>(
-    s: &Settings<T, D>,
+    s: &RunSettings<T, D>,
 ) -> Result<(), SimError<T, D>> {
     s.tol.check()?;
     if let Control::Fixed(h) = s.control {
@@ -557,7 +557,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
     fn fixed<M, K>(
         &mut self,
         m: &mut M,
-        s: &Settings<T, D>,
+        s: &RunSettings<T, D>,
         h_abs: T,
         sink: &mut K,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
@@ -611,7 +611,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
 
     /// The first trial step of an adaptive run (signed): `initial` (capped
     /// at `hmax`) or Hairer's `hinit` from the method's derivative at `t0`.
-    fn first_step<M: Method<T, D>>(&mut self, m: &M, s: &Settings<T, D>, hmax: T) -> T {
+    fn first_step<M: Method<T, D>>(&mut self, m: &M, s: &RunSettings<T, D>, hmax: T) -> T {
         let h = match (s.initial_step, m.slope()) {
             (Some(h0), _) => h0.min(hmax),
             (None, Some(f0)) => {
@@ -641,7 +641,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
     fn adaptive<M, K>(
         &mut self,
         m: &mut M,
-        s: &Settings<T, D>,
+        s: &RunSettings<T, D>,
         sink: &mut K,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
     where

@@ -6,11 +6,11 @@ use alloc::vec::Vec;
 use nalgebra::{RealField, SVector};
 
 use crate::Stats;
-use crate::common::{Adaptive, fixed_builders, integrator_impl, jacobian_entry_points};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource};
 use crate::linalg::{factor, matvec, solve};
 use crate::method::{Failure, Method, counted};
 use crate::numeric::{all_finite, c, machine_epsilon};
+use crate::settings::{Settings, fixed_builders, integrator_impl, jacobian_entry_points};
 use crate::step::{Poly, hermite_terms};
 use crate::tolerance::Tolerance;
 
@@ -102,7 +102,7 @@ const SLOW_NEWTON: usize = 10;
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GaussLegendre4<T> {
-    f: Adaptive<T>,
+    f: Settings<T>,
 }
 
 fixed_builders!(GaussLegendre4);

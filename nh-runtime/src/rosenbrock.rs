@@ -9,16 +9,14 @@ use nalgebra::{RealField, SMatrix, SVector};
 
 use crate::ScalarTolerance;
 use crate::Stats;
-use crate::common::{
-    Adaptive, adaptive_builders, error_norm, integrator_impl, jacobian_entry_points,
-};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource, time_derivative};
 use crate::linalg::{all_finite_matrix, factor, solve};
 use crate::method::{Failure, Method, Pi, counted};
 use crate::numeric::{all_finite, all_finite_in, c};
 use crate::rodas_tableau::{Rodas4, Rodas5PScheme, Scheme};
+use crate::settings::{Settings, adaptive_builders, integrator_impl, jacobian_entry_points};
 use crate::step::Poly;
-use crate::tolerance::Tolerance;
+use crate::tolerance::{Tolerance, error_norm};
 
 /// RODAS4: a 6-stage, L-stable, stiffly accurate Rosenbrock–Wanner method of
 /// order 4 with an embedded 3rd-order error estimate and a 3rd-order dense
@@ -101,7 +99,7 @@ use crate::tolerance::Tolerance;
 /// norm](crate#tolerances-and-the-error-norm).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rosenbrock<T, Tol = ScalarTolerance<T>> {
-    a: Adaptive<T, Tol>,
+    a: Settings<T, Tol>,
 }
 
 adaptive_builders!(Rosenbrock);
@@ -223,7 +221,7 @@ where
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rodas5P<T, Tol = ScalarTolerance<T>> {
-    a: Adaptive<T, Tol>,
+    a: Settings<T, Tol>,
 }
 
 adaptive_builders!(Rodas5P);

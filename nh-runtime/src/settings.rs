@@ -1,12 +1,17 @@
-//! Numeric helpers shared by all integrators (one place, no duplication).
+//! The settings every integrator carries (tolerances, step limits,
+//! projection, the record of its last call) and, written once for all of
+//! them, the builder methods and `Integrator` entry points that set and use
+//! them: the macros `adaptive_builders!`, `fixed_builders!`,
+//! `integrator_impl!` and `jacobian_entry_points!`. A call resolves the
+//! settings for the state's dimension ([`Settings::run_settings`]) and hands
+//! them to the step driver ([`drive`]).
 
 use nalgebra::{RealField, SVector};
 
-use crate::driver::{Control, Record, Settings, drive};
+use crate::driver::{Control, Record, RunSettings, drive};
 use crate::method::Method;
 use crate::numeric::{c, machine_epsilon};
 use crate::sink::Sink;
-pub(crate) use crate::tolerance::{error_norm, scaled};
 use crate::{ErrorTolerance, OdeSystem, Outcome, ScalarTolerance, SimError};
 
 /// The default step budget of the adaptive integrators (attempts).
@@ -14,11 +19,13 @@ pub(crate) const ADAPTIVE_MAX_STEPS: usize = 100_000;
 /// The default step budget of the fixed-step integrators (steps).
 pub(crate) const FIXED_MAX_STEPS: usize = 1_000_000;
 
-/// The settings and bookkeeping every adaptive integrator has (tolerances,
-/// step limits, the counters of the last call); see the builder methods that
-/// [`adaptive_builders`] gives each of them.
+/// The settings and bookkeeping every integrator has (tolerances, step
+/// limits, projection, the counters of the last call): an adaptive one's
+/// from [`Settings::new`], with the builder methods of [`adaptive_builders`];
+/// a fixed-step one's from [`Settings::fixed`], with those of
+/// [`fixed_builders`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Adaptive<T, Tol = ScalarTolerance<T>> {
+pub(crate) struct Settings<T, Tol = ScalarTolerance<T>> {
     pub(crate) tol: Tol,
     pub(crate) max_steps: usize,
     pub(crate) initial_step: Option<T>,
@@ -28,10 +35,10 @@ pub(crate) struct Adaptive<T, Tol = ScalarTolerance<T>> {
     pub(crate) record: Record<T>,
 }
 
-impl<T: RealField + Copy> Adaptive<T> {
+impl<T: RealField + Copy> Settings<T> {
     /// Tolerances `rtol`, `atol`; at most 100 000 step attempts.
     pub(crate) fn new(rtol: T, atol: T) -> Self {
-        Adaptive {
+        Settings {
             tol: ScalarTolerance::new(rtol, atol),
             max_steps: ADAPTIVE_MAX_STEPS,
             initial_step: None,
@@ -45,18 +52,18 @@ impl<T: RealField + Copy> Adaptive<T> {
     /// The settings of a fixed-step integrator: step `h`, at most
     /// [`FIXED_MAX_STEPS`] steps (the tolerances are not used).
     pub(crate) fn fixed(h: T) -> Self {
-        Adaptive {
+        Settings {
             max_steps: FIXED_MAX_STEPS,
             fixed_step: Some(h),
-            ..Adaptive::new(T::one(), T::one())
+            ..Settings::new(T::one(), T::one())
         }
     }
 }
 
-impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Adaptive<T, Tol> {
+impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Settings<T, Tol> {
     /// These settings with the tolerance `tol` instead.
-    pub(crate) fn with_tolerance<U: ErrorTolerance<T>>(self, tol: U) -> Adaptive<T, U> {
-        Adaptive {
+    pub(crate) fn with_tolerance<U: ErrorTolerance<T>>(self, tol: U) -> Settings<T, U> {
+        Settings {
             tol,
             max_steps: self.max_steps,
             initial_step: self.initial_step,
@@ -72,14 +79,16 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Adaptive<T, Tol> {
     /// relative error the scalar can resolve in a step) raised to `10·eps`;
     /// tolerances for another dimension are `InvalidInput` (and clear the
     /// counters of the previous run).
-    pub(crate) fn settings<const D: usize>(&mut self) -> Result<Settings<T, D>, SimError<T, D>> {
+    pub(crate) fn run_settings<const D: usize>(
+        &mut self,
+    ) -> Result<RunSettings<T, D>, SimError<T, D>> {
         let Some(tol) = self.tol.for_dimension::<D>() else {
             self.record = Record::default();
             return Err(SimError::InvalidInput {
                 what: "the per-component tolerances have another dimension than the state",
             });
         };
-        Ok(Settings {
+        Ok(RunSettings {
             control: match self.fixed_step {
                 Some(h) => Control::Fixed(h),
                 None => Control::Adaptive,
@@ -120,13 +129,13 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Adaptive<T, Tol> {
                 return Err(SimError::ToleranceTooTight { t, x, rtol_min });
             }
         }
-        let settings = self.settings()?;
+        let settings = self.run_settings()?;
         drive(method, sys, &settings, span, sink, &mut self.record)
     }
 }
 
 /// The builder and query methods shared by the adaptive integrators (their
-/// settings live in an [`Adaptive`] field named `a`; further fields, listed
+/// settings live in a [`Settings`] field named `a`; further fields, listed
 /// after the type, start as their `Default`), written once.
 macro_rules! adaptive_builders {
     ($ty:ident $(, $extra:ident)*) => {
@@ -137,7 +146,7 @@ macro_rules! adaptive_builders {
             /// component).
             pub fn new(rtol: T, atol: T) -> Self {
                 Self {
-                    a: crate::common::Adaptive::new(rtol, atol),
+                    a: crate::settings::Settings::new(rtol, atol),
                     $($extra: Default::default(),)*
                 }
             }
@@ -208,15 +217,15 @@ macro_rules! adaptive_builders {
 pub(crate) use adaptive_builders;
 
 /// The builder and query methods shared by the fixed-step integrators
-/// (their settings live in an [`Adaptive`] field named `f`, made by
-/// [`Adaptive::fixed`]), written once.
+/// (their settings live in a [`Settings`] field named `f`, made by
+/// [`Settings::fixed`]), written once.
 macro_rules! fixed_builders {
     ($ty:ident) => {
         impl<T: nalgebra::RealField + Copy> $ty<T> {
             /// A fixed-step integrator with step size `h` (> 0).
             pub fn new(h: T) -> Self {
                 Self {
-                    f: crate::common::Adaptive::fixed(h),
+                    f: crate::settings::Settings::fixed(h),
                 }
             }
 
@@ -237,7 +246,7 @@ macro_rules! fixed_builders {
 pub(crate) use fixed_builders;
 
 /// The [`Integrator`](crate::Integrator) implementation of an integrator
-/// whose settings live in `$field` (an [`Adaptive`]) and whose
+/// whose settings live in `$field` (a [`Settings`]) and whose
 /// method for a system `$sys` is `$method` (which may borrow the further
 /// fields named after `$sys` mutably): every entry point goes through the
 /// step driver with the matching [`Sink`].
@@ -437,3 +446,104 @@ macro_rules! jacobian_entry_points {
     };
 }
 pub(crate) use jacobian_entry_points;
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::PerComponentTolerance;
+    use nalgebra::Vector2;
+
+    /// An adaptive integrator's shell: the settings and one further field.
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    struct Adaptive<T, Tol = ScalarTolerance<T>> {
+        a: Settings<T, Tol>,
+        extra: u8,
+    }
+    adaptive_builders!(Adaptive, extra);
+
+    /// A fixed-step integrator's shell.
+    struct Fixed<T> {
+        f: Settings<T>,
+    }
+    fixed_builders!(Fixed);
+
+    #[test]
+    fn adaptive_defaults() {
+        let s = Settings::new(1e-6, 1e-9);
+        assert_eq!(s.tol, ScalarTolerance::new(1e-6, 1e-9));
+        assert_eq!(s.max_steps, 100_000);
+        assert_eq!(
+            (s.initial_step, s.max_step, s.fixed_step),
+            (None, None, None)
+        );
+        assert!(s.project);
+        assert_eq!(s.record, Record::default());
+    }
+
+    #[test]
+    fn adaptive_builders_set_their_fields() {
+        let mut i = Adaptive::new(1e-6, 1e-9)
+            .with_max_steps(7)
+            .with_initial_step(0.1)
+            .with_max_step(0.5)
+            .with_fixed_step(0.01);
+        assert_eq!(i.extra, 0);
+        i.extra = 3;
+        assert_eq!(i.a.max_steps, 7);
+        assert_eq!(i.a.initial_step, Some(0.1));
+        assert_eq!(i.a.max_step, Some(0.5));
+        assert_eq!(i.a.fixed_step, Some(0.01));
+        assert_eq!(i.last_step(), None);
+        i.a.record.last_step = Some(0.25);
+        assert_eq!(i.last_step(), Some(0.25));
+        // Per-component tolerances replace the scalar pair and keep the rest.
+        let (rtol, atol) = (Vector2::new(1e-6, 1e-8), Vector2::new(0.0, 1e-12));
+        let p = i.with_tolerances(rtol, atol);
+        assert_eq!(p.a.tol, PerComponentTolerance::new(rtol, atol));
+        assert_eq!((p.a.max_steps, p.a.fixed_step, p.extra), (7, Some(0.01), 3));
+        assert_eq!(p.last_step(), Some(0.25));
+    }
+
+    #[test]
+    fn fixed_builders_set_the_step_and_budget() {
+        let i = Fixed::new(0.125);
+        assert_eq!(i.step_size(), 0.125);
+        assert_eq!(i.f.max_steps, 1_000_000);
+        assert_eq!(i.f.fixed_step, Some(0.125));
+        assert_eq!(Fixed::new(0.5).with_max_steps(3).f.max_steps, 3);
+    }
+
+    #[test]
+    fn run_settings_resolve_the_control_and_floor_rtol() {
+        let mut s = Settings::new(1e-20, 1e-9);
+        let run = s.run_settings::<2>().unwrap();
+        assert_eq!(run.control, Control::Adaptive);
+        let floor = 10.0 * f64::EPSILON;
+        assert_eq!(run.tol.rtol, Vector2::repeat(floor));
+        assert_eq!(run.tol.atol, Vector2::repeat(1e-9));
+        assert_eq!(run.max_steps, 100_000);
+        assert!(run.project);
+        // A tolerance above the floor is kept; a fixed step is a fixed step.
+        let mut f = Settings::fixed(0.5);
+        f.initial_step = Some(0.1);
+        let run = f.run_settings::<1>().unwrap();
+        assert_eq!(run.control, Control::Fixed(0.5));
+        assert_eq!(run.tol.rtol[0], 1.0);
+        assert_eq!((run.initial_step, run.max_steps), (Some(0.1), 1_000_000));
+    }
+
+    #[test]
+    fn run_settings_of_another_dimension_are_invalid_and_clear_the_record() {
+        let tol = PerComponentTolerance::new(Vector2::repeat(1e-6), Vector2::repeat(1e-9));
+        let mut s = Settings::new(1e-6, 1e-9).with_tolerance(tol);
+        s.record.stats.steps = 5;
+        assert_eq!(
+            s.run_settings::<3>(),
+            Err(SimError::InvalidInput {
+                what: "the per-component tolerances have another dimension than the state",
+            })
+        );
+        assert_eq!(s.record, Record::default());
+        assert!(s.run_settings::<2>().is_ok());
+    }
+}
