@@ -140,6 +140,7 @@ extern crate alloc;
 mod auto;
 mod bdf;
 mod checks;
+mod crossing;
 mod dop853;
 mod dopri5;
 mod driver;
@@ -167,11 +168,12 @@ mod tolerance;
 
 pub use auto::{AutoSwitch, Regime, Switch};
 pub use bdf::Bdf;
+pub use crossing::{Direction, EventHit};
 pub use dop853::Dop853;
 pub use dopri5::DormandPrince;
 #[cfg(feature = "std")]
 pub use ensemble::{Ensemble, Shard, ShardError};
-pub use events::{Direction, EventHit, Events};
+pub use events::Events;
 #[cfg(feature = "alloc")]
 pub use gauss::GaussLegendre4;
 pub use outcome::{Outcome, SimError, Singularity, Stats};
