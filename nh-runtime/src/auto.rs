@@ -6,7 +6,7 @@ use nalgebra::{RealField, SMatrix, SVector};
 use crate::ScalarTolerance;
 use crate::Stats;
 use crate::dopri5::Dopri5;
-use crate::jacobian::{Analytic, FiniteDifference};
+use crate::jacobian::{Analytic, FiniteDifference, Linearised};
 use crate::method::{Failure, Method, Pi};
 use crate::numeric::c;
 use crate::rosenbrock::rodas4;
@@ -216,15 +216,6 @@ impl<T: RealField + Copy, Tol> AutoSwitch<T, Tol> {
     pub fn last_switches(&self) -> &[Switch<T>] {
         self.log.as_slice()
     }
-}
-
-/// An implicit member: a [`Method`] that evaluates the Jacobian at every
-/// accepted point, so that the switch back can estimate its spectral
-/// radius.
-pub(crate) trait Linearised<T: RealField + Copy, const D: usize>: Method<T, D> {
-    /// The Jacobian at the current accepted point (after
-    /// [`Method::start`] or [`Method::advance`] with `last == false`).
-    fn jacobian(&self) -> &SMatrix<T, D, D>;
 }
 
 /// The switching method: an explicit member `E` and an implicit member

@@ -9,7 +9,7 @@ use nalgebra::{RealField, SMatrix, SVector};
 
 use crate::ScalarTolerance;
 use crate::Stats;
-use crate::jacobian::{Analytic, FiniteDifference, JacobianSource, time_derivative};
+use crate::jacobian::{Analytic, FiniteDifference, JacobianSource, Linearised, time_derivative};
 use crate::linalg::{all_finite_matrix, factor, solve};
 use crate::method::{Failure, Method, Pi, counted};
 use crate::numeric::{all_finite, all_finite_in, c};
@@ -514,7 +514,7 @@ where
     }
 }
 
-impl<J, T, K, const D: usize, const S: usize> crate::auto::Linearised<T, D> for Rodas<J, T, K, D, S>
+impl<J, T, K, const D: usize, const S: usize> Linearised<T, D> for Rodas<J, T, K, D, S>
 where
     T: RealField + Copy,
     J: JacobianSource<T, D>,
