@@ -184,7 +184,7 @@ const PI: Pi = Pi {
 ///
 /// The method of choice for smooth non-stiff problems at tight tolerances
 /// (say `rtol ≤ 1e-7`), where it needs far fewer steps than
-/// [`DormandPrince`](crate::DormandPrince).
+/// [`Dopri5`](crate::Dopri5).
 ///
 /// * 12 stages, the solution is advanced with the 8th-order weights; the
 ///   error estimate combines the 5th- and 3rd-order estimators as in
@@ -215,7 +215,7 @@ const PI: Pi = Pi {
 /// * [`Dop853::with_fixed_step`] switches the error control off (every step
 ///   accepted): for convergence studies and real-time loops.
 ///
-/// Failure modes are those of [`DormandPrince`](crate::DormandPrince):
+/// Failure modes are those of [`Dopri5`](crate::Dopri5):
 /// non-finite trial steps are retried with half the step, and
 /// [`SimError::NonFinite`](crate::SimError::NonFinite) / [`SimError::StepSizeTooSmall`](crate::SimError::StepSizeTooSmall) /
 /// [`SimError::MaxSteps`](crate::SimError::MaxSteps) (default 100 000 attempts) carry the last accepted

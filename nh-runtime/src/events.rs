@@ -49,7 +49,7 @@ use crate::{Direction, EventHit, Outcome, SimError, Stats, Step};
 ///
 /// ```rust
 /// use nalgebra::{Vector1, Vector2};
-/// use nh_runtime::{Direction, DormandPrince, Events, Integrator};
+/// use nh_runtime::{Direction, Dopri5, Events, Integrator};
 ///
 /// // A ball thrown up at 10 m/s: (height, velocity).
 /// let ball = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -9.81);
@@ -57,7 +57,7 @@ use crate::{Direction, EventHit, Outcome, SimError, Stats, Step};
 /// let landing = Events::new(|_t: f64, x: &Vector2<f64>| Vector1::new(x[0]))
 ///     .direction([Direction::Falling])
 ///     .terminal([true]);
-/// let out = DormandPrince::new(1e-10, 1e-12)
+/// let out = Dopri5::new(1e-10, 1e-12)
 ///     .integrate_with_events(&ball, 0.0, Vector2::new(0.0, 10.0), 5.0, &landing, |_| {})
 ///     .unwrap();
 /// let hit = out.event.expect("the ball lands");

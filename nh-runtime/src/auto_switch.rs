@@ -5,11 +5,11 @@ use nalgebra::{RealField, SMatrix, SVector};
 
 use crate::ScalarTolerance;
 use crate::Stats;
-use crate::dopri5::Dopri5;
+use crate::dopri5::Dopri5Stages;
 use crate::jacobian::{Analytic, FiniteDifference, Linearised};
 use crate::method::{Failure, Method, Pi};
 use crate::numeric::c;
-use crate::rosenbrock::rodas4;
+use crate::rodas4::rodas4;
 use crate::settings::{Settings, adaptive_builders, integrator_impl, jacobian_entry_points};
 use crate::step::Poly;
 use crate::tolerance::Tolerance;
@@ -92,7 +92,7 @@ impl<T: Copy> SwitchLog<T> {
 ///
 /// * Non-stiff → stiff: after every accepted Dormand–Prince step, Hairer's
 ///   estimate `ρ ≈ ‖k7 − k6‖/‖x7 − x6‖` of the dominant eigenvalue (the
-///   test behind [`Stats::stiffness_detected`] of [`DormandPrince`](crate::DormandPrince))
+///   test behind [`Stats::stiffness_detected`] of [`Dopri5`](crate::Dopri5))
 ///   is taken; when `|h|·ρ` exceeds 0.9 × 3.25 (the step is held at the
 ///   method's stability boundary) on 5 consecutive accepted steps, RODAS4
 ///   takes over with twice the last step.
@@ -103,8 +103,8 @@ impl<T: Copy> SwitchLog<T> {
 ///   stability region, on 5 consecutive accepted steps, Dormand–Prince takes
 ///   over with half the last step.
 /// * At a switch the step-size controller restarts with the new member's
-///   (that of [`DormandPrince`](crate::DormandPrince) or
-///   [`Rosenbrock`](crate::Rosenbrock)); each member keeps its own error
+///   (that of [`Dopri5`](crate::Dopri5) or
+///   [`Rodas4`](crate::Rodas4)); each member keeps its own error
 ///   estimate, dense output and work per step. The run starts explicit.
 /// * Jacobian: by forward differences with [`Integrator`](crate::Integrator)'s
 ///   methods, analytic with [`AutoSwitch::integrate_with_jacobian`]; only
@@ -115,9 +115,9 @@ impl<T: Copy> SwitchLog<T> {
 ///   [`AutoSwitch::last_switches`] gives the time and direction of each
 ///   switch of the most recent call.
 ///
-/// A problem that is never stiff costs what [`DormandPrince`](crate::DormandPrince)
+/// A problem that is never stiff costs what [`Dopri5`](crate::Dopri5)
 /// costs (the test reads values the method computes anyway); a stiff one
-/// costs a few explicit steps more than [`Rosenbrock`](crate::Rosenbrock).
+/// costs a few explicit steps more than [`Rodas4`](crate::Rodas4).
 /// Tolerances, step budget and failure modes are those of the two members
 /// and the shared step driver.
 ///
@@ -149,13 +149,13 @@ pub struct AutoSwitch<T, Tol = ScalarTolerance<T>> {
 
 adaptive_builders!(AutoSwitch, log);
 integrator_impl!(AutoSwitch<T, Tol>, a, |sys, log| Switching::new(
-    Dopri5::new(sys),
+    Dopri5Stages::new(sys),
     rodas4(FiniteDifference(sys)),
     log
 ));
 
 jacobian_entry_points! {
-    AutoSwitch<T, Tol>, a, |sys, log| Switching::new(Dopri5::new(sys), rodas4(Analytic(sys)), log),
+    AutoSwitch<T, Tol>, a, |sys, log| Switching::new(Dopri5Stages::new(sys), rodas4(Analytic(sys)), log),
     /// Like [`Integrator::integrate`](crate::Integrator::integrate), but the
     /// implicit member uses the analytic Jacobian
     /// [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) instead of
