@@ -195,7 +195,7 @@ fn run(sled: &Sled, case: &Case, exact: &ClosedForm, rtol: f64) -> Run {
         case.u0 * case.theta0.cos(),
         case.omega0,
     ]);
-    let mut dp = DormandPrince::new(rtol, 1e-3 * rtol);
+    let mut dp = Dopri5::new(rtol, 1e-3 * rtol);
     let (mut t, mut x) = (0.0, x0);
     let mut stats = Stats::default();
     let mut per_time = Vec::new();

@@ -177,7 +177,7 @@ fn run(knife: &KnifeEdge, case: &Case, method: &Method) -> (Vec<(f64, f64)>, Sta
         case.omega,
     ]);
     let mut dp = match method {
-        Method::Dopri(tol) => Some(DormandPrince::new(*tol, 1e-3 * tol)),
+        Method::Dopri(tol) => Some(Dopri5::new(*tol, 1e-3 * tol)),
         Method::Rk4(_) => None,
     };
     let (mut t, mut x) = (0.0, x0);

@@ -67,7 +67,7 @@ fn state(q: [f64; 5], rdot: [f64; 3]) -> SVector<f64, D> {
 /// Integrates `[t0, t1]` with Dormand–Prince, continuing with the step size
 /// the controller proposed at the end of the previous segment.
 fn segment(
-    dp: &mut DormandPrince<f64>,
+    dp: &mut Dopri5<f64>,
     disc: &ThesisDisc,
     t0: f64,
     x0: SVector<f64, D>,
@@ -160,7 +160,7 @@ fn part1(disc: &ThesisDisc) {
         );
     };
 
-    let mut dp = DormandPrince::new(RTOL, ATOL);
+    let mut dp = Dopri5::new(RTOL, ATOL);
     let (mut t, mut x) = (0.0, x0);
     let (mut steps, mut rejected, mut evals) = (0usize, 0usize, 0usize);
     let (mut psi_min, mut psi_max, mut max_drift) = (q0[2], q0[2], 0.0f64);
@@ -241,7 +241,7 @@ fn part2(disc: &ThesisDisc) {
         };
         let (mut dpsi, mut dx, mut dy) = (0.0f64, 0.0f64, 0.0f64);
         let mut t_leave: Option<f64> = None;
-        let mut dp = DormandPrince::new(RTOL, ATOL);
+        let mut dp = Dopri5::new(RTOL, ATOL);
         let (mut t, mut x) = (0.0, x0);
         let (mut steps, mut evals) = (0usize, 0usize);
         for i in 1..=20 {

@@ -33,7 +33,7 @@
 //!
 //! let sled = Sled::new(2.0, 0.3, 0.5);                                // m, J, a
 //! let x0 = SVector::<f64, 5>::from([0.0, 0.2, 0.0, 0.4, 0.9]);     // [x, θ, y, ẋ, θ̇]
-//! let out = DormandPrince::new(1e-10, 1e-12).integrate(&sled, 0.0, x0, 1.0).unwrap();
+//! let out = Dopri5::new(1e-10, 1e-12).integrate(&sled, 0.0, x0, 1.0).unwrap();
 //! // the blade never slips: ẏ = tan θ ẋ holds along the motion by construction
 //! let (q, rdot) = (out.x.fixed_rows::<3>(0).into_owned(), out.x.fixed_rows::<2>(3).into_owned());
 //! let ydot = sled.dependent_velocities(&q, &rdot)[0];
@@ -254,7 +254,7 @@
 //! assert_eq!(Pendulum::<f64>::DEPENDENT, [1]);
 //! let p = Pendulum::new(1.0, 1.3, 9.81);
 //! let x0 = SVector::from([1.3 * 0.5f64.sin(), -1.3 * 0.5f64.cos(), 0.0]);
-//! let out = DormandPrince::new(1e-10, 1e-12).integrate(&p, 0.0, x0, 10.0).unwrap();
+//! let out = Dopri5::new(1e-10, 1e-12).integrate(&p, 0.0, x0, 10.0).unwrap();
 //! assert!(out.max_residual.unwrap() <= 1e-12);   // projected after every step
 //! // λ is the constraint force on y, −T y/l: the rod tension T = −λ l/y
 //! let (q, r) = (out.x.fixed_rows::<2>(0).into_owned(), out.x.fixed_rows::<1>(2).into_owned());
@@ -293,7 +293,7 @@
 //! let sled = TanSled::new(1.0, 0.3, 0.4);
 //! // heading 1.2 rad, turning at 1.5 rad/s: θ passes π/2 near t = 0.26
 //! let x0 = SVector::from([0.0, 1.2, 0.0, 0.5 * 1.2f64.cos(), 1.5]);
-//! let err = DormandPrince::new(1e-8, 1e-10).integrate(&sled, 0.0, x0, 2.0).unwrap_err();
+//! let err = Dopri5::new(1e-8, 1e-10).integrate(&sled, 0.0, x0, 2.0).unwrap_err();
 //! assert!(matches!(err, SimError::Singular { cause: Singularity::Pole("1/cos(theta)"), .. }));
 //! assert!(err.state().unwrap()[1] < std::f64::consts::FRAC_PI_2);
 //! ```
@@ -308,7 +308,7 @@
 //! instead of [`OdeSystem`](runtime::OdeSystem), and [`Driven`](runtime::Driven)
 //! holds an input fixed to make it an `OdeSystem` for one sampling period
 //! (and, with `outputs { jacobian }`, an [`OdeJacobian`](runtime::OdeJacobian),
-//! so that it runs on `Rosenbrock` and `GaussLegendre4` with its generated
+//! so that it runs on `Rodas4` and `GaussLegendre4` with its generated
 //! Jacobian).
 //!
 //! ```
@@ -393,7 +393,7 @@
 //! assert!((r[0] * 1.5_f64.cos() + r[1] * 1.5_f64.sin()).abs() < 1e-14 && r[2].abs() < 1e-14);
 //! // through θ = π/2 and beyond
 //! let x0 = SVector::<f64, 5>::from([0.0, 0.0, 1.5, 0.4, 0.9]);
-//! let out = DormandPrince::new(1e-10, 1e-12).integrate(&s, 0.0, x0, 3.0).unwrap();
+//! let out = Dopri5::new(1e-10, 1e-12).integrate(&s, 0.0, x0, 3.0).unwrap();
 //! assert!(out.x[2] > 1.8);
 //! ```
 //!
@@ -520,7 +520,7 @@
 //! assert!((sdot[0] - 0.35 * 0.4_f64.cos() * 6.0).abs() < 1e-14);
 //! // the disc falls flat in the end: a typed outcome, not a NaN
 //! let x0 = SVector::<f64, 8>::from([0.0, 0.0, 0.3, 0.0, 0.0, 0.0, 0.0, 0.0]);
-//! match DormandPrince::new(1e-9, 1e-9).integrate(&disc, 0.0, x0, 5.0) {
+//! match Dopri5::new(1e-9, 1e-9).integrate(&disc, 0.0, x0, 5.0) {
 //!     Err(SimError::Singular { t, .. }) => assert!(t > 0.1),
 //!     other => panic!("expected the chart to end at the flat disc: {other:?}"),
 //! }
@@ -669,7 +669,7 @@
 //!
 //! // integrate, and read the outcome and a sample at t = 0.5 by name
 //! let mut half_way = None;
-//! let out = DormandPrince::new(1e-10, 1e-12)
+//! let out = Dopri5::new(1e-10, 1e-12)
 //!     .integrate_with_outputs(&sled, 0.0, x0, 1.0, &[0.5], |_, x| half_way = Some(Sled::split(x)))
 //!     .unwrap();
 //! let (q1, v1) = Sled::split(&out.x);
@@ -708,7 +708,7 @@
 //! | `constraint_matrix` | `constraint_matrix(&self, q) -> SMatrix<T, p, k>` | A^a_α, minus the coefficient of ṙ_α in the solved constraint of s_a (time-independent constraints) |
 //! | `contact_points` | `contact_points(&self, q) -> SMatrix<T, 3, c>` | the contact points of the c rolling contacts (`rolls(..)` lines, in order), world components, one per column |
 //! | `mass_matrix` | `mass_matrix(&self, q) -> SMatrix<T, n, n>` | ∂²L/∂q̇_i∂q̇_j |
-//! | `jacobian` | `jacobian(&self, t, x[, u]) -> SMatrix<T, n+k, n+k>`, `time_derivative(&self, t, x[, u]) -> SVector<T, n+k>` and `impl OdeJacobian` (with inputs `impl ControlledJacobian`, which makes `Driven` an `OdeJacobian` at the held input) | ∂f/∂x and ∂f/∂t of the first-order system, for the stiff integrators (`integrate_with_jacobian`; without this output they tell you to add it; `Rosenbrock` takes ∂f/∂t from here instead of a difference in t) |
+//! | `jacobian` | `jacobian(&self, t, x[, u]) -> SMatrix<T, n+k, n+k>`, `time_derivative(&self, t, x[, u]) -> SVector<T, n+k>` and `impl OdeJacobian` (with inputs `impl ControlledJacobian`, which makes `Driven` an `OdeJacobian` at the held input) | ∂f/∂x and ∂f/∂t of the first-order system, for the stiff integrators (`integrate_with_jacobian`; without this output they tell you to add it; `Rodas4` and `Rodas5P` take ∂f/∂t from here instead of a difference in t) |
 //! | `sensitivities` or `sensitivities(p1, p2, ..)` (no inputs; implies `jacobian`) | `parameter_jacobian(&self, t, x) -> SMatrix<T, n+k, P>`, `variational_rhs(&self, t, x, s_p, s_x0)`, `sensitivities(&self)`, `SENSITIVITY_PARAMETERS`, `SENSITIVITY_DIM` and `impl ParameterJacobian` | ∂f/∂p for the P parameters (all, or those listed, in that order), and the system augmented with ∂x/∂p and ∂x/∂x0 (the variational equations), an `OdeSystem` of dimension (n+k)(1 + P + n+k) that any integrator integrates: forward sensitivities, with the error of the sensitivities controlled with the state's (full error control) |
 //! | `linearization` | `linearization(&self, t, x, u) -> (A, B)` | A = ∂f/∂x and B = ∂f/∂u of ẋ = f(t, x, u), for controller design |
 //! | `routes` (homogeneous, time-independent velocity constraints) | `accelerations_multiplier_route`, `accelerations_curvature_route`, `reduced_system`, `OPS_MULTIPLIER_ROUTE`, `OPS_CURVATURE_ROUTE`, `ROUTE` | both derivations of r̈ as separate methods with their operation counts, and the reduced system M_c r̈ = f |
@@ -743,7 +743,7 @@
 //! assert!((s.energy(&q, &rdot) - 0.5 * qd.dot(&(mm * qd))).abs() < 1e-14);
 //! // the blade's side force does no work: λ is finite and the energy is conserved
 //! let x0 = SVector::<f64, 5>::from([0.0, th, 0.0, xd, thd]);
-//! let out = Rosenbrock::new(1e-9, 1e-11).integrate_with_jacobian(&s, 0.0, x0, 2.0).unwrap();
+//! let out = Rodas4::new(1e-9, 1e-11).integrate_with_jacobian(&s, 0.0, x0, 2.0).unwrap();
 //! let (q1, r1) = (out.x.fixed_rows::<3>(0).into_owned(), out.x.fixed_rows::<2>(3).into_owned());
 //! assert!((s.energy(&q1, &r1) - s.energy(&q, &rdot)).abs() < 1e-7);
 //! assert!(s.multipliers(out.t, &q1, &r1)[0].is_finite());
@@ -857,8 +857,8 @@
 //! [`OdeSystem`](runtime::OdeSystem), [`OdeJacobian`](runtime::OdeJacobian),
 //! [`ControlledSystem`](runtime::ControlledSystem) and
 //! [`Integrator`](runtime::Integrator), and eight integrators on one step driver:
-//! [`Rk4`](runtime::Rk4), [`DormandPrince`](runtime::DormandPrince),
-//! [`Dop853`](runtime::Dop853), [`Rosenbrock`](runtime::Rosenbrock),
+//! [`Rk4`](runtime::Rk4), [`Dopri5`](runtime::Dopri5),
+//! [`Dop853`](runtime::Dop853), [`Rodas4`](runtime::Rodas4),
 //! [`Rodas5P`](runtime::Rodas5P), [`Bdf`](runtime::Bdf) (variable-order BDF),
 //! [`AutoSwitch`](runtime::AutoSwitch) and [`GaussLegendre4`](runtime::GaussLegendre4). A run returns an
 //! [`Outcome`](runtime::Outcome) or a [`SimError`](runtime::SimError) that
@@ -894,7 +894,7 @@
 //! let bottom = Events::new(|_t: f64, x: &SVector<f64, 2>| Vector1::new(x[0]))
 //!     .direction([Direction::Falling])
 //!     .terminal([true]);
-//! let out = DormandPrince::new(1e-10, 1e-12)
+//! let out = Dopri5::new(1e-10, 1e-12)
 //!     .integrate_with_events(&p, 0.0, SVector::from([0.1, 0.0]), 10.0, &bottom, |_| {})
 //!     .unwrap();
 //! assert_eq!(out.event.map(|hit| hit.index), Some(0));

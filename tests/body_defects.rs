@@ -91,7 +91,7 @@ fn a_dependent_angle_of_a_chain_keeps_its_energy() {
     let q0 = SVector::<f64, 3>::new(0.3, -0.4, 0.2);
     let v0 = SVector::<f64, 2>::new(0.8, -0.6);
     let x0 = ChainBody::state(q0.into(), v0.into());
-    let out = DormandPrince::new(1e-12, 1e-12)
+    let out = Dopri5::new(1e-12, 1e-12)
         .integrate(&sys, 0.0, x0, 1.0)
         .expect("integrates");
     let (q1, v1) = ChainBody::split(&out.x);

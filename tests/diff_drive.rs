@@ -187,7 +187,7 @@ fn equal_torques_from_rest_drive_straight_as_the_closed_form() {
     assert!((a0[0] - tau / j).abs() < 1e-13 && (a0[1] - tau / j).abs() < 1e-13);
 
     let t1 = 3.0;
-    let out = DormandPrince::new(1e-12, 1e-14)
+    let out = Dopri5::new(1e-12, 1e-14)
         .integrate(&Driven::new(&robot, u), 0.0, x0, t1)
         .expect("run");
     let (q, v) = DiffDrive::split(&out.x);
@@ -248,7 +248,7 @@ fn steady_turn_runs_on_its_circle() {
     assert!(a.norm() < 1e-12, "not steady: {a:?}");
 
     let period = 2.0 * std::f64::consts::PI / w;
-    let out = DormandPrince::new(1e-12, 1e-14)
+    let out = Dopri5::new(1e-12, 1e-14)
         .integrate(&Driven::new(&robot, u), 0.0, x0, period * 1.25)
         .expect("run");
     let (q, rates1) = DiffDrive::split(&out.x);
@@ -282,7 +282,7 @@ fn energy_changes_by_the_work_of_the_motors() {
         robot.energy(&q.into(), &v.into())
     };
     let (e0, mut work, mut largest) = (energy(&x), 0.0, 0.0_f64);
-    let mut dp = DormandPrince::new(1e-12, 1e-14);
+    let mut dp = Dopri5::new(1e-12, 1e-14);
     for k in 0..1000 {
         let t = k as f64 * example::PERIOD;
         let (q, rates) = DiffDrive::split(&x);

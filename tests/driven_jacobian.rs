@@ -80,10 +80,10 @@ fn rosenbrock_with_the_generated_jacobian_agrees_with_dop853() {
     let reference = Dop853::new(1e-12, 1e-14)
         .integrate(&driven, 0.0, x0, 2.0)
         .unwrap();
-    let analytic = Rosenbrock::new(1e-9, 1e-11)
+    let analytic = Rodas4::new(1e-9, 1e-11)
         .integrate_with_jacobian(&driven, 0.0, x0, 2.0)
         .unwrap();
-    let differences = Rosenbrock::new(1e-9, 1e-11)
+    let differences = Rodas4::new(1e-9, 1e-11)
         .integrate(&driven, 0.0, x0, 2.0)
         .unwrap();
     let error = (analytic.x - reference.x).amax();
@@ -141,7 +141,7 @@ fn a_control_loop_on_rosenbrock_in_generalized_speeds() {
         let driven = Driven::new(&sled, tau);
         let j = driven.jacobian(t0, &x);
         assert!(central::jacobian_deviation(|x| driven.rhs(t0, x), &j, &x) < 1e-6);
-        x = Rosenbrock::new(1e-9, 1e-11)
+        x = Rodas4::new(1e-9, 1e-11)
             .integrate_with_jacobian(&driven, t0, x, t1)
             .unwrap()
             .x;

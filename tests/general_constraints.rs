@@ -248,7 +248,7 @@ fn implicit_sled_matches_the_closed_form() {
         let mut t = 0.0;
         for e in &values[1..] {
             let t1 = num(&e["t"]);
-            let out = DormandPrince::new(1e-10, 1e-12)
+            let out = Dopri5::new(1e-10, 1e-12)
                 .integrate(&sled, t, x, t1)
                 .unwrap();
             (t, x) = (out.t, out.x);
@@ -310,16 +310,16 @@ fn implicit_sled_ends_in_a_singular_chart_at_a_right_angle() {
     let t1 = 2.0;
     assert_chart_end("Rk4", Rk4::new(0.01).integrate(&sled, 0.0, x0, t1));
     assert_chart_end(
-        "DormandPrince",
-        DormandPrince::new(1e-8, 1e-10).integrate(&sled, 0.0, x0, t1),
+        "Dopri5",
+        Dopri5::new(1e-8, 1e-10).integrate(&sled, 0.0, x0, t1),
     );
     assert_chart_end(
         "Dop853",
         Dop853::new(1e-10, 1e-12).integrate(&sled, 0.0, x0, t1),
     );
     assert_chart_end(
-        "Rosenbrock",
-        Rosenbrock::new(1e-6, 1e-8).integrate(&sled, 0.0, x0, t1),
+        "Rodas4",
+        Rodas4::new(1e-6, 1e-8).integrate(&sled, 0.0, x0, t1),
     );
     assert_chart_end(
         "GaussLegendre4",
@@ -420,11 +420,11 @@ fn cartesian_pendulum_tension_and_residual() {
     assert!(p.constraint_residual(0.0, &near).unwrap() <= 1e-15);
 
     let x0 = pendulum_state(0.8, 0.0);
-    let projected = DormandPrince::new(1e-10, 1e-12)
+    let projected = Dopri5::new(1e-10, 1e-12)
         .integrate(&p, 0.0, x0, 100.0)
         .unwrap();
     let with = projected.max_residual.unwrap();
-    let free = DormandPrince::new(1e-10, 1e-12)
+    let free = Dopri5::new(1e-10, 1e-12)
         .with_projection(false)
         .integrate(&p, 0.0, x0, 100.0)
         .unwrap();

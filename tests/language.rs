@@ -51,13 +51,13 @@ fn inputs_drive_the_runtime_through_the_driven_adapter() {
     // cos(π t) modulates F; integrate over a short span and compare with a
     // hand-written right side integrated the same way
     let x0 = SVector::<f64, 2>::from([0.1, 0.0]);
-    let a = DormandPrince::new(1e-10, 1e-12)
+    let a = Dopri5::new(1e-10, 1e-12)
         .integrate(&sys, 0.0, x0, 2.0)
         .expect("driven system integrates");
     let hand = |t: f64, x: &SVector<f64, 2>| {
         SVector::<f64, 2>::from([x[1], -4.0 * x[0] + 2.0 * (std::f64::consts::PI * t).cos()])
     };
-    let b = DormandPrince::new(1e-10, 1e-12)
+    let b = Dopri5::new(1e-10, 1e-12)
         .integrate(&hand, 0.0, x0, 2.0)
         .expect("hand system integrates");
     assert!((a.x - b.x).amax() <= 1e-9, "{} vs {}", a.x, b.x);

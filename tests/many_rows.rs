@@ -195,7 +195,7 @@ fn four_holonomic_rows_are_projected_together() {
     assert!(residual <= 1e-14, "{residual:e}");
     assert!(moved <= 1e-14, "{moved:e}");
     // a short run keeps the chain on its constraints
-    let out = DormandPrince::new(1e-10, 1e-12)
+    let out = Dopri5::new(1e-10, 1e-12)
         .integrate(&chain, 0.0, x, 2.0)
         .unwrap();
     let max_residual = out.max_residual.unwrap();

@@ -42,7 +42,7 @@ fn reference(t: f64) -> SVector<f64, 5> {
     let (m, j, a) = PARAMS;
     let (theta, v, omega) = START;
     let x0 = SVector::<f64, 5>::new(0.0, theta, 0.0, v, omega);
-    DormandPrince::new(1e-13, 1e-14)
+    Dopri5::new(1e-13, 1e-14)
         .integrate(&SpeedSled::new(m, j, a), 0.0, x0, t)
         .expect("no pole in speeds")
         .x
@@ -61,20 +61,20 @@ fn runs() -> Vec<(&'static str, Run)> {
     vec![
         ("Rk4", Rk4::new(0.01).integrate(&sys, 0.0, x0, t1)),
         (
-            "DormandPrince",
-            DormandPrince::new(1e-8, 1e-10).integrate(&sys, 0.0, x0, t1),
+            "Dopri5",
+            Dopri5::new(1e-8, 1e-10).integrate(&sys, 0.0, x0, t1),
         ),
         (
-            "DormandPrince tight",
-            DormandPrince::new(1e-10, 1e-12).integrate(&sys, 0.0, x0, t1),
+            "Dopri5 tight",
+            Dopri5::new(1e-10, 1e-12).integrate(&sys, 0.0, x0, t1),
         ),
         (
             "Dop853",
             Dop853::new(1e-8, 1e-10).integrate(&sys, 0.0, x0, t1),
         ),
         (
-            "Rosenbrock",
-            Rosenbrock::new(1e-8, 1e-10).integrate(&sys, 0.0, x0, t1),
+            "Rodas4",
+            Rodas4::new(1e-8, 1e-10).integrate(&sys, 0.0, x0, t1),
         ),
         (
             "Rodas5P",
@@ -167,20 +167,20 @@ fn without_the_guard() {
     };
     show("Rk4", Rk4::new(0.01).integrate(&sys, 0.0, x0, 2.0));
     show(
-        "DormandPrince",
-        DormandPrince::new(1e-8, 1e-10).integrate(&sys, 0.0, x0, 2.0),
+        "Dopri5",
+        Dopri5::new(1e-8, 1e-10).integrate(&sys, 0.0, x0, 2.0),
     );
     show(
-        "DormandPrince tight",
-        DormandPrince::new(1e-10, 1e-12).integrate(&sys, 0.0, x0, 2.0),
+        "Dopri5 tight",
+        Dopri5::new(1e-10, 1e-12).integrate(&sys, 0.0, x0, 2.0),
     );
     show(
         "Dop853",
         Dop853::new(1e-8, 1e-10).integrate(&sys, 0.0, x0, 2.0),
     );
     show(
-        "Rosenbrock",
-        Rosenbrock::new(1e-8, 1e-10).integrate(&sys, 0.0, x0, 2.0),
+        "Rodas4",
+        Rodas4::new(1e-8, 1e-10).integrate(&sys, 0.0, x0, 2.0),
     );
     show("Bdf", Bdf::new(1e-8, 1e-10).integrate(&sys, 0.0, x0, 2.0));
 }

@@ -246,13 +246,13 @@ fn rosenbrock_takes_the_analytic_time_derivative() {
         SVector::from([0.0, 3.0])
     );
     let x0 = SVector::from([0.1, 0.0]);
-    let mut rodas = Rosenbrock::new(1e-8, 1e-10);
+    let mut rodas = Rodas4::new(1e-8, 1e-10);
     let own = rodas.integrate_with_jacobian(&sys, 0.0, x0, 3.0).unwrap();
     let differenced = rodas
         .integrate_with_jacobian(&Differenced(&sys), 0.0, x0, 3.0)
         .unwrap();
     eprintln!(
-        "ramped oscillator, Rosenbrock rtol 1e-8: {} steps; {} right-hand sides with the analytic ∂f/∂t, {} with the difference ({} Jacobians)",
+        "ramped oscillator, Rodas4 rtol 1e-8: {} steps; {} right-hand sides with the analytic ∂f/∂t, {} with the difference ({} Jacobians)",
         own.stats.steps, own.stats.rhs_evals, differenced.stats.rhs_evals, own.stats.jacobian_evals
     );
     // the difference of a linear function is exact up to rounding: the same steps
@@ -518,10 +518,10 @@ fn any_integrator_integrates_the_sensitivities() {
     let t1 = num(&r["t1"]);
     let expected = matrix::<2, 3>(&r["dx_dp"]);
     let by_rk4 = Rk4::new(1e-3).integrate(&sens, 0.0, x0, t1).unwrap();
-    let by_rodas = Rosenbrock::new(1e-10, 1e-12)
+    let by_rodas = Rodas4::new(1e-10, 1e-12)
         .integrate(&sens, 0.0, x0, t1)
         .unwrap();
-    for (name, out) in [("Rk4", by_rk4), ("Rosenbrock", by_rodas)] {
+    for (name, out) in [("Rk4", by_rk4), ("Rodas4", by_rodas)] {
         let (_, dp, _) = sens.split(&out.x);
         let dev = rel_dev(&dp, &expected, 1e-3);
         assert!(dev <= 1e-8, "{name}: {dev:e}");

@@ -165,7 +165,7 @@ fn sled_in_speeds_crosses_a_quarter_turn_on_its_closed_form() {
     let sled = SledSpeeds::new(M, J_SLED, A);
     let (theta0, v0, omega0) = (1.0, 0.1, 2.0);
     let mut x = SVector::<f64, 5>::new(0.1, theta0, -0.2, v0, omega0);
-    let mut dp = DormandPrince::new(1e-12, 1e-14);
+    let mut dp = Dopri5::new(1e-12, 1e-14);
     let mut t = 0.0;
     let mut worst: f64 = 0.0;
     let mut crossed = false;
@@ -181,7 +181,7 @@ fn sled_in_speeds_crosses_a_quarter_turn_on_its_closed_form() {
             .max((x[3] - v).abs())
             .max((x[4] - omega).abs());
         crossed |= x[1] > std::f64::consts::FRAC_PI_2 + 0.5;
-        dp = DormandPrince::new(1e-12, 1e-14);
+        dp = Dopri5::new(1e-12, 1e-14);
     }
     eprintln!("sled in speeds vs closed form through θ = π/2: {worst:.1e}");
     assert!(crossed, "θ(10) = {} should be well past π/2", x[1]);
@@ -220,10 +220,10 @@ fn sled_in_speeds_agrees_with_the_explicit_sled_away_from_a_quarter_turn() {
     let (theta0, v0, omega0) = (-0.6, 0.4, 0.9);
     let xu0 = SVector::<f64, 5>::new(0.1, theta0, -0.2, v0, omega0);
     let xe0 = SVector::<f64, 5>::new(0.1, theta0, -0.2, v0 * theta0.cos(), omega0);
-    let ou = DormandPrince::new(1e-12, 1e-14)
+    let ou = Dopri5::new(1e-12, 1e-14)
         .integrate(&speeds, 0.0, xu0, 5.0)
         .unwrap();
-    let oe = DormandPrince::new(1e-12, 1e-14)
+    let oe = Dopri5::new(1e-12, 1e-14)
         .integrate(&explicit, 0.0, xe0, 5.0)
         .unwrap();
     let (xu, xe) = (ou.x, oe.x);
@@ -243,7 +243,7 @@ fn vertical_disc_in_speeds_rolls_on_a_circle() {
     let disc = VerticalDiscSpeeds::new(m, r, i, j);
     let (x0, y0, th0, ph0, w, s) = (0.2, -0.1, 0.3, 0.7, 2.5, 0.8);
     let x_init = SVector::<f64, 6>::new(x0, y0, th0, ph0, w, s);
-    let out = DormandPrince::new(1e-12, 1e-14)
+    let out = Dopri5::new(1e-12, 1e-14)
         .integrate(&disc, 0.0, x_init, 7.0)
         .unwrap();
     let (t, x) = (out.t, out.x);
@@ -293,7 +293,7 @@ fn a_chart_that_loses_rank_ends_the_run_as_singular() {
     let x_init = SVector::<f64, 4>::new(x0, 0.0, 1.0 - w2, w2);
     let reg = sys.chart_regularity(0.0, &x_init).unwrap();
     assert!((reg - 0.5).abs() < 1e-15, "x²/(1 + x²) at x = −1: {reg}");
-    match DormandPrince::new(1e-10, 1e-12).integrate(&sys, 0.0, x_init, 2.0) {
+    match Dopri5::new(1e-10, 1e-12).integrate(&sys, 0.0, x_init, 2.0) {
         Err(SimError::Singular {
             t,
             x,

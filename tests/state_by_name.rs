@@ -112,7 +112,7 @@ fn an_outcome_and_a_dense_output_sample_split_by_name() {
         SledVelocities { x: 0.4, theta: 0.9 },
     );
     let mut samples = Vec::new();
-    let out = DormandPrince::new(1e-10, 1e-12)
+    let out = Dopri5::new(1e-10, 1e-12)
         .integrate_with_outputs(&sled, 0.0, x0, 2.0, &[1.0], |t, x| {
             samples.push((t, Sled::split(x)))
         })

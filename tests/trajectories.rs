@@ -69,7 +69,7 @@ fn state<const N: usize, const K: usize, const D: usize>(entry: &Value) -> SVect
 fn follow<S, const N: usize, const K: usize, const P: usize, const D: usize>(
     sys: &S,
     values: &[Value],
-    mut integrator: DormandPrince<f64>,
+    mut integrator: Dopri5<f64>,
     relative: bool,
     sdot: impl Fn(&SVector<f64, N>, &SVector<f64, K>) -> SVector<f64, P>,
 ) -> Vec<(f64, f64, f64)>
@@ -130,7 +130,7 @@ fn check_analytic<S, const N: usize, const K: usize, const P: usize, const D: us
     for (c, case) in cases.iter().enumerate() {
         let values = arr(&case["values"]);
         assert!(values.len() >= 2);
-        let integrator = DormandPrince::new(1e-10, 1e-12);
+        let integrator = Dopri5::new(1e-10, 1e-12);
         for (t, err, sdot_err) in follow::<S, N, K, P, D>(sys, values, integrator, false, sdot) {
             println!(
                 "{name} case {c}: t = {t:>4}: max |state error| {err:.2e}, max |sdot error| {sdot_err:.2e}"
@@ -183,7 +183,7 @@ fn thesis_disc_conserves_energy() {
     assert!((e0 - num(&first["energy"])).abs() <= 1e-12 * e0.abs());
     // A nonsteady state: the accelerations are far from zero.
     assert!(disc.accelerations(0.0, &q0, &r0).amax() > 1.0);
-    let mut dp = DormandPrince::new(1e-12, 1e-14).with_max_steps(1_000_000);
+    let mut dp = Dopri5::new(1e-12, 1e-14).with_max_steps(1_000_000);
     let mut x = x0;
     let mut worst = 0.0f64;
     for k in 1..=10 {
@@ -258,7 +258,7 @@ fn thesis_disc_steady_motions() {
         assert!(rdd < 1e-10, "{label}: steady state has |rddot| = {rdd:.3e}");
         let rate = growth_rate(&disc, &x0).max(0.0);
         let horizon = MAX_AMPLIFICATION.ln() / rate;
-        let integrator = DormandPrince::new(1e-10, 1e-12).with_max_steps(1_000_000);
+        let integrator = Dopri5::new(1e-10, 1e-12).with_max_steps(1_000_000);
         let rows = follow::<_, 5, 3, 2, 8>(&disc, traj, integrator, true, |q, r| {
             disc.dependent_velocities(q, r)
         });

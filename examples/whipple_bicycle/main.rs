@@ -128,14 +128,13 @@ fn run(bike: &model::Whipple, v: f64) {
     };
     let e0 = energy(&x0);
     let (mut drift, mut next, mut rolls) = (0.0_f64, 1.0, Vec::new());
-    let out =
-        DormandPrince::new(1e-10, 1e-12).integrate_with_observer(bike, 0.0, x0, 10.0, |t, x| {
-            drift = drift.max(((energy(x) - e0) / e0).abs());
-            if t >= next {
-                rolls.push(format!("{:+.4}", x[0]));
-                next += 1.0;
-            }
-        });
+    let out = Dopri5::new(1e-10, 1e-12).integrate_with_observer(bike, 0.0, x0, 10.0, |t, x| {
+        drift = drift.max(((energy(x) - e0) / e0).abs());
+        if t >= next {
+            rolls.push(format!("{:+.4}", x[0]));
+            next += 1.0;
+        }
+    });
     let ending = match &out {
         Ok(o) => format!(
             "reached t = {:.1} s, {} steps, holonomic residual ≤ {:.1e}",

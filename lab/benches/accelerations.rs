@@ -296,10 +296,10 @@ fn whole_integration(disc: &ThesisDisc) {
         let (sp, cp) = q[1].sin_cos();
         SVector::<f64, 8>::from([v[0], v[1], v[2], c * cp, c * sp, a[0], a[1], a[2]])
     };
-    let gen_out = DormandPrince::new(1e-8, 1e-10)
+    let gen_out = Dopri5::new(1e-8, 1e-10)
         .integrate(disc, 0.0, x0, 10.0)
         .expect("generated integration");
-    let hand_out = DormandPrince::new(1e-8, 1e-10)
+    let hand_out = Dopri5::new(1e-8, 1e-10)
         .integrate(&hand_rhs, 0.0, x0, 10.0)
         .expect("hand-written integration");
     assert_eq!(
@@ -310,19 +310,19 @@ fn whole_integration(disc: &ThesisDisc) {
         1,
         31,
         |_| {
-            DormandPrince::new(1e-8, 1e-10)
+            Dopri5::new(1e-8, 1e-10)
                 .integrate(black_box(disc), 0.0, x0, 10.0)
                 .map_or(f64::NAN, |o| o.x[0])
         },
         |_| {
-            DormandPrince::new(1e-8, 1e-10)
+            Dopri5::new(1e-8, 1e-10)
                 .integrate(black_box(&hand_rhs), 0.0, x0, 10.0)
                 .map_or(f64::NAN, |o| o.x[0])
         },
     );
     row(
         &format!(
-            "ThesisDisc, DormandPrince 10 s at rtol 1e-8 ({} steps)",
+            "ThesisDisc, Dopri5 10 s at rtol 1e-8 ({} steps)",
             gen_out.stats.steps
         ),
         "µs",

@@ -1,5 +1,5 @@
 //! One run for counting instructions with callgrind: the own work per step
-//! of `Bdf` and `Rosenbrock` on the stiff disc (k = 1e6, t ∈ [0, 1],
+//! of `Bdf` and `Rodas4` on the stiff disc (k = 1e6, t ∈ [0, 1],
 //! atol = rtol/100, generated Jacobian), outside the right-hand side and
 //! Jacobian.
 //!
@@ -16,7 +16,7 @@
 //! system's calls out of line, so that `callgrind_annotate --inclusive=yes`
 //! splits the run by function. Measured: 312 instructions per right-hand
 //! side, 477 per Jacobian; `Bdf` 1,990 / 1,830 / 1,740 per attempt at rtol
-//! 1e-6 / 1e-8 / 1e-10 (1,660 between the last two), `Rosenbrock` 7,350.
+//! 1e-6 / 1e-8 / 1e-10 (1,660 between the last two), `Rodas4` 7,350.
 use nh_lab::systems::StiffDisc;
 use nonholonomic::prelude::*;
 use std::hint::black_box;
@@ -67,13 +67,13 @@ fn main() {
             eprintln!("{:?}", out.stats);
         }
         "rodas-opaque" => {
-            let out = Rosenbrock::new(rtol, rtol * 1e-2)
+            let out = Rodas4::new(rtol, rtol * 1e-2)
                 .integrate_with_jacobian(black_box(&Opaque(&sys)), 0.0, black_box(x0), 1.0)
                 .unwrap();
             eprintln!("{:?}", out.stats);
         }
         "rodas" => {
-            let out = Rosenbrock::new(rtol, rtol * 1e-2)
+            let out = Rodas4::new(rtol, rtol * 1e-2)
                 .integrate_with_jacobian(black_box(&sys), 0.0, black_box(x0), 1.0)
                 .unwrap();
             eprintln!("{:?}", out.stats);

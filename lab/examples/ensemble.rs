@@ -61,7 +61,7 @@ fn run(i: usize) -> Run {
     let mut x0 = SVector::<f64, 11>::zeros();
     x0[8] = roll_rate(i);
     x0[10] = speed(i) / bike.rR; // the rear wheel's rate
-    DormandPrince::new(1e-8, 1e-10).integrate(&bike, 0.0, x0, T1)
+    Dopri5::new(1e-8, 1e-10).integrate(&bike, 0.0, x0, T1)
 }
 
 /// How a run ended, in a table cell: the roll angle at 10 s, or the time

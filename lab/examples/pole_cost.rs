@@ -33,7 +33,7 @@ fn main() {
     let mode = std::env::args().nth(1).unwrap_or_else(|| "guarded".into());
     let sled = ChaplyginSled::new(1.0, 0.3, 0.4);
     let x0 = SVector::<f64, 5>::new(0.0, 0.0, 0.0, 1.0, 0.8);
-    let mut dp = DormandPrince::new(1e-8, 1e-10);
+    let mut dp = Dopri5::new(1e-8, 1e-10);
     let run = match mode.as_str() {
         "hidden" => dp.integrate(&Hidden(&sled), 0.0, black_box(x0), 20.0),
         _ => dp.integrate(&sled, 0.0, black_box(x0), 20.0),

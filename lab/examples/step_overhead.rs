@@ -65,7 +65,7 @@ type Run = Result<Outcome<f64, 8>, SimError<f64, 8>>;
 
 #[inline(never)]
 fn integrate_dopri5<S: OdeSystem<f64, 8>>(s: &S, x0: SVector<f64, 8>, t1: f64, rtol: f64) -> Run {
-    DormandPrince::new(rtol, 0.01 * rtol)
+    Dopri5::new(rtol, 0.01 * rtol)
         .with_max_steps(1_000_000)
         .integrate(s, 0.0, x0, t1)
 }
@@ -79,7 +79,7 @@ fn integrate_dop853<S: OdeSystem<f64, 8>>(s: &S, x0: SVector<f64, 8>, t1: f64, r
 
 #[inline(never)]
 fn integrate_rodas4<S: OdeJacobian<f64, 8>>(s: &S, x0: SVector<f64, 8>, t1: f64, rtol: f64) -> Run {
-    Rosenbrock::new(rtol, 0.01 * rtol)
+    Rodas4::new(rtol, 0.01 * rtol)
         .with_max_steps(1_000_000)
         .integrate_with_jacobian(s, 0.0, x0, t1)
 }

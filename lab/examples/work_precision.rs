@@ -102,8 +102,8 @@ where
     let budget = if scene.stiff { 200_000 } else { 10_000_000 };
     for &rtol in scene.rtols {
         let atol = rtol * 1e-2;
-        timed(scene, runs, bar, "DormandPrince 5(4)", rtol, || {
-            DormandPrince::new(rtol, atol)
+        timed(scene, runs, bar, "Dopri5", rtol, || {
+            Dopri5::new(rtol, atol)
                 .with_max_steps(budget)
                 .integrate(sys, 0.0, x0, t1)
         });
@@ -112,8 +112,8 @@ where
                 .with_max_steps(budget)
                 .integrate(sys, 0.0, x0, t1)
         });
-        timed(scene, runs, bar, "Rosenbrock (Rodas)", rtol, || {
-            Rosenbrock::new(rtol, atol)
+        timed(scene, runs, bar, "Rodas4", rtol, || {
+            Rodas4::new(rtol, atol)
                 .with_max_steps(budget)
                 .integrate_with_jacobian(sys, 0.0, x0, t1)
         });
@@ -154,7 +154,7 @@ fn state<const N: usize, const K: usize, const D: usize>(
 }
 
 /// The thesis's disc: reference by Dop853 at 1e-13, with the difference of
-/// DormandPrince at 1e-13 as its cross-check.
+/// Dopri5 at 1e-13 as its cross-check.
 fn thesis_disc() -> (Scene<ThesisDisc, 8>, f64) {
     let sys: ThesisDisc = ThesisDisc::new(1.7, 0.35, 9.81);
     let x0: SVector<f64, 8> = state([0.0, 0.0, 0.3, 0.0, 0.0], [6.0, 20.0, 0.5]);
@@ -164,7 +164,7 @@ fn thesis_disc() -> (Scene<ThesisDisc, 8>, f64) {
         .integrate(&sys, 0.0, x0, t1)
         .expect("reference integration of the disc")
         .x;
-    let check = DormandPrince::new(1e-13, 1e-15)
+    let check = Dopri5::new(1e-13, 1e-15)
         .with_max_steps(10_000_000)
         .integrate(&sys, 0.0, x0, t1)
         .expect("cross-check of the disc's reference")
@@ -314,7 +314,7 @@ fn main() {
 
     println!("# Work–precision ({REPEATS} repeats, median wall time)\n");
     println!(
-        "References: thesis_disc by Dop853 at rtol 1e-13 (DormandPrince at 1e-13 differs by {disc_check:.1e}); chaplygin_sled and knife_edge analytic (refdata); stiff_disc by SymPy + mpmath (tests/data/stiff_disc_reference.py; Gauss–Legendre h = 1e-4 differs by {stiff_check:.1e})."
+        "References: thesis_disc by Dop853 at rtol 1e-13 (Dopri5 at 1e-13 differs by {disc_check:.1e}); chaplygin_sled and knife_edge analytic (refdata); stiff_disc by SymPy + mpmath (tests/data/stiff_disc_reference.py; Gauss–Legendre h = 1e-4 differs by {stiff_check:.1e})."
     );
     println!(
         "The constraint residual max |ṡ + A ṙ| is not tabulated: ṡ is not integrated but computed from the constraints at every evaluation, so it is zero by construction.\n"

@@ -12,7 +12,7 @@
 //!
 //! | family | what it does | expected |
 //! |---|---|---|
-//! | [`stiff`] | [`StiffDisc`]: Q_ψ = −k(ψ − ψ₀) − cψ̇, k = 1e2 … 1e8, critical damping | `Rosenbrock` within 10·rtol, steps growing logarithmically in k; explicit methods accurate or `StepSizeTooSmall`/`MaxSteps` within their budget; `DormandPrince` flags stiffness (k ≥ 1e6) |
+//! | [`stiff`] | [`StiffDisc`]: Q_ψ = −k(ψ − ψ₀) − cψ̇, k = 1e2 … 1e8, critical damping | `Rodas4` within 10·rtol, steps growing logarithmically in k; explicit methods accurate or `StepSizeTooSmall`/`MaxSteps` within their budget; `Dopri5` flags stiffness (k ≥ 1e6) |
 //! | [`fast_spin`] | [`ThesisDisc`] and [`RollingDisc`], θ̇ = 1e2 … 1e5 rad/s, fixed number of revolutions | adaptive methods within 10·rtol of the reference; energy drift reported |
 //! | [`scale_extremes`] | R, m from 1e-6 to 1e6, nondimensional time | the nondimensional answers agree with the unit case to 10·rtol |
 //! | [`long_horizon`] | [`ThesisDisc`] over 1e4 s (the test: 50 s) | `GaussLegendre4`'s energy error bounded (no growth); the others' drift reported |
@@ -63,8 +63,8 @@ use std::time::Instant;
 
 use nalgebra::{RealField, SMatrix, SVector};
 use nh_runtime::{
-    Dop853, DormandPrince, GaussLegendre4, Integrator, OdeJacobian, OdeSystem, Outcome, Rk4,
-    Rosenbrock, SimError, Stats,
+    Dop853, Dopri5, GaussLegendre4, Integrator, OdeJacobian, OdeSystem, Outcome, Rk4, Rodas4,
+    SimError, Stats,
 };
 
 use crate::systems::{RollingDisc, StiffDisc, ThesisDisc};
@@ -90,8 +90,8 @@ pub enum Method {
         /// Step size.
         h: f64,
     },
-    /// [`DormandPrince`] 5(4).
-    DormandPrince {
+    /// [`Dopri5`] 5(4).
+    Dopri5 {
         /// Relative tolerance.
         rtol: f64,
         /// Absolute tolerance.
@@ -104,8 +104,8 @@ pub enum Method {
         /// Absolute tolerance.
         atol: f64,
     },
-    /// [`Rosenbrock`] (RODAS4) with the generated Jacobian.
-    Rosenbrock {
+    /// [`Rodas4`] (RODAS4) with the generated Jacobian.
+    Rodas4 {
         /// Relative tolerance.
         rtol: f64,
         /// Absolute tolerance.
@@ -124,9 +124,9 @@ impl Method {
     pub fn all(rtol: f64, h: f64) -> [Method; 5] {
         let atol = rtol * 1e-3;
         [
-            Method::DormandPrince { rtol, atol },
+            Method::Dopri5 { rtol, atol },
             Method::Dop853 { rtol, atol },
-            Method::Rosenbrock { rtol, atol },
+            Method::Rodas4 { rtol, atol },
             Method::Rk4 { h },
             Method::Gauss { h },
         ]
@@ -141,20 +141,20 @@ impl Method {
     pub fn setting(&self) -> f64 {
         match *self {
             Method::Rk4 { h } | Method::Gauss { h } => h,
-            Method::DormandPrince { rtol, .. }
+            Method::Dopri5 { rtol, .. }
             | Method::Dop853 { rtol, .. }
-            | Method::Rosenbrock { rtol, .. } => rtol,
+            | Method::Rodas4 { rtol, .. } => rtol,
         }
     }
 
-    /// A short label, e.g. `DormandPrince 1e-6` or `Rk4 h=1e-3`.
+    /// A short label, e.g. `Dopri5 1e-6` or `Rk4 h=1e-3`.
     pub fn label(&self) -> String {
         match *self {
             Method::Rk4 { h } => format!("Rk4 h={h:.0e}"),
             Method::Gauss { h } => format!("GaussLegendre4 h={h:.0e}"),
-            Method::DormandPrince { rtol, .. } => format!("DormandPrince {rtol:.0e}"),
+            Method::Dopri5 { rtol, .. } => format!("Dopri5 {rtol:.0e}"),
             Method::Dop853 { rtol, .. } => format!("Dop853 {rtol:.0e}"),
-            Method::Rosenbrock { rtol, .. } => format!("Rosenbrock {rtol:.0e}"),
+            Method::Rodas4 { rtol, .. } => format!("Rodas4 {rtol:.0e}"),
         }
     }
 }
@@ -203,8 +203,8 @@ where
             let r = i.integrate_with_steps(sys, t0, x0, t1, &mut on_step);
             (r, i.last_stats())
         }
-        Method::DormandPrince { rtol, atol } => {
-            let mut i = DormandPrince::new(c(rtol), c(atol)).with_max_steps(max_steps);
+        Method::Dopri5 { rtol, atol } => {
+            let mut i = Dopri5::new(c(rtol), c(atol)).with_max_steps(max_steps);
             let r = i.integrate_with_steps(sys, t0, x0, t1, &mut on_step);
             (r, i.last_stats())
         }
@@ -213,8 +213,8 @@ where
             let r = i.integrate_with_steps(sys, t0, x0, t1, &mut on_step);
             (r, i.last_stats())
         }
-        Method::Rosenbrock { rtol, atol } => {
-            let mut i = Rosenbrock::new(c(rtol), c(atol)).with_max_steps(max_steps);
+        Method::Rodas4 { rtol, atol } => {
+            let mut i = Rodas4::new(c(rtol), c(atol)).with_max_steps(max_steps);
             let r = i.integrate_with_jacobian_and_steps(sys, t0, x0, t1, &mut on_step);
             (r, i.last_stats())
         }
@@ -513,12 +513,12 @@ const G: f64 = 9.81;
 /// critical damping c = 2·sqrt(k·I), I = 5/4·mR² the lean inertia, ψ₀ = 0.2,
 /// from ψ = 0.3 (an initial deflection), over 2 s; reference Dop853 at 1e-13.
 ///
-/// Rosenbrock (rtol 1e-6): error ≤ 10·rtol, and its steps grow at most
+/// Rodas4 (rtol 1e-6): error ≤ 10·rtol, and its steps grow at most
 /// logarithmically: `steps(k) ≤ steps(1e2)·(1 + log10(k/1e2))` (the row
 /// "stiff steps vs k" reports the largest ratio of the two sides over
 /// k > 1e2; steps and seconds there are the sums over the four runs).
-/// DormandPrince and Dop853 (budget 50 000 attempts): accurate or
-/// `StepSizeTooSmall`/`MaxSteps`; DormandPrince must set
+/// Dopri5 and Dop853 (budget 50 000 attempts): accurate or
+/// `StepSizeTooSmall`/`MaxSteps`; Dopri5 must set
 /// `stiffness_detected` for k ≥ 1e6 (read with `last_stats()`, valid after
 /// an error too). Rk4 with h = 1e-3 (no error control): finite or
 /// `NonFinite` (unstable for k = 1e8, where h·sqrt(k/I) ≈ 20).
@@ -539,8 +539,8 @@ pub fn stiff(_effort: Effort) -> Vec<Row> {
         let case = format!("stiff k={k:.0e}");
         let omega = (k / inertia).sqrt();
         let methods = [
-            Method::Rosenbrock { rtol, atol },
-            Method::DormandPrince { rtol, atol },
+            Method::Rodas4 { rtol, atol },
+            Method::Dopri5 { rtol, atol },
             Method::Dop853 { rtol, atol },
             Method::Rk4 { h: 1e-3 },
         ];
@@ -549,12 +549,12 @@ pub fn stiff(_effort: Effort) -> Vec<Row> {
             let obs = Observed::of(&run, run_error(&run, &reference));
             let flagged = run.stats.stiffness_detected;
             let (expect, extra, notes) = match method {
-                Method::Rosenbrock { .. } => {
+                Method::Rodas4 { .. } => {
                     ros_steps.push(run.stats.steps);
                     ros_seconds += run.seconds;
                     (Expect::Accurate(10.0 * rtol), true, String::new())
                 }
-                Method::DormandPrince { .. } => (
+                Method::Dopri5 { .. } => (
                     Expect::AccurateOr(10.0 * rtol, GAVE_UP),
                     k < 1e6 || flagged,
                     format!(
@@ -587,7 +587,7 @@ pub fn stiff(_effort: Effort) -> Vec<Row> {
             ));
         }
     }
-    // Logarithmic growth of Rosenbrock's steps.
+    // Logarithmic growth of Rodas4's steps.
     let ratio = ks
         .iter()
         .zip(&ros_steps)
@@ -602,7 +602,7 @@ pub fn stiff(_effort: Effort) -> Vec<Row> {
     };
     rows.push(Row::judge(
         "stiff steps vs k",
-        "Rosenbrock 1e-6",
+        "Rodas4 1e-6",
         Expect::AtMost(1.0),
         &obs,
         true,
@@ -620,7 +620,7 @@ pub fn stiff(_effort: Effort) -> Vec<Row> {
 /// (10 in the test, 100 in the report); reference Dop853 at 1e-13.
 ///
 /// The tolerances are local (per step), so the global error after many
-/// revolutions is a multiple of rtol (≈ 1e4·rtol for DormandPrince over 100
+/// revolutions is a multiple of rtol (≈ 1e4·rtol for Dopri5 over 100
 /// revolutions). "No silent loss of accuracy" is checked as: for each disc
 /// and adaptive method (rtol 1e-7), the error at Ω is at most 10× the error
 /// at Ω = 1e2 (plus 10·rtol), and the error falls at least tenfold when
@@ -642,9 +642,9 @@ pub fn fast_spin(effort: Effort) -> Vec<Row> {
     let adaptive = |rtol: f64| {
         let atol = rtol * 1e-3;
         [
-            Method::DormandPrince { rtol, atol },
+            Method::Dopri5 { rtol, atol },
             Method::Dop853 { rtol, atol },
-            Method::Rosenbrock { rtol, atol },
+            Method::Rodas4 { rtol, atol },
         ]
     };
     for name in ["thesis", "rolling"] {
@@ -745,8 +745,8 @@ pub fn scale_extremes(_effort: Effort) -> Vec<Row> {
         (1e6, 1e-6),
     ];
     let methods = [
-        Method::DormandPrince { rtol, atol: 0.0 },
-        Method::Rosenbrock { rtol, atol: 0.0 },
+        Method::Dopri5 { rtol, atol: 0.0 },
+        Method::Rodas4 { rtol, atol: 0.0 },
         Method::Gauss { h: 0.01 },
     ];
     // Nondimensional rates (θ̇, φ̇, ψ̇)·T.
@@ -995,7 +995,7 @@ pub fn near_singular(_effort: Effort) -> Vec<Row> {
         ));
     }
     // (c) the fall without a guard.
-    let method = Method::DormandPrince {
+    let method = Method::Dopri5 {
         rtol,
         atol: rtol * 1e-3,
     };
@@ -1098,12 +1098,12 @@ fn is(k: Kind) -> impl Fn(&Method, &Run<f64, 8>) -> bool {
     move |_, r| Kind::of(&r.result) == k
 }
 
-/// The same DormandPrince, Dop853 and Rosenbrock settings at `rtol`, `atol`.
+/// The same Dopri5, Dop853 and Rodas4 settings at `rtol`, `atol`.
 fn with_tol(rtol: f64, atol: f64) -> [Method; 3] {
     [
-        Method::DormandPrince { rtol, atol },
+        Method::Dopri5 { rtol, atol },
         Method::Dop853 { rtol, atol },
-        Method::Rosenbrock { rtol, atol },
+        Method::Rodas4 { rtol, atol },
     ]
 }
 
@@ -1226,7 +1226,7 @@ fn odd_spans_and_steps(c: &BadInput) -> Vec<Row> {
     let big = [
         Method::Rk4 { h: 10.0 },
         Method::Gauss { h: 10.0 },
-        Method::DormandPrince {
+        Method::Dopri5 {
             rtol: 1e-8,
             atol: 1e-11,
         },
@@ -1248,9 +1248,9 @@ fn odd_spans_and_steps(c: &BadInput) -> Vec<Row> {
         },
     ));
     {
-        // DormandPrince with an initial and a maximal step beyond the span.
+        // Dopri5 with an initial and a maximal step beyond the span.
         let start = Instant::now();
-        let r = DormandPrince::new(1e-8, 1e-11)
+        let r = Dopri5::new(1e-8, 1e-11)
             .with_initial_step(10.0)
             .with_max_step(100.0)
             .integrate(&disc, 0.0, x0, 1e-3);
@@ -1264,7 +1264,7 @@ fn odd_spans_and_steps(c: &BadInput) -> Vec<Row> {
         };
         rows.push(Row::judge(
             "initial/max step > span",
-            "DormandPrince 1e-8",
+            "Dopri5 1e-8",
             Expect::Accurate(1e-8),
             &obs,
             true,
@@ -1342,15 +1342,15 @@ fn bad_tolerances(c: &BadInput) -> Vec<Row> {
 /// ψ = 0.3, (θ̇, φ̇, ψ̇) = (6, 20, 0.5) (thesis) and (15, 1, 0.3) (rolling),
 /// adaptive methods at rtol 1e-5 (atol 1e-7), fixed steps h = 1e-3; the
 /// mixed relative error against the `f64` reference must be ≤ 1e-4 (1e-3
-/// for DormandPrince, whose global error at rtol 1e-5 over 2 s is a few
+/// for Dopri5, whose global error at rtol 1e-5 over 2 s is a few
 /// times the tolerance).
 pub fn single_precision(_effort: Effort) -> Vec<Row> {
     let t1 = 2.0;
     let mut rows = Vec::new();
     let methods = Method::all(1e-5, 1e-3).map(|m| match m {
-        Method::DormandPrince { rtol, .. } => Method::DormandPrince { rtol, atol: 1e-7 },
+        Method::Dopri5 { rtol, .. } => Method::Dopri5 { rtol, atol: 1e-7 },
         Method::Dop853 { rtol, .. } => Method::Dop853 { rtol, atol: 1e-7 },
-        Method::Rosenbrock { rtol, .. } => Method::Rosenbrock { rtol, atol: 1e-7 },
+        Method::Rodas4 { rtol, .. } => Method::Rodas4 { rtol, atol: 1e-7 },
         other => other,
     });
     let cases: [(&str, [f64; 3]); 2] =

@@ -32,7 +32,7 @@ fn the_thesis_disc_never_switches_and_costs_what_dormand_prince_costs() {
         let atol = rtol * 1e-2;
         let mut auto = AutoSwitch::new(rtol, atol);
         let a = auto.integrate(&sys, 0.0, x0(), 5.0).unwrap();
-        let d = DormandPrince::new(rtol, atol)
+        let d = Dopri5::new(rtol, atol)
             .integrate(&sys, 0.0, x0(), 5.0)
             .unwrap();
         assert!(auto.last_switches().is_empty(), "rtol {rtol:e}");
@@ -58,12 +58,12 @@ fn the_stiff_disc_switches_early_and_costs_what_rosenbrock_costs() {
         let a = auto.integrate_with_jacobian(&sys, 0.0, x0(), 1.0).unwrap();
         let switches = auto.last_switches().to_vec();
         let fd = auto.integrate(&sys, 0.0, x0(), 1.0).unwrap();
-        let mut ros = Rosenbrock::new(rtol, atol);
+        let mut ros = Rodas4::new(rtol, atol);
         let r = ros.integrate_with_jacobian(&sys, 0.0, x0(), 1.0).unwrap();
         let r_fd = ros.integrate(&sys, 0.0, x0(), 1.0).unwrap();
         let (error, ros_error) = ((a.x - reference).amax(), (r.x - reference).amax());
         println!(
-            "rtol {rtol:e}: {switches:?}\n  auto {} + {} J (fd {}), error {error:.1e}\n  Rosenbrock {} + {} J (fd {}), error {ros_error:.1e}",
+            "rtol {rtol:e}: {switches:?}\n  auto {} + {} J (fd {}), error {error:.1e}\n  Rodas4 {} + {} J (fd {}), error {ros_error:.1e}",
             a.stats.rhs_evals,
             a.stats.jacobian_evals,
             fd.stats.rhs_evals,
@@ -77,12 +77,12 @@ fn the_stiff_disc_switches_early_and_costs_what_rosenbrock_costs() {
         assert!(switches[0].t < 0.05, "{switches:?}");
         assert_eq!(a.stats.switches_to_nonstiff, 0);
         assert!(a.stats.stiff_steps > a.stats.steps / 2);
-        // Work (RHS + Jacobians) within 5 % of Rosenbrock's alone, with the
+        // Work (RHS + Jacobians) within 5 % of Rodas4's alone, with the
         // analytic and with finite-difference Jacobians (measured: 721 vs
         // 742, 1749 + 217 vs 1963 + 326; fd 1211 vs 1477).
         assert!(20 * work(a.stats) < 21 * work(r.stats), "{:?}", r.stats);
         assert!(20 * work(fd.stats) < 21 * work(r_fd.stats));
-        // Within the tolerance (measured 0.07·rtol; Rosenbrock alone is
+        // Within the tolerance (measured 0.07·rtol; Rodas4 alone is
         // more accurate than asked here, 0.003·rtol).
         assert!(error < rtol, "{error:e}");
     }
@@ -92,16 +92,16 @@ fn the_stiff_disc_switches_early_and_costs_what_rosenbrock_costs() {
 fn at_tight_tolerances_the_stiff_disc_is_not_stiff() {
     // At rtol ≤ 1e-8 Dormand–Prince's steps are limited by accuracy below
     // its stability bound (3.3 / 2000 s): no switch, the same run as
-    // Dormand–Prince alone (which then costs less than Rosenbrock).
+    // Dormand–Prince alone (which then costs less than Rodas4).
     let sys = stiff_disc();
     for rtol in [1e-8, 1e-9] {
         let atol = rtol * 1e-2;
         let mut auto = AutoSwitch::new(rtol, atol);
         let a = auto.integrate_with_jacobian(&sys, 0.0, x0(), 1.0).unwrap();
-        let d = DormandPrince::new(rtol, atol)
+        let d = Dopri5::new(rtol, atol)
             .integrate(&sys, 0.0, x0(), 1.0)
             .unwrap();
-        let r = Rosenbrock::new(rtol, atol)
+        let r = Rodas4::new(rtol, atol)
             .integrate_with_jacobian(&sys, 0.0, x0(), 1.0)
             .unwrap();
         assert!(auto.last_switches().is_empty());

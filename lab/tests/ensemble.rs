@@ -26,7 +26,7 @@ fn initial_state(i: usize) -> SVector<f64, 5> {
 /// Run `i`, with its own system and integrator, as an ensemble job does.
 fn run(i: usize) -> Run {
     let sled: ChaplyginSled = ChaplyginSled::new(2.0, 0.3, 0.5);
-    DormandPrince::new(1e-9, 1e-12)
+    Dopri5::new(1e-9, 1e-12)
         .with_max_steps(BUDGET)
         .integrate(&sled, 0.0, initial_state(i), 10.0)
 }

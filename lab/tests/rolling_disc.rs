@@ -132,7 +132,7 @@ fn energy_is_conserved_along_a_rolling_motion() {
             &x.fixed_rows::<3>(5).into_owned(),
         )
     };
-    let out = DormandPrince::new(1e-12, 1e-14)
+    let out = Dopri5::new(1e-12, 1e-14)
         .with_max_steps(1_000_000)
         .integrate(&disc, 0.0, x0, 5.0)
         .expect("the disc rolls for 5 s");

@@ -26,11 +26,11 @@ fn assert_rows(family: &str, rows: &[Row]) {
 fn stiff() {
     let rows = stability::stiff(Effort::Test);
     assert_rows("stiff", &rows);
-    // Rosenbrock finishes accurately at every k; Rk4 at h = 1e-3 blows up
+    // Rodas4 finishes accurately at every k; Rk4 at h = 1e-3 blows up
     // (typed) at k = 1e8.
     assert_eq!(
         rows.iter()
-            .filter(|r| r.method.starts_with("Rosenbrock") && r.outcome == "Ok")
+            .filter(|r| r.method.starts_with("Rodas4") && r.outcome == "Ok")
             .count(),
         4
     );
@@ -42,13 +42,13 @@ fn stiff() {
 
 #[test]
 fn stiffness_is_readable_after_an_error() {
-    // DormandPrince with a budget too small for k = 1e8: MaxSteps, and the
+    // Dopri5 with a budget too small for k = 1e8: MaxSteps, and the
     // stiffness flag is still available from last_stats().
     let (m, r) = (1.7, 0.35);
     let k = 1e8;
     let sys: StiffDisc = StiffDisc::new(m, r, 9.81, k, 2.0 * (k * 1.25 * m * r * r).sqrt(), 0.2);
     let x0 = stability::state([0.0, 0.0, 0.3, 0.0, 0.0], [6.0, 20.0, 0.5]);
-    let mut dp = DormandPrince::new(1e-6, 1e-9).with_max_steps(3000);
+    let mut dp = Dopri5::new(1e-6, 1e-9).with_max_steps(3000);
     let err = dp.integrate(&sys, 0.0, x0, 2.0).unwrap_err();
     assert!(
         matches!(err, SimError::MaxSteps { steps: 3000, .. }),
@@ -104,7 +104,7 @@ fn guarded_fall_reports_the_last_state_before_flat() {
         inside: |x: &SVector<f64, 8>| x[2].cos() > 0.0,
     };
     let x0 = stability::state([0.0, 0.0, 1.2, 0.0, 0.0], [0.0, 0.0, 0.0]);
-    let err = DormandPrince::new(1e-8, 1e-11)
+    let err = Dopri5::new(1e-8, 1e-11)
         .integrate(&guarded, 0.0, x0, 1.0)
         .unwrap_err();
     assert!(matches!(err, SimError::NonFinite { .. }), "{err}");
@@ -127,13 +127,13 @@ fn bad_input_variants_directly() {
     let mut nan = x0;
     nan[2] = f64::NAN;
     let kind = |r: &Result<Outcome<f64, 8>, SimError<f64, 8>>| Kind::of(r);
-    let mut dp = DormandPrince::new(1e-6, 1e-9);
+    let mut dp = Dopri5::new(1e-6, 1e-9);
     assert_eq!(
         kind(&dp.integrate(&disc, 0.0, nan, 1.0)),
         Kind::InvalidInput
     );
     assert_eq!(
-        kind(&DormandPrince::new(0.0, 1e-9).integrate(&disc, 0.0, x0, 1.0)),
+        kind(&Dopri5::new(0.0, 1e-9).integrate(&disc, 0.0, x0, 1.0)),
         Kind::InvalidInput
     );
     assert_eq!(
@@ -147,7 +147,7 @@ fn bad_input_variants_directly() {
     assert_eq!(e, SimError::NonFinite { t: 0.0, x: x0 });
     // atol = 0 on a disc at rest: Ok (the runtime fix).
     let rest = SVector::<f64, 8>::zeros();
-    let out = DormandPrince::new(1e-6, 0.0)
+    let out = Dopri5::new(1e-6, 0.0)
         .integrate(&disc, 0.0, rest, 1.0)
         .unwrap();
     assert_eq!(out.x, rest);
@@ -157,7 +157,7 @@ fn bad_input_variants_directly() {
             .is_ok()
     );
     assert!(
-        Rosenbrock::new(1e-6, 0.0)
+        Rodas4::new(1e-6, 0.0)
             .integrate_with_jacobian(&disc, 0.0, rest, 1.0)
             .is_ok()
     );
@@ -187,11 +187,11 @@ fn table_and_csv() {
     let _ = std::fs::remove_dir_all(dir);
     // Method labels are what the table shows.
     assert_eq!(
-        Method::DormandPrince {
+        Method::Dopri5 {
             rtol: 1e-6,
             atol: 1e-9
         }
         .label(),
-        "DormandPrince 1e-6"
+        "Dopri5 1e-6"
     );
 }

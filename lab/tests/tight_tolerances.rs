@@ -36,7 +36,7 @@ fn the_error_follows_the_tolerance_down_to_1e_13() {
     let (sys, x0) = (stiff_disc(), x0());
     for rtol in [1e-6, 1e-8, 1e-10, 1e-12, 1e-13] {
         let atol = rtol * 1e-2;
-        let rodas4 = Rosenbrock::new(rtol, atol)
+        let rodas4 = Rodas4::new(rtol, atol)
             .with_max_steps(1_000_000)
             .integrate_with_jacobian(&sys, 0.0, x0, 1.0)
             .expect("RODAS4");
@@ -66,7 +66,7 @@ fn a_tolerance_below_reach_is_a_typed_outcome() {
             x: x0,
             rtol_min,
         });
-        let rodas4 = Rosenbrock::new(rtol, 1e-17).integrate_with_jacobian(&sys, 0.0, x0, 1.0);
+        let rodas4 = Rodas4::new(rtol, 1e-17).integrate_with_jacobian(&sys, 0.0, x0, 1.0);
         let rodas5 = Rodas5P::new(rtol, 1e-17).integrate_with_jacobian(&sys, 0.0, x0, 1.0);
         assert_eq!(rodas4, expected);
         assert_eq!(rodas5, expected);
@@ -92,7 +92,7 @@ fn evaluations(stats: &Stats) -> usize {
 #[test]
 fn an_error_of_1e_9_costs_at_most_2000_evaluations() {
     let (sys, x0) = (stiff_disc(), x0());
-    let rodas4 = Rosenbrock::new(5e-8, 5e-7)
+    let rodas4 = Rodas4::new(5e-8, 5e-7)
         .integrate_with_jacobian(&sys, 0.0, x0, 1.0)
         .unwrap();
     let rodas5 = Rodas5P::new(1e-9, 3e-9)

@@ -8,14 +8,13 @@ use nalgebra::{RealField, SMatrix, SVector};
 
 use crate::ScalarTolerance;
 use crate::Stats;
-use crate::common::{
-    Adaptive, adaptive_builders, all_finite, c, integrator_impl, jacobian_entry_points,
-    machine_epsilon,
-};
-use crate::driver::{Failure, Method, Pi, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource};
 use crate::linalg::Lu;
+use crate::method::{Failure, Method, Pi, counted};
+use crate::numeric::{all_finite, c, machine_epsilon};
+use crate::settings::{Settings, adaptive_builders, integrator_impl, jacobian_entry_points};
 use crate::step::Poly;
+use crate::tolerance::Tolerance;
 
 /// The highest order.
 const MAX_ORDER: usize = 5;
@@ -119,7 +118,7 @@ const DENSE_BASIS: [[f64; MAX_ORDER + 1]; MAX_ORDER + 1] = [
 ///   to converge or needed 3 iterations or more; if it fails with a fresh
 ///   Jacobian and an exact matrix, the step is halved. The [`Integrator`](crate::Integrator) implementation
 ///   works for any [`OdeSystem`](crate::OdeSystem) with a forward-difference
-///   Jacobian (`D` evaluations each, as [`Rosenbrock`](crate::Rosenbrock));
+///   Jacobian (`D` evaluations each, as [`Rodas4`](crate::Rodas4));
 ///   [`Bdf::integrate_with_jacobian`] uses the analytic
 ///   [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian).
 ///   [`Stats::newton_iterations`](crate::Stats::newton_iterations),
@@ -162,12 +161,12 @@ const DENSE_BASIS: [[f64; MAX_ORDER + 1]; MAX_ORDER + 1] = [
 /// `atol = rtol/100`, analytic Jacobian): errors 5.4e-7, 6.2e-9 and
 /// 4.6e-11 for 436, 1,107 and 3,149 right-hand sides plus Jacobians (one
 /// Jacobian each); in the lab's side-by-side benchmark at errors 1e-6, 1e-8,
-/// 1e-10 [`Rosenbrock`](crate::Rosenbrock) needs 521, 1,565 and 5,508
+/// 1e-10 [`Rodas4`](crate::Rodas4) needs 521, 1,565 and 5,508
 /// right-hand sides. Its own work is about 1,800 instructions per step
-/// (callgrind, outside the right-hand side and Jacobian), Rosenbrock's
+/// (callgrind, outside the right-hand side and Jacobian), Rodas4's
 /// 7,350.
 ///
-/// Failure modes are those of [`Rosenbrock`](crate::Rosenbrock): a
+/// Failure modes are those of [`Rodas4`](crate::Rodas4): a
 /// singular iteration matrix or a failed Newton iteration rejects the step
 /// and halves it (after 5 consecutive singular matrices
 /// [`SimError::Singular`](crate::SimError::Singular)); non-finite values
@@ -191,7 +190,7 @@ const DENSE_BASIS: [[f64; MAX_ORDER + 1]; MAX_ORDER + 1] = [
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Bdf<T, Tol = ScalarTolerance<T>> {
-    a: Adaptive<T, Tol>,
+    a: Settings<T, Tol>,
 }
 
 adaptive_builders!(Bdf);

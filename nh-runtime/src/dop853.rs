@@ -3,11 +3,11 @@
 use nalgebra::{RealField, SVector};
 
 use crate::ScalarTolerance;
-use crate::common::{
-    Adaptive, adaptive_builders, all_finite, all_finite_in, c, integrator_impl, scaled, stage_point,
-};
-use crate::driver::{Failure, Method, Pi, Tolerance, counted, stiffness_estimate};
+use crate::method::{Failure, Method, Pi, counted, stiffness_estimate};
+use crate::numeric::{all_finite, all_finite_in, c, stage_point};
+use crate::settings::{Settings, adaptive_builders, integrator_impl};
 use crate::step::{Poly, hermite_terms};
+use crate::tolerance::{Tolerance, scaled};
 use crate::{OdeSystem, Stats};
 
 // Coefficients of DOP853 (Hairer, Nørsett & Wanner, Solving ODEs I, and
@@ -184,7 +184,7 @@ const PI: Pi = Pi {
 ///
 /// The method of choice for smooth non-stiff problems at tight tolerances
 /// (say `rtol ≤ 1e-7`), where it needs far fewer steps than
-/// [`DormandPrince`](crate::DormandPrince).
+/// [`Dopri5`](crate::Dopri5).
 ///
 /// * 12 stages, the solution is advanced with the 8th-order weights; the
 ///   error estimate combines the 5th- and 3rd-order estimators as in
@@ -215,7 +215,7 @@ const PI: Pi = Pi {
 /// * [`Dop853::with_fixed_step`] switches the error control off (every step
 ///   accepted): for convergence studies and real-time loops.
 ///
-/// Failure modes are those of [`DormandPrince`](crate::DormandPrince):
+/// Failure modes are those of [`Dopri5`](crate::Dopri5):
 /// non-finite trial steps are retried with half the step, and
 /// [`SimError::NonFinite`](crate::SimError::NonFinite) / [`SimError::StepSizeTooSmall`](crate::SimError::StepSizeTooSmall) /
 /// [`SimError::MaxSteps`](crate::SimError::MaxSteps) (default 100 000 attempts) carry the last accepted
@@ -248,7 +248,7 @@ const PI: Pi = Pi {
 /// norm](crate#tolerances-and-the-error-norm).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Dop853<T, Tol = ScalarTolerance<T>> {
-    a: Adaptive<T, Tol>,
+    a: Settings<T, Tol>,
 }
 
 adaptive_builders!(Dop853);

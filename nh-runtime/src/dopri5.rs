@@ -3,9 +3,11 @@
 use nalgebra::{RealField, SVector};
 
 use crate::ScalarTolerance;
-use crate::common::{Adaptive, adaptive_builders, c, integrator_impl, scaled, stage_point};
-use crate::driver::{Failure, Method, Pi, Tolerance, counted, stiffness_estimate};
+use crate::method::{Failure, Method, Pi, counted, stiffness_estimate};
+use crate::numeric::{c, stage_point};
+use crate::settings::{Settings, adaptive_builders, integrator_impl};
 use crate::step::{Poly, hermite_terms};
+use crate::tolerance::{Tolerance, scaled};
 use crate::{OdeSystem, Stats};
 
 // Butcher tableau of RK5(4)7M (Dormand & Prince 1980), FSAL.
@@ -70,19 +72,19 @@ const PI: Pi = Pi {
 ///   `err_i / (atol_i + rtol_i·max(|x_i|, |x_new_i|))`, a step is accepted
 ///   when it is ≤ 1 (see [Tolerances and the error
 ///   norm](crate#tolerances-and-the-error-norm); the tolerances are the same
-///   for every component with [`DormandPrince::new`], per component with
-///   [`DormandPrince::with_tolerances`]);
+///   for every component with [`Dopri5::new`], per component with
+///   [`Dopri5::with_tolerances`]);
 /// * PI step-size control with `β = 0.04`, `α = 0.2 − 0.75β`, safety factor
 ///   0.9 and step ratio limits `0.2 ..= 10`; after a rejection the step may
 ///   not grow in the next accepted step;
 /// * automatic initial step (Hairer's `hinit`) unless
-///   [`DormandPrince::with_initial_step`] is given;
+///   [`Dopri5::with_initial_step`] is given;
 /// * stiffness detection (Hairer's test): every 1000 accepted steps, and at
 ///   every step once it fired, `h·λ ≈ |h|·‖k7 − k6‖ / ‖y7 − y6‖` is estimated;
 ///   after 15 estimates above 3.25 (without 6 consecutive ones below)
 ///   [`Stats::stiffness_detected`](crate::Stats::stiffness_detected) is
 ///   set. Integration continues regardless. (Not with
-///   [`DormandPrince::with_fixed_step`]: the test is about a controlled
+///   [`Dopri5::with_fixed_step`]: the test is about a controlled
 ///   step being held at the stability boundary.)
 ///
 /// Failure modes (those of every adaptive integrator of this crate, which
@@ -120,10 +122,10 @@ const PI: Pi = Pi {
 ///
 /// ```rust
 /// use nalgebra::Vector2;
-/// use nh_runtime::{DormandPrince, Integrator};
+/// use nh_runtime::{Dopri5, Integrator};
 ///
 /// let oscillator = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -x[0]);
-/// let mut dp = DormandPrince::new(1e-8, 1e-10);
+/// let mut dp = Dopri5::new(1e-8, 1e-10);
 /// let out = dp.integrate(&oscillator, 0.0, Vector2::new(1.0, 0.0), 10.0).unwrap();
 /// assert!((out.x[0] - 10.0f64.cos()).abs() < 1e-6);
 /// assert_eq!(out.stats.rhs_evals, 6 * (out.stats.steps + out.stats.rejected) + 2);
@@ -131,19 +133,19 @@ const PI: Pi = Pi {
 /// ```
 ///
 /// The type parameter `Tol` is how errors are weighed: [`ScalarTolerance`]
-/// (the default, from [`DormandPrince::new`]) or
+/// (the default, from [`Dopri5::new`]) or
 /// [`PerComponentTolerance`](crate::PerComponentTolerance) (from
-/// [`DormandPrince::with_tolerances`]).
+/// [`Dopri5::with_tolerances`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub struct DormandPrince<T, Tol = ScalarTolerance<T>> {
-    a: Adaptive<T, Tol>,
+pub struct Dopri5<T, Tol = ScalarTolerance<T>> {
+    a: Settings<T, Tol>,
 }
 
-adaptive_builders!(DormandPrince);
-integrator_impl!(DormandPrince<T, Tol>, a, |sys| Dopri5::new(sys));
+adaptive_builders!(Dopri5);
+integrator_impl!(Dopri5<T, Tol>, a, |sys| Dopri5Stages::new(sys));
 
 /// The stages of one Dormand–Prince step (`k[6]` is the next step's `k[0]`).
-pub(crate) struct Dopri5<'a, S: ?Sized, T, const D: usize> {
+pub(crate) struct Dopri5Stages<'a, S: ?Sized, T, const D: usize> {
     sys: &'a S,
     k: [SVector<T, D>; 7],
     x6: SVector<T, D>,
@@ -151,9 +153,9 @@ pub(crate) struct Dopri5<'a, S: ?Sized, T, const D: usize> {
     dense: Poly<T, D>,
 }
 
-impl<'a, S: ?Sized, T: RealField + Copy, const D: usize> Dopri5<'a, S, T, D> {
+impl<'a, S: ?Sized, T: RealField + Copy, const D: usize> Dopri5Stages<'a, S, T, D> {
     pub(crate) fn new(sys: &'a S) -> Self {
-        Dopri5 {
+        Dopri5Stages {
             sys,
             k: [SVector::zeros(); 7],
             x6: SVector::zeros(),
@@ -163,7 +165,7 @@ impl<'a, S: ?Sized, T: RealField + Copy, const D: usize> Dopri5<'a, S, T, D> {
     }
 }
 
-impl<T, S, const D: usize> Dopri5<'_, S, T, D>
+impl<T, S, const D: usize> Dopri5Stages<'_, S, T, D>
 where
     T: RealField + Copy,
     S: OdeSystem<T, D> + ?Sized,
@@ -206,7 +208,7 @@ where
     }
 }
 
-impl<T, S, const D: usize> Method<T, D> for Dopri5<'_, S, T, D>
+impl<T, S, const D: usize> Method<T, D> for Dopri5Stages<'_, S, T, D>
 where
     T: RealField + Copy,
     S: OdeSystem<T, D> + ?Sized,

@@ -9,207 +9,14 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::common::{all_finite, c, check_arguments, check_positive, initial_step, min_step};
+use crate::checks::{check_arguments, check_positive};
+use crate::method::{Failure, Method, Pi};
+use crate::numeric::{all_finite, c, machine_epsilon};
 use crate::sink::Sink;
 use crate::step::Poly;
+use crate::step_size::{initial_step, min_step};
+use crate::tolerance::Tolerance;
 use crate::{EventHit, OdeSystem, Outcome, SimError, Singularity, Stats, Step};
-
-/// Why a trial step could not be computed.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub(crate) enum Failure {
-    /// A stage, the new state or a derivative is NaN or infinite.
-    NonFinite,
-    /// The iteration matrix of an implicit method is singular.
-    Singular,
-    /// The Newton iteration of an implicit method did not converge.
-    #[cfg_attr(not(feature = "alloc"), allow(dead_code))]
-    NoConvergence,
-}
-
-impl Failure {
-    /// The error of a run that ends with this failure at `(t, x)`, step `h`.
-    fn at<T, const D: usize>(self, t: T, x: SVector<T, D>, h: T) -> SimError<T, D> {
-        match self {
-            Failure::NonFinite => SimError::NonFinite { t, x },
-            Failure::Singular => SimError::Singular {
-                t,
-                x,
-                cause: Singularity::IterationMatrix,
-            },
-            Failure::NoConvergence => SimError::NoConvergence { t, x, h },
-        }
-    }
-}
-
-pub(crate) use crate::tolerance::Tolerance;
-
-/// What an integration method supplies to the driver: the stages of one
-/// step from an accepted point, their error estimate and dense output.
-pub(crate) trait Method<T: RealField + Copy, const D: usize> {
-    /// The order of the method, for the initial step heuristic.
-    const ORDER: u32;
-    /// `h·λ` above which Hairer's stiffness test counts a step as being at
-    /// the stability boundary; `None` for methods without the test.
-    const STIFF_LIMIT: Option<f64> = None;
-    /// The smallest relative tolerance, in units of the machine epsilon,
-    /// at which the method's error still follows the tolerance; a smaller
-    /// one ends the run in [`SimError::ToleranceTooTight`] before the first
-    /// step. `None`: smaller tolerances are raised to `10·eps`.
-    const MIN_RTOL_EPS: Option<f64> = None;
-    /// The step-size controller of the method's reference code (unused by
-    /// the fixed-step methods, which keep this default).
-    const PI: Pi = Pi {
-        safe: 0.9,
-        expo: 0.2,
-        beta: 0.0,
-        fac_lo: 0.1,
-        fac_hi: 5.0,
-        gustafsson: false,
-    };
-
-    /// The right-hand side `f(t, x)` (not counted: callers count).
-    fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D>;
-
-    /// Prepares the first step from `(t0, x0)`: evaluates what it needs
-    /// there (the derivative, a Jacobian) and counts it.
-    fn start(&mut self, t: T, x: &SVector<T, D>, stats: &mut Stats) -> Result<(), Failure>;
-
-    /// The derivative at the current point, if the method keeps it (for
-    /// the initial step heuristic).
-    fn slope(&self) -> Option<&SVector<T, D>> {
-        None
-    }
-
-    /// Computes the trial step `(t, x) → (t_new, x_new)` of signed size `h`
-    /// (`t_new` is `t + h`, or exactly `t1` on the last step) and returns
-    /// its scaled error norm (0 for methods without an estimate). Every
-    /// stage must be finite, or the trial fails.
-    fn attempt(
-        &mut self,
-        t: T,
-        x: &SVector<T, D>,
-        h: T,
-        t_new: T,
-        tol: &Tolerance<T, D>,
-        stats: &mut Stats,
-    ) -> Result<T, Failure>;
-
-    /// Completes a trial that the controller accepts (for example the
-    /// derivative at the new point, first same as last); a failure rejects
-    /// it after all.
-    fn complete(&mut self, _t_new: T, _stats: &mut Stats) -> Result<(), Failure> {
-        Ok(())
-    }
-
-    /// The new state of the last trial.
-    fn x_new(&self) -> &SVector<T, D>;
-
-    /// Builds the dense output of the last completed trial, which started
-    /// at `(t, x)` with step `h`; `false` if it is not finite (the driver
-    /// then interpolates the step on its chord; the trial stands).
-    fn build_dense(&mut self, t: T, x: &SVector<T, D>, h: T, stats: &mut Stats) -> bool;
-
-    /// The dense output built by [`Method::build_dense`].
-    fn dense(&self) -> &Poly<T, D>;
-
-    /// `‖Δf‖ / ‖Δx‖` between the last two stages at the end of the step
-    /// (Hairer's stiffness estimate without `|h|`), if defined.
-    fn stiffness_ratio(&self) -> Option<T> {
-        None
-    }
-
-    /// The step-size controller in use: [`Method::PI`], unless the method
-    /// changes its nature within a run (stiffness switching).
-    fn pi(&self) -> Pi {
-        Self::PI
-    }
-
-    /// `Some(factor)` when the last [`Method::advance`] switched the method
-    /// over (stiffness switching): the driver restarts its step-size
-    /// controller with [`Method::pi`], and the next step is `factor` times
-    /// the one just accepted.
-    fn switched(&self) -> Option<f64> {
-        None
-    }
-
-    /// The signed step proposed by a method that chooses its own steps (a
-    /// multistep method, which also changes its order): read after a
-    /// rejected trial and after [`Method::advance`]. `None` (the default):
-    /// the driver's step-size controller chooses.
-    fn proposed_step(&self) -> Option<T> {
-        None
-    }
-
-    /// Moves to the accepted point `(t, x)` (the end of the completed
-    /// trial); `last` when the integration ends there.
-    fn advance(
-        &mut self,
-        t: T,
-        x: &SVector<T, D>,
-        last: bool,
-        stats: &mut Stats,
-    ) -> Result<(), Failure>;
-
-    /// Moves to the accepted point `(t, x)` whose state the projection onto
-    /// the holonomic constraints moved away from the trial's end
-    /// [`Method::x_new`]; `last` when the integration ends there. The
-    /// default restarts the method at the projected state
-    /// ([`Method::start`]), which is all a one-step method needs (its next
-    /// step starts from the derivative there); a multistep method may keep
-    /// its history instead.
-    fn advance_projected(
-        &mut self,
-        t: T,
-        x: &SVector<T, D>,
-        last: bool,
-        stats: &mut Stats,
-    ) -> Result<(), Failure> {
-        if last {
-            Ok(())
-        } else {
-            self.start(t, x, stats)
-        }
-    }
-}
-
-/// `f`, one evaluation of the right-hand side (counted), if it is finite.
-pub(crate) fn counted<T: RealField + Copy, const D: usize>(
-    f: SVector<T, D>,
-    stats: &mut Stats,
-) -> Result<SVector<T, D>, Failure> {
-    stats.rhs_evals += 1;
-    if all_finite(&f) {
-        Ok(f)
-    } else {
-        Err(Failure::NonFinite)
-    }
-}
-
-/// Hairer's stiffness estimate `‖f_new − f_prev‖ / ‖x_new − x_prev‖` from
-/// the last two stages of a step (both evaluated at its end), if defined.
-pub(crate) fn stiffness_estimate<T: RealField + Copy, const D: usize>(
-    (f_new, f_prev): (&SVector<T, D>, &SVector<T, D>),
-    (x_new, x_prev): (&SVector<T, D>, &SVector<T, D>),
-) -> Option<T> {
-    let stnum = (f_new - f_prev).norm_squared();
-    let stden = (x_new - x_prev).norm_squared();
-    (stden > T::zero()).then(|| (stnum / stden).sqrt())
-}
-
-/// Parameters of Hairer's step-size controller
-/// `h_new = h / clamp(err^expo / errold^beta / safe, fac_lo, fac_hi)`.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Pi {
-    pub(crate) safe: f64,
-    pub(crate) expo: f64,
-    pub(crate) beta: f64,
-    /// The smallest `h/h_new` (the largest growth is `1/fac_lo`).
-    pub(crate) fac_lo: f64,
-    /// The largest `h/h_new` (the largest reduction).
-    pub(crate) fac_hi: f64,
-    /// Gustafsson's predictive correction (`RODAS`).
-    pub(crate) gustafsson: bool,
-}
 
 /// How steps are placed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -225,7 +32,7 @@ pub(crate) enum Control<T> {
 
 /// Everything [`drive`] needs besides the method.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Settings<T, const D: usize> {
+pub(crate) struct RunSettings<T, const D: usize> {
     pub(crate) control: Control<T>,
     pub(crate) tol: Tolerance<T, D>,
     /// The first trial step (magnitude) instead of Hairer's `hinit`.
@@ -297,7 +104,7 @@ struct Run<'r, T, H: ?Sized, const D: usize> {
 pub(crate) fn drive<T, M, H, K, const D: usize>(
     method: &mut M,
     sys: &H,
-    settings: &Settings<T, D>,
+    settings: &RunSettings<T, D>,
     (t0, x0, t1): (T, SVector<T, D>, T),
     sink: &mut K,
     rec: &mut Record<T>,
@@ -311,7 +118,7 @@ where
     *rec = Record::default();
     let dir = check_arguments(t0, &x0, t1)?;
     check_settings(settings)?;
-    let eps = crate::common::machine_epsilon::<T>();
+    let eps = machine_epsilon::<T>();
     let mut run = Run {
         t: t0,
         x: x0,
@@ -346,7 +153,7 @@ where
 
 /// `InvalidInput` unless the tolerances and step settings are usable.
 fn check_settings<T: RealField + Copy, const D: usize>(
-    s: &Settings<T, D>,
+    s: &RunSettings<T, D>,
 ) -> Result<(), SimError<T, D>> {
     s.tol.check()?;
     if let Control::Fixed(h) = s.control {
@@ -750,7 +557,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
     fn fixed<M, K>(
         &mut self,
         m: &mut M,
-        s: &Settings<T, D>,
+        s: &RunSettings<T, D>,
         h_abs: T,
         sink: &mut K,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
@@ -804,7 +611,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
 
     /// The first trial step of an adaptive run (signed): `initial` (capped
     /// at `hmax`) or Hairer's `hinit` from the method's derivative at `t0`.
-    fn first_step<M: Method<T, D>>(&mut self, m: &M, s: &Settings<T, D>, hmax: T) -> T {
+    fn first_step<M: Method<T, D>>(&mut self, m: &M, s: &RunSettings<T, D>, hmax: T) -> T {
         let h = match (s.initial_step, m.slope()) {
             (Some(h0), _) => h0.min(hmax),
             (None, Some(f0)) => {
@@ -834,7 +641,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
     fn adaptive<M, K>(
         &mut self,
         m: &mut M,
-        s: &Settings<T, D>,
+        s: &RunSettings<T, D>,
         sink: &mut K,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
     where

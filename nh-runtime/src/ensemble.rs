@@ -48,7 +48,7 @@ use std::vec::Vec;
 ///
 /// ```rust
 /// use nalgebra::Vector1;
-/// use nh_runtime::{DormandPrince, Ensemble, Integrator};
+/// use nh_runtime::{Dopri5, Ensemble, Integrator};
 ///
 /// let rates: Vec<f64> = (0..64).map(|i| 0.1 * f64::from(i)).collect();
 /// let ensemble = Ensemble::new(rates.len());
@@ -57,7 +57,7 @@ use std::vec::Vec;
 /// let finals = ensemble.run(|i| {
 ///     let k = rates[i];
 ///     let decay = move |_t: f64, x: &Vector1<f64>| -k * x;
-///     DormandPrince::new(1e-10, 1e-12).integrate(&decay, 0.0, Vector1::new(1.0), 1.0)
+///     Dopri5::new(1e-10, 1e-12).integrate(&decay, 0.0, Vector1::new(1.0), 1.0)
 /// });
 /// assert_eq!(finals.len(), 64);
 /// let x = finals[30].as_ref().unwrap().x[0];

@@ -6,40 +6,9 @@ use core::cmp::Ordering;
 
 use nalgebra::{RealField, SVector};
 
-use crate::common::{c, machine_epsilon};
+use crate::numeric::{c, machine_epsilon};
 use crate::sink::Sink;
-use crate::{Outcome, SimError, Stats, Step};
-
-/// Which sign changes of an event function count.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
-pub enum Direction {
-    /// From negative to zero or positive.
-    Rising,
-    /// From positive to zero or negative.
-    Falling,
-    /// Either way (the default).
-    #[default]
-    Either,
-}
-
-impl Direction {
-    /// Whether a step from `g_prev` to `g_new` crosses zero this way.
-    ///
-    /// A value exactly zero at the start of a step (at `t0`, or at an event
-    /// found exactly at the end of the previous step) starts no crossing;
-    /// NaN has no sign and crosses nothing (the tracker compares the values
-    /// on either side of it); `±∞` have their sign.
-    fn crossed<T: RealField + Copy>(self, g_prev: T, g_new: T) -> bool {
-        let zero = T::zero();
-        let rising = g_prev < zero && g_new >= zero;
-        let falling = g_prev > zero && g_new <= zero;
-        match self {
-            Direction::Rising => rising,
-            Direction::Falling => falling,
-            Direction::Either => rising || falling,
-        }
-    }
-}
+use crate::{Direction, EventHit, Outcome, SimError, Stats, Step};
 
 /// `N` event functions `g(t, x)`, evaluated together (one call returns all
 /// `N` values), each with a [`Direction`] filter and a terminal flag.
@@ -80,7 +49,7 @@ impl Direction {
 ///
 /// ```rust
 /// use nalgebra::{Vector1, Vector2};
-/// use nh_runtime::{Direction, DormandPrince, Events, Integrator};
+/// use nh_runtime::{Direction, Dopri5, Events, Integrator};
 ///
 /// // A ball thrown up at 10 m/s: (height, velocity).
 /// let ball = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -9.81);
@@ -88,7 +57,7 @@ impl Direction {
 /// let landing = Events::new(|_t: f64, x: &Vector2<f64>| Vector1::new(x[0]))
 ///     .direction([Direction::Falling])
 ///     .terminal([true]);
-/// let out = DormandPrince::new(1e-10, 1e-12)
+/// let out = Dopri5::new(1e-10, 1e-12)
 ///     .integrate_with_events(&ball, 0.0, Vector2::new(0.0, 10.0), 5.0, &landing, |_| {})
 ///     .unwrap();
 /// let hit = out.event.expect("the ball lands");
@@ -147,41 +116,6 @@ impl<T: RealField + Copy, G, const N: usize> Events<T, G, N> {
     {
         (self.g)(t, x)
     }
-}
-
-/// An event that happened: which one, when, in which state.
-///
-/// # Example
-///
-/// ```rust
-/// use nalgebra::{Vector1, Vector2};
-/// use nh_runtime::{Direction, Events, Integrator, Rk4};
-///
-/// // The oscillator q = cos t passes through 0 at π/2, 3π/2, 5π/2.
-/// let oscillator = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -x[0]);
-/// let zero = Events::new(|_t: f64, x: &Vector2<f64>| Vector1::new(x[0]));
-/// let mut hits = Vec::new();
-/// Rk4::new(0.01)
-///     .integrate_with_events(&oscillator, 0.0, Vector2::new(1.0, 0.0), 9.0, &zero, |h| hits.push(*h))
-///     .unwrap();
-/// assert_eq!(hits.len(), 3);
-/// assert_eq!(hits[0].direction, Direction::Falling);
-/// assert_eq!(hits[1].direction, Direction::Rising);
-/// assert!((hits[2].t - 2.5 * std::f64::consts::PI).abs() < 1e-8);
-/// ```
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct EventHit<T, const D: usize> {
-    /// Which event function, `0..N`.
-    pub index: usize,
-    /// The located time.
-    pub t: T,
-    /// The state there, from the step's dense output.
-    pub x: SVector<T, D>,
-    /// Which way `g` crossed zero: [`Direction::Rising`] or
-    /// [`Direction::Falling`].
-    pub direction: Direction,
-    /// Whether the event ended the run.
-    pub terminal: bool,
 }
 
 /// The events' view of a run: `g` at the last accepted point, the

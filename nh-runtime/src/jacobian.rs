@@ -1,9 +1,12 @@
 //! Where the implicit methods get their Jacobians from: finite differences
-//! for any [`OdeSystem`], or the analytic [`OdeJacobian::jacobian`].
+//! for any [`OdeSystem`], or the analytic [`OdeJacobian::jacobian`]; and
+//! the methods that keep the Jacobian of the accepted point for others to
+//! read ([`Linearised`]).
 
-use nalgebra::{RealField, SVector};
+use nalgebra::{RealField, SMatrix, SVector};
 
-use crate::common::{c, machine_epsilon};
+use crate::method::Method;
+use crate::numeric::{c, machine_epsilon};
 use crate::{OdeJacobian, OdeSystem, Stats};
 
 /// A right-hand side together with a way to obtain `∂f/∂x`, so that the
@@ -156,6 +159,15 @@ where
     let (tp, delta) = increment(t);
     stats.rhs_evals += 1;
     (src.rhs(tp, x) - f0) / delta
+}
+
+/// A [`Method`] that evaluates the Jacobian at every accepted point and
+/// lets others read it: the implicit member of `AutoSwitch`, whose switch
+/// back to the explicit member estimates the Jacobian's spectral radius.
+pub(crate) trait Linearised<T: RealField + Copy, const D: usize>: Method<T, D> {
+    /// The Jacobian at the current accepted point (after
+    /// [`Method::start`] or [`Method::advance`] with `last == false`).
+    fn jacobian(&self) -> &SMatrix<T, D, D>;
 }
 
 #[cfg(test)]

@@ -14,11 +14,14 @@
 //! * States from velocities: [`ConstraintViolation`] (velocities that break
 //!   the constraints) and [`speeds_from_velocities`], behind the generated
 //!   `state_from_velocities`.
-//! * Integrators ([`Integrator`]):
+//! * Integrators ([`Integrator`]), each named for the published method or
+//!   code it implements, with its order (the former names `DormandPrince`
+//!   and `Rosenbrock` remain as deprecated aliases of [`Dopri5`] and
+//!   [`Rodas4`]):
 //!   * [`Rk4`]: classical Runge–Kutta, fixed step (order 4);
-//!   * [`DormandPrince`]: adaptive 5(4), after Hairer's `DOPRI5`;
+//!   * [`Dopri5`]: adaptive 5(4), after Hairer's `DOPRI5`;
 //!   * [`Dop853`]: adaptive 8(5,3), after Hairer's `DOP853`;
-//!   * [`Rosenbrock`]: RODAS4, adaptive, L-stable, linearly implicit
+//!   * [`Rodas4`]: RODAS4, adaptive, L-stable, linearly implicit
 //!     (order 4), for stiff problems;
 //!   * [`Rodas5P`]: Steinebach's Rodas5P, the same kind of method of order
 //!     5, for stiff problems at tight tolerances;
@@ -26,15 +29,15 @@
 //!     MATLAB's `ode15s`, implicit, for stiff problems at moderate tolerances;
 //!   * [`GaussLegendre4`]: 2-stage Gauss–Legendre collocation, fixed step,
 //!     implicit, symplectic (order 4);
-//!   * [`AutoSwitch`]: [`DormandPrince`] while the problem is not stiff,
+//!   * [`AutoSwitch`]: [`Dopri5`] while the problem is not stiff,
 //!     RODAS4 while it is, switching automatically both ways.
 //!
-//!   Which to use: [`DormandPrince`] for everyday non-stiff problems at
-//!   moderate tolerances, [`Dop853`] when tolerances are tight, [`Rosenbrock`]
-//!   when the problem is stiff (explicit methods crawl, or `DormandPrince`
+//!   Which to use: [`Dopri5`] for everyday non-stiff problems at
+//!   moderate tolerances, [`Dop853`] when tolerances are tight, [`Rodas4`]
+//!   when the problem is stiff (explicit methods crawl, or `Dopri5`
 //!   reports [`Stats::stiffness_detected`]), [`Bdf`] when it is stiff and
 //!   right-hand sides are what costs (it needs about one per step, against
-//!   six for [`Rosenbrock`]), [`Rodas5P`] when it is stiff and
+//!   six for [`Rodas4`]), [`Rodas5P`] when it is stiff and
 //!   the tolerance tight (below about `1e-7`), [`AutoSwitch`] when it is
 //!   stiff only at times or you do not know, and [`GaussLegendre4`] for long
 //!   runs of conservative (Hamiltonian) systems, where it keeps the energy
@@ -64,7 +67,7 @@
 //!
 //! # Tolerances and the error norm
 //!
-//! The adaptive integrators ([`DormandPrince`], [`Dop853`], [`Rosenbrock`],
+//! The adaptive integrators ([`Dopri5`], [`Dop853`], [`Rodas4`],
 //! [`Rodas5P`], [`Bdf`], [`AutoSwitch`])
 //! take a relative tolerance `rtol` (> 0) and an absolute tolerance `atol`
 //! (≥ 0): one pair for every component with `new(rtol, atol)`
@@ -111,7 +114,7 @@
 //!
 //! ```rust
 //! use nalgebra::Vector2;
-//! use nh_runtime::{DormandPrince, Integrator, OdeSystem};
+//! use nh_runtime::{Dopri5, Integrator, OdeSystem};
 //!
 //! /// A pendulum `θ'' = -sin θ` as `(θ, ω)`.
 //! struct Pendulum;
@@ -124,7 +127,7 @@
 //!
 //! let energy = |x: &Vector2<f64>| 0.5 * x[1] * x[1] - x[0].cos();
 //! let x0 = Vector2::new(1.0, 0.0);
-//! let out = DormandPrince::new(1e-10, 1e-12)
+//! let out = Dopri5::new(1e-10, 1e-12)
 //!     .integrate(&Pendulum, 0.0, x0, 20.0)
 //!     .expect("pendulum integrates");
 //! assert_eq!(out.t, 20.0);
@@ -137,9 +140,10 @@
 #[cfg(feature = "alloc")]
 extern crate alloc;
 
-mod auto;
+mod auto_switch;
 mod bdf;
-mod common;
+mod checks;
+mod crossing;
 mod dop853;
 mod dopri5;
 mod driver;
@@ -147,32 +151,40 @@ mod driver;
 mod ensemble;
 mod events;
 #[cfg(feature = "alloc")]
-mod gauss;
+mod gauss_legendre4;
 mod jacobian;
 mod linalg;
+mod method;
+mod numeric;
 mod outcome;
 mod rk4;
+mod rodas4;
+mod rodas5p;
 mod rodas_tableau;
 mod rosenbrock;
 mod sensitivity;
+mod settings;
 mod sink;
 mod state;
 mod step;
+mod step_size;
 mod system;
 mod tolerance;
 
-pub use auto::{AutoSwitch, Regime, Switch};
+pub use auto_switch::{AutoSwitch, Regime, Switch};
 pub use bdf::Bdf;
+pub use crossing::{Direction, EventHit};
 pub use dop853::Dop853;
-pub use dopri5::DormandPrince;
+pub use dopri5::Dopri5;
 #[cfg(feature = "std")]
 pub use ensemble::{Ensemble, Shard, ShardError};
-pub use events::{Direction, EventHit, Events};
+pub use events::Events;
 #[cfg(feature = "alloc")]
-pub use gauss::GaussLegendre4;
+pub use gauss_legendre4::GaussLegendre4;
 pub use outcome::{Outcome, SimError, Singularity, Stats};
 pub use rk4::Rk4;
-pub use rosenbrock::{Rodas5P, Rosenbrock};
+pub use rodas4::Rodas4;
+pub use rodas5p::Rodas5P;
 pub use sensitivity::{ParameterJacobian, Sensitivities};
 pub use state::{
     ConstraintViolation, KnownVelocitiesError, speeds_from_velocities, velocities_from_known,
@@ -183,3 +195,25 @@ pub use system::{
     ProjectionFailure,
 };
 pub use tolerance::{ErrorTolerance, PerComponentTolerance, ScalarTolerance};
+
+// The former names of the integrators, from before they were named for the
+// method each implements.
+
+/// The former name of [`Dopri5`], kept so that code written for 0.1
+/// compiles: `DormandPrince::new(rtol, atol)`, `DormandPrince::<f64>` and
+/// the builders are those of [`Dopri5`], with the same steps and results.
+#[deprecated(
+    since = "0.2.0",
+    note = "renamed `Dopri5`: integrators are named for their method"
+)]
+pub type DormandPrince<T, Tol = ScalarTolerance<T>> = Dopri5<T, Tol>;
+
+/// The former name of [`Rodas4`], kept so that code written for 0.1
+/// compiles: `Rosenbrock::new(rtol, atol)`, `Rosenbrock::<f64>`, the
+/// builders and `integrate_with_jacobian` are those of [`Rodas4`], with the
+/// same steps and results.
+#[deprecated(
+    since = "0.2.0",
+    note = "renamed `Rodas4`: integrators are named for their method"
+)]
+pub type Rosenbrock<T, Tol = ScalarTolerance<T>> = Rodas4<T, Tol>;

@@ -35,7 +35,7 @@ pub struct Stats {
     /// [`Stats::rhs_evals`]). Always 0 for the explicit methods.
     pub jacobian_evals: usize,
     /// Whether the integrator's stiffness test fired (only
-    /// [`DormandPrince`](crate::DormandPrince) and [`Dop853`](crate::Dop853)
+    /// [`Dopri5`](crate::Dopri5) and [`Dop853`](crate::Dop853)
     /// perform one, and only under error control, not with
     /// `with_fixed_step`). The integration still continues; a stiff problem
     /// is merely slow for an explicit method. [`AutoSwitch`](crate::AutoSwitch)
@@ -74,10 +74,10 @@ pub struct Stats {
 ///
 /// ```rust
 /// use nalgebra::Vector1;
-/// use nh_runtime::{DormandPrince, Integrator};
+/// use nh_runtime::{Dopri5, Integrator};
 ///
 /// let decay = |_t: f64, x: &Vector1<f64>| -x;
-/// let out = DormandPrince::new(1e-9, 1e-12)
+/// let out = Dopri5::new(1e-9, 1e-12)
 ///     .integrate(&decay, 0.0, Vector1::new(1.0), 1.0)
 ///     .unwrap();
 /// assert_eq!(out.t, 1.0);

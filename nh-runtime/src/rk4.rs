@@ -2,9 +2,11 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::common::{Adaptive, all_finite_in, c, fixed_builders, integrator_impl};
-use crate::driver::{Failure, Method, Tolerance};
+use crate::method::{Failure, Method};
+use crate::numeric::{all_finite_in, c};
+use crate::settings::{Settings, fixed_builders, integrator_impl};
 use crate::step::Poly;
+use crate::tolerance::Tolerance;
 use crate::{OdeSystem, Stats};
 
 /// Classical fourth-order Runge–Kutta with a fixed step `h`.
@@ -38,7 +40,7 @@ use crate::{OdeSystem, Stats};
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Rk4<T> {
-    f: Adaptive<T>,
+    f: Settings<T>,
 }
 
 fixed_builders!(Rk4);

@@ -3,7 +3,7 @@
 // The coefficients are kept digit for digit as published.
 #![allow(clippy::excessive_precision)]
 
-use crate::driver::Pi;
+use crate::method::Pi;
 
 /// A stiffly accurate Rosenbrock–Wanner method with `S` stages in Hairer's
 /// transformed formulation (Hairer & Wanner, *Solving ODEs II*, IV.7,
@@ -67,9 +67,9 @@ const fn rodas_pi(embedded_order: u32) -> Pi {
 /// RODAS4: Hairer & Wanner, *Solving ODEs II*, section IV.7, table 7.2,
 /// and Hairer's `rodas.f` (`METH = 1`, dense output `D21`…`D35`); order 4,
 /// embedded order 3, dense output of order 3.
-pub(crate) struct Rodas4;
+pub(crate) struct Rodas4Scheme;
 
-impl Scheme<6> for Rodas4 {
+impl Scheme<6> for Rodas4Scheme {
     const ORDER: u32 = 4;
     const PI: Pi = rodas_pi(3);
     const TABLEAU: Tableau<6> = {
@@ -542,7 +542,7 @@ mod tests {
 
     #[test]
     fn rodas4_satisfies_the_order_conditions_of_order_4() {
-        check("RODAS4", &Rodas4::TABLEAU, 4);
+        check("RODAS4", &Rodas4Scheme::TABLEAU, 4);
     }
 
     #[test]

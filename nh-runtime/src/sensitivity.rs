@@ -34,7 +34,7 @@ use crate::{OdeJacobian, OdeSystem, ProjectionFailure};
 ///
 /// ```rust
 /// use nalgebra::{Matrix1, Matrix2, Matrix2x1, Vector2};
-/// use nh_runtime::{DormandPrince, Integrator, OdeJacobian, OdeSystem, ParameterJacobian, Sensitivities};
+/// use nh_runtime::{Dopri5, Integrator, OdeJacobian, OdeSystem, ParameterJacobian, Sensitivities};
 ///
 /// /// A damped oscillator x'' = −k x − x' with the stiffness k as parameter.
 /// struct Oscillator { k: f64 }
@@ -56,10 +56,10 @@ use crate::{OdeJacobian, OdeSystem, ProjectionFailure};
 ///
 /// let sens = Sensitivities::<_, 2, 1, 8>::new(&Oscillator { k: 4.0 });
 /// let x0 = Vector2::new(1.0, 0.0);
-/// let out = DormandPrince::new(1e-10, 1e-12).integrate(&sens, 0.0, sens.initial_state(&x0), 2.0).unwrap();
+/// let out = Dopri5::new(1e-10, 1e-12).integrate(&sens, 0.0, sens.initial_state(&x0), 2.0).unwrap();
 /// let (x, dx_dk, dx_dx0) = sens.split(&out.x);
 /// // against a central difference of two whole runs in k
-/// let run = |k: f64| DormandPrince::new(1e-12, 1e-14).integrate(&Oscillator { k }, 0.0, x0, 2.0).unwrap().x;
+/// let run = |k: f64| Dopri5::new(1e-12, 1e-14).integrate(&Oscillator { k }, 0.0, x0, 2.0).unwrap().x;
 /// let fd = (run(4.0 + 1e-5) - run(4.0 - 1e-5)) / 2e-5;
 /// assert!((dx_dk.column(0) - fd).amax() < 1e-7);
 /// assert!((x - run(4.0)).amax() < 1e-9);

@@ -5,7 +5,7 @@
 
 use nalgebra::{RealField, SVector};
 
-use crate::common::check_arguments;
+use crate::checks::check_arguments;
 use crate::{EventHit, Outcome, SimError, Step};
 
 /// A consumer of accepted steps.

@@ -6,8 +6,8 @@ use core::fmt;
 
 use nalgebra::{RealField, SMatrix, SVector};
 
-use crate::common::{c, machine_epsilon};
 use crate::linalg::Lu;
+use crate::numeric::{c, machine_epsilon};
 
 /// Velocities given for a state that do not satisfy the system's velocity
 /// constraints: the coordinate whose velocity is furthest from the value

@@ -71,7 +71,7 @@ impl<T: RealField + Copy, const D: usize> Poly<T, D> {
 
     /// Whether every coefficient is finite.
     pub(crate) fn is_finite(&self) -> bool {
-        crate::common::all_finite_in(&self.c[..self.n])
+        crate::numeric::all_finite_in(&self.c[..self.n])
     }
 
     /// Horner evaluation at `θ`.
@@ -99,9 +99,9 @@ impl<T: RealField + Copy, const D: usize> Poly<T, D> {
 /// | integrator | dense output |
 /// |---|---|
 /// | [`Rk4`](crate::Rk4) | the standard 3rd-order extension of classical RK4 |
-/// | [`DormandPrince`](crate::DormandPrince) | Hairer's 4th-order `CONTD5` (Shampine's coefficients) |
+/// | [`Dopri5`](crate::Dopri5) | Hairer's 4th-order `CONTD5` (Shampine's coefficients) |
 /// | [`Dop853`](crate::Dop853) | Hairer's 7th-order `CONTD8` (three extra stages, computed only for steps that are interpolated) |
-/// | [`Rosenbrock`](crate::Rosenbrock) | the 3rd-order formula of Hairer's `RODAS` |
+/// | [`Rodas4`](crate::Rodas4) | the 3rd-order formula of Hairer's `RODAS` |
 /// | [`Rodas5P`](crate::Rodas5P) | Steinebach's 4th-order formula (the same form, one term more) |
 /// | [`Bdf`](crate::Bdf) | the interpolating polynomial of the step's order `q` (1–5) through the new state and the `q` grid points before it |
 /// | [`GaussLegendre4`](crate::GaussLegendre4) | cubic Hermite from `(x_prev, f_prev, x, f)` (3rd order, C¹) |
@@ -120,11 +120,11 @@ impl<T: RealField + Copy, const D: usize> Poly<T, D> {
 ///
 /// ```rust
 /// use nalgebra::Vector2;
-/// use nh_runtime::{DormandPrince, Integrator};
+/// use nh_runtime::{Dopri5, Integrator};
 ///
 /// let oscillator = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -x[0]);
 /// let mut worst: f64 = 0.0;
-/// DormandPrince::new(1e-9, 1e-12)
+/// Dopri5::new(1e-9, 1e-12)
 ///     .integrate_with_steps(&oscillator, 0.0, Vector2::new(1.0, 0.0), 5.0, |step| {
 ///         // Check the interpolant in the middle of every step.
 ///         let tm = 0.5 * (step.t_prev() + step.t());

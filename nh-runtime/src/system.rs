@@ -81,7 +81,7 @@ pub trait OdeSystem<T, const D: usize> {
     ///
     /// ```rust
     /// use nalgebra::Vector2;
-    /// use nh_runtime::{DormandPrince, Integrator, OdeSystem, SimError, Singularity};
+    /// use nh_runtime::{Dopri5, Integrator, OdeSystem, SimError, Singularity};
     ///
     /// /// θ' = 1, v' = tan θ: a pole at θ = π/2.
     /// struct Tangent;
@@ -98,7 +98,7 @@ pub trait OdeSystem<T, const D: usize> {
     ///     }
     /// }
     ///
-    /// let err = DormandPrince::new(1e-8, 1e-10)
+    /// let err = Dopri5::new(1e-8, 1e-10)
     ///     .integrate(&Tangent, 0.0, Vector2::zeros(), 3.0)
     ///     .unwrap_err();
     /// let SimError::Singular { t, x, cause } = err else { panic!("{err:?}") };
@@ -138,7 +138,7 @@ pub trait OdeSystem<T, const D: usize> {
 
     /// Whether `f` depends on `t` only through `x` (an autonomous system):
     /// then `∂f/∂t = 0`, and the implicit methods skip its finite difference
-    /// (one right-hand side per Jacobian less for `Rosenbrock`). `false` by
+    /// (one right-hand side per Jacobian less for `Rodas4`). `false` by
     /// default; a generated system answers `true` when nothing in its
     /// definition depends on `t`.
     #[inline]
@@ -203,7 +203,7 @@ pub trait OdeJacobian<T, const D: usize>: OdeSystem<T, D> {
     /// The partial derivative `∂f/∂t` at `(t, x)` (at fixed `x`), if the
     /// system can give it; `None` (the default) lets the implicit methods
     /// difference `f` in `t` instead (one right-hand side per Jacobian for
-    /// [`Rosenbrock`](crate::Rosenbrock)). Not asked for when the system
+    /// [`Rodas4`](crate::Rodas4)). Not asked for when the system
     /// [is autonomous](OdeSystem::is_autonomous). A generated system with
     /// `outputs { jacobian }` whose definition depends on `t` gives it,
     /// derived symbolically.
@@ -212,7 +212,7 @@ pub trait OdeJacobian<T, const D: usize>: OdeSystem<T, D> {
     ///
     /// ```rust
     /// use nalgebra::{Matrix2, Vector2};
-    /// use nh_runtime::{Integrator, OdeJacobian, OdeSystem, Rosenbrock};
+    /// use nh_runtime::{Integrator, OdeJacobian, OdeSystem, Rodas4};
     ///
     /// /// A stiff oscillator forced by cos t: x'' = −100 x − 20 x' + cos t.
     /// struct Forced;
@@ -239,7 +239,7 @@ pub trait OdeJacobian<T, const D: usize>: OdeSystem<T, D> {
     ///     fn jacobian(&self, t: f64, x: &Vector2<f64>) -> Matrix2<f64> { Forced.jacobian(t, x) }
     /// }
     ///
-    /// let mut rodas = Rosenbrock::new(1e-8, 1e-10);
+    /// let mut rodas = Rodas4::new(1e-8, 1e-10);
     /// let own = rodas.integrate_with_jacobian(&Forced, 0.0, Vector2::zeros(), 1.0).unwrap();
     /// let differenced = rodas.integrate_with_jacobian(&Differenced, 0.0, Vector2::zeros(), 1.0).unwrap();
     /// // one right-hand side fewer per Jacobian, at the same accuracy
@@ -333,7 +333,7 @@ pub trait ControlledSystem<T, const D: usize, const M: usize> {
 ///
 /// ```rust
 /// use nalgebra::{Matrix2, Vector1, Vector2};
-/// use nh_runtime::{ControlledJacobian, ControlledSystem, Driven, Integrator, OdeJacobian, Rosenbrock};
+/// use nh_runtime::{ControlledJacobian, ControlledSystem, Driven, Integrator, OdeJacobian, Rodas4};
 ///
 /// /// A damped cart pushed by a force `u`: ẍ = u − 50 ẋ.
 /// struct Cart;
@@ -352,7 +352,7 @@ pub trait ControlledSystem<T, const D: usize, const M: usize> {
 ///
 /// let driven = Driven::new(&Cart, Vector1::new(5.0));
 /// assert_eq!(driven.jacobian(0.0, &Vector2::zeros())[(1, 1)], -50.0);
-/// let out = Rosenbrock::new(1e-8, 1e-10)
+/// let out = Rodas4::new(1e-8, 1e-10)
 ///     .integrate_with_jacobian(&driven, 0.0, Vector2::zeros(), 1.0)
 ///     .unwrap();
 /// assert!((out.x[1] - 0.1).abs() < 1e-8); // the terminal velocity u/50
@@ -529,7 +529,7 @@ where
 ///
 /// ```rust
 /// use nalgebra::Vector2;
-/// use nh_runtime::{DormandPrince, Integrator, Rk4};
+/// use nh_runtime::{Dopri5, Integrator, Rk4};
 ///
 /// let oscillator = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -x[0]);
 /// let x0 = Vector2::new(1.0, 0.0);
@@ -540,7 +540,7 @@ where
 ///
 /// let exact = 1.0f64.cos();
 /// assert!((run(&mut Rk4::new(0.01), &oscillator, x0) - exact).abs() < 1e-9);
-/// assert!((run(&mut DormandPrince::new(1e-10, 1e-12), &oscillator, x0) - exact).abs() < 1e-9);
+/// assert!((run(&mut Dopri5::new(1e-10, 1e-12), &oscillator, x0) - exact).abs() < 1e-9);
 /// ```
 pub trait Integrator<T: RealField + Copy> {
     /// Integrates `sys` from `(t0, x0)` to `t1` and calls `on_step` after
@@ -658,12 +658,12 @@ pub trait Integrator<T: RealField + Copy> {
     ///
     /// ```rust
     /// use nalgebra::Vector2;
-    /// use nh_runtime::{DormandPrince, Integrator};
+    /// use nh_runtime::{Dopri5, Integrator};
     ///
     /// let oscillator = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -x[0]);
     /// let times: Vec<f64> = (0..=1000).map(|i| 0.01 * i as f64).collect();
     /// let mut samples = Vec::new();
-    /// let out = DormandPrince::new(1e-8, 1e-10)
+    /// let out = Dopri5::new(1e-8, 1e-10)
     ///     .integrate_with_outputs(&oscillator, 0.0, Vector2::new(1.0, 0.0), 10.0, &times, |t, x| {
     ///         samples.push((t, x[0]));
     ///     })

@@ -21,17 +21,17 @@ pub trait ErrorTolerance<T: RealField + Copy>:
 }
 
 /// The same relative tolerance `rtol` and absolute tolerance `atol` for
-/// every component: the tolerance of `DormandPrince::new(rtol, atol)` and
+/// every component: the tolerance of `Dopri5::new(rtol, atol)` and
 /// of the other adaptive integrators' `new`.
 ///
 /// # Example
 ///
 /// ```rust
-/// use nh_runtime::{DormandPrince, ScalarTolerance};
+/// use nh_runtime::{Dopri5, ScalarTolerance};
 ///
 /// // The type parameter defaults to `ScalarTolerance`.
-/// let dp: DormandPrince<f64, ScalarTolerance<f64>> = DormandPrince::new(1e-8, 1e-10);
-/// let same: DormandPrince<f64> = dp;
+/// let dp: Dopri5<f64, ScalarTolerance<f64>> = Dopri5::new(1e-8, 1e-10);
+/// let same: Dopri5<f64> = dp;
 /// assert_eq!(same, dp);
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -65,7 +65,7 @@ impl<T: RealField + Copy> ScalarTolerance<T> {
 ///
 /// ```rust
 /// use nalgebra::Vector2;
-/// use nh_runtime::{DormandPrince, Integrator, SimError};
+/// use nh_runtime::{Dopri5, Integrator, SimError};
 ///
 /// // x1 ≈ 1e6 and x2 ≈ 1e-6, decaying at rates 1 and 3.
 /// let decay = |_t: f64, x: &Vector2<f64>| Vector2::new(-x[0], -3.0 * x[1]);
@@ -73,12 +73,12 @@ impl<T: RealField + Copy> ScalarTolerance<T> {
 /// let exact = Vector2::new(1e6 * (-1.0f64).exp(), 1e-6 * (-3.0f64).exp());
 /// let relative = |x: Vector2<f64>| (x - exact).component_div(&exact).abs().max();
 /// // atol = rtol times each component's scale: both accurate to ~rtol.
-/// let mut dp = DormandPrince::new(1e-8, 0.0)
+/// let mut dp = Dopri5::new(1e-8, 0.0)
 ///     .with_tolerances(Vector2::new(1e-8, 1e-8), Vector2::new(1e-2, 1e-14));
 /// let out = dp.integrate(&decay, 0.0, x0, 1.0).unwrap();
 /// assert!(relative(out.x) < 1e-7);
 /// // One atol for both, suited to x1: x2 is hardly controlled.
-/// let out = DormandPrince::new(1e-8, 1e-2).integrate(&decay, 0.0, x0, 1.0).unwrap();
+/// let out = Dopri5::new(1e-8, 1e-2).integrate(&decay, 0.0, x0, 1.0).unwrap();
 /// assert!(relative(out.x) > 1e-6);
 ///
 /// // The tolerances have two components, the state three.

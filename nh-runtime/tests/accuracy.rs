@@ -4,7 +4,7 @@ mod common;
 
 use common::{Decay, Oscillator, max_err, oscillator_exact};
 use nalgebra::{Vector1, Vector2};
-use nh_runtime::{DormandPrince, Integrator, Rk4};
+use nh_runtime::{Dopri5, Integrator, Rk4};
 
 #[test]
 fn rk4_exponential_decay() {
@@ -76,7 +76,7 @@ fn rk4_order_is_four() {
 
 #[test]
 fn dopri_exponential_decay() {
-    let out = DormandPrince::new(1e-9, 1e-12)
+    let out = Dopri5::new(1e-9, 1e-12)
         .integrate(&Decay, 0.0, Vector1::new(1.0), 5.0)
         .unwrap();
     assert_eq!(out.t, 5.0);
@@ -90,7 +90,7 @@ fn dopri_oscillator_tolerance_proportionality() {
     let exact = oscillator_exact(10.0);
     let mut prev_steps = 0;
     for rtol in [1e-6, 1e-8, 1e-10] {
-        let mut dp = DormandPrince::new(rtol, rtol * 1e-2);
+        let mut dp = Dopri5::new(rtol, rtol * 1e-2);
         let out = dp.integrate(&Oscillator, 0.0, x0, 10.0).unwrap();
         let err = max_err(&out.x, &exact);
         let s = out.stats;
@@ -122,7 +122,7 @@ fn dopri_step_count_scales_like_fifth_root() {
     // For a 5th-order method, steps grow like rtol^(-1/5): ×100 in rtol ⇒ ×~2.5 steps.
     let x0 = Vector2::new(1.0, 0.0);
     let steps = |rtol: f64| {
-        DormandPrince::new(rtol, rtol * 1e-2)
+        Dopri5::new(rtol, rtol * 1e-2)
             .integrate(&Oscillator, 0.0, x0, 10.0)
             .unwrap()
             .stats
@@ -135,7 +135,7 @@ fn dopri_step_count_scales_like_fifth_root() {
 #[test]
 fn dopri_explicit_initial_step_and_max_step() {
     let x0 = Vector2::new(1.0, 0.0);
-    let mut dp = DormandPrince::new(1e-8, 1e-10)
+    let mut dp = Dopri5::new(1e-8, 1e-10)
         .with_initial_step(1e-3)
         .with_max_step(0.05);
     let mut max_h: f64 = 0.0;
@@ -162,7 +162,7 @@ fn observer_sees_t0_and_every_accepted_step() {
     let mut first = None;
     let mut last_t = 0.0;
     let mut monotone = true;
-    let out = DormandPrince::new(1e-7, 1e-9)
+    let out = Dopri5::new(1e-7, 1e-9)
         .integrate_with_observer(&Oscillator, 0.0, x0, 5.0, |t, x| {
             if first.is_none() {
                 first = Some((t, *x));
@@ -189,7 +189,7 @@ fn backward_integration() {
     assert!((out.x[0] - 1.0).abs() < 1e-9);
 
     let mut times = Vec::new();
-    let out = DormandPrince::new(1e-10, 1e-12)
+    let out = Dopri5::new(1e-10, 1e-12)
         .integrate_with_observer(&Decay, 1.0, x1, 0.0, |t, _| times.push(t))
         .unwrap();
     assert_eq!(out.t, 0.0);
@@ -198,7 +198,7 @@ fn backward_integration() {
 
     // Oscillator there and back again.
     let x0 = Vector2::new(1.0, 0.0);
-    let mut dp = DormandPrince::new(1e-10, 1e-12);
+    let mut dp = Dopri5::new(1e-10, 1e-12);
     let fwd = dp.integrate(&Oscillator, 0.0, x0, 7.0).unwrap();
     let back = dp.integrate(&Oscillator, 7.0, fwd.x, 0.0).unwrap();
     assert!(max_err(&back.x, &x0) < 1e-8);
@@ -208,7 +208,7 @@ fn backward_integration() {
 fn zero_length_interval() {
     let x0 = Vector2::new(1.0, 2.0);
     let mut calls = 0;
-    let out = DormandPrince::new(1e-6, 1e-9)
+    let out = Dopri5::new(1e-6, 1e-9)
         .integrate_with_observer(&Oscillator, 3.0, x0, 3.0, |_, _| calls += 1)
         .unwrap();
     assert_eq!((out.t, out.x), (3.0, x0));
@@ -223,7 +223,7 @@ fn works_in_f32() {
     let x0 = Vector2::new(1.0f32, 0.0);
     let exact = Vector2::new(5.0f32.cos(), -5.0f32.sin());
 
-    let out = DormandPrince::new(1e-5f32, 1e-7)
+    let out = Dopri5::new(1e-5f32, 1e-7)
         .integrate(&Oscillator, 0.0f32, x0, 5.0)
         .unwrap();
     assert_eq!(out.t, 5.0f32);
@@ -252,7 +252,7 @@ fn driven_system_with_held_input() {
     }
     // v' = u - v from rest: v = u (1 - e^-t).
     let driven = Driven::new(&Cart, U::new(3.0));
-    let out = DormandPrince::new(1e-10, 1e-12)
+    let out = Dopri5::new(1e-10, 1e-12)
         .integrate(&driven, 0.0, Vector2::zeros(), 2.0)
         .unwrap();
     let v = 3.0 * (1.0 - (-2.0f64).exp());

@@ -5,7 +5,7 @@ mod common;
 
 use common::{VDPOL_AT_2, VanDerPolTestSet};
 use nalgebra::{Vector1, Vector2};
-use nh_runtime::{AutoSwitch, DormandPrince, Integrator, Regime, Rosenbrock, SimError, Switch};
+use nh_runtime::{AutoSwitch, Dopri5, Integrator, Regime, Rodas4, SimError, Switch};
 
 /// Half the period of the relaxation oscillation in VDPOL's time, from the
 /// asymptotic expansion `T = (3 − 2 ln 2) μ + 3 a μ^(−1/3)` (`a = 2.33811`,
@@ -93,12 +93,12 @@ fn van_der_pol_costs_less_than_either_member() {
         let a = auto
             .integrate_with_jacobian(&VanDerPolTestSet, 0.0, y0, 2.0)
             .unwrap();
-        let r = Rosenbrock::new(rtol, rtol)
+        let r = Rodas4::new(rtol, rtol)
             .integrate_with_jacobian(&VanDerPolTestSet, 0.0, y0, 2.0)
             .unwrap();
         let work = |s: nh_runtime::Stats| s.rhs_evals + s.jacobian_evals;
         println!(
-            "rtol {rtol:e}: auto {} + {} J, Rosenbrock {} + {} J",
+            "rtol {rtol:e}: auto {} + {} J, Rodas4 {} + {} J",
             a.stats.rhs_evals, a.stats.jacobian_evals, r.stats.rhs_evals, r.stats.jacobian_evals
         );
         // Measured: 1815 vs 2264, 4776 vs 7477, 23791 vs 35068.
@@ -112,9 +112,12 @@ fn van_der_pol_costs_less_than_either_member() {
         // Dormand–Prince alone needs about 1.16 million steps (measured);
         // it does not get through in a hundred times the switching steps.
         let budget = 100 * (a.stats.steps + a.stats.rejected);
-        let dp = DormandPrince::new(rtol, rtol)
-            .with_max_steps(budget)
-            .integrate(&VanDerPolTestSet, 0.0, y0, 2.0);
+        let dp = Dopri5::new(rtol, rtol).with_max_steps(budget).integrate(
+            &VanDerPolTestSet,
+            0.0,
+            y0,
+            2.0,
+        );
         assert!(matches!(dp, Err(SimError::MaxSteps { .. })), "{dp:?}");
     }
 }
@@ -180,8 +183,8 @@ fn a_stiff_interval_is_entered_and_left() {
     assert!(at_ends < 1e-6, "{at_ends:e}");
     assert!(inside < 1e-4, "{inside:e}");
     // The explicit member alone would need 1.6 / 3.3e-5 ≈ 50 000 steps on
-    // [2.2, 3.8]; Rosenbrock alone costs more (measured 1261 vs 890 RHS).
-    let ros = Rosenbrock::new(1e-6, 1e-9)
+    // [2.2, 3.8]; Rodas4 alone costs more (measured 1261 vs 890 RHS).
+    let ros = Rodas4::new(1e-6, 1e-9)
         .integrate(&prothero_robinson, 0.0, x0, 6.0)
         .unwrap();
     assert!(out.stats.rhs_evals < ros.stats.rhs_evals, "{:?}", ros.stats);
@@ -196,7 +199,7 @@ fn a_problem_that_is_never_stiff_costs_what_dormand_prince_costs() {
         let a = auto
             .integrate(&decay, 0.0, Vector2::new(1.0, 0.0), 20.0)
             .unwrap();
-        let d = DormandPrince::new(rtol, rtol * 1e-2)
+        let d = Dopri5::new(rtol, rtol * 1e-2)
             .integrate(&decay, 0.0, Vector2::new(1.0, 0.0), 20.0)
             .unwrap();
         assert_eq!(a.x, d.x);

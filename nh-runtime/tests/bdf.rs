@@ -100,7 +100,7 @@ fn finite_differences_and_the_analytic_jacobian_agree() {
 /// 65 Jacobians). The error at t = 2 is mostly the error in the time of the
 /// last jump (at t ≈ 1.6), where local errors made on the slow branch
 /// before it are amplified; the error control is per step, so it grows with
-/// the number of steps. AutoSwitch, whose Rosenbrock member overestimates
+/// the number of steps. AutoSwitch, whose Rodas4 member overestimates
 /// its error, stays within 10·rtol.
 #[test]
 fn van_der_pol_matches_the_test_set() {

@@ -4,9 +4,7 @@ mod common;
 
 use common::{Oscillator, max_err, oscillator_exact};
 use nalgebra::{SVector, Vector2};
-use nh_runtime::{
-    Dop853, DormandPrince, Integrator, Rk4, Rodas5P, Rosenbrock, SimError, Stats, Step,
-};
+use nh_runtime::{Dop853, Dopri5, Integrator, Rk4, Rodas4, Rodas5P, SimError, Stats, Step};
 
 /// Largest interpolation error over 7 interior points of every step, and the
 /// number of steps.
@@ -44,9 +42,7 @@ fn interpolation_orders() {
 
     let dp = |h: f64| {
         worst_interpolation_error(
-            &mut DormandPrince::new(1.0, 1.0)
-                .with_initial_step(h)
-                .with_max_step(h),
+            &mut Dopri5::new(1.0, 1.0).with_initial_step(h).with_max_step(h),
             2.0,
         )
         .0
@@ -64,9 +60,8 @@ fn interpolation_orders() {
     assert!((q - 8.0).abs() < 0.3, "dop853 dense output local order {q}");
 
     // RODAS4's dense output is of order 3, Rodas5P's of order 4.
-    let rodas4 = |h: f64| {
-        worst_interpolation_error(&mut Rosenbrock::new(1.0, 1.0).with_fixed_step(h), 2.0).0
-    };
+    let rodas4 =
+        |h: f64| worst_interpolation_error(&mut Rodas4::new(1.0, 1.0).with_fixed_step(h), 2.0).0;
     let rodas5 =
         |h: f64| worst_interpolation_error(&mut Rodas5P::new(1.0, 1.0).with_fixed_step(h), 2.0).0;
     for (name, f, local) in [
@@ -88,7 +83,7 @@ fn dense_output_accuracy_matches_tolerance() {
     for (name, worst) in [
         (
             "dopri5",
-            worst_interpolation_error(&mut DormandPrince::new(1e-9, 1e-12), 10.0).0,
+            worst_interpolation_error(&mut Dopri5::new(1e-9, 1e-12), 10.0).0,
         ),
         (
             "dop853",
@@ -161,9 +156,9 @@ fn outputs_vs_plain<I: Integrator<f64>>(name: &str, mut make: impl FnMut() -> I,
 fn output_times_do_not_change_the_steps() {
     use nh_runtime::GaussLegendre4;
     outputs_vs_plain("rk4", || Rk4::new(0.07), 1e-5);
-    outputs_vs_plain("dopri5", || DormandPrince::new(1e-9, 1e-12), 1e-8);
+    outputs_vs_plain("dopri5", || Dopri5::new(1e-9, 1e-12), 1e-8);
     outputs_vs_plain("dop853", || Dop853::new(1e-9, 1e-12), 1e-8);
-    outputs_vs_plain("rosenbrock", || Rosenbrock::new(1e-7, 1e-10), 1e-5);
+    outputs_vs_plain("rodas4", || Rodas4::new(1e-7, 1e-10), 1e-5);
     outputs_vs_plain("rodas5p", || Rodas5P::new(1e-7, 1e-10), 1e-5);
     outputs_vs_plain("gauss4", || GaussLegendre4::new(0.05), 1e-5);
 }
@@ -173,7 +168,7 @@ fn output_time_conventions() {
     let x0 = Vector2::new(1.0, 0.0);
     let collect = |t0: f64, t1: f64, times: &[f64]| {
         let mut v = Vec::new();
-        let r = DormandPrince::new(1e-10, 1e-12).integrate_with_outputs(
+        let r = Dopri5::new(1e-10, 1e-12).integrate_with_outputs(
             &Oscillator,
             t0,
             x0,
@@ -212,7 +207,7 @@ fn output_time_conventions() {
     assert_eq!(v, [(3.0, x0), (3.0, x0)]);
     // On error, the outputs before the failure have been delivered.
     let mut v = Vec::new();
-    let e = DormandPrince::new(1e-8, 1e-10)
+    let e = Dopri5::new(1e-8, 1e-10)
         .with_max_steps(10)
         .integrate_with_outputs(&Oscillator, 0.0, x0, 100.0, &[0.0, 1e-3, 50.0], |t, _| {
             v.push(t)
@@ -225,7 +220,7 @@ fn output_time_conventions() {
 #[test]
 fn observer_is_silent_on_invalid_input() {
     let mut calls = 0;
-    let r = DormandPrince::new(-1.0, 1e-8).integrate_with_observer(
+    let r = Dopri5::new(-1.0, 1e-8).integrate_with_observer(
         &Oscillator,
         0.0,
         Vector2::new(1.0, 0.0),

@@ -9,8 +9,7 @@ mod common;
 use common::{Decay, Oscillator};
 use nalgebra::{SVector, Vector1, Vector2};
 use nh_runtime::{
-    Dop853, DormandPrince, GaussLegendre4, Integrator, OdeSystem, Outcome, Rk4, Rodas5P,
-    Rosenbrock, SimError,
+    Dop853, Dopri5, GaussLegendre4, Integrator, OdeSystem, Outcome, Rk4, Rodas4, Rodas5P, SimError,
 };
 
 type Run<const D: usize> = Result<Outcome<f64, D>, SimError<f64, D>>;
@@ -26,15 +25,15 @@ fn all_five<S: OdeSystem<f64, D>, const D: usize>(
         ("rk4", Rk4::new(1e-3).integrate(sys, t0, x0, t1)),
         (
             "dopri5",
-            DormandPrince::new(1e-8, 1e-10).integrate(sys, t0, x0, t1),
+            Dopri5::new(1e-8, 1e-10).integrate(sys, t0, x0, t1),
         ),
         (
             "dop853",
             Dop853::new(1e-8, 1e-10).integrate(sys, t0, x0, t1),
         ),
         (
-            "rosenbrock",
-            Rosenbrock::new(1e-8, 1e-10).integrate(sys, t0, x0, t1),
+            "rodas4",
+            Rodas4::new(1e-8, 1e-10).integrate(sys, t0, x0, t1),
         ),
         (
             "gauss4",
@@ -167,7 +166,7 @@ fn finite_difference_jacobians_resolve_huge_states() {
     // x' = −x from 1e17 (f64) and 1e10 (f32): Hairer's increment
     // sqrt(eps·|x|) is below the spacing of the numbers there.
     for x0 in [1e17, 1e200, -1e17] {
-        let out = Rosenbrock::new(1e-8, 1e-10)
+        let out = Rodas4::new(1e-8, 1e-10)
             .integrate(&Decay, 0.0, Vector1::new(x0), 1.0)
             .unwrap();
         assert!(
@@ -183,7 +182,7 @@ fn finite_difference_jacobians_resolve_huge_states() {
         );
     }
     let decay32 = |_t: f32, x: &Vector1<f32>| -x;
-    let out = Rosenbrock::new(1e-4f32, 1e-6)
+    let out = Rodas4::new(1e-4f32, 1e-6)
         .integrate(&decay32, 0.0, Vector1::new(1e10f32), 1.0)
         .unwrap();
     assert!((out.x[0] / 1e10 - (-1.0f32).exp()).abs() < 1e-3, "{out:?}");
@@ -192,7 +191,7 @@ fn finite_difference_jacobians_resolve_huge_states() {
         .unwrap();
     assert!((out.x[0] / 1e10 - (-1.0f32).exp()).abs() < 1e-4, "{out:?}");
     // The time derivative too: t0 = 1e17.
-    let out = Rosenbrock::new(1e-8, 1e-10)
+    let out = Rodas4::new(1e-8, 1e-10)
         .integrate(&Decay, 1e17, Vector1::new(1.0), 1e17 + 64.0)
         .unwrap();
     assert_eq!(out.t, 1e17 + 64.0);
@@ -211,8 +210,8 @@ fn tolerances_below_resolution_are_raised_to_ten_eps() {
             a
         };
         let out = same(
-            DormandPrince::new(rtol, 1e-300).integrate(&Oscillator, 0.0, x0, 1.0),
-            DormandPrince::new(floor, 1e-300).integrate(&Oscillator, 0.0, x0, 1.0),
+            Dopri5::new(rtol, 1e-300).integrate(&Oscillator, 0.0, x0, 1.0),
+            Dopri5::new(floor, 1e-300).integrate(&Oscillator, 0.0, x0, 1.0),
         );
         assert!((out.x[0] - 1.0f64.cos()).abs() < 1e-13, "{out:?}");
         let out = same(
@@ -229,7 +228,7 @@ fn tolerances_below_resolution_are_raised_to_ten_eps() {
             rtol_min,
         });
         assert_eq!(
-            Rosenbrock::new(rtol, 1e-300).integrate(&Oscillator, 0.0, x0, 1.0),
+            Rodas4::new(rtol, 1e-300).integrate(&Oscillator, 0.0, x0, 1.0),
             too_tight
         );
         assert_eq!(
@@ -238,7 +237,7 @@ fn tolerances_below_resolution_are_raised_to_ten_eps() {
         );
     }
     for rtol in [50.0 * f64::EPSILON, floor] {
-        let tight = Rosenbrock::new(rtol, 1e-300).integrate(&Oscillator, 0.0, x0, 1.0);
+        let tight = Rodas4::new(rtol, 1e-300).integrate(&Oscillator, 0.0, x0, 1.0);
         assert_eq!(
             tight.is_ok(),
             rtol >= 50.0 * f64::EPSILON,
@@ -284,7 +283,7 @@ fn spans_too_short_for_a_step_end_ok_at_t1() {
     }
     // Observers and output times see t0 and t1.
     let mut seen = Vec::new();
-    DormandPrince::new(1e-6, 1e-9)
+    Dopri5::new(1e-6, 1e-9)
         .integrate_with_outputs(&Decay, 0.0, x0, 1e-300, &[0.0, 5e-301, 1e-300], |t, x| {
             seen.push((t, x[0]))
         })
@@ -297,7 +296,7 @@ fn a_step_that_rounds_onto_t1_ends_the_run() {
     // From t = 1, a step of 11.6 ulps rounds onto t1 = 1 + 12 ulps while
     // t + 1.01·h does not exceed t1: the run must end there, Ok, instead
     // of trying a step of length 0 (StepSizeTooSmall with h = 0, or
-    // Singular for Rosenbrock).
+    // Singular for Rodas4).
     let ulp = f64::EPSILON;
     let (t0, t1) = (1.0, 1.0 + 12.0 * ulp);
     let h0 = 11.6 * ulp;
@@ -305,14 +304,14 @@ fn a_step_that_rounds_onto_t1_ends_the_run() {
     let x0 = Vector1::new(1.0);
     let runs = [
         (
-            "rosenbrock",
-            Rosenbrock::new(1e-6, 1e-9)
+            "rodas4",
+            Rodas4::new(1e-6, 1e-9)
                 .with_initial_step(h0)
                 .integrate(&Decay, t0, x0, t1),
         ),
         (
             "dopri5",
-            DormandPrince::new(1e-6, 1e-9)
+            Dopri5::new(1e-6, 1e-9)
                 .with_initial_step(h0)
                 .integrate(&Decay, t0, x0, t1),
         ),
@@ -393,7 +392,7 @@ fn no_step_is_accepted_without_progress() {
         };
         let forward = |s: &nh_runtime::Step<'_, f64, 2>| assert!(s.t() > s.t_prev(), "{s:?}");
         let mut n = 0;
-        let r = DormandPrince::new(1e-8, 1e-10).integrate_with_steps(&big, 0.0, x0, t1, |s| {
+        let r = Dopri5::new(1e-8, 1e-10).integrate_with_steps(&big, 0.0, x0, t1, |s| {
             forward(s);
             n += 1
         });
@@ -405,10 +404,10 @@ fn no_step_is_accepted_without_progress() {
         });
         check("dop853", r, n);
         let mut n = 0;
-        let r = Rosenbrock::new(1e-8, 1e-10).integrate_with_steps(&big, 0.0, x0, t1, |s| {
+        let r = Rodas4::new(1e-8, 1e-10).integrate_with_steps(&big, 0.0, x0, t1, |s| {
             forward(s);
             n += 1
         });
-        check("rosenbrock", r, n);
+        check("rodas4", r, n);
     }
 }

@@ -9,8 +9,8 @@ mod common;
 use common::Oscillator;
 use nalgebra::{SVector, Vector1, Vector2, Vector3};
 use nh_runtime::{
-    Direction, Dop853, DormandPrince, EventHit, Events, GaussLegendre4, Integrator, OdeSystem,
-    Outcome, ProjectionFailure, Rk4, Rosenbrock, SimError, Step,
+    Direction, Dop853, Dopri5, EventHit, Events, GaussLegendre4, Integrator, OdeSystem, Outcome,
+    ProjectionFailure, Rk4, Rodas4, SimError, Step,
 };
 
 const G: f64 = 9.81;
@@ -50,14 +50,14 @@ where
 fn each(mut f: impl FnMut(&str, &mut dyn FnMut(&Events3) -> Run)) {
     let span = (0.0, Vector2::new(0.0, V), 2.5);
     f("Rk4", &mut |e| hits(&mut Rk4::new(0.1), span, e));
-    f("DormandPrince", &mut |e| {
-        hits(&mut DormandPrince::new(1e-8, 1e-10), span, e)
+    f("Dopri5", &mut |e| {
+        hits(&mut Dopri5::new(1e-8, 1e-10), span, e)
     });
     f("Dop853", &mut |e| {
         hits(&mut Dop853::new(1e-8, 1e-10), span, e)
     });
-    f("Rosenbrock", &mut |e| {
-        hits(&mut Rosenbrock::new(1e-8, 1e-10), span, e)
+    f("Rodas4", &mut |e| {
+        hits(&mut Rodas4::new(1e-8, 1e-10), span, e)
     });
     f("GaussLegendre4", &mut |e| {
         hits(&mut GaussLegendre4::new(0.1), span, e)
@@ -114,7 +114,7 @@ fn the_direction_filter_keeps_the_chosen_crossings() {
         let events =
             Events::new(|_t: f64, x: &Vector2<f64>| Vector1::new(x[0] - 2.0)).direction([way]);
         let span = (0.0, Vector2::new(0.0, V), 2.5);
-        let (_, seen) = hits(&mut DormandPrince::new(1e-8, 1e-10), span, &events);
+        let (_, seen) = hits(&mut Dopri5::new(1e-8, 1e-10), span, &events);
         assert_eq!(seen.len(), 1, "{way:?}");
         assert_eq!(seen[0].direction, way);
         assert!((seen[0].t - want).abs() <= 1e-12, "{way:?}");
@@ -157,7 +157,7 @@ fn non_terminal_zeros_of_the_oscillator_are_all_reported_in_order() {
     let zero = Events::new(|_t: f64, x: &Vector2<f64>| Vector1::new(x[0]));
     let mut seen: Vec<EventHit<f64, 2>> = Vec::new();
     let x0 = Vector2::new(1.0, 0.0);
-    let out = DormandPrince::new(1e-11, 1e-13)
+    let out = Dopri5::new(1e-11, 1e-13)
         .integrate_with_events(&Oscillator, 0.0, x0, 20.0, &zero, |h| seen.push(*h))
         .unwrap();
     assert_eq!(out.t, 20.0);
@@ -277,7 +277,7 @@ fn backwards_the_crossings_come_in_the_order_of_integration() {
     let events = Events::new(|_t: f64, x: &Vector2<f64>| Vector1::new(x[0] - 2.0));
     let t_land = 2.0 * V / G;
     let span = (t_land, Vector2::new(0.0, -V), 0.0);
-    let (out, seen) = hits(&mut DormandPrince::new(1e-8, 1e-10), span, &events);
+    let (out, seen) = hits(&mut Dopri5::new(1e-8, 1e-10), span, &events);
     assert_eq!(out.t, 0.0);
     let (up, down) = passes(2.0);
     assert_eq!(seen.len(), 2);
@@ -292,7 +292,7 @@ fn backwards_the_crossings_come_in_the_order_of_integration() {
 }
 
 /// An integrator from outside the crate: only `integrate_with_steps`.
-struct Outside(DormandPrince<f64>);
+struct Outside(Dopri5<f64>);
 
 impl Integrator<f64> for Outside {
     fn integrate_with_steps<S, F, const D: usize>(
@@ -317,12 +317,8 @@ fn the_default_body_finds_the_same_terminal_event() {
         .direction([Direction::Falling])
         .terminal([true]);
     let span = (0.0, Vector2::new(0.0, V), 5.0);
-    let (own, _) = hits(&mut DormandPrince::new(1e-8, 1e-10), span, &landing);
-    let (outside, seen) = hits(
-        &mut Outside(DormandPrince::new(1e-8, 1e-10)),
-        span,
-        &landing,
-    );
+    let (own, _) = hits(&mut Dopri5::new(1e-8, 1e-10), span, &landing);
+    let (outside, seen) = hits(&mut Outside(Dopri5::new(1e-8, 1e-10)), span, &landing);
     assert_eq!(seen.len(), 1);
     assert_eq!((outside.t, outside.x), (own.t, own.x));
     assert_eq!(outside.event, own.event);
@@ -348,7 +344,7 @@ fn a_terminal_event_before_a_chart_singularity_ends_the_run_there() {
         Events::new(|_t: f64, x: &Vector1<f64>| Vector1::new(x[0] - 0.999)).terminal([terminal])
     };
     let run = |e: &Events<f64, _, 1>| {
-        DormandPrince::new(1e-8, 1e-10).integrate_with_events(
+        Dopri5::new(1e-8, 1e-10).integrate_with_events(
             &Chart,
             0.0,
             Vector1::new(0.0),
@@ -391,7 +387,7 @@ fn with_projection_events_are_located_on_the_dense_output_of_the_step() {
     // (cos t, sin t) passes y = 1/2 at π/6 and 5π/6.
     let half = Events::new(|_t: f64, x: &Vector2<f64>| Vector1::new(x[1] - 0.5));
     let mut seen = Vec::new();
-    let out = DormandPrince::new(1e-10, 1e-12)
+    let out = Dopri5::new(1e-10, 1e-12)
         .integrate_with_events(&Circle, 0.0, Vector2::new(1.0, 0.0), 3.0, &half, |h| {
             seen.push(*h)
         })
@@ -431,7 +427,7 @@ fn the_implicit_methods_locate_events_with_the_analytic_jacobian_too() {
         .terminal([true]);
     let x0 = Vector2::new(0.0, V);
     let want = 2.0 * V / G;
-    let ros = Rosenbrock::new(1e-8, 1e-10)
+    let ros = Rodas4::new(1e-8, 1e-10)
         .integrate_with_jacobian_and_events(&Ball, 0.0, x0, 5.0, &landing, |_| {})
         .unwrap();
     let gauss = GaussLegendre4::new(0.1)
@@ -448,7 +444,7 @@ fn the_implicit_methods_locate_events_with_the_analytic_jacobian_too() {
 fn events_work_in_single_precision() {
     let ball32 = |_t: f32, x: &Vector2<f32>| Vector2::new(x[1], -9.81);
     let landing = Events::new(|_t: f32, x: &Vector2<f32>| Vector1::new(x[0])).terminal([true]);
-    let out = DormandPrince::new(1e-5f32, 1e-7)
+    let out = Dopri5::new(1e-5f32, 1e-7)
         .integrate_with_events(&ball32, 0.0, Vector2::new(0.0, 10.0), 5.0, &landing, |_| {})
         .unwrap();
     // 20/9.81 to the resolution of f32.

@@ -4,8 +4,8 @@
 //! `SimError::Singular` with the last good state.
 use nalgebra::{SVector, Vector1, Vector2, Vector4};
 use nh_runtime::{
-    AutoSwitch, Bdf, ControlledSystem, Dop853, DormandPrince, Driven, GaussLegendre4, Integrator,
-    OdeJacobian, OdeSystem, Outcome, ProjectionFailure, Rk4, Rodas5P, Rosenbrock, SimError,
+    AutoSwitch, Bdf, ControlledSystem, Dop853, Dopri5, Driven, GaussLegendre4, Integrator,
+    OdeJacobian, OdeSystem, Outcome, ProjectionFailure, Rk4, Rodas4, Rodas5P, SimError,
     Singularity,
 };
 
@@ -69,7 +69,7 @@ fn central_differences<S: OdeSystem<f64, D>, const D: usize>(
 /// The angle from the downward vertical, θ̈ = −(g/l) sin θ, as reference.
 fn angle_reference(theta0: f64, t1: f64) -> f64 {
     let f = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -G / L * x[0].sin());
-    DormandPrince::new(1e-13, 1e-14)
+    Dopri5::new(1e-13, 1e-14)
         .integrate(&f, 0.0, Vector2::new(theta0, 0.0), t1)
         .unwrap()
         .x[0]
@@ -91,8 +91,8 @@ fn projection_keeps_the_pendulum_on_its_circle_in_every_integrator() {
     let runs: [(&str, Outcome<f64, 4>); 8] = [
         ("Rk4", Rk4::new(1e-3).integrate(&sys, 0.0, x0, t1).unwrap()),
         (
-            "DormandPrince",
-            DormandPrince::new(1e-9, 1e-11)
+            "Dopri5",
+            Dopri5::new(1e-9, 1e-11)
                 .integrate(&sys, 0.0, x0, t1)
                 .unwrap(),
         ),
@@ -103,8 +103,8 @@ fn projection_keeps_the_pendulum_on_its_circle_in_every_integrator() {
                 .unwrap(),
         ),
         (
-            "Rosenbrock",
-            Rosenbrock::new(1e-7, 1e-9)
+            "Rodas4",
+            Rodas4::new(1e-7, 1e-9)
                 .integrate_with_jacobian(&sys, 0.0, x0, t1)
                 .unwrap(),
         ),
@@ -198,7 +198,7 @@ fn bdf_keeps_its_history_through_projections_within_the_tolerance() {
 fn without_projection_the_drift_is_reported_not_hidden() {
     let x0 = pendulum_start(1.0);
     let sys = CartesianPendulum;
-    let out = DormandPrince::new(1e-6, 1e-8)
+    let out = Dopri5::new(1e-6, 1e-8)
         .with_projection(false)
         .integrate(&sys, 0.0, x0, 100.0)
         .unwrap();
@@ -208,7 +208,7 @@ fn without_projection_the_drift_is_reported_not_hidden() {
         drift >= direct && drift > 1e-6,
         "drift {drift:e}, final {direct:e}"
     );
-    let projected = DormandPrince::new(1e-6, 1e-8)
+    let projected = Dopri5::new(1e-6, 1e-8)
         .integrate(&sys, 0.0, x0, 100.0)
         .unwrap();
     assert!(projected.max_residual.unwrap() <= 1e-12);
@@ -220,9 +220,9 @@ fn a_projection_restarts_the_method_at_the_projected_state() {
     // at the projected state costs one more evaluation per step.
     let x0 = pendulum_start(0.5);
     let sys = CartesianPendulum;
-    let mut on = DormandPrince::new(1e-8, 1e-10);
+    let mut on = Dopri5::new(1e-8, 1e-10);
     let a = on.integrate(&sys, 0.0, x0, 2.0).unwrap();
-    let b = DormandPrince::new(1e-8, 1e-10)
+    let b = Dopri5::new(1e-8, 1e-10)
         .with_projection(false)
         .integrate(&sys, 0.0, x0, 2.0)
         .unwrap();
@@ -281,28 +281,28 @@ fn a_singular_chart_ends_every_integrator_with_the_last_good_state() {
     assert_chart_singular("Rk4", Rk4::new(0.01).integrate(&Chart, 0.0, x0, t1));
     assert_chart_singular("Rk4 coarse", Rk4::new(0.25).integrate(&Chart, 0.0, x0, t1));
     assert_chart_singular(
-        "DormandPrince",
-        DormandPrince::new(1e-8, 1e-10).integrate(&Chart, 0.0, x0, t1),
+        "Dopri5",
+        Dopri5::new(1e-8, 1e-10).integrate(&Chart, 0.0, x0, t1),
     );
     assert_chart_singular(
         "Dop853",
         Dop853::new(1e-10, 1e-12).integrate(&Chart, 0.0, x0, t1),
     );
     assert_chart_singular(
-        "Rosenbrock",
-        Rosenbrock::new(1e-6, 1e-8).integrate_with_jacobian(&Chart, 0.0, x0, t1),
+        "Rodas4",
+        Rodas4::new(1e-6, 1e-8).integrate_with_jacobian(&Chart, 0.0, x0, t1),
     );
     assert_chart_singular(
-        "Rosenbrock (finite differences)",
-        Rosenbrock::new(1e-6, 1e-8).integrate(&Chart, 0.0, x0, t1),
+        "Rodas4 (finite differences)",
+        Rodas4::new(1e-6, 1e-8).integrate(&Chart, 0.0, x0, t1),
     );
     assert_chart_singular(
         "GaussLegendre4",
         GaussLegendre4::new(0.05).integrate(&Chart, 0.0, x0, t1),
     );
     assert_chart_singular(
-        "DormandPrince fixed step",
-        DormandPrince::new(1e-8, 1e-10)
+        "Dopri5 fixed step",
+        Dopri5::new(1e-8, 1e-10)
             .with_fixed_step(0.3)
             .integrate(&Chart, 0.0, x0, t1),
     );
@@ -311,7 +311,7 @@ fn a_singular_chart_ends_every_integrator_with_the_last_good_state() {
 #[test]
 fn a_start_on_a_singular_chart_is_refused() {
     let x0 = Vector2::new(std::f64::consts::FRAC_PI_2, 0.0);
-    let err = DormandPrince::new(1e-8, 1e-10)
+    let err = Dopri5::new(1e-8, 1e-10)
         .integrate(&Chart, 0.0, x0, 1.0)
         .unwrap_err();
     assert!(matches!(
@@ -384,6 +384,6 @@ fn the_input_adapter_forwards_the_hooks() {
     let driven = Driven::new(&SteeredChart, Vector1::new(1.0));
     assert_chart_singular(
         "Driven",
-        DormandPrince::new(1e-8, 1e-10).integrate(&driven, 0.0, Vector2::zeros(), 3.0),
+        Dopri5::new(1e-8, 1e-10).integrate(&driven, 0.0, Vector2::zeros(), 3.0),
     );
 }

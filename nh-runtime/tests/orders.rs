@@ -2,7 +2,7 @@
 //! integrator.
 //!
 //! Orders are measured with fixed steps (`Rk4`, `GaussLegendre4`, and the
-//! `with_fixed_step` mode of `Dop853` and `Rosenbrock`): halving `h` divides
+//! `with_fixed_step` mode of `Dop853` and `Rodas4`): halving `h` divides
 //! the global error by `2^p`, so `p = log2(e(h)/e(h/2))`. Fixed steps make
 //! the measurement clean; with adaptive steps the error is driven by the
 //! tolerance, not by `h`, and only the proportionality `error ∝ tol` can be
@@ -12,9 +12,7 @@ mod common;
 
 use common::{Oscillator, max_err, oscillator_exact};
 use nalgebra::{Matrix2, Vector2};
-use nh_runtime::{
-    Dop853, DormandPrince, GaussLegendre4, Integrator, OdeJacobian, OdeSystem, Rk4, Rosenbrock,
-};
+use nh_runtime::{Dop853, Dopri5, GaussLegendre4, Integrator, OdeJacobian, OdeSystem, Rk4, Rodas4};
 
 /// A smooth, nonlinear, non-autonomous test problem with a closed-form
 /// solution: logistic growth and `y' = y cos t`.
@@ -152,7 +150,7 @@ fn rosenbrock_order_4() {
     let hs = [0.05, 0.025, 0.0125];
     let [osc, lc] = errors(
         |h, osc| {
-            let mut i = Rosenbrock::new(1.0, 1.0).with_fixed_step(h);
+            let mut i = Rodas4::new(1.0, 1.0).with_fixed_step(h);
             if osc {
                 i.integrate_with_jacobian(&Osc, 0.0, Vector2::new(1.0, 0.0), t1)
             } else {
@@ -171,7 +169,7 @@ fn rosenbrock_order_4() {
     let fd: Vec<f64> = hs
         .iter()
         .map(|&h| {
-            let out = Rosenbrock::new(1.0, 1.0)
+            let out = Rodas4::new(1.0, 1.0)
                 .with_fixed_step(h)
                 .integrate(&LogisticCos, 0.0, Vector2::from(LC_X0), t1)
                 .unwrap();
@@ -207,7 +205,7 @@ fn tracking<I: Integrator<f64>>(name: &str, mut make: impl FnMut(f64) -> I) {
 
 #[test]
 fn error_tracks_tolerance() {
-    tracking("dopri5", |rtol| DormandPrince::new(rtol, rtol * 1e-2));
+    tracking("dopri5", |rtol| Dopri5::new(rtol, rtol * 1e-2));
     tracking("dop853", |rtol| Dop853::new(rtol, rtol * 1e-2));
-    tracking("rodas4", |rtol| Rosenbrock::new(rtol, rtol * 1e-2));
+    tracking("rodas4", |rtol| Rodas4::new(rtol, rtol * 1e-2));
 }

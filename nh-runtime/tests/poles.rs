@@ -8,9 +8,9 @@ use std::f64::consts::FRAC_PI_2;
 
 use nalgebra::{Matrix2, SMatrix, SVector, Vector1, Vector2};
 use nh_runtime::{
-    AutoSwitch, Bdf, ControlledSystem, Dop853, DormandPrince, Driven, Events, GaussLegendre4,
-    Integrator, OdeJacobian, OdeSystem, Outcome, ParameterJacobian, Rk4, Rodas5P, Rosenbrock,
-    Sensitivities, SimError, Singularity, Step,
+    AutoSwitch, Bdf, ControlledSystem, Dop853, Dopri5, Driven, Events, GaussLegendre4, Integrator,
+    OdeJacobian, OdeSystem, Outcome, ParameterJacobian, Rk4, Rodas4, Rodas5P, Sensitivities,
+    SimError, Singularity, Step,
 };
 
 const TAN: &str = "tan(theta)";
@@ -113,17 +113,13 @@ fn every_integrator<S: OdeJacobian<f64, 2>>(
         runs!(Rk4::new(0.25), integrate, integrate_with_steps),
     );
     add(
-        "DormandPrince",
-        runs!(
-            DormandPrince::new(1e-8, 1e-10),
-            integrate,
-            integrate_with_steps
-        ),
+        "Dopri5",
+        runs!(Dopri5::new(1e-8, 1e-10), integrate, integrate_with_steps),
     );
     add(
-        "DormandPrince fixed step",
+        "Dopri5 fixed step",
         runs!(
-            DormandPrince::new(1e-8, 1e-10).with_fixed_step(0.3),
+            Dopri5::new(1e-8, 1e-10).with_fixed_step(0.3),
             integrate,
             integrate_with_steps
         ),
@@ -133,16 +129,16 @@ fn every_integrator<S: OdeJacobian<f64, 2>>(
         runs!(Dop853::new(1e-10, 1e-12), integrate, integrate_with_steps),
     );
     add(
-        "Rosenbrock",
+        "Rodas4",
         runs!(
-            Rosenbrock::new(1e-6, 1e-8),
+            Rodas4::new(1e-6, 1e-8),
             integrate_with_jacobian,
             integrate_with_jacobian_and_steps
         ),
     );
     add(
-        "Rosenbrock (finite differences)",
-        runs!(Rosenbrock::new(1e-6, 1e-8), integrate, integrate_with_steps),
+        "Rodas4 (finite differences)",
+        runs!(Rodas4::new(1e-6, 1e-8), integrate, integrate_with_steps),
     );
     add(
         "Rodas5P",
@@ -313,7 +309,7 @@ fn a_tiny_span_across_the_pole_is_refused_too() {
     let t0 = 1000.0;
     let x0 = Vector2::new(FRAC_PI_2 - 1e-13, 0.0);
     let t1 = t0 + 1e-12;
-    let err = DormandPrince::new(1e-8, 1e-10)
+    let err = Dopri5::new(1e-8, 1e-10)
         .integrate(&Tangent, t0, x0, t1)
         .unwrap_err();
     assert_eq!(
@@ -326,7 +322,7 @@ fn a_tiny_span_across_the_pole_is_refused_too() {
     );
     // Short of the pole, the same span is fine.
     let x0 = Vector2::new(FRAC_PI_2 - 1e-11, 0.0);
-    let out = DormandPrince::new(1e-8, 1e-10)
+    let out = Dopri5::new(1e-8, 1e-10)
         .integrate(&Tangent, t0, x0, t1)
         .unwrap();
     assert_eq!((out.t, out.stats.steps), (t1, 1));
@@ -356,22 +352,22 @@ fn a_terminal_event_before_the_pole_ends_the_run_at_the_event() {
         GaussLegendre4::new(0.25).integrate_with_events(&Tangent, 0.0, x0, 3.0, &events, on),
     );
     check(
-        "DormandPrince fixed step",
-        DormandPrince::new(1e-8, 1e-10)
+        "Dopri5 fixed step",
+        Dopri5::new(1e-8, 1e-10)
             .with_fixed_step(0.25)
             .integrate_with_events(&Tangent, 0.0, x0, 3.0, &events, on),
     );
     check(
-        "DormandPrince",
-        DormandPrince::new(1e-8, 1e-10).integrate_with_events(&Tangent, 0.0, x0, 3.0, &events, on),
+        "Dopri5",
+        Dopri5::new(1e-8, 1e-10).integrate_with_events(&Tangent, 0.0, x0, 3.0, &events, on),
     );
     check(
         "Dop853",
         Dop853::new(1e-8, 1e-10).integrate_with_events(&Tangent, 0.0, x0, 3.0, &events, on),
     );
     check(
-        "Rosenbrock",
-        Rosenbrock::new(1e-6, 1e-8)
+        "Rodas4",
+        Rodas4::new(1e-6, 1e-8)
             .integrate_with_jacobian_and_events(&Tangent, 0.0, x0, 3.0, &events, on),
     );
     check(
@@ -432,9 +428,9 @@ fn the_input_adapter_forwards_the_pole() {
         driven.crossed_pole(0.0, &Vector2::new(1.4, 0.0), 0.1, &Vector2::new(1.5, 0.0)),
         None
     );
-    let r = DormandPrince::new(1e-8, 1e-10).integrate(&driven, 0.0, Vector2::zeros(), 3.0);
+    let r = Dopri5::new(1e-8, 1e-10).integrate(&driven, 0.0, Vector2::zeros(), 3.0);
     let mut ends = vec![(0.0, Vector2::zeros())];
-    DormandPrince::new(1e-8, 1e-10)
+    Dopri5::new(1e-8, 1e-10)
         .integrate_with_steps(&driven, 0.0, Vector2::zeros(), 3.0, |s| {
             ends.push((s.t(), *s.x()))
         })
@@ -485,7 +481,7 @@ fn the_sensitivities_forward_the_pole_of_the_state() {
     a1[0] = 1.6;
     a1[5] = f64::MAX;
     assert_eq!(sens.crossed_pole(0.0, &a0, 1.6, &a1), Some(TAN));
-    let err = DormandPrince::new(1e-8, 1e-10)
+    let err = Dopri5::new(1e-8, 1e-10)
         .integrate(&sens, 0.0, a0, 3.0)
         .unwrap_err();
     let SimError::Singular { t, x, cause } = err else {

@@ -5,7 +5,7 @@ mod common;
 
 use common::{BlowUp, Decay, Oscillator, Stiff};
 use nalgebra::{Vector1, Vector2};
-use nh_runtime::{DormandPrince, Integrator, OdeSystem, Rk4, SimError};
+use nh_runtime::{Dopri5, Integrator, OdeSystem, Rk4, SimError};
 
 #[test]
 fn dopri_blow_up_stops_at_singularity() {
@@ -13,7 +13,7 @@ fn dopri_blow_up_stops_at_singularity() {
     // early steps shift the pole), so the stopping time is compared with
     // that band; at rtol 1e-10 it is strictly below the exact pole.
     for (rtol, band) in [(1e-6, 1e-5), (1e-10, 0.0)] {
-        let mut dp = DormandPrince::new(rtol, rtol * 1e-2);
+        let mut dp = Dopri5::new(rtol, rtol * 1e-2);
         let err = dp
             .integrate(&BlowUp, 0.0, Vector1::new(1.0), 2.0)
             .unwrap_err();
@@ -57,7 +57,7 @@ impl OdeSystem<f64, 1> for NanAfterHalf {
 
 #[test]
 fn non_finite_rhs_returns_last_good_state() {
-    let mut dp = DormandPrince::new(1e-8, 1e-10);
+    let mut dp = Dopri5::new(1e-8, 1e-10);
     let e = dp
         .integrate(&NanAfterHalf, 0.0, Vector1::new(1.0), 1.0)
         .unwrap_err();
@@ -83,7 +83,7 @@ fn non_finite_rhs_returns_last_good_state() {
 #[test]
 fn non_finite_derivative_at_start() {
     let nan = |_t: f64, _x: &Vector1<f64>| Vector1::new(f64::NAN);
-    let e = DormandPrince::new(1e-6, 1e-8)
+    let e = Dopri5::new(1e-6, 1e-8)
         .integrate(&nan, 0.0, Vector1::new(1.0), 1.0)
         .unwrap_err();
     assert_eq!(
@@ -103,7 +103,7 @@ fn non_finite_derivative_at_start() {
 fn stiff_problem_is_detected() {
     // The stability limit forces |h| ≈ 3.3e-6, so [0, 0.01] takes ~3000
     // steps: the routine test at step 1000 fires and repeats until flagged.
-    let mut dp = DormandPrince::new(1e-6, 1e-8);
+    let mut dp = Dopri5::new(1e-6, 1e-8);
     let out = dp.integrate(&Stiff, 0.0, Vector1::new(0.0), 0.01).unwrap();
     println!("stiff: {:?}", out.stats);
     assert!(out.stats.stiffness_detected);
@@ -112,7 +112,7 @@ fn stiff_problem_is_detected() {
 
     // The same problem with a small step budget fails with MaxSteps; the
     // stiffness flag is still available from last_stats().
-    let mut dp = DormandPrince::new(1e-6, 1e-8).with_max_steps(2000);
+    let mut dp = Dopri5::new(1e-6, 1e-8).with_max_steps(2000);
     let e = dp
         .integrate(&Stiff, 0.0, Vector1::new(0.0), 1.0)
         .unwrap_err();
@@ -121,7 +121,7 @@ fn stiff_problem_is_detected() {
     assert!(dp.last_stats().stiffness_detected);
 
     // A non-stiff problem run as long is not flagged.
-    let out = DormandPrince::new(1e-6, 1e-8)
+    let out = Dopri5::new(1e-6, 1e-8)
         .with_max_step(1e-3)
         .integrate(&Oscillator, 0.0, Vector2::new(1.0, 0.0), 10.0)
         .unwrap();
@@ -142,7 +142,7 @@ fn max_steps() {
     assert!((t - 0.1).abs() < 1e-15);
     assert!((x[0] - (-0.1f64).exp()).abs() < 1e-10);
 
-    let e = DormandPrince::new(1e-10, 1e-12)
+    let e = Dopri5::new(1e-10, 1e-12)
         .with_max_steps(5)
         .integrate(&Oscillator, 0.0, Vector2::new(1.0, 0.0), 10.0)
         .unwrap_err();
@@ -157,16 +157,16 @@ fn invalid_input() {
 
     assert!(invalid(Rk4::new(0.1).integrate(&Decay, 0.0, bad_x0, 1.0)));
     assert!(invalid(
-        DormandPrince::new(1e-6, 1e-8).integrate(&Decay, 0.0, bad_x0, 1.0)
+        Dopri5::new(1e-6, 1e-8).integrate(&Decay, 0.0, bad_x0, 1.0)
     ));
-    assert!(invalid(DormandPrince::new(1e-6, 1e-8).integrate(
+    assert!(invalid(Dopri5::new(1e-6, 1e-8).integrate(
         &Decay,
         0.0,
         Vector1::new(f64::INFINITY),
         1.0
     )));
     assert!(invalid(Rk4::new(0.1).integrate(&Decay, f64::NAN, x0, 1.0)));
-    assert!(invalid(DormandPrince::new(1e-6, 1e-8).integrate(
+    assert!(invalid(Dopri5::new(1e-6, 1e-8).integrate(
         &Decay,
         0.0,
         x0,
@@ -174,35 +174,35 @@ fn invalid_input() {
     )));
     for rtol in [0.0, -1e-6, f64::NAN, f64::INFINITY] {
         assert!(invalid(
-            DormandPrince::new(rtol, 1e-8).integrate(&Decay, 0.0, x0, 1.0)
+            Dopri5::new(rtol, 1e-8).integrate(&Decay, 0.0, x0, 1.0)
         ));
     }
     for atol in [-1e-8, f64::NAN] {
         assert!(invalid(
-            DormandPrince::new(1e-6, atol).integrate(&Decay, 0.0, x0, 1.0)
+            Dopri5::new(1e-6, atol).integrate(&Decay, 0.0, x0, 1.0)
         ));
     }
     // atol = 0 is allowed (pure relative control).
     assert!(
-        DormandPrince::new(1e-6, 0.0)
+        Dopri5::new(1e-6, 0.0)
             .integrate(&Decay, 0.0, x0, 1.0)
             .is_ok()
     );
     for h in [0.0, -0.1, f64::NAN] {
         assert!(invalid(Rk4::new(h).integrate(&Decay, 0.0, x0, 1.0)));
         assert!(invalid(
-            DormandPrince::new(1e-6, 1e-8)
+            Dopri5::new(1e-6, 1e-8)
                 .with_initial_step(h)
                 .integrate(&Decay, 0.0, x0, 1.0)
         ));
         assert!(invalid(
-            DormandPrince::new(1e-6, 1e-8)
+            Dopri5::new(1e-6, 1e-8)
                 .with_max_step(h)
                 .integrate(&Decay, 0.0, x0, 1.0)
         ));
     }
     // Invalid input is reported even on an empty interval, and evaluates nothing.
-    let mut dp = DormandPrince::new(-1.0, 1e-8);
+    let mut dp = Dopri5::new(-1.0, 1e-8);
     assert!(invalid(dp.integrate(&Decay, 0.0, x0, 0.0)));
     assert_eq!(dp.last_stats().rhs_evals, 0);
 }

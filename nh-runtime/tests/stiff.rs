@@ -1,13 +1,11 @@
-//! Stiff problems: Rosenbrock (RODAS4) against the classic test set.
+//! Stiff problems: Rodas4 (RODAS4) against the classic test set.
 
 mod common;
 
 use common::Robertson;
 
 use nalgebra::{Matrix2, SVector, Vector1, Vector2, Vector3};
-use nh_runtime::{
-    DormandPrince, Integrator, OdeJacobian, OdeSystem, Rosenbrock, SimError, Singularity,
-};
+use nh_runtime::{Dopri5, Integrator, OdeJacobian, OdeSystem, Rodas4, SimError, Singularity};
 
 /// Van der Pol oscillator `x'' = μ(1 − x²)x' − x` with `μ = 1000`.
 struct VanDerPol {
@@ -40,11 +38,11 @@ fn van_der_pol_mu_1000() {
     let vdp = VanDerPol { mu: 1e3 };
     let x0 = Vector2::new(2.0, 0.0);
     let t1 = 3000.0; // almost two relaxation periods (≈ 1614 each)
-    let reference = Rosenbrock::new(1e-11, 1e-11)
+    let reference = Rodas4::new(1e-11, 1e-11)
         .integrate_with_jacobian(&vdp, 0.0, x0, t1)
         .unwrap();
     for rtol in [1e-4, 1e-6, 1e-8] {
-        let mut ros = Rosenbrock::new(rtol, rtol);
+        let mut ros = Rodas4::new(rtol, rtol);
         let fd = ros.integrate(&vdp, 0.0, x0, t1).unwrap();
         let an = ros.integrate_with_jacobian(&vdp, 0.0, x0, t1).unwrap();
         let err_fd = (fd.x[0] - reference.x[0]).abs();
@@ -73,7 +71,7 @@ fn van_der_pol_mu_1000() {
 fn robertson_chemical_kinetics() {
     let y0 = Vector3::new(1.0, 0.0, 0.0);
     let expected = Vector3::from(common::ROBER_AT_40);
-    let mut ros = Rosenbrock::new(1e-8, 1e-12);
+    let mut ros = Rodas4::new(1e-8, 1e-12);
     let fd = ros.integrate(&Robertson, 0.0, y0, 40.0).unwrap();
     let an = ros
         .integrate_with_jacobian(&Robertson, 0.0, y0, 40.0)
@@ -88,7 +86,7 @@ fn robertson_chemical_kinetics() {
         assert!(out.stats.steps < 300, "{name}: {} steps", out.stats.steps);
     }
     // Far into the transient-free regime: still cheap.
-    let out = Rosenbrock::new(1e-6, 1e-12)
+    let out = Rodas4::new(1e-6, 1e-12)
         .integrate_with_jacobian(&Robertson, 0.0, y0, 4e10)
         .unwrap();
     println!("robertson to 4e10: {:?} {:?}", out.x.as_slice(), out.stats);
@@ -100,17 +98,17 @@ fn robertson_chemical_kinetics() {
 fn stiff_linear_problem_rosenbrock_vs_dopri() {
     let x0 = Vector1::new(1.0);
     let t1 = 3.0;
-    let mut ros = Rosenbrock::new(1e-6, 1e-9);
+    let mut ros = Rodas4::new(1e-6, 1e-9);
     let out = ros.integrate(&prothero_robinson, 0.0, x0, t1).unwrap();
     let err = (out.x[0] - t1.cos()).abs();
-    println!("rosenbrock: err {err:.2e}, {:?}", out.stats);
+    println!("rodas4: err {err:.2e}, {:?}", out.stats);
     assert!(err < 1e-6);
     assert!(out.stats.steps <= 100, "{} steps", out.stats.steps);
 
     // Dormand–Prince is stability-limited to |h| ≈ 3.3e-6: about 1e6 steps
     // for [0, 3]. Give it 20 000 and extrapolate from how far it got.
     let budget = 20_000;
-    let mut dp = DormandPrince::new(1e-6, 1e-9).with_max_steps(budget);
+    let mut dp = Dopri5::new(1e-6, 1e-9).with_max_steps(budget);
     let e = dp.integrate(&prothero_robinson, 0.0, x0, t1).unwrap_err();
     let SimError::MaxSteps { t, .. } = e else {
         panic!("{e:?}")
@@ -136,7 +134,7 @@ fn singular_iteration_matrix() {
             nalgebra::Matrix1::new(f64::NAN)
         }
     }
-    let e = Rosenbrock::new(1e-6, 1e-9)
+    let e = Rodas4::new(1e-6, 1e-9)
         .integrate_with_jacobian(&NanJacobian, 0.0, Vector1::new(1.0), 1.0)
         .unwrap_err();
     assert!(matches!(e, SimError::NonFinite { t: 0.0, .. }), "{e:?}");
@@ -155,7 +153,7 @@ fn singular_iteration_matrix() {
         }
     }
     // h = 0.1, γ = 1/4: 1/(hγ) = 40.
-    let e = Rosenbrock::new(1e-6, 1e-9)
+    let e = Rodas4::new(1e-6, 1e-9)
         .with_fixed_step(0.1)
         .integrate_with_jacobian(&Resonant, 0.0, Vector1::new(1.0), 1.0)
         .unwrap_err();
@@ -168,7 +166,7 @@ fn singular_iteration_matrix() {
         }
     );
     // Adaptively, the step is halved and the integration proceeds.
-    let out = Rosenbrock::new(1e-6, 1e-9)
+    let out = Rodas4::new(1e-6, 1e-9)
         .with_initial_step(0.1)
         .integrate_with_jacobian(&Resonant, 0.0, Vector1::new(1.0), 0.5)
         .unwrap();

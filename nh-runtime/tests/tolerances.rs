@@ -6,9 +6,7 @@
 use core::cell::Cell;
 
 use nalgebra::{Matrix3, SVector, Vector2, Vector3, Vector4};
-use nh_runtime::{
-    Dop853, DormandPrince, Integrator, OdeJacobian, OdeSystem, Outcome, Rosenbrock, SimError,
-};
+use nh_runtime::{Dop853, Dopri5, Integrator, OdeJacobian, OdeSystem, Outcome, Rodas4, SimError};
 
 /// Two harmonic oscillators, `ω = 1` in `(x1, x2)` and `ω = 10` in
 /// `(x3, x4)`, each component multiplied by `scale[i]`:
@@ -64,9 +62,9 @@ fn equal_entries_are_bit_identical_to_scalar_tolerances() {
         let (r, a) = (Vector2::repeat(rtol), Vector2::repeat(atol));
         let cases = [
             (
-                trace(DormandPrince::new(rtol, atol), &van_der_pol, x0, 8.0),
+                trace(Dopri5::new(rtol, atol), &van_der_pol, x0, 8.0),
                 trace(
-                    DormandPrince::new(1.0, 1.0).with_tolerances(r, a),
+                    Dopri5::new(1.0, 1.0).with_tolerances(r, a),
                     &van_der_pol,
                     x0,
                     8.0,
@@ -82,9 +80,9 @@ fn equal_entries_are_bit_identical_to_scalar_tolerances() {
                 ),
             ),
             (
-                trace(Rosenbrock::new(rtol, atol), &van_der_pol, x0, 8.0),
+                trace(Rodas4::new(rtol, atol), &van_der_pol, x0, 8.0),
                 trace(
-                    Rosenbrock::new(1.0, 1.0).with_tolerances(r, a),
+                    Rodas4::new(1.0, 1.0).with_tolerances(r, a),
                     &van_der_pol,
                     x0,
                     8.0,
@@ -124,15 +122,15 @@ fn a_rescaled_component_with_a_rescaled_atol_takes_the_same_steps() {
     let (sys, scaled_sys) = (oscillators(unit), oscillators(scale));
     let runs = [
         (
-            trace(DormandPrince::new(1e-8, 1e-10), &sys, x0, 5.0),
+            trace(Dopri5::new(1e-8, 1e-10), &sys, x0, 5.0),
             trace(
-                DormandPrince::new(1e-8, 1e-10).with_tolerances(rtol, atol.component_mul(&scale)),
+                Dopri5::new(1e-8, 1e-10).with_tolerances(rtol, atol.component_mul(&scale)),
                 &scaled_sys,
                 x0.component_mul(&scale),
                 5.0,
             ),
             trace(
-                DormandPrince::new(1e-8, 1e-10 * scale.max()),
+                Dopri5::new(1e-8, 1e-10 * scale.max()),
                 &scaled_sys,
                 x0.component_mul(&scale),
                 5.0,
@@ -206,9 +204,9 @@ fn per_component_atol_gives_each_component_its_relative_accuracy() {
     let big_atol = rtol * 1e6;
     let cases = [
         (
-            "DormandPrince",
-            relative_errors(DormandPrince::new(rtol, 0.0).with_tolerances(r, a), scale),
-            relative_errors(DormandPrince::new(rtol, big_atol), scale),
+            "Dopri5",
+            relative_errors(Dopri5::new(rtol, 0.0).with_tolerances(r, a), scale),
+            relative_errors(Dopri5::new(rtol, big_atol), scale),
         ),
         (
             "Dop853",
@@ -216,9 +214,9 @@ fn per_component_atol_gives_each_component_its_relative_accuracy() {
             relative_errors(Dop853::new(rtol, big_atol), scale),
         ),
         (
-            "Rosenbrock",
-            relative_errors(Rosenbrock::new(rtol, 0.0).with_tolerances(r, a), scale),
-            relative_errors(Rosenbrock::new(rtol, big_atol), scale),
+            "Rodas4",
+            relative_errors(Rodas4::new(rtol, 0.0).with_tolerances(r, a), scale),
+            relative_errors(Rodas4::new(rtol, big_atol), scale),
         ),
     ];
     for (name, per_component, scalar) in cases {
@@ -262,26 +260,26 @@ fn invalid_per_component_tolerances_are_invalid_input() {
     for v in bad_rtol {
         let rtol = Vector2::new(1e-6, v);
         let rtol_what = "rtol must be positive and finite";
-        let mut dp = DormandPrince::new(1e-6, 1e-8).with_tolerances(rtol, good);
+        let mut dp = Dopri5::new(1e-6, 1e-8).with_tolerances(rtol, good);
         expect(dp.integrate(&sys, 0.0, x0, 1.0), rtol_what);
         let mut dop = Dop853::new(1e-6, 1e-8).with_tolerances(rtol, good);
         expect(dop.integrate(&sys, 0.0, x0, 1.0), rtol_what);
-        let mut ros = Rosenbrock::new(1e-6, 1e-8).with_tolerances(rtol, good);
+        let mut ros = Rodas4::new(1e-6, 1e-8).with_tolerances(rtol, good);
         expect(ros.integrate(&sys, 0.0, x0, 1.0), rtol_what);
     }
     for v in bad_atol {
         let atol = Vector2::new(v, 1e-8);
         let atol_what = "atol must be non-negative and finite";
-        let mut dp = DormandPrince::new(1e-6, 1e-8).with_tolerances(good, atol);
+        let mut dp = Dopri5::new(1e-6, 1e-8).with_tolerances(good, atol);
         expect(dp.integrate(&sys, 0.0, x0, 1.0), atol_what);
         let mut dop = Dop853::new(1e-6, 1e-8).with_tolerances(good, atol);
         expect(dop.integrate(&sys, 0.0, x0, 1.0), atol_what);
-        let mut ros = Rosenbrock::new(1e-6, 1e-8).with_tolerances(good, atol);
+        let mut ros = Rodas4::new(1e-6, 1e-8).with_tolerances(good, atol);
         expect(ros.integrate(&sys, 0.0, x0, 1.0), atol_what);
     }
     assert_eq!(calls.get(), 0);
     // A zero atol entry is allowed (pure relative control of that component).
-    let mut dp = DormandPrince::new(1e-6, 1e-8).with_tolerances(good, Vector2::new(0.0, 1e-9));
+    let mut dp = Dopri5::new(1e-6, 1e-8).with_tolerances(good, Vector2::new(0.0, 1e-9));
     assert!(dp.integrate(&sys, 0.0, x0, 1.0).is_ok());
 }
 
@@ -313,7 +311,7 @@ fn a_dimension_mismatch_is_invalid_input() {
     };
     let what = "the per-component tolerances have another dimension than the state";
     let mut dp =
-        DormandPrince::new(1.0, 1.0).with_tolerances(Vector2::repeat(1e-6), Vector2::repeat(1e-8));
+        Dopri5::new(1.0, 1.0).with_tolerances(Vector2::repeat(1e-6), Vector2::repeat(1e-8));
     // A run in the right dimension first, so that there are counters to clear.
     dp.integrate(
         &|_t: f64, x: &Vector2<f64>| -x,
@@ -331,7 +329,7 @@ fn a_dimension_mismatch_is_invalid_input() {
     let r = dop.integrate(&sys3, 0.0, Vector3::new(1.0, 2.0, 3.0), 1.0);
     assert_eq!(r, Err(SimError::InvalidInput { what }));
     let mut ros =
-        Rosenbrock::new(1.0, 1.0).with_tolerances(Vector2::repeat(1e-6), Vector2::repeat(1e-8));
+        Rodas4::new(1.0, 1.0).with_tolerances(Vector2::repeat(1e-6), Vector2::repeat(1e-8));
     let r = ros.integrate(&sys3, 0.0, Vector3::new(1.0, 2.0, 3.0), 1.0);
     assert_eq!(r, Err(SimError::InvalidInput { what }));
     let r = ros.integrate_with_jacobian(&Linear3(&calls), 0.0, Vector3::new(1.0, 2.0, 3.0), 1.0);

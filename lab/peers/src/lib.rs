@@ -9,7 +9,7 @@
 //!
 //! ```text
 //! cargo run --release --manifest-path lab/peers/Cargo.toml
-//! cargo run --release --manifest-path lab/peers/Cargo.toml -- --problems stiff_disc --methods bdf,Rosenbrock
+//! cargo run --release --manifest-path lab/peers/Cargo.toml -- --problems stiff_disc --methods bdf,Rodas4
 //! ```
 //!
 //! For each problem each method runs over a ladder (relative tolerances

@@ -60,7 +60,7 @@ fn sample_states<S: Sys<D>, const D: usize>(p: &Problem<S, D>) -> Vec<(f64, SVec
             p.start.t1 * (k + 1) as f64 / n as f64,
         );
         out.push((t0, x));
-        x = DormandPrince::new(1e-10, 1e-12)
+        x = Dopri5::new(1e-10, 1e-12)
             .with_max_steps(1_000_000)
             .integrate(&p.sys, t0, x, t1)
             .map_or(x, |o| o.x);
@@ -254,7 +254,7 @@ fn main() {
             &rows,
             &infos,
             &[
-                "Rosenbrock (Rodas4)",
+                "Rodas4",
                 "Bdf (NDF 1-5)",
                 "diffsol bdf",
                 "russell Radau5",

@@ -121,9 +121,9 @@ fn done<const D: usize>(r: Result<Outcome<f64, D>, SimError<f64, D>>) -> Result<
 pub fn our_methods<S: Sys<D>, const D: usize>() -> Vec<Method<S, D>> {
     use Setting::{StepSize, Tolerance};
     vec![
-        ours("DormandPrince 5(4)", Tolerance, |s, p, v| {
+        ours("Dopri5", Tolerance, |s, p, v| {
             done(
-                DormandPrince::new(v, atol(v))
+                Dopri5::new(v, atol(v))
                     .with_max_steps(p.max_steps)
                     .integrate(s, 0.0, p.x0, p.t1),
             )
@@ -135,9 +135,9 @@ pub fn our_methods<S: Sys<D>, const D: usize>() -> Vec<Method<S, D>> {
                     .integrate(s, 0.0, p.x0, p.t1),
             )
         }),
-        ours("Rosenbrock (Rodas4)", Tolerance, |s, p, v| {
+        ours("Rodas4", Tolerance, |s, p, v| {
             done(
-                Rosenbrock::new(v, atol(v))
+                Rodas4::new(v, atol(v))
                     .with_max_steps(p.max_steps)
                     .integrate_with_jacobian(s, 0.0, p.x0, p.t1),
             )

@@ -75,7 +75,7 @@ fn the_counts_are_the_runs_own() {
     let sys = Oscillator;
     let counted = Counted::new(&sys);
     let (out, calls) = counted.count(|| {
-        DormandPrince::new(1e-8, 1e-10)
+        Dopri5::new(1e-8, 1e-10)
             .integrate(&counted, 0.0, SVector::<f64, 2>::new(1.0, 0.0), 2.0)
             .unwrap()
     });

@@ -75,7 +75,7 @@ mod tests {
     #[test]
     fn the_systems_integrate() {
         let x0 = SVector::<f64, 8>::from([0.0, 0.0, 0.3, 0.0, 0.0, 6.0, 20.0, 0.5]);
-        let out = DormandPrince::new(1e-8, 1e-10)
+        let out = Dopri5::new(1e-8, 1e-10)
             .integrate(&Disc::new(1.7, 0.35, 9.81), 0.0, x0, 1.0)
             .expect("the disc integrates");
         assert!(out.x.iter().all(|v| v.is_finite()));

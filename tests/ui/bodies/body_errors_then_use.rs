@@ -30,5 +30,5 @@ fn main() {
     let _ = s.accelerations(0.0, &q, &v);
     let _ = s.dependent_velocities(&q, &v);
     let x0 = SVector::zeros();
-    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&s, 0.0, x0, 1.0);
+    let _ = Dopri5::new(1e-8, 1e-8).integrate(&s, 0.0, x0, 1.0);
 }

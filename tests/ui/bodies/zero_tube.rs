@@ -22,5 +22,5 @@ fn main() {
     let rdot = SVector::<f64, 3>::new(1.0, 2.0, 0.0);
     let _: SVector<f64, 3> = disc.accelerations(0.0, &q, &rdot);
     let x0 = SVector::<f64, 8>::zeros();
-    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&disc, 0.0, x0, 1.0);
+    let _ = Dopri5::new(1e-8, 1e-8).integrate(&disc, 0.0, x0, 1.0);
 }

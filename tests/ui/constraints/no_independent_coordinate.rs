@@ -19,5 +19,5 @@ fn main() {
     let _: SVector<f64, 0> = pair.accelerations(0.0, &q, &rdot);
     let _: SVector<f64, 2> = pair.dependent_velocities(&q, &rdot);
     let x0 = SVector::<f64, 2>::zeros();
-    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&pair, 0.0, x0, 1.0);
+    let _ = Dopri5::new(1e-8, 1e-8).integrate(&pair, 0.0, x0, 1.0);
 }

@@ -16,5 +16,5 @@ fn main() {
     let _: SVector<f64, 2> = sled.accelerations(0.0, &q, &rdot);
     let _: SVector<f64, 1> = sled.dependent_velocities(&q, &rdot);
     let x0 = SVector::<f64, 5>::zeros();
-    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&sled, 0.0, x0, 1.0);
+    let _ = Dopri5::new(1e-8, 1e-8).integrate(&sled, 0.0, x0, 1.0);
 }

@@ -19,5 +19,5 @@ fn main() {
     let _: SVector<f64, 2> = disc.accelerations(0.0, &q, &rdot);
     let _: SVector<f64, 2> = disc.dependent_velocities(&q, &rdot);
     let x0 = SVector::<f64, 6>::zeros();
-    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&disc, 0.0, x0, 1.0);
+    let _ = Dopri5::new(1e-8, 1e-8).integrate(&disc, 0.0, x0, 1.0);
 }

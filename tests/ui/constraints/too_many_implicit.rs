@@ -26,5 +26,5 @@ fn main() {
     let _: SVector<f64, 1> = many.accelerations(0.0, &q, &rdot);
     let _: SVector<f64, 9> = many.dependent_velocities(&q, &rdot);
     let x0 = SVector::<f64, 11>::zeros();
-    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&many, 0.0, x0, 1.0);
+    let _ = Dopri5::new(1e-8, 1e-8).integrate(&many, 0.0, x0, 1.0);
 }

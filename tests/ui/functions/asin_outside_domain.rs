@@ -13,5 +13,5 @@ fn main() {
     let p = Pendulum::new(1.0, 2.0, 9.81);
     let q = SVector::<f64, 2>::new(0.3, 0.1);
     let _: SVector<f64, 2> = p.accelerations(0.0, &q, &SVector::zeros());
-    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&p, 0.0, SVector::<f64, 4>::zeros(), 1.0);
+    let _ = Dopri5::new(1e-8, 1e-8).integrate(&p, 0.0, SVector::<f64, 4>::zeros(), 1.0);
 }

@@ -16,5 +16,5 @@ fn main() {
     let inputs = SVector::<f64, 1>::from([1.0]);
     let _: SVector<f64, 2> = slide.accelerations(0.0, &q, &rdot, &inputs);
     let x0 = SVector::<f64, 4>::zeros();
-    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&Driven::new(&slide, inputs), 0.0, x0, 1.0);
+    let _ = Dopri5::new(1e-8, 1e-8).integrate(&Driven::new(&slide, inputs), 0.0, x0, 1.0);
 }

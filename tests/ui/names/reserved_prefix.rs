@@ -18,5 +18,5 @@ fn main() {
     let _: SVector<f64, 2> = s.accelerations(0.0, &q, &rdot);
     let _ = Slope::from_parameters(SlopeParameters { m: 1.0, __nh_cache: 0.2 });
     let x0 = SVector::<f64, 4>::zeros();
-    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&s, 0.0, x0, 1.0);
+    let _ = Dopri5::new(1e-8, 1e-8).integrate(&s, 0.0, x0, 1.0);
 }

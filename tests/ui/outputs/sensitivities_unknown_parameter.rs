@@ -18,7 +18,7 @@ fn main() {
     let _: [&str; 3] = Oscillator::SENSITIVITY_PARAMETERS;
     let sens = osc.sensitivities();
     let x0 = sens.initial_state(&x);
-    let out = DormandPrince::new(1e-8, 1e-10).integrate(&sens, 0.0, x0, 1.0).unwrap();
+    let out = Dopri5::new(1e-8, 1e-10).integrate(&sens, 0.0, x0, 1.0).unwrap();
     let (_x, _dx_dp, _dx_dx0) = sens.split(&out.x);
     let _: SVector<f64, 2> = osc.time_derivative(0.0, &x);
 }

@@ -17,5 +17,5 @@ fn main() {
     let _: f64 = slide.energy(&q, &rdot);
     let _: SVector<f64, 0> = slide.multipliers(0.0, &q, &rdot);
     let x0 = SVector::<f64, 2>::zeros();
-    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&slide, 0.0, x0, 1.0);
+    let _ = Dopri5::new(1e-8, 1e-8).integrate(&slide, 0.0, x0, 1.0);
 }

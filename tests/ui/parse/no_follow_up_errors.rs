@@ -18,6 +18,6 @@ fn main() {
     let _a = p.accelerations(0.0, &q, &v);
     let _e = p.energy(&q, &v);
     let x0 = SVector::<f64, 2>::from([0.3, 0.0]);
-    let _ = DormandPrince::new(1e-8, 1e-10).integrate(&p, 0.0, x0, 1.0);
+    let _ = Dopri5::new(1e-8, 1e-10).integrate(&p, 0.0, x0, 1.0);
     assert_eq!(Pendulum::<f64>::COORDINATES, ["theta"]);
 }

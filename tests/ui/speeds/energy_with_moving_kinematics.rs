@@ -23,5 +23,5 @@ fn main() {
     let _: SVector<f64, 3> = sled.velocities(0.0, &q, &u);
     let _: f64 = sled.energy(&q, &u);
     let x0 = SVector::<f64, 5>::zeros();
-    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&sled, 0.0, x0, 1.0);
+    let _ = Dopri5::new(1e-8, 1e-8).integrate(&sled, 0.0, x0, 1.0);
 }

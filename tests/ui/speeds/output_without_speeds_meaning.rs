@@ -25,5 +25,5 @@ fn main() {
     let _: SVector<f64, 0> = sled.multipliers(0.0, &q, &u);
     let _ = sled.curvature(&q);
     let x0 = SVector::<f64, 5>::zeros();
-    let _ = DormandPrince::new(1e-8, 1e-8).integrate(&sled, 0.0, x0, 1.0);
+    let _ = Dopri5::new(1e-8, 1e-8).integrate(&sled, 0.0, x0, 1.0);
 }

@@ -6,14 +6,13 @@ use alloc::vec::Vec;
 use nalgebra::{RealField, SVector};
 
 use crate::Stats;
-use crate::common::{
-    Adaptive, all_finite, c, fixed_builders, integrator_impl, jacobian_entry_points,
-    machine_epsilon,
-};
-use crate::driver::{Failure, Method, Tolerance, counted};
 use crate::jacobian::{Analytic, FiniteDifference, JacobianSource};
 use crate::linalg::{factor, matvec, solve};
+use crate::method::{Failure, Method, counted};
+use crate::numeric::{all_finite, c, machine_epsilon};
+use crate::settings::{Settings, fixed_builders, integrator_impl, jacobian_entry_points};
 use crate::step::{Poly, hermite_terms};
+use crate::tolerance::Tolerance;
 
 /// `√3`, to full precision.
 const SQRT3: f64 = 1.732_050_807_568_877_2;
@@ -103,7 +102,7 @@ const SLOW_NEWTON: usize = 10;
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GaussLegendre4<T> {
-    f: Adaptive<T>,
+    f: Settings<T>,
 }
 
 fixed_builders!(GaussLegendre4);

@@ -1,188 +1,31 @@
-//! Numeric helpers shared by all integrators (one place, no duplication).
+//! The settings every integrator carries (tolerances, step limits,
+//! projection, the record of its last call) and, written once for all of
+//! them, the builder methods and `Integrator` entry points that set and use
+//! them: the macros `adaptive_builders!`, `fixed_builders!`,
+//! `integrator_impl!` and `jacobian_entry_points!`. A call resolves the
+//! settings for the state's dimension ([`Settings::run_settings`]) and hands
+//! them to the step driver ([`drive`]).
 
 use nalgebra::{RealField, SVector};
 
-use crate::driver::{Control, Method, Record, Settings, Tolerance, drive};
+use crate::driver::{Control, Record, RunSettings, drive};
+use crate::method::Method;
+use crate::numeric::{c, machine_epsilon};
 use crate::sink::Sink;
-pub(crate) use crate::tolerance::{error_norm, scaled};
-use crate::{ErrorTolerance, OdeSystem, Outcome, ScalarTolerance, SimError, Stats};
-
-/// Converts an `f64` constant to `T`.
-#[inline(always)]
-pub(crate) fn c<T: RealField + Copy>(x: f64) -> T {
-    nalgebra::convert::<f64, T>(x)
-}
-
-/// Machine epsilon of `T`: the smallest power of two `e` with `1 + e > 1`.
-///
-/// Computed rather than looked up, because `RealField` does not expose it.
-pub(crate) fn machine_epsilon<T: RealField + Copy>() -> T {
-    let one = T::one();
-    let half = c::<T>(0.5);
-    let mut eps = one;
-    // The iteration cap only matters for exotic number types.
-    for _ in 0..2048 {
-        let next = eps * half;
-        if one + next <= one {
-            break;
-        }
-        eps = next;
-    }
-    eps
-}
-
-/// Whether every component of `x` is finite, without a branch per
-/// component (`0·v` is `0` for a finite `v` and NaN otherwise).
-#[inline]
-pub(crate) fn all_finite<T: RealField + Copy, const D: usize>(x: &SVector<T, D>) -> bool {
-    x.iter().fold(T::zero(), |zero, &v| zero + v * T::zero()) == T::zero()
-}
-
-/// `x + (Σ_j a_j·k_{s_j})·h` for the stages and weights `terms = [(s_j,
-/// a_j)]` of an explicit Runge–Kutta step, summed left to right as in the
-/// formulas of Hairer's codes, component by component (no temporary vector
-/// per term; the same rounding as the vector expression).
-#[inline(always)]
-pub(crate) fn stage_point<T: RealField + Copy, const D: usize, const M: usize, const N: usize>(
-    x: &SVector<T, D>,
-    k: &[SVector<T, D>; M],
-    terms: [(usize, f64); N],
-    h: T,
-) -> SVector<T, D> {
-    let mut point = *x;
-    for (i, p) in point.iter_mut().enumerate() {
-        let mut sum = k[terms[0].0][i] * c::<T>(terms[0].1);
-        for &(s, a) in &terms[1..] {
-            sum += k[s][i] * c::<T>(a);
-        }
-        *p += sum * h;
-    }
-    point
-}
-
-/// Whether every component of every vector in `vs` is finite, without a
-/// branch per component: `0·v` is `0` for a finite `v` and NaN otherwise,
-/// so the sum of `0·v_i` over the vectors is zero exactly when all of them
-/// are finite (the stage checks of every step go through here).
-#[inline]
-pub(crate) fn all_finite_in<T: RealField + Copy, const D: usize>(vs: &[SVector<T, D>]) -> bool {
-    let mut zero = SVector::<T, D>::zeros();
-    for v in vs {
-        zero += v * T::zero();
-    }
-    all_finite(&zero)
-}
-
-/// Validates the arguments common to every integrator and returns the
-/// direction of integration (`+1` or `-1`, or `0` when `t1 == t0`).
-pub(crate) fn check_arguments<T: RealField + Copy, const D: usize>(
-    t0: T,
-    x0: &SVector<T, D>,
-    t1: T,
-) -> Result<T, SimError<T, D>> {
-    if !t0.is_finite() {
-        return Err(SimError::InvalidInput {
-            what: "t0 must be finite",
-        });
-    }
-    if !t1.is_finite() {
-        return Err(SimError::InvalidInput {
-            what: "t1 must be finite",
-        });
-    }
-    if !all_finite(x0) {
-        return Err(SimError::InvalidInput {
-            what: "x0 must be finite",
-        });
-    }
-    Ok(if t1 > t0 {
-        T::one()
-    } else if t1 < t0 {
-        -T::one()
-    } else {
-        T::zero()
-    })
-}
-
-/// Returns `Ok(())` if `v` is finite and positive, else `InvalidInput`.
-pub(crate) fn check_positive<T: RealField + Copy, const D: usize>(
-    v: T,
-    what: &'static str,
-) -> Result<(), SimError<T, D>> {
-    if v.is_finite() && v > T::zero() {
-        Ok(())
-    } else {
-        Err(SimError::InvalidInput { what })
-    }
-}
-
-/// The smallest step magnitude an adaptive method may take at `t`:
-/// `10·eps·|t|` (the resolution of `t`, as in Hairer's codes), floored at
-/// `10·eps²·|t1|` so that it stays positive near `t = 0` without stopping
-/// short initial transients of long integrations, and at
-/// `1 / (eps·T::MAX)` (about 2.5e-293 in `f64`) so that it never underflows
-/// and `1/h` stays finite. A span below it is covered in one Euler step.
-pub(crate) fn min_step<T: RealField + Copy>(eps: T, t: T, t1: T) -> T {
-    let floor = T::max_value().map_or(T::zero(), |max| T::one() / (max * eps));
-    (c::<T>(10.0) * eps * t.abs().max(eps * t1.abs())).max(floor)
-}
-
-/// Hairer's `hinit`: a first step magnitude for a method of order `order`
-/// from `f0 = f(t, x)` and one explicit Euler probe step (one evaluation of
-/// the right-hand side, counted in `stats`).
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn initial_step<T, S, const D: usize>(
-    sys: &S,
-    stats: &mut Stats,
-    t: T,
-    x: &SVector<T, D>,
-    f0: &SVector<T, D>,
-    dir: T,
-    hmax: T,
-    tol: &Tolerance<T, D>,
-    order: u32,
-) -> T
-where
-    T: RealField + Copy,
-    S: OdeSystem<T, D> + ?Sized,
-{
-    let sk = tol.weights_at(x);
-    let ratio = |v: &SVector<T, D>| v.zip_map(&sk, scaled).norm_squared();
-    let (dnf, dny) = (ratio(f0), ratio(x));
-    let tiny = c::<T>(1e-10);
-    let mut h = if dnf <= tiny || dny <= tiny || !(dnf / dny).is_finite() {
-        c::<T>(1e-6)
-    } else {
-        (dny / dnf).sqrt() * c::<T>(0.01)
-    };
-    h = h.min(hmax);
-    // One explicit Euler step to estimate the second derivative.
-    let x1 = x + f0 * (h * dir);
-    let f1 = sys.rhs(t + h * dir, &x1);
-    stats.rhs_evals += 1;
-    let der2 = ratio(&(f1 - f0)).sqrt() / h;
-    let der12 = der2.max(dnf.sqrt());
-    let h1 = if !(der2.is_finite() && der12.is_finite()) {
-        // The probe step produced garbage: stay cautious.
-        h * c::<T>(1e-3)
-    } else if der12 <= c::<T>(1e-15) {
-        c::<T>(1e-6).max(h * c::<T>(1e-3))
-    } else {
-        (c::<T>(0.01) / der12).powf(T::one() / c::<T>(f64::from(order)))
-    };
-    (h * c::<T>(100.0)).min(h1).min(hmax)
-}
+use crate::{ErrorTolerance, OdeSystem, Outcome, ScalarTolerance, SimError};
 
 /// The default step budget of the adaptive integrators (attempts).
 pub(crate) const ADAPTIVE_MAX_STEPS: usize = 100_000;
 /// The default step budget of the fixed-step integrators (steps).
 pub(crate) const FIXED_MAX_STEPS: usize = 1_000_000;
 
-/// The settings and bookkeeping every adaptive integrator has (tolerances,
-/// step limits, the counters of the last call); see the builder methods that
-/// [`adaptive_builders`] gives each of them.
+/// The settings and bookkeeping every integrator has (tolerances, step
+/// limits, projection, the counters of the last call): an adaptive one's
+/// from [`Settings::new`], with the builder methods of [`adaptive_builders`];
+/// a fixed-step one's from [`Settings::fixed`], with those of
+/// [`fixed_builders`].
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub(crate) struct Adaptive<T, Tol = ScalarTolerance<T>> {
+pub(crate) struct Settings<T, Tol = ScalarTolerance<T>> {
     pub(crate) tol: Tol,
     pub(crate) max_steps: usize,
     pub(crate) initial_step: Option<T>,
@@ -192,10 +35,10 @@ pub(crate) struct Adaptive<T, Tol = ScalarTolerance<T>> {
     pub(crate) record: Record<T>,
 }
 
-impl<T: RealField + Copy> Adaptive<T> {
+impl<T: RealField + Copy> Settings<T> {
     /// Tolerances `rtol`, `atol`; at most 100 000 step attempts.
     pub(crate) fn new(rtol: T, atol: T) -> Self {
-        Adaptive {
+        Settings {
             tol: ScalarTolerance::new(rtol, atol),
             max_steps: ADAPTIVE_MAX_STEPS,
             initial_step: None,
@@ -209,18 +52,18 @@ impl<T: RealField + Copy> Adaptive<T> {
     /// The settings of a fixed-step integrator: step `h`, at most
     /// [`FIXED_MAX_STEPS`] steps (the tolerances are not used).
     pub(crate) fn fixed(h: T) -> Self {
-        Adaptive {
+        Settings {
             max_steps: FIXED_MAX_STEPS,
             fixed_step: Some(h),
-            ..Adaptive::new(T::one(), T::one())
+            ..Settings::new(T::one(), T::one())
         }
     }
 }
 
-impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Adaptive<T, Tol> {
+impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Settings<T, Tol> {
     /// These settings with the tolerance `tol` instead.
-    pub(crate) fn with_tolerance<U: ErrorTolerance<T>>(self, tol: U) -> Adaptive<T, U> {
-        Adaptive {
+    pub(crate) fn with_tolerance<U: ErrorTolerance<T>>(self, tol: U) -> Settings<T, U> {
+        Settings {
             tol,
             max_steps: self.max_steps,
             initial_step: self.initial_step,
@@ -236,14 +79,16 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Adaptive<T, Tol> {
     /// relative error the scalar can resolve in a step) raised to `10·eps`;
     /// tolerances for another dimension are `InvalidInput` (and clear the
     /// counters of the previous run).
-    pub(crate) fn settings<const D: usize>(&mut self) -> Result<Settings<T, D>, SimError<T, D>> {
+    pub(crate) fn run_settings<const D: usize>(
+        &mut self,
+    ) -> Result<RunSettings<T, D>, SimError<T, D>> {
         let Some(tol) = self.tol.for_dimension::<D>() else {
             self.record = Record::default();
             return Err(SimError::InvalidInput {
                 what: "the per-component tolerances have another dimension than the state",
             });
         };
-        Ok(Settings {
+        Ok(RunSettings {
             control: match self.fixed_step {
                 Some(h) => Control::Fixed(h),
                 None => Control::Adaptive,
@@ -284,13 +129,13 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Adaptive<T, Tol> {
                 return Err(SimError::ToleranceTooTight { t, x, rtol_min });
             }
         }
-        let settings = self.settings()?;
+        let settings = self.run_settings()?;
         drive(method, sys, &settings, span, sink, &mut self.record)
     }
 }
 
 /// The builder and query methods shared by the adaptive integrators (their
-/// settings live in an [`Adaptive`] field named `a`; further fields, listed
+/// settings live in a [`Settings`] field named `a`; further fields, listed
 /// after the type, start as their `Default`), written once.
 macro_rules! adaptive_builders {
     ($ty:ident $(, $extra:ident)*) => {
@@ -301,7 +146,7 @@ macro_rules! adaptive_builders {
             /// component).
             pub fn new(rtol: T, atol: T) -> Self {
                 Self {
-                    a: crate::common::Adaptive::new(rtol, atol),
+                    a: crate::settings::Settings::new(rtol, atol),
                     $($extra: Default::default(),)*
                 }
             }
@@ -372,15 +217,15 @@ macro_rules! adaptive_builders {
 pub(crate) use adaptive_builders;
 
 /// The builder and query methods shared by the fixed-step integrators
-/// (their settings live in an [`Adaptive`] field named `f`, made by
-/// [`Adaptive::fixed`]), written once.
+/// (their settings live in a [`Settings`] field named `f`, made by
+/// [`Settings::fixed`]), written once.
 macro_rules! fixed_builders {
     ($ty:ident) => {
         impl<T: nalgebra::RealField + Copy> $ty<T> {
             /// A fixed-step integrator with step size `h` (> 0).
             pub fn new(h: T) -> Self {
                 Self {
-                    f: crate::common::Adaptive::fixed(h),
+                    f: crate::settings::Settings::fixed(h),
                 }
             }
 
@@ -401,7 +246,7 @@ macro_rules! fixed_builders {
 pub(crate) use fixed_builders;
 
 /// The [`Integrator`](crate::Integrator) implementation of an integrator
-/// whose settings live in `$field` (an [`Adaptive`]) and whose
+/// whose settings live in `$field` (a [`Settings`]) and whose
 /// method for a system `$sys` is `$method` (which may borrow the further
 /// fields named after `$sys` mutably): every entry point goes through the
 /// step driver with the matching [`Sink`].
@@ -605,25 +450,100 @@ pub(crate) use jacobian_entry_points;
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::PerComponentTolerance;
     use nalgebra::Vector2;
 
+    /// An adaptive integrator's shell: the settings and one further field.
+    #[derive(Debug, Clone, Copy, PartialEq)]
+    struct Adaptive<T, Tol = ScalarTolerance<T>> {
+        a: Settings<T, Tol>,
+        extra: u8,
+    }
+    adaptive_builders!(Adaptive, extra);
+
+    /// A fixed-step integrator's shell.
+    struct Fixed<T> {
+        f: Settings<T>,
+    }
+    fixed_builders!(Fixed);
+
     #[test]
-    fn machine_epsilon_matches_std() {
-        assert_eq!(machine_epsilon::<f64>(), f64::EPSILON);
-        assert_eq!(machine_epsilon::<f32>(), f32::EPSILON);
+    fn adaptive_defaults() {
+        let s = Settings::new(1e-6, 1e-9);
+        assert_eq!(s.tol, ScalarTolerance::new(1e-6, 1e-9));
+        assert_eq!(s.max_steps, 100_000);
+        assert_eq!(
+            (s.initial_step, s.max_step, s.fixed_step),
+            (None, None, None)
+        );
+        assert!(s.project);
+        assert_eq!(s.record, Record::default());
     }
 
     #[test]
-    fn arguments_are_validated() {
-        let ok = Vector2::new(1.0, 2.0);
-        assert_eq!(check_arguments(0.0, &ok, 1.0), Ok(1.0));
-        assert_eq!(check_arguments(1.0, &ok, 0.0), Ok(-1.0));
-        assert_eq!(check_arguments(1.0, &ok, 1.0), Ok(0.0));
-        assert!(check_arguments(f64::NAN, &ok, 1.0).is_err());
-        assert!(check_arguments(0.0, &ok, f64::INFINITY).is_err());
-        assert!(check_arguments(0.0, &Vector2::new(1.0, f64::NAN), 1.0).is_err());
-        assert!(check_positive::<f64, 2>(0.0, "x").is_err());
-        assert!(check_positive::<f64, 2>(f64::NAN, "x").is_err());
-        assert!(check_positive::<f64, 2>(1e-300, "x").is_ok());
+    fn adaptive_builders_set_their_fields() {
+        let mut i = Adaptive::new(1e-6, 1e-9)
+            .with_max_steps(7)
+            .with_initial_step(0.1)
+            .with_max_step(0.5)
+            .with_fixed_step(0.01);
+        assert_eq!(i.extra, 0);
+        i.extra = 3;
+        assert_eq!(i.a.max_steps, 7);
+        assert_eq!(i.a.initial_step, Some(0.1));
+        assert_eq!(i.a.max_step, Some(0.5));
+        assert_eq!(i.a.fixed_step, Some(0.01));
+        assert_eq!(i.last_step(), None);
+        i.a.record.last_step = Some(0.25);
+        assert_eq!(i.last_step(), Some(0.25));
+        // Per-component tolerances replace the scalar pair and keep the rest.
+        let (rtol, atol) = (Vector2::new(1e-6, 1e-8), Vector2::new(0.0, 1e-12));
+        let p = i.with_tolerances(rtol, atol);
+        assert_eq!(p.a.tol, PerComponentTolerance::new(rtol, atol));
+        assert_eq!((p.a.max_steps, p.a.fixed_step, p.extra), (7, Some(0.01), 3));
+        assert_eq!(p.last_step(), Some(0.25));
+    }
+
+    #[test]
+    fn fixed_builders_set_the_step_and_budget() {
+        let i = Fixed::new(0.125);
+        assert_eq!(i.step_size(), 0.125);
+        assert_eq!(i.f.max_steps, 1_000_000);
+        assert_eq!(i.f.fixed_step, Some(0.125));
+        assert_eq!(Fixed::new(0.5).with_max_steps(3).f.max_steps, 3);
+    }
+
+    #[test]
+    fn run_settings_resolve_the_control_and_floor_rtol() {
+        let mut s = Settings::new(1e-20, 1e-9);
+        let run = s.run_settings::<2>().unwrap();
+        assert_eq!(run.control, Control::Adaptive);
+        let floor = 10.0 * f64::EPSILON;
+        assert_eq!(run.tol.rtol, Vector2::repeat(floor));
+        assert_eq!(run.tol.atol, Vector2::repeat(1e-9));
+        assert_eq!(run.max_steps, 100_000);
+        assert!(run.project);
+        // A tolerance above the floor is kept; a fixed step is a fixed step.
+        let mut f = Settings::fixed(0.5);
+        f.initial_step = Some(0.1);
+        let run = f.run_settings::<1>().unwrap();
+        assert_eq!(run.control, Control::Fixed(0.5));
+        assert_eq!(run.tol.rtol[0], 1.0);
+        assert_eq!((run.initial_step, run.max_steps), (Some(0.1), 1_000_000));
+    }
+
+    #[test]
+    fn run_settings_of_another_dimension_are_invalid_and_clear_the_record() {
+        let tol = PerComponentTolerance::new(Vector2::repeat(1e-6), Vector2::repeat(1e-9));
+        let mut s = Settings::new(1e-6, 1e-9).with_tolerance(tol);
+        s.record.stats.steps = 5;
+        assert_eq!(
+            s.run_settings::<3>(),
+            Err(SimError::InvalidInput {
+                what: "the per-component tolerances have another dimension than the state",
+            })
+        );
+        assert_eq!(s.record, Record::default());
+        assert!(s.run_settings::<2>().is_ok());
     }
 }

@@ -5,12 +5,14 @@ use nalgebra::{RealField, SMatrix, SVector};
 
 use crate::ScalarTolerance;
 use crate::Stats;
-use crate::common::{Adaptive, adaptive_builders, c, integrator_impl, jacobian_entry_points};
-use crate::dopri5::Dopri5;
-use crate::driver::{Failure, Method, Pi, Tolerance};
-use crate::jacobian::{Analytic, FiniteDifference};
-use crate::rosenbrock::rodas4;
+use crate::dopri5::Dopri5Stages;
+use crate::jacobian::{Analytic, FiniteDifference, Linearised};
+use crate::method::{Failure, Method, Pi};
+use crate::numeric::c;
+use crate::rodas4::rodas4;
+use crate::settings::{Settings, adaptive_builders, integrator_impl, jacobian_entry_points};
 use crate::step::Poly;
+use crate::tolerance::Tolerance;
 
 /// Consecutive accepted explicit steps held at the stability boundary
 /// (`|h|·ρ > STIFF_FRACTION · STIFF_LIMIT`, Hairer's estimate of `ρ`) that
@@ -90,7 +92,7 @@ impl<T: Copy> SwitchLog<T> {
 ///
 /// * Non-stiff → stiff: after every accepted Dormand–Prince step, Hairer's
 ///   estimate `ρ ≈ ‖k7 − k6‖/‖x7 − x6‖` of the dominant eigenvalue (the
-///   test behind [`Stats::stiffness_detected`] of [`DormandPrince`](crate::DormandPrince))
+///   test behind [`Stats::stiffness_detected`] of [`Dopri5`](crate::Dopri5))
 ///   is taken; when `|h|·ρ` exceeds 0.9 × 3.25 (the step is held at the
 ///   method's stability boundary) on 5 consecutive accepted steps, RODAS4
 ///   takes over with twice the last step.
@@ -101,8 +103,8 @@ impl<T: Copy> SwitchLog<T> {
 ///   stability region, on 5 consecutive accepted steps, Dormand–Prince takes
 ///   over with half the last step.
 /// * At a switch the step-size controller restarts with the new member's
-///   (that of [`DormandPrince`](crate::DormandPrince) or
-///   [`Rosenbrock`](crate::Rosenbrock)); each member keeps its own error
+///   (that of [`Dopri5`](crate::Dopri5) or
+///   [`Rodas4`](crate::Rodas4)); each member keeps its own error
 ///   estimate, dense output and work per step. The run starts explicit.
 /// * Jacobian: by forward differences with [`Integrator`](crate::Integrator)'s
 ///   methods, analytic with [`AutoSwitch::integrate_with_jacobian`]; only
@@ -113,9 +115,9 @@ impl<T: Copy> SwitchLog<T> {
 ///   [`AutoSwitch::last_switches`] gives the time and direction of each
 ///   switch of the most recent call.
 ///
-/// A problem that is never stiff costs what [`DormandPrince`](crate::DormandPrince)
+/// A problem that is never stiff costs what [`Dopri5`](crate::Dopri5)
 /// costs (the test reads values the method computes anyway); a stiff one
-/// costs a few explicit steps more than [`Rosenbrock`](crate::Rosenbrock).
+/// costs a few explicit steps more than [`Rodas4`](crate::Rodas4).
 /// Tolerances, step budget and failure modes are those of the two members
 /// and the shared step driver.
 ///
@@ -141,19 +143,19 @@ impl<T: Copy> SwitchLog<T> {
 /// ```
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct AutoSwitch<T, Tol = ScalarTolerance<T>> {
-    a: Adaptive<T, Tol>,
+    a: Settings<T, Tol>,
     log: SwitchLog<T>,
 }
 
 adaptive_builders!(AutoSwitch, log);
 integrator_impl!(AutoSwitch<T, Tol>, a, |sys, log| Switching::new(
-    Dopri5::new(sys),
+    Dopri5Stages::new(sys),
     rodas4(FiniteDifference(sys)),
     log
 ));
 
 jacobian_entry_points! {
-    AutoSwitch<T, Tol>, a, |sys, log| Switching::new(Dopri5::new(sys), rodas4(Analytic(sys)), log),
+    AutoSwitch<T, Tol>, a, |sys, log| Switching::new(Dopri5Stages::new(sys), rodas4(Analytic(sys)), log),
     /// Like [`Integrator::integrate`](crate::Integrator::integrate), but the
     /// implicit member uses the analytic Jacobian
     /// [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) instead of
@@ -214,15 +216,6 @@ impl<T: RealField + Copy, Tol> AutoSwitch<T, Tol> {
     pub fn last_switches(&self) -> &[Switch<T>] {
         self.log.as_slice()
     }
-}
-
-/// An implicit member: a [`Method`] that evaluates the Jacobian at every
-/// accepted point, so that the switch back can estimate its spectral
-/// radius.
-pub(crate) trait Linearised<T: RealField + Copy, const D: usize>: Method<T, D> {
-    /// The Jacobian at the current accepted point (after
-    /// [`Method::start`] or [`Method::advance`] with `last == false`).
-    fn jacobian(&self) -> &SMatrix<T, D, D>;
 }
 
 /// The switching method: an explicit member `E` and an implicit member
