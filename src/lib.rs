@@ -847,7 +847,7 @@
 //! ```
 //!
 //! The full list of error classes, each with a case in `tests/ui/`, is in the
-//! README. Setting `NH_STATS=1` while compiling makes the macro print each
+//! user guide (`docs/guide/language.md`, compile errors). Setting `NH_STATS=1` while compiling makes the macro print each
 //! system's expansion time, the operation counts of both routes and the route
 //! chosen.
 //!

@@ -8,7 +8,7 @@ mod model;
 use nonholonomic::prelude::*;
 
 nonholonomic_system! {
-    /// The README's rolling disc (bodies and a rolling contact).
+    /// The rolling disc written with a body and a rolling contact.
     pub struct BodyDisc {
         parameters { m, R, g }
         coordinates { theta, phi, psi, x, y }
