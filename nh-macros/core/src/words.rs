@@ -271,6 +271,17 @@ impl Keyword {
 }
 
 impl Function {
+    /// The axis (0 for x, 1 for y, 2 for z) of an elementary rotation
+    /// `rot_x`, `rot_y` or `rot_z`.
+    pub fn rotation_axis(self) -> Option<usize> {
+        match self {
+            Function::RotX => Some(0),
+            Function::RotY => Some(1),
+            Function::RotZ => Some(2),
+            _ => None,
+        }
+    }
+
     /// Whether it is a function of vectors, rotations or bodies (`dot`,
     /// also the time derivative, is not counted among them).
     pub fn of_vectors(self) -> bool {
@@ -360,6 +371,18 @@ mod tests {
     #[test]
     fn every_word_parses_back_from_its_name() {
         round_trip!(Block, Keyword, Output, Function, Constant);
+    }
+
+    #[test]
+    fn the_axes_of_the_rotations() {
+        assert_eq!(Function::RotX.rotation_axis(), Some(0));
+        assert_eq!(Function::RotY.rotation_axis(), Some(1));
+        assert_eq!(Function::RotZ.rotation_axis(), Some(2));
+        let axes = Function::ALL
+            .into_iter()
+            .filter_map(Function::rotation_axis)
+            .count();
+        assert_eq!(axes, 3);
     }
 
     #[test]

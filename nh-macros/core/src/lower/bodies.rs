@@ -10,6 +10,7 @@ use super::{Binding, Lowerer, Place};
 use crate::ctxt::SpanRange;
 use crate::parse::{BodyDef, Expr, Field, RollingDef};
 use crate::sym::{ExprId, Rational, SymId, ZERO};
+use crate::words::Function;
 use proc_macro2::Ident;
 use std::rc::Rc;
 
@@ -55,17 +56,15 @@ impl Lowerer<'_> {
     /// `Some` after an error, `None` if `f` is not one of them.
     pub(super) fn lower_vector_call(
         &mut self,
-        func: &Ident,
+        f: Function,
         args: &[Expr],
         range: SpanRange,
         depth: usize,
     ) -> Option<Option<Value>> {
-        let f = func.to_string();
-        let arity = match f.as_str() {
-            "dot" | "cross" => 2,
-            "diag" => 3,
-            "norm" | "transpose" | "rot_x" | "rot_y" | "rot_z" | "omega" | "omega_body"
-            | "kinetic_energy" => 1,
+        let arity = match f {
+            Function::Dot | Function::Cross => 2,
+            Function::Diag => 3,
+            _ if f.of_vectors() => 1,
             _ => return None,
         };
         if args.len() != arity {
@@ -77,7 +76,7 @@ impl Lowerer<'_> {
             self.cx.error(range, format!("`{f}` takes {what}"));
             return Some(None);
         }
-        if f == "kinetic_energy" {
+        if f == Function::KineticEnergy {
             return Some(self.kinetic_energy_of(&args[0]).map(Value::Scalar));
         }
         let vals: Vec<Option<Value>> = args
@@ -88,31 +87,31 @@ impl Lowerer<'_> {
             Some(v) => v,
             None => return Some(None),
         };
-        Some(self.apply_vector_function(&f, vals, args))
+        Some(self.apply_vector_function(f, vals, args))
     }
 
     fn apply_vector_function(
         &mut self,
-        f: &str,
+        f: Function,
         mut vals: Vec<Value>,
         args: &[Expr],
     ) -> Option<Value> {
         let arg = |i: usize| &args[i];
         match f {
-            "dot" | "cross" => {
+            Function::Dot | Function::Cross => {
                 let b = vals.pop()?;
                 let a = vals.pop()?;
                 let what = format!("each argument of `{f}` must be a vector");
                 let a = self.vector_of(a, arg(0), &what);
                 let b = self.vector_of(b, arg(1), &what);
                 let (a, b) = (a?, b?);
-                Some(if f == "dot" {
+                Some(if f == Function::Dot {
                     Value::Scalar(dot3(&mut self.e, a, b))
                 } else {
                     Value::Vector(cross3(&mut self.e, a, b))
                 })
             }
-            "norm" => {
+            Function::Norm => {
                 let v = self.vector_of(
                     vals.pop()?,
                     arg(0),
@@ -121,7 +120,7 @@ impl Lowerer<'_> {
                 let n2 = dot3(&mut self.e, v, v);
                 Some(Value::Scalar(self.e.pow(n2, Rational::new(1, 2)?)))
             }
-            "transpose" => match vals.pop()? {
+            Function::Transpose => match vals.pop()? {
                 Value::Rotation(r) => Some(Value::Rotation(Rc::new(inverse(&mut self.e, &r)))),
                 Value::Matrix(m) => Some(Value::Matrix(transpose(&m))),
                 other => {
@@ -136,19 +135,19 @@ impl Lowerer<'_> {
                     None
                 }
             },
-            "rot_x" | "rot_y" | "rot_z" => {
+            Function::RotX | Function::RotY | Function::RotZ => {
                 let angle = self.scalar_of(vals.pop()?, arg(0))?;
                 if !self.position_like(angle, arg(0), "the angle of a rotation") {
                     return None;
                 }
-                let k = usize::from(f.as_bytes()[4] - b'x');
+                let k = f.rotation_axis()?;
                 let matrix = elementary(&mut self.e, k, angle);
                 Some(Value::Rotation(Rc::new(Rotation {
                     matrix,
                     factors: vec![(k, angle)],
                 })))
             }
-            "diag" => {
+            Function::Diag => {
                 let mut m = [[ZERO; 3]; 3];
                 for (i, v) in vals.into_iter().enumerate() {
                     m[i][i] = self.scalar_of(v, arg(i))?;
@@ -156,7 +155,7 @@ impl Lowerer<'_> {
                 Some(Value::Matrix(m))
             }
             _ => {
-                let world = f == "omega";
+                let world = f == Function::Omega;
                 let r = self.rotation_of(vals.pop()?, arg(0), &format!("the argument of `{f}`"))?;
                 Some(Value::Vector(self.angular_velocity(&r, world)))
             }
