@@ -17,6 +17,7 @@ use crate::model::{Coordinate, Input, Model, Parameter, Partition};
 use crate::names;
 use crate::parse::{BodyDef, Expr, SystemDef};
 use crate::sym::{Engine, ExprId, Rational, SymId, ZERO};
+use crate::words::{Constant, Function};
 use bodies::BodyState;
 use proc_macro2::{Ident, Span};
 use rustc_hash::FxHashMap as HashMap;
@@ -96,10 +97,10 @@ impl Declarations {
     fn declare(&mut self, cx: &mut Ctxt, id: &Ident, kind: &'static str) -> bool {
         let s = id.to_string();
         if crate::words::is_reserved(&s) {
-            let what = match s.as_str() {
-                "t" => "`t` is time",
-                "pi" => "`pi` is the constant π",
-                "dot" => "`dot` is the time derivative",
+            let what = match (Constant::of(id), Function::of(id)) {
+                (Some(Constant::Time), _) => "`t` is time",
+                (Some(Constant::Pi), _) => "`pi` is the constant π",
+                (_, Some(Function::Dot)) => "`dot` is the time derivative",
                 _ => "it is a function of the language",
             };
             cx.error_at(
@@ -228,8 +229,8 @@ impl<'a> Lowerer<'a> {
     /// whether its declaration succeeded.
     fn declare(def: &SystemDef, cx: &'a mut Ctxt) -> (Lowerer<'a>, Vec<bool>) {
         let mut e = Engine::new();
-        let t_sym = e.symbol("t");
-        let pi_sym = e.symbol("pi");
+        let t_sym = e.symbol(Constant::Time.name());
+        let pi_sym = e.symbol(Constant::Pi.name());
         let mut names = Declarations {
             scope: HashMap::default(),
             declared: HashMap::default(),
@@ -433,8 +434,7 @@ fn list_names<'i>(ids: impl Iterator<Item = &'i Ident>) -> String {
 impl Lowerer<'_> {
     fn known_names(&self) -> Vec<String> {
         let mut v: Vec<String> = self.scope.keys().cloned().collect();
-        v.push("t".into());
-        v.push("pi".into());
+        v.extend(Constant::ALL.map(|c| c.name().to_string()));
         v.sort();
         v
     }

@@ -12,14 +12,16 @@ use crate::names;
 use proc_macro2::Ident;
 use std::fmt;
 
-/// The enums of words: each variant with its spelling, and for each enum
-/// `ALL` (in the order the messages list them, which is the order of the
-/// variants), `name`, `parse`, `of`, `closest` and `suggest`.
+/// The enums of words: each variant with its spelling (and the other
+/// spellings it is read from, `Centre = "centre" | "center"`), and for each
+/// enum `ALL` (in the order the messages list them, which is the order of
+/// the variants), `name`, `parse`, `of`, `closest` and `suggest`, also as
+/// the trait [`Word`].
 macro_rules! words {
     ($(
         $(#[$doc:meta])*
         pub enum $kind:ident {
-            $( $(#[$variant_doc:meta])* $variant:ident = $name:literal, )+
+            $( $(#[$variant_doc:meta])* $variant:ident = $name:literal $(| $alias:literal)*, )+
         }
     )+) => {$(
         $(#[$doc])*
@@ -42,7 +44,7 @@ macro_rules! words {
             /// The word spelled `text`, if there is one.
             pub fn parse(text: &str) -> Option<$kind> {
                 match text {
-                    $( $name => Some($kind::$variant), )+
+                    $( $name $(| $alias)* => Some($kind::$variant), )+
                     _ => None,
                 }
             }
@@ -76,7 +78,40 @@ macro_rules! words {
                 self == word.name()
             }
         }
+
+        impl Word for $kind {
+            fn all() -> &'static [$kind] {
+                &$kind::ALL
+            }
+
+            fn name(self) -> &'static str {
+                $kind::name(self)
+            }
+
+            fn parse(text: &str) -> Option<$kind> {
+                $kind::parse(text)
+            }
+
+            fn suggest(text: &str) -> String {
+                $kind::suggest(text)
+            }
+        }
     )+};
+}
+
+/// A kind of word, for code that works on any of them (the fields of a
+/// `body` and the named arguments of `rolls(..)` are checked by one
+/// function).
+pub trait Word: Copy + Eq + fmt::Display + 'static {
+    /// Every word of the kind, in the order the messages list them.
+    fn all() -> &'static [Self];
+    /// The word as written.
+    fn name(self) -> &'static str;
+    /// The word spelled `text`, if there is one.
+    fn parse(text: &str) -> Option<Self>;
+    /// `" (did you mean `word`?)"` for the word closest to `text`, or the
+    /// empty string.
+    fn suggest(text: &str) -> String;
 }
 
 words! {
@@ -215,6 +250,31 @@ words! {
         /// `pi`: π
         Pi = "pi",
     }
+
+    /// A field of a `body` item, `body NAME { mass: .., centre: .., .. }`.
+    pub enum BodyField {
+        /// `mass: m`
+        Mass = "mass",
+        /// `centre: C`, the centre of mass (also spelled `center`)
+        Centre = "centre" | "center",
+        /// `orientation: R`, body to world
+        Orientation = "orientation",
+        /// `inertia: I`, about the centre of mass in body axes
+        Inertia = "inertia",
+    }
+
+    /// A named argument of a rolling contact, `rolls(BODY, radius: .., ..)`.
+    pub enum RollingField {
+        /// `radius: r`
+        Radius = "radius",
+        /// `axle: [..]`, the wheel's axis of symmetry in body axes
+        Axle = "axle",
+        /// `tube: ρ`, the tube radius of a torus
+        Tube = "tube",
+        /// `centre: G`, the geometric centre if not the centre of mass
+        /// (also spelled `center`)
+        Centre = "centre" | "center",
+    }
 }
 
 /// A word as written where a word of kind `W` is expected: the identifier
@@ -271,6 +331,17 @@ impl Keyword {
 }
 
 impl Function {
+    /// The axis (0 for x, 1 for y, 2 for z) of an elementary rotation
+    /// `rot_x`, `rot_y` or `rot_z`.
+    pub fn rotation_axis(self) -> Option<usize> {
+        match self {
+            Function::RotX => Some(0),
+            Function::RotY => Some(1),
+            Function::RotZ => Some(2),
+            _ => None,
+        }
+    }
+
     /// Whether it is a function of vectors, rotations or bodies (`dot`,
     /// also the time derivative, is not counted among them).
     pub fn of_vectors(self) -> bool {
@@ -359,7 +430,87 @@ mod tests {
 
     #[test]
     fn every_word_parses_back_from_its_name() {
-        round_trip!(Block, Keyword, Output, Function, Constant);
+        round_trip!(
+            Block,
+            Keyword,
+            Output,
+            Function,
+            Constant,
+            BodyField,
+            RollingField
+        );
+    }
+
+    /// The same through [`Word`], as code generic over the kind sees it.
+    fn round_trip_as_word<W: Word + fmt::Debug>() {
+        for &w in W::all() {
+            assert_eq!(W::parse(w.name()), Some(w));
+            assert_eq!(w.to_string(), w.name());
+        }
+        assert_eq!(W::parse("unknown"), None);
+    }
+
+    #[test]
+    fn every_word_parses_back_as_a_word() {
+        round_trip_as_word::<Block>();
+        round_trip_as_word::<Function>();
+        round_trip_as_word::<BodyField>();
+        round_trip_as_word::<RollingField>();
+        assert_eq!(<BodyField as Word>::all(), BodyField::ALL);
+        assert_eq!(
+            <RollingField as Word>::suggest("radus"),
+            RollingField::suggest("radus")
+        );
+    }
+
+    #[test]
+    fn the_fields_of_bodies_and_rolling_contacts() {
+        assert_eq!(
+            BodyField::ALL.map(BodyField::name),
+            ["mass", "centre", "orientation", "inertia"]
+        );
+        assert_eq!(
+            RollingField::ALL.map(RollingField::name),
+            ["radius", "axle", "tube", "centre"]
+        );
+        // `center` is read as `centre`, which is the name written back
+        assert_eq!(BodyField::parse("center"), Some(BodyField::Centre));
+        assert_eq!(RollingField::parse("center"), Some(RollingField::Centre));
+        let id = Ident::new("center", Span::call_site());
+        assert_eq!(BodyField::of(&id), Some(BodyField::Centre));
+        assert_eq!(BodyField::Centre.name(), "centre");
+        // a field of one is not one of the other
+        assert_eq!(BodyField::parse("radius"), None);
+        assert_eq!(RollingField::parse("mass"), None);
+        assert_eq!(BodyField::parse("Mass"), None);
+    }
+
+    #[test]
+    fn misspelt_fields_are_answered_from_their_enum() {
+        assert_eq!(BodyField::closest("mas"), Some(BodyField::Mass));
+        assert_eq!(BodyField::closest("intertia"), Some(BodyField::Inertia));
+        assert_eq!(
+            BodyField::closest("orientaton"),
+            Some(BodyField::Orientation)
+        );
+        assert_eq!(BodyField::suggest("mas"), " (did you mean `mass`?)");
+        assert_eq!(BodyField::suggest("radius"), "");
+        assert_eq!(RollingField::closest("radus"), Some(RollingField::Radius));
+        assert_eq!(RollingField::closest("axel"), Some(RollingField::Axle));
+        assert_eq!(RollingField::suggest("tub"), " (did you mean `tube`?)");
+        assert_eq!(RollingField::suggest("mass"), "");
+    }
+
+    #[test]
+    fn the_axes_of_the_rotations() {
+        assert_eq!(Function::RotX.rotation_axis(), Some(0));
+        assert_eq!(Function::RotY.rotation_axis(), Some(1));
+        assert_eq!(Function::RotZ.rotation_axis(), Some(2));
+        let axes = Function::ALL
+            .into_iter()
+            .filter_map(Function::rotation_axis)
+            .count();
+        assert_eq!(axes, 3);
     }
 
     #[test]

@@ -13,7 +13,7 @@
 
 use crate::api::Shape;
 use crate::parse::{Expr, SystemDef};
-use crate::words::{Block, Constant, Function, Output};
+use crate::words::{Block, BodyField, Constant, Function, Output};
 use proc_macro2::Ident;
 use syn::ext::IdentExt;
 
@@ -225,9 +225,10 @@ fn constraints_mention_time(def: &SystemDef) -> bool {
     let contacts = def.rolling.iter().any(|r| {
         let body = def.bodies.iter().filter(|b| b.name == r.body);
         let placing = |f: &&crate::parse::Field| {
-            ["centre", "center", "orientation"]
-                .iter()
-                .any(|n| f.name == n)
+            matches!(
+                BodyField::of(&f.name),
+                Some(BodyField::Centre | BodyField::Orientation)
+            )
         };
         r.fields
             .iter()

@@ -10,6 +10,7 @@ use super::{Binding, Lowerer, Place};
 use crate::ctxt::SpanRange;
 use crate::parse::{BodyDef, Expr, Field, RollingDef};
 use crate::sym::{ExprId, Rational, SymId, ZERO};
+use crate::words::{BodyField, Function, RollingField, Word};
 use proc_macro2::Ident;
 use std::rc::Rc;
 
@@ -55,17 +56,15 @@ impl Lowerer<'_> {
     /// `Some` after an error, `None` if `f` is not one of them.
     pub(super) fn lower_vector_call(
         &mut self,
-        func: &Ident,
+        f: Function,
         args: &[Expr],
         range: SpanRange,
         depth: usize,
     ) -> Option<Option<Value>> {
-        let f = func.to_string();
-        let arity = match f.as_str() {
-            "dot" | "cross" => 2,
-            "diag" => 3,
-            "norm" | "transpose" | "rot_x" | "rot_y" | "rot_z" | "omega" | "omega_body"
-            | "kinetic_energy" => 1,
+        let arity = match f {
+            Function::Dot | Function::Cross => 2,
+            Function::Diag => 3,
+            _ if f.of_vectors() => 1,
             _ => return None,
         };
         if args.len() != arity {
@@ -77,7 +76,7 @@ impl Lowerer<'_> {
             self.cx.error(range, format!("`{f}` takes {what}"));
             return Some(None);
         }
-        if f == "kinetic_energy" {
+        if f == Function::KineticEnergy {
             return Some(self.kinetic_energy_of(&args[0]).map(Value::Scalar));
         }
         let vals: Vec<Option<Value>> = args
@@ -88,31 +87,31 @@ impl Lowerer<'_> {
             Some(v) => v,
             None => return Some(None),
         };
-        Some(self.apply_vector_function(&f, vals, args))
+        Some(self.apply_vector_function(f, vals, args))
     }
 
     fn apply_vector_function(
         &mut self,
-        f: &str,
+        f: Function,
         mut vals: Vec<Value>,
         args: &[Expr],
     ) -> Option<Value> {
         let arg = |i: usize| &args[i];
         match f {
-            "dot" | "cross" => {
+            Function::Dot | Function::Cross => {
                 let b = vals.pop()?;
                 let a = vals.pop()?;
                 let what = format!("each argument of `{f}` must be a vector");
                 let a = self.vector_of(a, arg(0), &what);
                 let b = self.vector_of(b, arg(1), &what);
                 let (a, b) = (a?, b?);
-                Some(if f == "dot" {
+                Some(if f == Function::Dot {
                     Value::Scalar(dot3(&mut self.e, a, b))
                 } else {
                     Value::Vector(cross3(&mut self.e, a, b))
                 })
             }
-            "norm" => {
+            Function::Norm => {
                 let v = self.vector_of(
                     vals.pop()?,
                     arg(0),
@@ -121,7 +120,7 @@ impl Lowerer<'_> {
                 let n2 = dot3(&mut self.e, v, v);
                 Some(Value::Scalar(self.e.pow(n2, Rational::new(1, 2)?)))
             }
-            "transpose" => match vals.pop()? {
+            Function::Transpose => match vals.pop()? {
                 Value::Rotation(r) => Some(Value::Rotation(Rc::new(inverse(&mut self.e, &r)))),
                 Value::Matrix(m) => Some(Value::Matrix(transpose(&m))),
                 other => {
@@ -136,19 +135,19 @@ impl Lowerer<'_> {
                     None
                 }
             },
-            "rot_x" | "rot_y" | "rot_z" => {
+            Function::RotX | Function::RotY | Function::RotZ => {
                 let angle = self.scalar_of(vals.pop()?, arg(0))?;
                 if !self.position_like(angle, arg(0), "the angle of a rotation") {
                     return None;
                 }
-                let k = usize::from(f.as_bytes()[4] - b'x');
+                let k = f.rotation_axis()?;
                 let matrix = elementary(&mut self.e, k, angle);
                 Some(Value::Rotation(Rc::new(Rotation {
                     matrix,
                     factors: vec![(k, angle)],
                 })))
             }
-            "diag" => {
+            Function::Diag => {
                 let mut m = [[ZERO; 3]; 3];
                 for (i, v) in vals.into_iter().enumerate() {
                     m[i][i] = self.scalar_of(v, arg(i))?;
@@ -156,7 +155,7 @@ impl Lowerer<'_> {
                 Some(Value::Matrix(m))
             }
             _ => {
-                let world = f == "omega";
+                let world = f == Function::Omega;
                 let r = self.rotation_of(vals.pop()?, arg(0), &format!("the argument of `{f}`"))?;
                 Some(Value::Vector(self.angular_velocity(&r, world)))
             }
@@ -304,23 +303,24 @@ impl Lowerer<'_> {
     /// The fields of a body, checked and lowered.
     fn lower_body(&mut self, def: &BodyDef) -> Option<Body> {
         let saved = std::mem::replace(&mut self.place, Place::Body);
-        let Some(fields) = self.fields(&def.fields, &BODY_FIELDS, "a body", &def.name) else {
+        let Some(fields) = self.fields::<BodyField>(&def.fields, "a body", &def.name) else {
             self.place = saved;
             return None;
         };
-        let get = |n: &str| fields.iter().find(|f| f.0 == n).map(|f| f.1);
+        let get = |n: BodyField| fields.iter().find(|f| f.0 == n).map(|f| f.1);
         // a field that did not parse: a missing or unpaired field is no news
         let mut ok = !def.rejected_fields;
-        for required in ["mass", "centre"] {
+        for required in [BodyField::Mass, BodyField::Centre] {
             if get(required).is_none() && !def.rejected_fields {
                 ok = false;
                 self.cx.error_at(def.name.span(), format!("body `{}` has no `{required}`: write `body {} {{ mass: m, centre: C, orientation: R, inertia: I }}` (orientation and inertia may be left out together for a point mass)", def.name, def.name));
             }
         }
-        let mass = get("mass").and_then(|x| self.lower_position_scalar(x, "the mass of a body"));
-        let centre =
-            get("centre").and_then(|x| self.lower_position_vector(x, "the centre of mass"));
-        let rotation = match (get("orientation"), get("inertia")) {
+        let mass =
+            get(BodyField::Mass).and_then(|x| self.lower_position_scalar(x, "the mass of a body"));
+        let centre = get(BodyField::Centre)
+            .and_then(|x| self.lower_position_vector(x, "the centre of mass"));
+        let rotation = match (get(BodyField::Orientation), get(BodyField::Inertia)) {
             (None, None) => Some(None),
             (Some(r), Some(i)) => {
                 let rot = self
@@ -332,9 +332,9 @@ impl Lowerer<'_> {
             (_, _) if def.rejected_fields => None,
             (one, _) => {
                 let (have, missing) = if one.is_some() {
-                    ("orientation", "inertia")
+                    (BodyField::Orientation, BodyField::Inertia)
                 } else {
-                    ("inertia", "orientation")
+                    (BodyField::Inertia, BodyField::Orientation)
                 };
                 self.cx.error_at(def.name.span(), format!("body `{}` has an `{have}` but no `{missing}`: a rigid body needs both (a point mass neither)", def.name));
                 None
@@ -348,7 +348,7 @@ impl Lowerer<'_> {
         let (mass, centre) = (mass?, centre?);
         let rotation = match rotation {
             Some(r) => Some(r),
-            None if get("orientation").is_some() => return None,
+            None if get(BodyField::Orientation).is_some() => return None,
             None => None,
         };
         let omega_body = match &rotation {
@@ -369,20 +369,20 @@ impl Lowerer<'_> {
     fn describe_body(
         &mut self,
         def: &BodyDef,
-        fields: &[(String, &Expr)],
+        fields: &[(BodyField, &Expr)],
         omega_body: Option<Vec3>,
     ) {
-        let get = |n: &str| fields.iter().find(|f| f.0 == n).map(|f| f.1);
-        let src = |n: &str| get(n).map(|x| x.to_source()).unwrap_or_default();
+        let get = |n: BodyField| fields.iter().find(|f| f.0 == n).map(|f| f.1);
+        let src = |n: BodyField| get(n).map(|x| x.to_source()).unwrap_or_default();
         let mut line = format!(
             "- body `{}`: mass `{}`, centre of mass `{}`",
             def.name,
-            src("mass"),
-            src("centre")
+            src(BodyField::Mass),
+            src(BodyField::Centre)
         );
         match omega_body {
             Some(w) => {
-                line.push_str(&format!(", orientation `{}`, inertia `{}` (body axes); kinetic energy T = ½ m |ċ|² + ½ ω_bᵀ I ω_b with the body angular velocity ω_b = {}", src("orientation"), src("inertia"), self.show3(w)));
+                line.push_str(&format!(", orientation `{}`, inertia `{}` (body axes); kinetic energy T = ½ m |ċ|² + ½ ω_bᵀ I ω_b with the body angular velocity ω_b = {}", src(BodyField::Orientation), src(BodyField::Inertia), self.show3(w)));
             }
             None => line.push_str("; kinetic energy T = ½ m |ċ|² (a point mass)"),
         }
@@ -429,25 +429,23 @@ impl Lowerer<'_> {
         all_ok.then_some(m)
     }
 
-    /// Named fields checked against `allowed` (`center` is `centre`):
-    /// unknown and repeated ones reported; the known ones returned.
-    fn fields<'f>(
+    /// Named fields checked against the words of kind `W` (`center` is
+    /// `centre`): unknown and repeated ones reported; the known ones
+    /// returned.
+    fn fields<'f, W: Word>(
         &mut self,
         fields: &'f [Field],
-        allowed: &[&str],
         what: &str,
         owner: &Ident,
-    ) -> Option<Vec<(String, &'f Expr)>> {
-        let mut out: Vec<(String, &Expr)> = Vec::new();
+    ) -> Option<Vec<(W, &'f Expr)>> {
+        let mut out: Vec<(W, &Expr)> = Vec::new();
         let mut unknown = false;
         for f in fields {
-            let n = match f.name.to_string() {
-                c if c == "center" => "centre".to_string(),
-                c => c,
-            };
-            if !allowed.contains(&n.as_str()) {
-                let hint = crate::names::suggest(&n, allowed);
-                let list: Vec<String> = allowed.iter().map(|a| format!("`{a}`")).collect();
+            let n = f.name.to_string();
+            let Some(field) = W::parse(&n) else {
+                let hint = W::suggest(&n);
+                let list: Vec<String> =
+                    W::all().iter().map(|a| format!("`{}`", a.name())).collect();
                 self.cx.error_at(
                     f.name.span(),
                     format!(
@@ -456,13 +454,15 @@ impl Lowerer<'_> {
                     ),
                 );
                 unknown = true;
-            } else if out.iter().any(|o| o.0 == n) {
+                continue;
+            };
+            if out.iter().any(|o| o.0 == field) {
                 self.cx.error_at(
                     f.name.span(),
-                    format!("`{n}` is given twice for `{owner}`: remove one"),
+                    format!("`{field}` is given twice for `{owner}`: remove one"),
                 );
             } else {
-                out.push((n, &f.value));
+                out.push((field, &f.value));
             }
         }
         // with a field misspelled, a missing one is no news
@@ -562,19 +562,20 @@ impl Lowerer<'_> {
     /// The contact of a `rolls(..)` line: the lowest point of a round body
     /// on the plane z = 0 and its material velocity.
     pub(super) fn rolling_contact(&mut self, def: &RollingDef) -> Option<Contact> {
-        let fields = self.fields(&def.fields, &ROLLING_FIELDS, "`rolls`", &def.body)?;
-        let get = |n: &str| fields.iter().find(|f| f.0 == n).map(|f| f.1);
+        let fields = self.fields::<RollingField>(&def.fields, "`rolls`", &def.body)?;
+        let get = |n: RollingField| fields.iter().find(|f| f.0 == n).map(|f| f.1);
         let b = self.body(&def.body);
-        let radius = match get("radius") {
-            Some(x) => self.rolling_length(x, "radius"),
+        let radius = match get(RollingField::Radius) {
+            Some(x) => self.rolling_length(x, RollingField::Radius),
             None => {
                 self.cx.error(def.range, format!("`rolls({}, ..)` needs the wheel's `radius: r` (and `axle: [..]` for a disc or torus; none for a sphere)", def.body));
                 None
             }
         };
-        let tube = get("tube").map(|x| self.rolling_length(x, "tube"));
-        let axle = get("axle").map(|x| self.constant_axle(x));
-        let centre = get("centre").map(|x| self.lower_position_vector(x, "the wheel's centre"));
+        let tube = get(RollingField::Tube).map(|x| self.rolling_length(x, RollingField::Tube));
+        let axle = get(RollingField::Axle).map(|x| self.constant_axle(x));
+        let centre =
+            get(RollingField::Centre).map(|x| self.lower_position_vector(x, "the wheel's centre"));
         let b = b?;
         let radius = radius?;
         // an optional field: absent, or given and lowered without error
@@ -593,7 +594,7 @@ impl Lowerer<'_> {
                 .error(def.range, "a torus (`tube: ..`) needs its `axle: [..]`");
             return None;
         }
-        if let (Some(a), Some(x)) = (axle, get("axle"))
+        if let (Some(a), Some(x)) = (axle, get(RollingField::Axle))
             && self.always_vertical(rot, a)
         {
             self.cx.error(x.range(), format!("the axle `{}` is vertical in every configuration (the body's orientation only turns it about the vertical): a wheel on it lies flat and touches the plane z = 0 along its whole rim, with no single contact point; give the wheel's axis of symmetry in body axes (for an upright wheel that turns about its body y axis, `[0, 1, 0]`), or leave `axle` out for a sphere", super::short(x.to_source())));
@@ -601,7 +602,7 @@ impl Lowerer<'_> {
         }
         let contact = self.contact(rot, centre, radius, axle, tube);
         if let Some(h) = contact.height
-            && self.misplaced_centre(def, get("centre"), &contact, h, radius, tube)
+            && self.misplaced_centre(def, get(RollingField::Centre), &contact, h, radius, tube)
         {
             return None;
         }
@@ -627,8 +628,8 @@ impl Lowerer<'_> {
     /// parameters (no coordinate, velocity, input or `t`), neither zero
     /// nor a negative constant; else an error at its field. (Parameters
     /// are not assumed positive: `R` or `-R` is taken as given.)
-    fn rolling_length(&mut self, x: &Expr, which: &str) -> Option<ExprId> {
-        let what = if which == "tube" {
+    fn rolling_length(&mut self, x: &Expr, which: RollingField) -> Option<ExprId> {
+        let what = if which == RollingField::Tube {
             "the tube radius of a torus"
         } else {
             "the radius of a rolling body"
@@ -658,7 +659,7 @@ impl Lowerer<'_> {
         if v == ZERO
             || crate::sym::random_points::vanish_at_random_points(&self.e, self.pi_sym, &[v])
         {
-            let fix = if which == "tube" {
+            let fix = if which == RollingField::Tube {
                 "leave `tube` out for a thin wheel"
             } else {
                 "a body rolls on a rim of positive radius"
@@ -742,7 +743,7 @@ impl Lowerer<'_> {
             .and_then(|b| {
                 b.fields
                     .iter()
-                    .find(|f| f.name == "centre" || f.name == "center")
+                    .find(|f| BodyField::of(&f.name) == Some(BodyField::Centre))
             })
             .map(|f| f.value.clone());
         let (at, which) = match (centre_field, &body_centre) {
@@ -897,9 +898,3 @@ fn entry_range(x: &Expr, i: usize, j: usize) -> Option<SpanRange> {
         _ => None,
     }
 }
-
-/// The fields of a `body` item.
-const BODY_FIELDS: [&str; 4] = ["mass", "centre", "orientation", "inertia"];
-
-/// The named arguments of `rolls(..)`.
-const ROLLING_FIELDS: [&str; 4] = ["radius", "axle", "tube", "centre"];

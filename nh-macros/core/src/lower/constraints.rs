@@ -10,6 +10,7 @@ use crate::model::{Constraint, ConstraintKind};
 use crate::parse::{self, Expr, RollingDef, SystemDef};
 use crate::sym::random_points::vanish_at_random_points;
 use crate::sym::{ExprId, Rational, SymId, ZERO};
+use crate::words::Function;
 use proc_macro2::Ident;
 use rustc_hash::FxHashMap as HashMap;
 
@@ -234,13 +235,9 @@ impl Lowerer<'_> {
                 out.push(None);
                 continue;
             };
-            let s = match &c.lhs {
-                Expr::Call { func, args, .. } if func == "dot" && args.len() == 1 => match &args[0]
-                {
-                    Expr::Name(id) => match self.scope.get(&id.to_string()) {
-                        Some(Binding::Coord(i)) => Some(*i),
-                        _ => None,
-                    },
+            let s = match c.lhs.call1(Function::Dot) {
+                Some(Expr::Name(id)) => match self.scope.get(&id.to_string()) {
+                    Some(Binding::Coord(i)) => Some(*i),
                     _ => None,
                 },
                 _ => None,

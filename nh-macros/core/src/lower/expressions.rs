@@ -8,6 +8,7 @@ use crate::ctxt::SpanRange;
 use crate::names;
 use crate::parse::{BinOp, Expr};
 use crate::sym::{ExprId, Fun, Rational, SymId, ZERO};
+use crate::words::{Constant, Function};
 use proc_macro2::{Ident, Span};
 
 impl Lowerer<'_> {
@@ -263,12 +264,12 @@ impl Lowerer<'_> {
                 }
                 Some(self.e.sym(self.speed_syms[i]))
             }
-            None => match s.as_str() {
-                "t" => Some(self.e.sym(self.t_sym)),
-                "pi" => Some(self.e.sym(self.pi_sym)),
-                _ if crate::words::Function::parse(&s).is_some_and(|f| !f.of_vectors()) => {
-                    let (args, example) = match s.as_str() {
-                        "atan2" => ("two arguments", "atan2(y, x)".to_string()),
+            None => match (Constant::of(id), Function::of(id)) {
+                (Some(Constant::Time), _) => Some(self.e.sym(self.t_sym)),
+                (Some(Constant::Pi), _) => Some(self.e.sym(self.pi_sym)),
+                (_, Some(f)) if !f.of_vectors() => {
+                    let (args, example) = match f {
+                        Function::Atan2 => ("two arguments", "atan2(y, x)".to_string()),
                         _ => ("an argument", format!("{s}(x)")),
                     };
                     self.cx.error_at(
@@ -302,11 +303,13 @@ impl Lowerer<'_> {
         range: SpanRange,
         depth: usize,
     ) -> Option<Value> {
-        let f = func.to_string();
-        if f == "dot" && args.len() == 1 {
+        let word = Function::of(func);
+        if word == Some(Function::Dot) && args.len() == 1 {
             return self.lower_dot(&args[0], range);
         }
-        if let Some(v) = self.lower_vector_call(func, args, range, depth) {
+        if let Some(f) = word
+            && let Some(v) = self.lower_vector_call(f, args, range, depth)
+        {
             return v;
         }
         self.lower_scalar_call(func, args, range, depth)

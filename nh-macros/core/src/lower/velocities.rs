@@ -8,12 +8,13 @@ use crate::ctxt::SpanRange;
 use crate::names;
 use crate::parse::{BinOp, Expr};
 use crate::sym::SymId;
+use crate::words::{Constant, Function};
 
 impl Lowerer<'_> {
     pub(crate) fn lower_dot(&mut self, arg: &Expr, range: SpanRange) -> Option<Value> {
         let id = match arg {
             Expr::Name(id) => id,
-            Expr::Call { func, .. } if func == "dot" => {
+            Expr::Call { func, .. } if *func == Function::Dot => {
                 self.cx.error(range, "`dot(dot(..))`: second derivatives cannot be written; the equations of motion are derived from the Lagrangian, which needs only velocities `dot(q)`");
                 return None;
             }
@@ -76,7 +77,7 @@ impl Lowerer<'_> {
                 None
             }
             None => {
-                if s == "t" {
+                if *id == Constant::Time {
                     self.cx.error(range, "`dot(t)` is 1: write `1`");
                     return None;
                 }
@@ -94,7 +95,7 @@ impl Lowerer<'_> {
         let mut stack = vec![x];
         while let Some(x) = stack.pop() {
             match x {
-                Expr::Call { func, args, range } if func == "dot" && args.len() == 1 => {
+                Expr::Call { func, args, range } if *func == Function::Dot && args.len() == 1 => {
                     if let Expr::Name(id) = &args[0]
                         && self
                             .scope
@@ -127,22 +128,16 @@ impl Lowerer<'_> {
 
     /// The coordinate of a left side `dot(q)`; `msg` says what is expected.
     pub(crate) fn velocity_lhs(&mut self, lhs: &Expr, msg: &str) -> Option<usize> {
-        match lhs {
-            Expr::Call { func, args, .. } if func == "dot" && args.len() == 1 => match &args[0] {
-                Expr::Name(id) if self.poisoned.contains(&id.to_string()) => None,
-                Expr::Name(id) => match self.scope.get(&id.to_string()) {
-                    Some(Binding::Coord(i)) => Some(*i),
-                    _ => {
-                        let hint = self.coordinate_hint(id);
-                        self.cx.error_at(
-                            id.span(),
-                            format!("`{id}` is not a coordinate{hint}: {msg}"),
-                        );
-                        None
-                    }
-                },
+        match lhs.call1(Function::Dot) {
+            Some(Expr::Name(id)) if self.poisoned.contains(&id.to_string()) => None,
+            Some(Expr::Name(id)) => match self.scope.get(&id.to_string()) {
+                Some(Binding::Coord(i)) => Some(*i),
                 _ => {
-                    self.cx.error(lhs.range(), msg);
+                    let hint = self.coordinate_hint(id);
+                    self.cx.error_at(
+                        id.span(),
+                        format!("`{id}` is not a coordinate{hint}: {msg}"),
+                    );
                     None
                 }
             },
@@ -211,7 +206,7 @@ impl Lowerer<'_> {
                     None
                 }
             }
-            Expr::Call { func, args, .. } if func == "dot" && args.len() == 1 => {
+            Expr::Call { func, args, .. } if *func == Function::Dot && args.len() == 1 => {
                 // `dot(NAME)` of a `let` with velocities is already an error
                 None
             }
@@ -219,8 +214,8 @@ impl Lowerer<'_> {
                 if !self.has_velocity(x, independent) {
                     return None;
                 }
-                let why = match func.to_string().as_str() {
-                    "abs" if args.len() == 1 => {
+                let why = match Function::of(func) {
+                    Some(Function::Abs) if args.len() == 1 => {
                         let a = args[0].to_source();
                         let minus = match &args[0] {
                             Expr::Call { .. } | Expr::Name(_) => format!("-{a}"),
@@ -228,12 +223,16 @@ impl Lowerer<'_> {
                         };
                         format!("is the absolute value of a velocity: it is `{a}` where `{a}` ≥ 0 and `{minus}` where it is negative, a different linear constraint for each sign; write the one that holds")
                     }
-                    "sqrt" => "is a square root of velocities, which is not linear (the root of a square is an absolute value, `sqrt(dot(x)^2)` = `abs(dot(x))`, and the root of a sum of squares is a speed)".to_string(),
-                    "kinetic_energy" => "is a kinetic energy, quadratic in the velocities".to_string(),
-                    "omega" | "omega_body" | "cross" | "dot" | "norm" => {
-                        "is not linear in the velocities".to_string()
-                    }
-                    f => format!("has a velocity inside the function `{f}`"),
+                    Some(Function::Sqrt) => "is a square root of velocities, which is not linear (the root of a square is an absolute value, `sqrt(dot(x)^2)` = `abs(dot(x))`, and the root of a sum of squares is a speed)".to_string(),
+                    Some(Function::KineticEnergy) => "is a kinetic energy, quadratic in the velocities".to_string(),
+                    Some(
+                        Function::Omega
+                        | Function::OmegaBody
+                        | Function::Cross
+                        | Function::Dot
+                        | Function::Norm,
+                    ) => "is not linear in the velocities".to_string(),
+                    _ => format!("has a velocity inside the function `{func}`"),
                 };
                 Some((x, why))
             }
