@@ -275,6 +275,27 @@ words! {
         /// (also spelled `center`)
         Centre = "centre" | "center",
     }
+
+    /// A component of a vector, `v.x`.
+    pub enum Component {
+        /// `v.x`
+        X = "x",
+        /// `v.y`
+        Y = "y",
+        /// `v.z`
+        Z = "z",
+    }
+}
+
+impl Component {
+    /// The component's index, 0 for `x`.
+    pub fn index(self) -> usize {
+        match self {
+            Component::X => 0,
+            Component::Y => 1,
+            Component::Z => 2,
+        }
+    }
 }
 
 /// A word as written where a word of kind `W` is expected: the identifier
@@ -639,5 +660,14 @@ mod tests {
             Function::listed(),
             "`sin`, `cos`, `tan`, `cot`, `sec`, `csc`, `asin`, `acos`, `atan`, `atan2`, `sinh`, `cosh`, `tanh`, `exp`, `ln`, `sqrt`, `abs` and `dot` (time derivative)"
         );
+    }
+
+    #[test]
+    fn the_components_of_a_vector() {
+        let names: Vec<_> = Component::ALL.iter().map(|c| c.name()).collect();
+        assert_eq!(names, ["x", "y", "z"]);
+        let indices: Vec<_> = Component::ALL.iter().map(|c| c.index()).collect();
+        assert_eq!(indices, [0, 1, 2]);
+        assert_eq!(Component::parse("w"), None);
     }
 }

@@ -33,7 +33,7 @@
 //!   frames' ω and α step by step, chains of rates and screws with their
 //!   cross products; and a block of more than three homogeneous,
 //!   time-independent implicit or holonomic rows, solved by LU with the
-//!   pivots chosen at expansion (`generate/block.rs`): differentiating the
+//!   pivots chosen at expansion (`generate/contacts.rs`): differentiating the
 //!   symbolic elimination's quotients swells, and a contact's expanded rows
 //!   carry 1/|e_z × n| into every term.
 //!

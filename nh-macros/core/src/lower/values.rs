@@ -325,7 +325,7 @@ impl Lowerer<'_> {
     ) -> Option<Value> {
         let v = self.lower_value(base, depth + 1)?;
         let f = field.to_string();
-        let Some(i) = ["x", "y", "z"].iter().position(|c| *c == f) else {
+        let Some(i) = crate::words::Component::parse(&f).map(crate::words::Component::index) else {
             self.cx.error_at(
                 field.span(),
                 format!(
