@@ -37,6 +37,26 @@ pub const DISC: &str = "pub struct Disc {
     constraints { rolls(disc, radius: R, axle: [0, 1, 0]); }
 }";
 
+/// A three-wheeled cart (two wheels on an axle and a caster) whose
+/// rolling rows are solved as one block by LU (DESIGN §9).
+pub const CART: &str = "pub struct Cart {
+    parameters { k }
+    coordinates { q0, q1, q2, q3, q4, q5, q6 }
+    let H = rot_z(q0);
+    let O = [q5, q6, k];
+    body wheel0 { mass: k/2, centre: O + H*[0, k, 0], orientation: H*rot_y(q1), inertia: diag(1, 1 + k, 1) }
+    body wheel1 { mass: k, centre: O + H*[0, -k, 0], orientation: H*rot_y(q2), inertia: diag(1, 1 + k, 1) }
+    body caster { mass: k, centre: O + H*[k, 0, 0], orientation: H*rot_z(q4)*rot_y(q3), inertia: diag(1, 1, 1) }
+    body chassis { mass: k, centre: O + H*[k/2, 0, 1/5], orientation: H, inertia: diag(2, 1 + k, 1) }
+    lagrangian = kinetic_energy(wheel0) + kinetic_energy(wheel1) + kinetic_energy(caster)
+        + kinetic_energy(chassis) + k/4*dot(q4)^2;
+    constraints {
+        rolls(wheel0, radius: k, axle: [0, 1, 0]);
+        rolls(wheel1, radius: k, axle: [0, 1, 0]);
+        rolls(caster, radius: k, axle: [0, 1, 0]);
+    }
+}";
+
 /// The model and engine of `src`, which must lower without errors.
 pub fn lowered(src: &str) -> (Model, Engine) {
     let mut cx = Ctxt::new();
@@ -102,7 +122,47 @@ pub fn sled_at() -> Vec<(&'static str, f64)> {
     ]
 }
 
+/// [`sled_at`] without ẏ, which a graph solves from the constraint.
+pub fn without_ydot() -> Vec<(&'static str, f64)> {
+    sled_at()
+        .into_iter()
+        .filter(|(k, _)| *k != "dot(y)")
+        .collect()
+}
+
 /// Whether `a` and `b` agree to 1e-12 relative to the larger.
 pub fn close(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-12 * a.abs().max(b.abs()).max(1.0)
+}
+
+/// The names of a graph's leaves for values given as to [`value`]:
+/// `"x"` → `q_x`, `"dot(x)"` → `dot_x`, a parameter `"m"` → `p_m`.
+pub fn leaf_names(model: &Model, at: &[(&str, f64)]) -> Vec<(String, f64)> {
+    at.iter()
+        .map(|&(name, v)| {
+            let leaf = if let Some(c) = name.strip_prefix("dot(").and_then(|r| r.strip_suffix(')'))
+            {
+                format!("dot_{c}")
+            } else if model.coordinates.iter().any(|q| q.name == name) {
+                format!("q_{name}")
+            } else if model.parameters.iter().any(|p| p.name == name) {
+                format!("p_{name}")
+            } else {
+                format!("u_{name}")
+            };
+            (leaf, v)
+        })
+        .collect()
+}
+
+/// The value of a graph's node at values given as to [`value`].
+pub fn node_value(
+    model: &Model,
+    d: &crate::emit::Dag,
+    n: crate::emit::Node,
+    at: &[(&str, f64)],
+) -> f64 {
+    let named = leaf_names(model, at);
+    let named: Vec<(&str, f64)> = named.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+    d.value_at(n, &named)
 }

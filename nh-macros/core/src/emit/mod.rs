@@ -21,6 +21,8 @@ mod from_sym;
 mod live;
 mod tangent;
 mod text;
+#[cfg(test)]
+mod value;
 
 use crate::sym::{AtomId, ExprId, Fun, Rational, SymId};
 use proc_macro2::TokenStream;

@@ -178,50 +178,6 @@ mod tests {
     use super::*;
     use quote::quote;
 
-    /// The value of `n` with the leaves at `x` (by leaf index).
-    fn value(d: &Dag, n: Node, x: &[f64]) -> f64 {
-        let v = |m: Node| value(d, m, x);
-        match d.ops[n.index()].clone() {
-            Op::Const(q) => {
-                let (n, m) = q.to_i128_parts().expect("small constants");
-                n as f64 / m as f64
-            }
-            Op::Pi => core::f64::consts::PI,
-            Op::Leaf(i) => x[i],
-            Op::Add(a, b) => v(a) + v(b),
-            Op::Sub(a, b) => v(a) - v(b),
-            Op::Mul(a, b) => v(a) * v(b),
-            Op::Div(a, b) => v(a) / v(b),
-            Op::Neg(a) => -v(a),
-            Op::Sqrt(a) => v(a).sqrt(),
-            Op::Powi(a, k) => v(a).powi(k as i32),
-            Op::Powf(a, b) => v(a).powf(v(b)),
-            Op::Opaque(a) => v(a),
-            Op::Atan2(a, b) => v(a).atan2(v(b)),
-            Op::Call(f, a) => {
-                let a = v(a);
-                match f {
-                    Fun::Sin => a.sin(),
-                    Fun::Cos => a.cos(),
-                    Fun::Tan => a.tan(),
-                    Fun::Cot => 1.0 / a.tan(),
-                    Fun::Sec => 1.0 / a.cos(),
-                    Fun::Csc => 1.0 / a.sin(),
-                    Fun::Exp => a.exp(),
-                    Fun::Ln => a.ln(),
-                    Fun::Abs => a.abs(),
-                    Fun::Sign => a.signum(),
-                    Fun::Sinh => a.sinh(),
-                    Fun::Cosh => a.cosh(),
-                    Fun::Tanh => a.tanh(),
-                    Fun::Asin => a.asin(),
-                    Fun::Acos => a.acos(),
-                    Fun::Atan => a.atan(),
-                }
-            }
-        }
-    }
-
     /// Every operation's rate against a central difference of its value,
     /// with q moving at rate v and the leaf w held.
     #[test]
@@ -258,12 +214,12 @@ mod tests {
         let (q0, h) = (0.6, 1e-6);
         for (&root, &rate) in roots.iter().zip(&rates) {
             x[iq] = q0 + h;
-            let up = value(&d, root, &x);
+            let up = d.value_of_leaves(root, &x);
             x[iq] = q0 - h;
-            let down = value(&d, root, &x);
+            let down = d.value_of_leaves(root, &x);
             x[iq] = q0;
             let expected = (up - down) / (2.0 * h) * x[iv];
-            let got = value(&d, rate, &x);
+            let got = d.value_of_leaves(rate, &x);
             assert!(
                 (got - expected).abs() <= 1e-7 * (1.0 + expected.abs()),
                 "{:?}: {got} vs {expected}",

@@ -306,3 +306,50 @@ pub(crate) fn dependent_bias_in_heading(d: &mut Dag, m: &Scene<'_>, bt: &BlockTe
     let rhs = rates.into_iter().map(|x| d.neg(x)).collect();
     lu::solve(d, &lu, rhs, Order::Pivots)
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::generate::graph::{Args, bound_dag};
+    use crate::mechanics::Scene;
+    use crate::testing::{CART, lowered, node_value};
+
+    /// The cart's rolling rows are one block solved by LU on the graph:
+    /// the dependent velocities it gives satisfy every velocity row.
+    #[test]
+    fn the_carts_block_gives_velocities_that_satisfy_its_rows() {
+        let (model, mut engine) = lowered(CART);
+        let scene = Scene::new(&model, &mut engine);
+        assert!(
+            scene.block.is_some(),
+            "the cart's rows are solved as a block"
+        );
+        let d = bound_dag(&scene, &Args::vectors(&scene));
+        let mut at: Vec<(String, f64)> = vec![("k".into(), 0.3)];
+        for (i, c) in model.coordinates.iter().enumerate() {
+            at.push((c.name.to_string(), 0.1 + 0.37 * i as f64));
+        }
+        for (j, &i) in model.independent().iter().enumerate() {
+            at.push((
+                format!("dot({})", model.coordinates[i].name),
+                0.5 - 0.3 * j as f64,
+            ));
+        }
+        let named: Vec<(&str, f64)> = at.iter().map(|(k, v)| (k.as_str(), *v)).collect();
+        let mut all = named.clone();
+        let dependent: Vec<(String, f64)> = model
+            .dependent()
+            .iter()
+            .map(|&s| {
+                let c = &model.coordinates[s];
+                let v = node_value(&model, &d, d.bound(c.velocity).expect("bound"), &named);
+                (format!("dot({})", c.name), v)
+            })
+            .collect();
+        all.extend(dependent.iter().map(|(k, v)| (k.as_str(), *v)));
+        assert!(!model.velocity_rows.is_empty());
+        for &row in &model.velocity_rows {
+            let r = crate::testing::value(&model, scene.engine, row, &all);
+            assert!(r.abs() < 1e-12, "row residual {r}");
+        }
+    }
+}

@@ -37,3 +37,28 @@ pub(crate) fn curvature_nodes(d: &mut Dag, m: &Scene<'_>, r: &Reduced) -> (Vec<N
     }
     (x, piv)
 }
+
+#[cfg(test)]
+mod tests {
+    use super::curvature_nodes;
+    use crate::generate::graph::{Args, bound_dag};
+    use crate::mechanics::Scene;
+    use crate::testing::{SLED, close, lowered, node_value, without_ydot};
+
+    /// The curvature route on the graph: Mc = diag(m sec²θ, J) factored
+    /// (both pivots nonzero) and the sled's closed form.
+    #[test]
+    fn the_sleds_accelerations_by_the_curvature_route() {
+        let (model, mut engine) = lowered(SLED);
+        let mut scene = Scene::new(&model, &mut engine);
+        let dv = crate::mechanics::derive(&mut scene, true);
+        let mut d = bound_dag(&scene, &Args::vectors(&scene));
+        let (rdd, pivots) = curvature_nodes(&mut d, &scene, &dv.reduced);
+        let at = without_ydot();
+        let sec2 = 1.0 / 0.3f64.cos().powi(2);
+        assert!(close(node_value(&model, &d, pivots[0], &at), 2.0 * sec2));
+        assert!(close(node_value(&model, &d, pivots[1], &at), 0.5));
+        let xdd = node_value(&model, &d, rdd[0], &at);
+        assert!(close(xdd, -(0.3f64.tan()) * -1.1 * 0.7), "{xdd}");
+    }
+}

@@ -156,3 +156,29 @@ pub(crate) fn bind_speeds(d: &mut Dag, m: &Scene<'_>, sp: &crate::model::Speeds,
         d.bind(c.velocity, v);
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{Args, bound_dag};
+    use crate::mechanics::Scene;
+    use crate::testing::{SLED, close, lowered, node_value, without_ydot};
+
+    /// The sled's graph binds each coordinate, each independent velocity
+    /// and the dependent velocity ẏ = tan θ ẋ, solved from the constraint.
+    #[test]
+    fn the_sleds_dependent_velocity_is_bound_to_its_solution() {
+        let (model, mut engine) = lowered(SLED);
+        let scene = Scene::new(&model, &mut engine);
+        let d = bound_dag(&scene, &Args::vectors(&scene));
+        let y = &model.coordinates[2];
+        let ydot = d.bound(y.velocity).expect("ẏ bound");
+        let at = without_ydot(); // the graph solves ẏ
+        assert!(close(node_value(&model, &d, ydot, &at), 0.3f64.tan() * 0.7));
+        assert!(
+            model
+                .coordinates
+                .iter()
+                .all(|c| d.bound(c.position).is_some())
+        );
+    }
+}

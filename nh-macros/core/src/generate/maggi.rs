@@ -184,3 +184,28 @@ impl Derived<'_, '_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::{SLED, SLED_SPEEDS};
+
+    /// The methods that differ for Maggi's equations are dispatched to this
+    /// room for a system in speeds, and only for it.
+    #[test]
+    fn maggis_methods_are_dispatched_for_speeds_only() {
+        let with = |src: &str, outputs: &str| {
+            let src = src.replacen(
+                "lagrangian",
+                &format!("outputs {{ {outputs} }}\n    lagrangian"),
+                1,
+            );
+            crate::expand(src.parse().expect("lexes")).to_string()
+        };
+        let speeds = with(SLED_SPEEDS, "mass_matrix, jacobian");
+        assert!(speeds.contains("Derived as Maggi's equations"));
+        assert!(speeds.contains("The mass matrix in the speeds, Sᵀ M S"));
+        assert!(speeds.contains("derived symbolically: the kinematics differentiated directly"));
+        let sled = with(SLED, "mass_matrix, jacobian");
+        assert!(!sled.contains("Maggi"));
+    }
+}

@@ -150,3 +150,82 @@ impl MultiplierNodes {
         algebra::dot_from(d, self.bias[i], pairs)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::multiplier_nodes;
+    use crate::generate::graph::{Args, bound_dag};
+    use crate::mechanics::Scene;
+    use crate::testing::{DISC, SLED, close, lowered, node_value, without_ydot};
+
+    /// The multiplier route on the graph gives the sled's closed form
+    /// (ẍ = −tan θ θ̇ ẋ, θ̈ = 0: the speed along the blade is constant).
+    #[test]
+    fn the_sleds_accelerations_by_the_multiplier_route() {
+        let (model, mut engine) = lowered(SLED);
+        let mut scene = Scene::new(&model, &mut engine);
+        let dv = crate::mechanics::derive(&mut scene, false);
+        let mut d = bound_dag(&scene, &Args::vectors(&scene));
+        let mn = multiplier_nodes(&mut d, &scene, &dv.multiplier_route);
+        let at = without_ydot();
+        let xdd = node_value(&model, &d, mn.rdd[0], &at);
+        assert!(close(xdd, -(0.3f64.tan()) * -1.1 * 0.7), "{xdd}");
+        assert_eq!(node_value(&model, &d, mn.rdd[1], &at), 0.0);
+    }
+
+    /// Kane's form of the disc written as a body (generate/kane) gives the
+    /// accelerations of the same disc's Lagrangian written out by hand.
+    #[test]
+    fn kanes_form_of_the_disc_agrees_with_its_written_out_lagrangian() {
+        let hand = "pub struct Disc {
+            parameters { m, R, g }
+            coordinates { theta, phi, psi, x, y }
+            let X = x - R*sin(phi)*sin(psi);
+            let Y = y + R*cos(phi)*sin(psi);
+            let Z = R*cos(psi);
+            let w_t = -dot(psi);
+            let w_u = dot(phi)*cos(psi);
+            let w_n = dot(phi)*sin(psi) - dot(theta);
+            lagrangian = m/2*(dot(X)^2 + dot(Y)^2 + dot(Z)^2)
+                + m*R^2/8*(w_t^2 + w_u^2) + m*R^2/4*w_n^2 - m*g*Z;
+            constraints {
+                dot(x) = R*cos(phi)*dot(theta);
+                dot(y) = R*sin(phi)*dot(theta);
+            }
+        }";
+        let at = [
+            ("theta", 0.4),
+            ("phi", -0.7),
+            ("psi", 0.25),
+            ("x", 0.1),
+            ("y", 0.2),
+            ("dot(theta)", 1.3),
+            ("dot(phi)", -0.6),
+            ("dot(psi)", 0.45),
+            ("m", 1.5),
+            ("R", 0.3),
+            ("g", 9.81),
+        ];
+        let rdd = |src: &str| {
+            let (model, mut engine) = lowered(src);
+            let mut scene = Scene::new(&model, &mut engine);
+            let dv = crate::mechanics::derive(&mut scene, false);
+            assert_eq!(dv.multiplier_route.bodies.is_some(), src == DISC);
+            let mut d = bound_dag(&scene, &Args::vectors(&scene));
+            let mn = multiplier_nodes(&mut d, &scene, &dv.multiplier_route);
+            let v: Vec<f64> = mn
+                .rdd
+                .iter()
+                .map(|&n| node_value(&model, &d, n, &at))
+                .collect();
+            v
+        };
+        let (kane, plain) = (rdd(DISC), rdd(hand));
+        for (a, b) in kane.iter().zip(&plain) {
+            assert!(
+                (a - b).abs() <= 1e-12 * b.abs().max(1.0),
+                "{kane:?} against {plain:?}"
+            );
+        }
+    }
+}

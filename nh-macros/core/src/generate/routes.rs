@@ -265,3 +265,37 @@ impl ComparedRoutes {
         graphs
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{Route, Stats, compare_routes};
+    use crate::mechanics::Scene;
+    use crate::testing::{SLED, close, lowered, node_value, without_ydot};
+
+    /// Both routes' graphs of the sled give the same r̈; the cheaper is
+    /// chosen and the figures recorded.
+    #[test]
+    fn the_routes_agree_and_the_cheaper_is_chosen() {
+        let (model, mut engine) = lowered(SLED);
+        let mut scene = Scene::new(&model, &mut engine);
+        let mut dv = crate::mechanics::derive(&mut scene, true);
+        let compared = compare_routes(&mut scene, &mut dv, true);
+        let at = without_ydot();
+        let value = |(d, rdd): &(crate::emit::Dag, Vec<crate::emit::Node>)| {
+            rdd.iter()
+                .map(|&n| node_value(&model, d, n, &at))
+                .collect::<Vec<f64>>()
+        };
+        let (a, b) = (value(&compared.multiplier), value(&compared.curvature));
+        assert!(a.iter().zip(&b).all(|(x, y)| close(*x, *y)), "{a:?} {b:?}");
+        let mut stats = Stats::default();
+        let route = compared.choose(&mut stats);
+        assert_eq!(stats.route, Some(route));
+        assert!(stats.ops_multiplier > 0 && stats.ops_curvature > 0);
+        let (chosen, other) = match route {
+            Route::Multiplier => (stats.cost_multiplier, stats.cost_curvature),
+            Route::Curvature => (stats.cost_curvature, stats.cost_multiplier),
+        };
+        assert!(chosen <= other);
+    }
+}

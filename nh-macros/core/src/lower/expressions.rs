@@ -316,3 +316,26 @@ impl Lowerer<'_> {
             .map(Value::Scalar)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::{close, lowered, value};
+
+    /// Numbers, names, sums, products, powers, π and calls lower to the
+    /// engine's expressions with their values.
+    #[test]
+    fn expressions_lower_to_their_values() {
+        let src = "pub struct S {
+            parameters { a }
+            coordinates { q }
+            lagrangian = dot(q)^2/2 - (a*q^3 - 2.5*sin(pi/6 + q) + sqrt(a)/ (1 + q^2) + atan2(q, a));
+        }";
+        let (model, engine) = lowered(src);
+        let (a, q): (f64, f64) = (1.7, 0.4);
+        let at = [("a", a), ("q", q), ("dot(q)", 0.0)];
+        let want = -(a * q.powi(3) - 2.5 * (std::f64::consts::PI / 6.0 + q).sin()
+            + a.sqrt() / (1.0 + q * q)
+            + q.atan2(a));
+        assert!(close(value(&model, &engine, model.lagrangian, &at), want));
+    }
+}

@@ -261,3 +261,23 @@ impl Lowerer<'_> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use crate::testing::{SLED, close, lowered, sled_at, value};
+
+    /// The sled's constraint `dot(y) = tan(theta)*dot(x)` lowers to the
+    /// dependent velocity ẏ = tan θ ẋ, and its Lagrangian's velocities to
+    /// the velocity symbols: L = m/2 (ẋ² + ẏ²) + J/2 θ̇².
+    #[test]
+    fn the_sleds_velocities_lower_to_their_symbols() {
+        let (model, engine) = lowered(SLED);
+        let at = sled_at();
+        let ydot = 0.3f64.tan() * 0.7;
+        let c = &model.constraints[0];
+        assert_eq!(model.coordinates[c.dependent].name, "y");
+        assert!(close(value(&model, &engine, c.velocity, &at), ydot));
+        let l = value(&model, &engine, model.lagrangian, &at);
+        assert!(close(l, 1.0 * (0.49 + ydot * ydot) + 0.25 * 1.21));
+    }
+}

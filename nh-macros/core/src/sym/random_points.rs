@@ -35,3 +35,28 @@ pub fn vanish_at_random_points(engine: &Engine, pi: SymId, entries: &[ExprId]) -
     }
     points == 16
 }
+
+#[cfg(test)]
+mod tests {
+    use super::vanish_at_random_points;
+    use crate::sym::{Engine, Fun};
+
+    /// sin 2x − 2 sin x cos x vanishes at every point (an identity the
+    /// canonical form does not apply); sin x does not.
+    #[test]
+    fn an_identity_vanishes_and_a_function_does_not() {
+        let mut e = Engine::new();
+        let (x, pi) = (e.symbol("x"), e.symbol("pi"));
+        let xs = e.sym(x);
+        let two = e.int(2);
+        let two_x = e.mul(two, xs);
+        let sin_2x = e.func(Fun::Sin, two_x);
+        let (s, c) = (e.func(Fun::Sin, xs), e.func(Fun::Cos, xs));
+        let sc = e.mul(s, c);
+        let double = e.mul(two, sc);
+        let identity = e.sub(sin_2x, double);
+        assert!(vanish_at_random_points(&e, pi, &[identity]));
+        assert!(!vanish_at_random_points(&e, pi, &[s]));
+        assert!(!vanish_at_random_points(&e, pi, &[identity, s]));
+    }
+}
