@@ -60,7 +60,12 @@ impl Derived<'_, '_> {
         let (k, p) = (self.m.k(), self.m.p());
         let args = Args::vectors(self.m);
         let mut d = bound_dag(self.m, &args);
-        let mut mn = multiplier_nodes(&mut d, self.m, &self.dv.multiplier_route);
+        let mut mn = multiplier_nodes(
+            &mut d,
+            self.m,
+            &self.dv.multiplier_route,
+            self.dv.kane.as_ref(),
+        );
         let large = self.is_large();
         let u = self.u_forward();
         let prologue = if large {

@@ -115,7 +115,7 @@ impl Derived<'_, '_> {
     /// M, h and b are differentiated through the constraints (5.3).
     pub(crate) fn multiplier_columns(&mut self, d: &mut Dag, vars: &[SymId]) -> Vec<Vec<Node>> {
         let (n, k) = (self.m.n(), self.m.k());
-        let mn = multiplier_nodes(d, self.m, &self.dv.multiplier_route);
+        let mn = multiplier_nodes(d, self.m, &self.dv.multiplier_route, self.dv.kane.as_ref());
         let qdd = mn.qdd(d);
         let e_nodes: Vec<Node> = (0..n).map(|i| mn.euler_lagrange(d, i, &qdd)).collect();
         let mut out = self.velocity_rows(d, vars);

@@ -98,7 +98,9 @@ impl Derived<'_, '_> {
 
     pub(crate) fn acc_nodes(&self, d: &mut Dag, route: Route) -> Vec<Node> {
         match route {
-            Route::Multiplier => multiplier_nodes(d, self.m, &self.dv.multiplier_route).rdd,
+            Route::Multiplier => {
+                multiplier_nodes(d, self.m, &self.dv.multiplier_route, self.dv.kane.as_ref()).rdd
+            }
             Route::Curvature => curvature_nodes(d, self.m, &self.dv.reduced).0,
         }
     }

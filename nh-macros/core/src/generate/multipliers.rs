@@ -7,8 +7,8 @@ use super::nodes::{exprs, matrix, projection};
 use crate::algebra;
 use crate::algebra::ldlt::{self, Updates};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
-use crate::mechanics::MultiplierRoute;
 use crate::mechanics::Scene;
+use crate::mechanics::{BodyTerms, MultiplierRoute};
 
 /// The multiplier route in the graph: returns (r̈, q̈-independent parts) and
 /// keeps the mass matrix and bias for the multipliers.
@@ -23,7 +23,12 @@ pub(crate) struct MultiplierNodes {
     pub(crate) fac: ldlt::Ldlt<Node>,
 }
 
-pub(crate) fn multiplier_nodes(d: &mut Dag, m: &Scene<'_>, r: &MultiplierRoute) -> MultiplierNodes {
+pub(crate) fn multiplier_nodes(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    r: &MultiplierRoute,
+    kane: Option<&BodyTerms>,
+) -> MultiplierNodes {
     let (n, k) = (m.n(), m.k());
     let mass = matrix(d, m, &r.mass);
     for (i, row) in mass.iter().enumerate() {
@@ -69,7 +74,7 @@ pub(crate) fn multiplier_nodes(d: &mut Dag, m: &Scene<'_>, r: &MultiplierRoute) 
     // Kane's form where it is cheaper than the expanded Lagrangian's terms
     // (without the expanded terms, Kane's form alone: LAGRANGIAN_TERMS_COMPARED)
     let lagrange = (!r.mass.is_empty()).then(|| projection(d, &mass, &bias, &c, &acc_bias));
-    let (mr, f) = match &r.bodies {
+    let (mr, f) = match kane {
         Some(bt) => {
             let ops = |d: &Dag, (mr, f): &(Vec<Vec<Node>>, Vec<Node>)| {
                 let all: Vec<Node> = mr.iter().flatten().chain(f).copied().collect();
@@ -166,7 +171,7 @@ mod tests {
         let mut scene = Scene::new(&model, &mut engine);
         let dv = crate::mechanics::derive(&mut scene, false);
         let mut d = bound_dag(&scene, &Args::vectors(&scene));
-        let mn = multiplier_nodes(&mut d, &scene, &dv.multiplier_route);
+        let mn = multiplier_nodes(&mut d, &scene, &dv.multiplier_route, dv.kane.as_ref());
         let at = without_ydot();
         let xdd = node_value(&model, &d, mn.rdd[0], &at);
         assert!(close(xdd, -(0.3f64.tan()) * -1.1 * 0.7), "{xdd}");
@@ -210,9 +215,9 @@ mod tests {
             let (model, mut engine) = lowered(src);
             let mut scene = Scene::new(&model, &mut engine);
             let dv = crate::mechanics::derive(&mut scene, false);
-            assert_eq!(dv.multiplier_route.bodies.is_some(), src == DISC);
+            assert_eq!(dv.kane.is_some(), src == DISC);
             let mut d = bound_dag(&scene, &Args::vectors(&scene));
-            let mn = multiplier_nodes(&mut d, &scene, &dv.multiplier_route);
+            let mn = multiplier_nodes(&mut d, &scene, &dv.multiplier_route, dv.kane.as_ref());
             let v: Vec<f64> = mn
                 .rdd
                 .iter()

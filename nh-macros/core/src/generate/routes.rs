@@ -200,7 +200,7 @@ pub(crate) fn compare_routes(
 ) -> ComparedRoutes {
     let args_v = Args::vectors(m).moving();
     let mut d1 = bound_dag(m, &args_v);
-    let mn = multiplier_nodes(&mut d1, m, &dv.multiplier_route);
+    let mn = multiplier_nodes(&mut d1, m, &dv.multiplier_route, dv.kane.as_ref());
     let mut d2 = bound_dag(m, &args_v);
     let (mut rdd2, piv2) = if both_routes {
         curvature_nodes(&mut d2, m, &dv.reduced)

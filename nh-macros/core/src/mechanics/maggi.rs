@@ -34,7 +34,7 @@ impl Scene<'_> {
     /// route's M and h, the reduced system (Sᵀ M S) u̇ = −Sᵀ (h + M a) and
     /// the terms of the reaction forces.
     pub fn maggi_equations(&mut self) -> (MultiplierRoute, Reduced, MaggiTerms) {
-        let multiplier_route = self.multiplier_route();
+        let (multiplier_route, _) = self.multiplier_route();
         let (n, k) = (self.model.n(), self.model.k());
         let map = self.constrained_velocities();
         let w = self.constrained_qdot();

@@ -53,6 +53,9 @@ pub enum Formulation {
 pub struct Derivation {
     /// The multiplier route's pieces.
     pub multiplier_route: MultiplierRoute,
+    /// Kane's form of the multiplier route's terms, for a Lagrangian of
+    /// bodies (DESIGN §10).
+    pub kane: Option<BodyTerms>,
     /// B^b_{αβ} of (5.21), p × k × k.
     pub curvature: Vec<Vec<Vec<ExprId>>>,
     /// The reduced equations Mc r̈ = f of the curvature route (its reduced
@@ -77,7 +80,7 @@ pub struct Derivation {
 /// reduced mass matrix unless `both_routes`), and whether the constraints
 /// are integrable.
 pub fn derive(m: &mut Scene<'_>, both_routes: bool) -> Derivation {
-    let multiplier_route = m.multiplier_route();
+    let (multiplier_route, kane) = m.multiplier_route();
     // the full curvature when a route or the output uses it; otherwise
     // only as many entries as it takes to see that one does not vanish
     let (curvature, (integrable, integrable_proved)) =
@@ -107,6 +110,7 @@ pub fn derive(m: &mut Scene<'_>, both_routes: bool) -> Derivation {
     Derivation {
         silent,
         multiplier_route,
+        kane,
         curvature,
         reduced,
         energy: None,
@@ -125,6 +129,7 @@ pub fn derive_maggi(m: &mut Scene<'_>) -> (Derivation, MaggiTerms) {
     let derivation = Derivation {
         silent,
         multiplier_route,
+        kane: None,
         curvature: Vec::new(),
         reduced,
         energy: None,

@@ -18,8 +18,6 @@ pub struct MultiplierRoute {
     /// −(Ȧ ṙ)_a − β̇_a: the part of s̈_a that does not depend on r̈ (from
     /// differentiating (5.3), with ∂/∂t for time-dependent constraints).
     pub dependent_bias: Vec<ExprId>,
-    /// Kane's form of the same terms for a Lagrangian of bodies.
-    pub bodies: Option<BodyTerms>,
 }
 
 /// A Lagrangian of bodies with at most this many terms also has its
@@ -68,8 +66,11 @@ pub(crate) fn velocity_degree(
 }
 
 impl Scene<'_> {
-    /// The multiplier route's symbolic pieces.
-    pub fn multiplier_route(&mut self) -> MultiplierRoute {
+    /// The multiplier route's symbolic pieces, and Kane's form of the
+    /// bodies' terms (`kane.rs`) when the Lagrangian is made of bodies: with
+    /// it, M and h of the whole Lagrangian are derived only when an output
+    /// uses them or they are small (`needs_lagrangian_terms`).
+    pub fn multiplier_route(&mut self) -> (MultiplierRoute, Option<BodyTerms>) {
         let n = self.model.n();
         let bodies = self.body_terms();
         let (mass, bias) = if self.needs_lagrangian_terms(bodies.is_some()) {
@@ -89,12 +90,12 @@ impl Scene<'_> {
                 self.dependent_bias_from_rows()
             };
         debug_assert!(mass.len() == n || (mass.is_empty() && bodies.is_some()));
-        MultiplierRoute {
+        let route = MultiplierRoute {
             mass,
             bias,
             dependent_bias,
-            bodies,
-        }
+        };
+        (route, bodies)
     }
 
     /// Whether the expanded Lagrangian's M and h are derived. Always without
@@ -261,7 +262,7 @@ mod sled_tests {
     fn the_sleds_euler_lagrange_terms_and_dependent_bias() {
         let (model, mut engine) = lowered(SLED);
         let mut scene = Scene::new(&model, &mut engine);
-        let route = scene.multiplier_route();
+        let (route, kane) = scene.multiplier_route();
         let at = sled_at();
         let v = |e| value(&model, scene.engine, e, &at);
         let expected = [[2.0, 0.0, 0.0], [0.0, 0.5, 0.0], [0.0, 0.0, 2.0]];
@@ -273,6 +274,6 @@ mod sled_tests {
         assert!(route.bias.iter().all(|&h| v(h) == 0.0));
         let sec2 = 1.0 / 0.3f64.cos().powi(2);
         assert!(close(v(route.dependent_bias[0]), sec2 * -1.1 * 0.7));
-        assert!(route.bodies.is_none());
+        assert!(kane.is_none());
     }
 }
