@@ -35,6 +35,7 @@ mod words;
 pub use emit::with_text_parser;
 pub use errors::{ReportedError, reported_errors};
 pub use generate::{Route, Stats};
+pub use mechanics::Formulation;
 
 use proc_macro2::TokenStream;
 use quote::quote;

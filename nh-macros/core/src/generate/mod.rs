@@ -84,6 +84,11 @@ pub fn generate(
         return (TokenStream::new(), stats);
     }
     let route = compared.choose(&mut stats);
+    let formulation = match route {
+        Route::Multiplier => Formulation::Multipliers,
+        Route::Curvature => Formulation::Curvature,
+    };
+    stats.formulation = Some(formulation);
     let graphs = compared.keep(route, &m, &dv, &stats);
     let (integrable, proved) = (dv.integrable, dv.integrable_proved);
     let mut shape = shape_of(def);
@@ -97,10 +102,7 @@ pub fn generate(
     let mut bodies = Derived {
         m: &mut m,
         dv,
-        formulation: match route {
-            Route::Multiplier => Formulation::Multipliers,
-            Route::Curvature => Formulation::Curvature,
-        },
+        formulation,
         stats: &mut stats,
         hoist_blocks: Vec::new(),
         hoist_len: 0,
@@ -178,7 +180,7 @@ fn generate_speeds(
     stats.ops_curvature = d.op_count(&udot);
     stats.cost_curvature = d.cost_estimate(&udot);
     stats.route = Some(Route::Curvature);
-    stats.maggi = true;
+    stats.formulation = Some(Formulation::Maggi);
     let mut shape = shape_of(def);
     shape.outputs = m.outputs;
     let mut bodies = Derived {

@@ -8,6 +8,7 @@ use super::nodes::exprs;
 use crate::api::GeneratedMethod;
 use crate::emit::{Dag, Node, ZERO_NODE};
 use crate::mechanics::Derivation;
+use crate::mechanics::Formulation;
 use crate::mechanics::Scene;
 use crate::model::Output;
 
@@ -61,9 +62,11 @@ pub struct Stats {
     pub derived: Vec<&'static str>,
     /// Lines of generated code (one statement or item per line, as `cargo expand` prints it).
     pub lines: usize,
-    /// Whether the system is in generalized speeds (its figures are those
-    /// of Maggi's equations, in the curvature route's slots).
-    pub maggi: bool,
+    /// The formulation that gives `accelerations`: the route chosen, or
+    /// Maggi's equations for a system in generalized speeds (whose figures
+    /// are in the curvature route's slots: Maggi's reduced system is solved
+    /// as the curvature route's is).
+    pub formulation: Option<Formulation>,
 }
 
 impl Stats {
@@ -84,7 +87,7 @@ impl Stats {
 
     /// One line: operation counts, route, graph size.
     pub fn summary(&self) -> String {
-        if self.maggi {
+        if self.formulation == Some(Formulation::Maggi) {
             return format!(
                 "accelerations: Maggi's equations (generalized speeds) {} ops (cost {}) after CSE; {} generated lines; graph {} expressions, {} derivatives",
                 self.ops_curvature,
