@@ -143,3 +143,34 @@ impl<'a> Scene<'a> {
             .any(|x| self.engine.depends_on(x, t))
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::Scene;
+    use crate::testing::{SLED, close, lowered, sled_at, value};
+
+    /// The sled is autonomous and its dependent velocity is free of time; a
+    /// blade turned at a rate given in time (θ = w t) is neither. The
+    /// constrained velocities map ẏ to tan θ ẋ.
+    #[test]
+    fn time_dependence_and_the_constrained_velocities() {
+        let (model, mut engine) = lowered(SLED);
+        let scene = Scene::new(&model, &mut engine);
+        assert!(scene.autonomous() && !scene.rheonomic());
+        let map = scene.constrained_velocities();
+        let ydot = map[&model.coordinates[2].velocity];
+        assert!(close(
+            value(&model, scene.engine, ydot, &sled_at()),
+            0.3f64.tan() * 0.7
+        ));
+        let turning = "pub struct Turning {
+            parameters { m, w }
+            coordinates { x, y }
+            lagrangian = m/2*(dot(x)^2 + dot(y)^2);
+            constraints { dot(y) = tan(w*t)*dot(x); }
+        }";
+        let (model, mut engine) = lowered(turning);
+        let scene = Scene::new(&model, &mut engine);
+        assert!(!scene.autonomous() && scene.rheonomic());
+    }
+}
