@@ -23,19 +23,12 @@ pub const SLED_SPEEDS: &str = "pub struct SledSpeeds {
     kinematics { dot(x) = v*cos(theta); dot(y) = v*sin(theta); dot(theta) = omega; }
 }";
 
-/// The rolling disc written with a body and a rolling contact.
-pub const DISC: &str = "pub struct Disc {
-    parameters { m, R, g }
-    coordinates { theta, phi, psi, x, y }
-    let F = rot_z(phi) * rot_x(-psi);
-    let C = [x, y, 0] + R*(F*[0, 0, 1]);
-    body disc {
-        mass: m, centre: C, orientation: F*rot_y(theta),
-        inertia: diag(m*R^2/4, m*R^2/2, m*R^2/4),
-    }
-    lagrangian = kinetic_energy(disc) - m*g*C.z;
-    constraints { rolls(disc, radius: R, axle: [0, 1, 0]); }
-}";
+/// The rolling disc written with a body and a rolling contact (shared
+/// with `tests/bodies.rs`).
+pub const DISC: &str = include_str!("../tests/data/disc_body.txt");
+
+/// The same disc with its Lagrangian written out by hand.
+pub const DISC_BY_HAND: &str = include_str!("../tests/data/disc_by_hand.txt");
 
 /// A three-wheeled cart (two wheels on an axle and a caster) whose
 /// rolling rows are solved as one block by LU (DESIGN §9).

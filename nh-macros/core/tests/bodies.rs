@@ -2,35 +2,11 @@
 //! body and a rolling contact costs no more operations than the same disc
 //! expanded by hand, and the kinds of values are checked before derivation.
 
-const HAND: &str = "pub struct Disc {
-    parameters { m, R, g }
-    coordinates { theta, phi, psi, x, y }
-    let X = x - R*sin(phi)*sin(psi);
-    let Y = y + R*cos(phi)*sin(psi);
-    let Z = R*cos(psi);
-    let w_t = -dot(psi);
-    let w_u = dot(phi)*cos(psi);
-    let w_n = dot(phi)*sin(psi) - dot(theta);
-    lagrangian = m/2*(dot(X)^2 + dot(Y)^2 + dot(Z)^2)
-               + m*R^2/8*(w_t^2 + w_u^2) + m*R^2/4*w_n^2 - m*g*Z;
-    constraints {
-        dot(x) = R*cos(phi)*dot(theta);
-        dot(y) = R*sin(phi)*dot(theta);
-    }
-}";
+/// The rolling disc with its Lagrangian written out by hand.
+const HAND: &str = include_str!("data/disc_by_hand.txt");
 
-const BODY: &str = "pub struct Disc {
-    parameters { m, R, g }
-    coordinates { theta, phi, psi, x, y }
-    let F = rot_z(phi) * rot_x(-psi);
-    let C = [x, y, 0] + R*(F*[0, 0, 1]);
-    body disc {
-        mass: m, centre: C, orientation: F*rot_y(theta),
-        inertia: diag(m*R^2/4, m*R^2/2, m*R^2/4),
-    }
-    lagrangian = kinetic_energy(disc) - m*g*C.z;
-    constraints { rolls(disc, radius: R, axle: [0, 1, 0]); }
-}";
+/// The same disc written with a body and a rolling contact.
+const BODY: &str = include_str!("data/disc_body.txt");
 
 fn stats(src: &str) -> (String, nh_core::Stats) {
     let (out, stats) = nh_core::expand_with_stats(src.parse().expect("lexes"));

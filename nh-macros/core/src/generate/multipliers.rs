@@ -161,7 +161,7 @@ mod tests {
     use super::multiplier_nodes;
     use crate::generate::graph::{Args, bound_dag};
     use crate::mechanics::Scene;
-    use crate::testing::{DISC, SLED, close, lowered, node_value, without_ydot};
+    use crate::testing::{DISC, DISC_BY_HAND, SLED, close, lowered, node_value, without_ydot};
 
     /// The multiplier route on the graph gives the sled's closed form
     /// (ẍ = −tan θ θ̇ ẋ, θ̈ = 0: the speed along the blade is constant).
@@ -182,22 +182,6 @@ mod tests {
     /// accelerations of the same disc's Lagrangian written out by hand.
     #[test]
     fn kanes_form_of_the_disc_agrees_with_its_written_out_lagrangian() {
-        let hand = "pub struct Disc {
-            parameters { m, R, g }
-            coordinates { theta, phi, psi, x, y }
-            let X = x - R*sin(phi)*sin(psi);
-            let Y = y + R*cos(phi)*sin(psi);
-            let Z = R*cos(psi);
-            let w_t = -dot(psi);
-            let w_u = dot(phi)*cos(psi);
-            let w_n = dot(phi)*sin(psi) - dot(theta);
-            lagrangian = m/2*(dot(X)^2 + dot(Y)^2 + dot(Z)^2)
-                + m*R^2/8*(w_t^2 + w_u^2) + m*R^2/4*w_n^2 - m*g*Z;
-            constraints {
-                dot(x) = R*cos(phi)*dot(theta);
-                dot(y) = R*sin(phi)*dot(theta);
-            }
-        }";
         let at = [
             ("theta", 0.4),
             ("phi", -0.7),
@@ -225,7 +209,7 @@ mod tests {
                 .collect();
             v
         };
-        let (kane, plain) = (rdd(DISC), rdd(hand));
+        let (kane, plain) = (rdd(DISC), rdd(DISC_BY_HAND));
         for (a, b) in kane.iter().zip(&plain) {
             assert!(
                 (a - b).abs() <= 1e-12 * b.abs().max(1.0),
