@@ -145,6 +145,61 @@ pub trait OdeSystem<T, const D: usize> {
     fn is_autonomous(&self) -> bool {
         false
     }
+
+    /// How many charts the system's atlas has (1: the default).
+    fn charts(&self) -> usize {
+        1
+    }
+
+    /// A short description of chart `chart`.
+    fn chart_name(&self, _chart: usize) -> &'static str {
+        ""
+    }
+
+    /// f(t, x) in chart `chart`.
+    fn rhs_in_chart(&self, _chart: usize, t: T, x: &SVector<T, D>) -> SVector<T, D> {
+        self.rhs(t, x)
+    }
+
+    /// The regularity of chart `chart`.
+    fn chart_regularity_in(&self, _chart: usize, t: T, x: &SVector<T, D>) -> Option<T> {
+        self.chart_regularity(t, x)
+    }
+
+    /// [`OdeSystem::crossed_pole`] in chart `chart`.
+    fn crossed_pole_in(
+        &self,
+        _chart: usize,
+        t0: T,
+        x0: &SVector<T, D>,
+        t1: T,
+        x1: &SVector<T, D>,
+    ) -> Option<&'static str> {
+        self.crossed_pole(t0, x0, t1, x1)
+    }
+
+    /// [`OdeSystem::constraint_residual`] in chart `chart`.
+    fn constraint_residual_in(&self, _chart: usize, t: T, x: &SVector<T, D>) -> Option<T> {
+        self.constraint_residual(t, x)
+    }
+
+    /// [`OdeSystem::project`] in chart `chart`.
+    fn project_in(
+        &self,
+        _chart: usize,
+        t: T,
+        x: &mut SVector<T, D>,
+    ) -> Result<bool, ProjectionFailure<T>> {
+        self.project(t, x)
+    }
+
+    /// The state `x` of chart `from` in chart `to`.
+    fn change_chart(&self, _from: usize, _to: usize, _t: T, x: &SVector<T, D>) -> SVector<T, D>
+    where
+        T: Clone,
+    {
+        x.clone()
+    }
 }
 
 /// A projection onto holonomic constraints that did not converge.

@@ -61,8 +61,9 @@ fn expand_derivation(input: TokenStream) -> (TokenStream, Stats) {
     if let Some(def) = &def
         && let Some((model, mut engine)) = lower::lower(def, &mut cx)
     {
-        let (tokens, s) = generate::generate(def, &model, &mut engine, &mut cx);
-        out = tokens;
+        let (atlas, charts) = generate::atlas::charts(def, &model, &engine);
+        let (tokens, s) = generate::generate(def, &model, &mut engine, &mut cx, atlas);
+        out = quote!(#tokens #charts);
         stats = s;
     }
     let rows = cx.constraint_rows;

@@ -3,6 +3,7 @@
 //! coordinates, velocities, parameters, inputs and time, and every misuse of
 //! a name is reported at its token.
 
+pub(crate) mod atlas;
 mod bodies;
 pub(crate) mod constraints;
 mod expressions;
@@ -209,6 +210,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<(Model, Engine)> {
         homogeneous: lowered.homogeneous,
         affine: lowered.affine,
         chart: lowered.chart,
+        atlas: lowered.atlas,
         constraints_span: def.constraints.as_ref().map(|c| c.0.span()),
         description: lw.description,
         contacts: lowered.contacts,

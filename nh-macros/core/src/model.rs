@@ -212,6 +212,10 @@ pub struct Model {
     /// holonomic rows (with explicit rows substituted), in [−1, 1] and zero
     /// where the chart is singular; `None` when every constraint is explicit.
     pub chart: Option<ExprId>,
+    /// The atlas of the implicit and holonomic rows (DESIGN §9.3): this
+    /// chart first, then the others; empty when this chart is never
+    /// singular or the system keeps one chart.
+    pub atlas: Vec<crate::lower::atlas::Chart>,
     /// Span of the `constraints` keyword, if any (for diagnostics).
     pub constraints_span: Option<Span>,
     /// The velocity rows g_a(q, q̇, t) = 0 of a system whose constraints are

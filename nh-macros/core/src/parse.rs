@@ -128,6 +128,7 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         kinematics: None,
         poisoned: Vec::new(),
         lagrangian_written: false,
+        one_chart: false,
         rejected: Rejected::default(),
         krate,
     };

@@ -14,10 +14,12 @@
 //! identifier the generated code introduces (locals, temporaries, the cache)
 //! starts with `__nh_`.
 
+mod atlas;
 mod cache;
 mod named;
 mod table;
 
+pub use atlas::ChartShape;
 use cache::{Cache, new_fn};
 pub use table::{Arguments, GeneratedMethod, METHODS, Returns};
 
@@ -67,6 +69,9 @@ pub struct Shape<'a> {
     /// The parameters `sensitivities` differentiates by, in order (all of
     /// them unless listed, `sensitivities(m, k)`).
     pub sensitivity_params: Vec<Ident>,
+    /// The charts of the atlas (DESIGN §9.3), the system's own first;
+    /// empty for a system with one chart.
+    pub atlas: Vec<ChartShape>,
 }
 
 impl Shape<'_> {
@@ -270,7 +275,9 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
         quote!()
     };
     let rhs = bodies.method(GeneratedMethod::Rhs);
-    let runtime_impl = runtime_impl(shape, dims, rhs, bodies.runtime_hooks(&svector(dims.state)));
+    let mut hooks = bodies.runtime_hooks(&svector(dims.state));
+    hooks.extend(atlas::atlas_methods(shape, dims));
+    let runtime_impl = runtime_impl(shape, dims, rhs, hooks);
     let jacobian_impl = jacobian_impl(shape, dims);
     let (sensitivity_consts, sensitivity_impl) = sensitivities(shape, dims);
     let cache = Cache::new(&params, bodies.hoisting());
@@ -302,6 +309,7 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     };
     let field_docs: Vec<String> = params.iter().map(|p| format!("Parameter `{p}`.")).collect();
     let mut description = bodies.description();
+    let charts = atlas::atlas_doc(shape);
     if !description.is_empty() {
         description.splice(
             0..0,
@@ -312,6 +320,7 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
             ],
         );
     }
+    description.extend(charts);
     let inherited = crate::attrs::inherited(attrs);
     let krate = shape.krate;
     let private = private();

@@ -11,6 +11,7 @@ use crate::parse::SystemDef;
 use crate::sym::Engine;
 use proc_macro2::TokenStream;
 
+pub mod atlas;
 mod bodies;
 mod chains;
 mod contacts;
@@ -46,6 +47,7 @@ pub fn generate(
     model: &Model,
     engine: &mut Engine,
     cx: &mut Ctxt,
+    atlas: Vec<crate::api::ChartShape>,
 ) -> (TokenStream, Stats) {
     let mut stats = Stats {
         name: def.name.to_string(),
@@ -99,6 +101,7 @@ pub fn generate(
     shape.dependent_doc = dependent_doc(&m);
     shape.affine = m.affine;
     shape.rheonomic = m.rheonomic();
+    shape.atlas = atlas;
     let mut bodies = Derived {
         m: &mut m,
         dv,

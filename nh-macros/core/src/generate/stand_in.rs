@@ -44,6 +44,7 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
         rheonomic: constraints_mention_time(def),
         contacts: def.rolling.len() + def.rejected.rolling_lines,
         sensitivity_params: sensitivity_parameters(def),
+        atlas: Vec::new(),
     }
 }
 

@@ -44,6 +44,8 @@ pub struct Lowered {
     /// The rows of `rolls(..)` lines implied by the rows before them, which
     /// were dropped (their text).
     pub implied: Vec<String>,
+    /// See [`crate::model::Model::atlas`].
+    pub atlas: Vec<super::atlas::Chart>,
 }
 
 /// What the no-slip rows of a `rolls(..)` line say.
@@ -466,6 +468,11 @@ impl Lowerer<'_> {
                 (Vec::new(), Vec::new())
             };
         let chart = (!implicit.is_empty()).then(|| self.regularity(det, &coef));
+        let atlas = if implicit.is_empty() || def.one_chart {
+            Vec::new()
+        } else {
+            self.atlas(&coef, &free, &chosen)
+        };
         let back: HashMap<SymId, ExprId> = chosen
             .iter()
             .zip(&solved)
@@ -513,6 +520,7 @@ impl Lowerer<'_> {
             contacts: Vec::new(),
             velocity_rows,
             row_sources,
+            atlas,
             ..Lowered::default()
         })
     }
@@ -691,7 +699,7 @@ impl Lowerer<'_> {
 
     /// Whether a block of dependent-velocity coefficients is singular at
     /// every point.
-    fn generically_singular(&mut self, block: &[Vec<ExprId>]) -> bool {
+    pub(super) fn generically_singular(&mut self, block: &[Vec<ExprId>]) -> bool {
         let d = linear::det(&mut self.e, block);
         d == ZERO || vanish_at_random_points(&self.e, self.pi_sym, &[d])
     }

@@ -284,6 +284,9 @@ pub struct SystemDef {
     pub poisoned: Vec<Ident>,
     /// Whether a `lagrangian` item was written, even if it failed to parse.
     pub lagrangian_written: bool,
+    /// Whether the system keeps one chart: no atlas is derived (a chart of
+    /// another system's atlas, DESIGN §9.3).
+    pub one_chart: bool,
     /// What the rejected items were meant to declare, for the stand-in
     /// emitted next to the errors (lowering does not see it).
     pub rejected: Rejected,

@@ -1,0 +1,175 @@
+//! The runtime trait's atlas methods (DESIGN §9.3): the system's charts,
+//! each of the others a hidden system of its own (the same definition with
+//! the implicit and holonomic rows solved for other coordinates), reached
+//! by a `match` on the chart's index.
+
+use super::{Dims, Shape, field_names, svector};
+use proc_macro2::{Ident, Literal, TokenStream};
+use quote::quote;
+
+/// One chart of the atlas, as the API sees it.
+#[derive(Clone, Debug)]
+pub struct ChartShape {
+    /// The hidden struct of the chart (`None`: the system's own chart).
+    pub system: Option<Ident>,
+    /// "solved for `x`, `y`".
+    pub name: String,
+    /// Where the chart is singular.
+    pub singular: String,
+    /// Indices of its independent coordinates.
+    pub independent: Vec<usize>,
+    /// Indices of its dependent coordinates, ascending.
+    pub dependent: Vec<usize>,
+    /// Whether its `dependent_velocities` takes `t`.
+    pub rheonomic: bool,
+    /// Whether its hidden system has a Jacobian.
+    pub jacobian: bool,
+}
+
+/// The lines of the struct's documentation that list the charts.
+pub fn atlas_doc(shape: &Shape) -> Vec<String> {
+    if shape.atlas.is_empty() {
+        return Vec::new();
+    }
+    let mut lines = vec![
+        String::new(),
+        "# Charts".to_string(),
+        String::new(),
+        format!(
+            "The constraints are solved for the dependent velocities in one of {} charts (DESIGN §9.3); a run starts in chart 0, the layout of the state, and the integrators move to another chart where the current one degrades (`OdeSystem::change_chart`):",
+            shape.atlas.len()
+        ),
+        String::new(),
+    ];
+    for (c, chart) in shape.atlas.iter().enumerate() {
+        lines.push(format!(
+            "{c}. {}: singular where {}",
+            chart.name, chart.singular
+        ));
+    }
+    lines
+}
+
+/// The atlas methods of the runtime trait for state type `xty`; none for
+/// a system with one chart.
+pub fn atlas_methods(shape: &Shape, dims: Dims) -> TokenStream {
+    if shape.atlas.is_empty() || dims.inputs > 0 {
+        return TokenStream::new();
+    }
+    let dim = dims.state;
+    let xty = svector(dim);
+    let trait_path = quote!(__nh_private::nh_runtime::OdeSystem<T, #dim>);
+    let params = field_names(&shape.params);
+    let count = shape.atlas.len();
+    // the system of chart `c`, as an expression
+    let system = |c: &ChartShape| match &c.system {
+        Some(id) => quote!(&#id::<T>::new(#(self.#params),*)),
+        None => quote!(self),
+    };
+    let arms = |body: &dyn Fn(TokenStream) -> TokenStream| {
+        let mut arms = TokenStream::new();
+        for (c, chart) in shape.atlas.iter().enumerate().skip(1) {
+            let b = body(system(chart));
+            arms.extend(quote!(#c => #b,));
+        }
+        let own = body(quote!(self));
+        quote!(match chart { #arms _ => #own })
+    };
+    let names: Vec<TokenStream> = shape
+        .atlas
+        .iter()
+        .enumerate()
+        .skip(1)
+        .map(|(c, chart)| {
+            let name = &chart.name;
+            quote!(#c => #name,)
+        })
+        .collect();
+    let own_name = &shape.atlas[0].name;
+    let rhs = arms(&|s| quote!(<_ as #trait_path>::rhs(#s, t, x)));
+    let regularity = arms(&|s| quote!(<_ as #trait_path>::chart_regularity(#s, t, x)));
+    let pole = arms(&|s| quote!(<_ as #trait_path>::crossed_pole(#s, t0, x0, t1, x1)));
+    let residual = arms(&|s| quote!(<_ as #trait_path>::constraint_residual(#s, t, x)));
+    let project = arms(&|s| quote!(<_ as #trait_path>::project(#s, t, x)));
+    let change = change_chart(shape, dims, &system);
+    quote! {
+        #[inline]
+        fn charts(&self) -> usize { #count }
+        fn chart_name(&self, chart: usize) -> &'static str {
+            match chart { #(#names)* _ => #own_name }
+        }
+        #[inline]
+        fn rhs_in_chart(&self, chart: usize, t: T, x: &#xty) -> #xty { #rhs }
+        #[inline]
+        fn chart_regularity_in(&self, chart: usize, t: T, x: &#xty) -> ::core::option::Option<T> { #regularity }
+        #[inline]
+        fn crossed_pole_in(&self, chart: usize, t0: T, x0: &#xty, t1: T, x1: &#xty) -> ::core::option::Option<&'static str> { #pole }
+        #[inline]
+        fn constraint_residual_in(&self, chart: usize, t: T, x: &#xty) -> ::core::option::Option<T> { #residual }
+        #[inline]
+        fn project_in(&self, chart: usize, t: T, x: &mut #xty) -> ::core::result::Result<bool, __nh_private::nh_runtime::ProjectionFailure<T>> { #project }
+        #change
+    }
+}
+
+/// `change_chart`: the full velocity from chart `from`'s dependent
+/// velocities, then chart `to`'s independent velocities read off it.
+fn change_chart(
+    shape: &Shape,
+    dims: Dims,
+    system: &dyn Fn(&ChartShape) -> TokenStream,
+) -> TokenStream {
+    let (n, k) = (dims.n, dims.k);
+    let xty = svector(dims.state);
+    let qty = svector(n);
+    let rty = svector(k);
+    let mut from_arms = TokenStream::new();
+    let mut to_arms = TokenStream::new();
+    for (c, chart) in shape.atlas.iter().enumerate() {
+        let s = system(chart);
+        let t_arg = if chart.rheonomic {
+            quote!(t,)
+        } else {
+            quote!()
+        };
+        let lit = |v: &[usize]| -> Vec<Literal> {
+            v.iter().map(|&i| Literal::usize_unsuffixed(i)).collect()
+        };
+        let (ind, dep) = (lit(&chart.independent), lit(&chart.dependent));
+        let (ia, da) = (
+            lit(&(0..k).collect::<Vec<_>>()),
+            lit(&(0..dep.len()).collect::<Vec<_>>()),
+        );
+        let fill = quote! {{
+            let __nh_s = (#s).dependent_velocities(#t_arg &__nh_q, &__nh_r);
+            #(__nh_qdot[#ind] = __nh_r[#ia];)*
+            #(__nh_qdot[#dep] = __nh_s[#da];)*
+        }};
+        let to = quote!([#(#ind),*]);
+        if c == 0 {
+            from_arms.extend(quote!(_ => #fill));
+            to_arms.extend(quote!(_ => #to));
+        } else {
+            from_arms = quote!(#c => #fill, #from_arms);
+            to_arms = quote!(#c => #to, #to_arms);
+        }
+    }
+    quote! {
+        fn change_chart(&self, from: usize, to: usize, t: T, x: &#xty) -> #xty {
+            let _ = t;
+            if from == to {
+                return *x;
+            }
+            let __nh_q: #qty = x.fixed_rows::<#n>(0).into_owned();
+            let __nh_r: #rty = x.fixed_rows::<#k>(#n).into_owned();
+            let mut __nh_qdot: #qty = <#qty>::zeros();
+            match from { #from_arms }
+            let __nh_to: [usize; #k] = match to { #to_arms };
+            let mut __nh_y = *x;
+            for (__nh_a, &__nh_i) in __nh_to.iter().enumerate() {
+                __nh_y[#n + __nh_a] = __nh_qdot[__nh_i];
+            }
+            __nh_y
+        }
+    }
+}

@@ -1,0 +1,114 @@
+//! The other charts of a system's atlas (DESIGN §9.3): each is the same
+//! definition with its implicit and holonomic rows solved for other
+//! coordinates, expanded as a hidden system of its own.
+
+use crate::api::ChartShape;
+use crate::model::{Model, Output};
+use crate::parse::SystemDef;
+use proc_macro2::{Ident, TokenStream};
+use quote::{format_ident, quote};
+
+/// The charts of `model`'s atlas as the API sees them, the system's own
+/// first, and the hidden systems of the others; none for a system with
+/// one chart. A chart whose expansion fails is left out.
+pub fn charts(
+    def: &SystemDef,
+    model: &Model,
+    engine: &crate::sym::Engine,
+) -> (Vec<ChartShape>, TokenStream) {
+    if model.atlas.len() < 2 {
+        return (Vec::new(), TokenStream::new());
+    }
+    let jacobian = model.outputs.contains(Output::Jacobian);
+    let own = &model.atlas[0];
+    let mut shapes = vec![ChartShape {
+        system: None,
+        name: chart_name(model, &own.dependent),
+        singular: own.singular.clone(),
+        independent: model.independent().to_vec(),
+        dependent: model.dependent().to_vec(),
+        rheonomic: rheonomic_of(model, engine),
+        jacobian,
+    }];
+    let mut tokens = TokenStream::new();
+    for (c, chart) in model.atlas.iter().enumerate().skip(1) {
+        let hidden = hidden_def(def, model, c, &chart.dependent);
+        let mut cx = crate::ctxt::Ctxt::new();
+        let Some((hmodel, mut engine)) = crate::lower::lower(&hidden, &mut cx) else {
+            let _ = cx.finish();
+            continue;
+        };
+        let rheonomic = rheonomic_of(&hmodel, &engine);
+        let (code, _) = super::generate(&hidden, &hmodel, &mut engine, &mut cx, Vec::new());
+        if cx.finish().is_err() || code.is_empty() {
+            continue;
+        }
+        tokens.extend(code);
+        shapes.push(ChartShape {
+            system: Some(hidden.name.clone()),
+            name: chart_name(model, &chart.dependent),
+            singular: chart.singular.clone(),
+            independent: hmodel.independent().to_vec(),
+            dependent: hmodel.dependent().to_vec(),
+            rheonomic,
+            jacobian,
+        });
+    }
+    if shapes.len() < 2 {
+        return (Vec::new(), TokenStream::new());
+    }
+    (shapes, tokens)
+}
+
+/// "solved for `x`, `y`".
+fn chart_name(model: &Model, dependent: &[usize]) -> String {
+    let names: Vec<String> = dependent
+        .iter()
+        .map(|&i| format!("`{}`", model.coordinates[i].name))
+        .collect();
+    format!("solved for {}", names.join(", "))
+}
+
+/// Whether some dependent velocity of `model` depends on t (then its
+/// `dependent_velocities` takes `t`).
+fn rheonomic_of(model: &Model, engine: &crate::sym::Engine) -> bool {
+    model
+        .constraints
+        .iter()
+        .any(|c| engine.depends_on(c.velocity, model.time))
+}
+
+/// The definition of chart `c`: hidden, named `__nh_{Name}_chart{c}`, its
+/// rows solved for `dependent`, with one chart and only the outputs the
+/// runtime takes from it.
+fn hidden_def(def: &SystemDef, model: &Model, c: usize, dependent: &[usize]) -> SystemDef {
+    let span = def.name.span();
+    let mut hidden = def.clone();
+    let name = syn::ext::IdentExt::unraw(&def.name);
+    hidden.name = format_ident!("__nh_{}_chart{}", name, c, span = span);
+    // private, undocumented, and quiet about the API it does not use
+    hidden.vis = syn::Visibility::Inherited;
+    hidden.attrs = vec![
+        quote!(#[doc(hidden)]),
+        quote!(#[allow(dead_code, unused_imports, missing_docs, non_camel_case_types)]),
+    ];
+    hidden.attrs.extend(crate::attrs::inherited(&def.attrs));
+    hidden.dependent = Some((
+        Ident::new("dependent", span),
+        dependent
+            .iter()
+            .map(|&i| model.coordinates[i].name.clone())
+            .collect(),
+    ));
+    hidden.one_chart = true;
+    if let Some((kw, outputs)) = &def.outputs {
+        let kept = outputs
+            .iter()
+            .filter(|o| o.word == Some(Output::Jacobian))
+            .cloned()
+            .collect();
+        hidden.outputs = Some((kw.clone(), kept));
+    }
+    hidden.output_arguments = Vec::new();
+    hidden
+}
