@@ -127,3 +127,124 @@ fn the_suslov_row_has_a_chart_for_pitch_and_one_for_yaw() {
     assert_eq!(body.chart_name(0), "solved for `theta`");
     assert_eq!(body.chart_name(1), "solved for `psi`");
 }
+
+/// The sleigh started at θ = 0.3 with v = 0.2, ω = 2 turns about 19 times
+/// before it stops (a = 0.005): through ten turns (θ = 0.3 + 20π) it passes
+/// cos θ = 0 twenty times and sin θ = 0 twenty times. Its chart solved for
+/// y alone ends at the first quarter turn; the atlas moves between the
+/// chart solved for y and the one solved for x, and the motion stays on the
+/// closed form (θ, ω, and ẋ = v cos θ of the state's layout).
+#[test]
+fn the_implicit_sleigh_runs_through_ten_turns_on_its_closed_form() {
+    let sleigh = SleighImplicit::new(M, J_SLED, A_SLED);
+    let (theta0, v0, omega0) = (0.3_f64, 0.2, 2.0);
+    let x0 = SVector::<f64, 5>::new(0.0, theta0, 0.0, v0 * theta0.cos(), omega0);
+    // the time θ reaches θ0 + 20π, by bisection on the closed form
+    let (mut lo, mut hi) = (0.0, 200.0);
+    for _ in 0..200 {
+        let mid = 0.5 * (lo + hi);
+        if sleigh_closed_form(theta0, v0, omega0, mid).0 < theta0 + 20.0 * std::f64::consts::PI {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    let t1 = hi;
+    let times: Vec<f64> = (1..=400).map(|i| t1 * f64::from(i) / 400.0).collect();
+    let mut worst: f64 = 0.0;
+    let out = Dop853::new(1e-11, 1e-13)
+        .integrate_with_outputs(&sleigh, 0.0, x0, t1, &times, |t, x| {
+            let (theta, v, omega) = sleigh_closed_form(theta0, v0, omega0, t);
+            worst = worst
+                .max((x[1] - theta).abs())
+                .max((x[3] - v * theta.cos()).abs())
+                .max((x[4] - omega).abs());
+        })
+        .expect("the atlas carries the sleigh through every quarter turn");
+    let switches = out.stats.chart_switches;
+    eprintln!(
+        "implicit sleigh, ten turns (t = {t1:.3}): {switches} chart switches, {} steps, max error against the closed form {worst:.1e}",
+        out.stats.steps
+    );
+    for s in out.switches.iter().take(6) {
+        eprintln!("  t = {:.4}: chart {} -> {}", s.t, s.from, s.to);
+    }
+    assert!(worst < 1e-8, "max error against the closed form {worst:e}");
+    assert!((30..=60).contains(&switches), "{switches} switches");
+    // one chart alone: the run ends at the first quarter turn, typed
+    let one = Dop853::new(1e-11, 1e-13)
+        .with_chart_switching(false)
+        .integrate(&sleigh, 0.0, x0, t1);
+    match one {
+        Err(SimError::Singular { x, .. }) => {
+            assert!(
+                (x[1] - std::f64::consts::FRAC_PI_2).abs() < 0.1,
+                "θ = {}",
+                x[1]
+            )
+        }
+        other => panic!("one chart should end at cos θ = 0: {other:?}"),
+    }
+}
+
+/// The Suslov problem as an implicit row to t = 100: its chart solved for
+/// the pitch is singular where the roll passes 0 (the run of that chart
+/// alone ends there), the atlas carries it through, its energy
+/// ½(Aω₁² + Bω₂²) stays constant and it agrees with the body written in the
+/// speeds ω₁, ω₂ at equal tolerance.
+#[test]
+fn the_implicit_suslov_problem_runs_to_t_100_with_its_speeds_form() {
+    let (a, b, c, d, e) = (1.0, 2.0, 3.0, 0.4, 0.3);
+    let body = SuslovImplicit::new(a, b, c, d, e);
+    let speeds = SuslovSpeeds::new(a, b, c, d, e);
+    let (psi, theta, phi, w1, w2) = (0.0_f64, 0.1_f64, 0.3_f64, 0.5, 0.2);
+    let xs = SVector::<f64, 5>::new(psi, theta, phi, w1, w2);
+    let (st, ct) = theta.sin_cos();
+    let (sp, _) = phi.sin_cos();
+    // the implicit chart's state: [ψ, θ, φ, ψ̇, φ̇]
+    let xi = SVector::<f64, 5>::new(psi, theta, phi, w2 * sp / ct, w1 + w2 * sp * st / ct);
+    let times: Vec<f64> = (1..=1000).map(|i| 0.1 * f64::from(i)).collect();
+    let e0 = 0.5 * (a * w1 * w1 + b * w2 * w2);
+    let mut implicit = Vec::new();
+    let mut drift: f64 = 0.0;
+    let out = Dop853::new(1e-12, 1e-14)
+        .integrate_with_outputs(&body, 0.0, xi, 100.0, &times, |_, x| {
+            implicit.push(*x);
+            if body
+                .chart_regularity_in(0, 0.0, x)
+                .is_some_and(|r| r.abs() > 0.05)
+            {
+                let q = x.fixed_rows::<3>(0).into_owned();
+                let r = x.fixed_rows::<2>(3).into_owned();
+                drift = drift.max((body.energy(&q, &r) - e0).abs() / e0);
+            }
+        })
+        .expect("the atlas carries the Suslov body through roll = 0");
+    let mut worst: f64 = 0.0;
+    let mut k = 0;
+    Dop853::new(1e-12, 1e-14)
+        .integrate_with_outputs(&speeds, 0.0, xs, 100.0, &times, |_, x| {
+            let (st, ct) = x[1].sin_cos();
+            let (sp, _) = x[2].sin_cos();
+            let rates = [x[4] * sp / ct, x[3] + x[4] * sp * st / ct];
+            let y = implicit[k];
+            worst = worst
+                .max((y[0] - x[0]).abs())
+                .max((y[1] - x[1]).abs())
+                .max((y[2] - x[2]).abs())
+                .max((y[3] - rates[0]).abs())
+                .max((y[4] - rates[1]).abs());
+            k += 1;
+        })
+        .expect("the speeds form has no singularity on this motion");
+    eprintln!(
+        "Suslov to t = 100: {} chart switches, {} steps; energy drift {drift:.1e}; max difference to the speeds form {worst:.1e}",
+        out.stats.chart_switches, out.stats.steps
+    );
+    for s in out.switches.iter().take(6) {
+        eprintln!("  t = {:.4}: chart {} -> {}", s.t, s.from, s.to);
+    }
+    assert!(out.stats.chart_switches > 0);
+    assert!(drift <= 1e-10, "energy drift {drift:e}");
+    assert!(worst <= 1e-9, "difference to the speeds form {worst:e}");
+}

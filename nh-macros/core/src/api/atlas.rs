@@ -53,12 +53,27 @@ pub fn atlas_doc(shape: &Shape) -> Vec<String> {
 /// The atlas methods of the runtime trait for state type `xty`; none for
 /// a system with one chart.
 pub fn atlas_methods(shape: &Shape, dims: Dims) -> TokenStream {
-    if shape.atlas.is_empty() || dims.inputs > 0 {
+    if shape.atlas.is_empty() {
         return TokenStream::new();
     }
     let dim = dims.state;
     let xty = svector(dim);
-    let trait_path = quote!(__nh_private::nh_runtime::OdeSystem<T, #dim>);
+    let n_in = dims.inputs;
+    let (trait_path, rhs_call, rhs_sig) = if n_in > 0 {
+        let uty = svector(n_in);
+        (
+            quote!(__nh_private::nh_runtime::ControlledSystem<T, #dim, #n_in>),
+            quote!(rhs_with_input),
+            quote!(fn rhs_with_input_in_chart(&self, chart: usize, t: T, x: &#xty, u: &#uty) -> #xty),
+        )
+    } else {
+        (
+            quote!(__nh_private::nh_runtime::OdeSystem<T, #dim>),
+            quote!(rhs),
+            quote!(fn rhs_in_chart(&self, chart: usize, t: T, x: &#xty) -> #xty),
+        )
+    };
+    let u_arg = if n_in > 0 { quote!(, u) } else { quote!() };
     let params = field_names(&shape.params);
     let count = shape.atlas.len();
     // the system of chart `c`, as an expression
@@ -86,7 +101,7 @@ pub fn atlas_methods(shape: &Shape, dims: Dims) -> TokenStream {
         })
         .collect();
     let own_name = &shape.atlas[0].name;
-    let rhs = arms(&|s| quote!(<_ as #trait_path>::rhs(#s, t, x)));
+    let rhs = arms(&|s| quote!(<_ as #trait_path>::#rhs_call(#s, t, x #u_arg)));
     let regularity = arms(&|s| quote!(<_ as #trait_path>::chart_regularity(#s, t, x)));
     let pole = arms(&|s| quote!(<_ as #trait_path>::crossed_pole(#s, t0, x0, t1, x1)));
     let residual = arms(&|s| quote!(<_ as #trait_path>::constraint_residual(#s, t, x)));
@@ -99,7 +114,7 @@ pub fn atlas_methods(shape: &Shape, dims: Dims) -> TokenStream {
             match chart { #(#names)* _ => #own_name }
         }
         #[inline]
-        fn rhs_in_chart(&self, chart: usize, t: T, x: &#xty) -> #xty { #rhs }
+        #rhs_sig { #rhs }
         #[inline]
         fn chart_regularity_in(&self, chart: usize, t: T, x: &#xty) -> ::core::option::Option<T> { #regularity }
         #[inline]
@@ -170,6 +185,51 @@ fn change_chart(
                 __nh_y[#n + __nh_a] = __nh_qdot[__nh_i];
             }
             __nh_y
+        }
+    }
+}
+
+/// `jacobian_in_chart` (`jacobian_with_input_in_chart` with inputs) of
+/// the Jacobian's runtime trait, for a system with an atlas.
+pub fn jacobian_in_chart(shape: &Shape, dims: Dims) -> TokenStream {
+    if shape.atlas.is_empty() {
+        return TokenStream::new();
+    }
+    let dim = dims.state;
+    let (xty, dd) = (svector(dim), super::smatrix(dim, dim));
+    let params = field_names(&shape.params);
+    let n_in = dims.inputs;
+    let (path, call, sig) = if n_in > 0 {
+        let uty = svector(n_in);
+        (
+            quote!(__nh_private::nh_runtime::ControlledJacobian<T, #dim, #n_in>),
+            quote!(jacobian_with_input),
+            quote!(fn jacobian_with_input_in_chart(&self, chart: usize, t: T, x: &#xty, u: &#uty) -> ::core::option::Option<#dd>),
+        )
+    } else {
+        (
+            quote!(__nh_private::nh_runtime::OdeJacobian<T, #dim>),
+            quote!(jacobian),
+            quote!(fn jacobian_in_chart(&self, chart: usize, t: T, x: &#xty) -> ::core::option::Option<#dd>),
+        )
+    };
+    let u_arg = if n_in > 0 { quote!(, u) } else { quote!() };
+    let mut arms = TokenStream::new();
+    for (c, chart) in shape.atlas.iter().enumerate().skip(1) {
+        if let (Some(id), true) = (&chart.system, chart.jacobian) {
+            arms.extend(quote! {
+                #c => ::core::option::Option::Some(<_ as #path>::#call(&#id::<T>::new(#(self.#params),*), t, x #u_arg)),
+            });
+        }
+    }
+    quote! {
+        #[inline]
+        #sig {
+            match chart {
+                #arms
+                0 => ::core::option::Option::Some(<_ as #path>::#call(self, t, x #u_arg)),
+                _ => ::core::option::Option::None,
+            }
         }
     }
 }

@@ -470,6 +470,7 @@ fn jacobian_impl(shape: &Shape, dims: Dims) -> TokenStream {
     let (name, dim, n_in) = (shape.name, dims.state, dims.inputs);
     let (xty, dd) = (svector(dim), smatrix(dim, dim));
     let allow = allow_lints();
+    let in_chart = atlas::jacobian_in_chart(shape, dims);
     if n_in > 0 {
         let uty = svector(n_in);
         return quote! {
@@ -488,6 +489,7 @@ fn jacobian_impl(shape: &Shape, dims: Dims) -> TokenStream {
                 fn time_derivative_with_input(&self, t: T, x: &#xty, u: &#uty) -> ::core::option::Option<#xty> {
                     ::core::option::Option::Some(#name::time_derivative(self, t, x, u))
                 }
+                #in_chart
             }
         };
     }
@@ -507,6 +509,7 @@ fn jacobian_impl(shape: &Shape, dims: Dims) -> TokenStream {
             fn time_derivative(&self, t: T, x: &#xty) -> ::core::option::Option<#xty> {
                 ::core::option::Option::Some(#name::time_derivative(self, t, x))
             }
+            #in_chart
         }
     }
 }
