@@ -54,10 +54,15 @@ pub struct Switch<T> {
 
 /// The switches of one run, the first [`AutoSwitch::LOG_CAPACITY`] of
 /// them (all are counted in [`Stats`]); a fixed array, so no allocation.
+/// Reset at the start of every call (the integrator's entry points reset
+/// their further fields); a run over several charts builds its method once
+/// per chart segment, and each starts in the regime of the last switch.
 #[derive(Debug, Clone, Copy, PartialEq)]
 struct SwitchLog<T> {
     entries: [Switch<T>; AutoSwitch::<f64>::LOG_CAPACITY],
     len: usize,
+    /// The regime switched to last (also past the capacity).
+    regime: Regime,
 }
 
 impl<T: RealField + Copy> Default for SwitchLog<T> {
@@ -68,12 +73,14 @@ impl<T: RealField + Copy> Default for SwitchLog<T> {
                 to: Regime::NonStiff,
             }; AutoSwitch::<f64>::LOG_CAPACITY],
             len: 0,
+            regime: Regime::NonStiff,
         }
     }
 }
 
 impl<T: Copy> SwitchLog<T> {
     fn push(&mut self, switch: Switch<T>) {
+        self.regime = switch.to;
         if let Some(slot) = self.entries.get_mut(self.len) {
             *slot = switch;
             self.len += 1;
@@ -241,12 +248,13 @@ where
     E: Method<T, D>,
     I: Linearised<T, D>,
 {
+    /// The switching method, starting in the regime `log` switched to last
+    /// (a fresh log: the explicit member).
     fn new(explicit: E, implicit: I, log: &'l mut SwitchLog<T>) -> Self {
-        *log = SwitchLog::default();
         Switching {
             explicit,
             implicit,
-            stiff: false,
+            stiff: log.regime == Regime::Stiff,
             votes: 0,
             h: T::zero(),
             probe: first_probe(),

@@ -16,7 +16,7 @@ use crate::sink::Sink;
 use crate::step::Poly;
 use crate::step_size::{initial_step, min_step};
 use crate::tolerance::Tolerance;
-use crate::{EventHit, OdeSystem, Outcome, SimError, Singularity, Stats, Step};
+use crate::{ChartSwitches, EventHit, OdeSystem, Outcome, SimError, Singularity, Stats, Step};
 
 /// How steps are placed.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -44,6 +44,11 @@ pub(crate) struct RunSettings<T, const D: usize> {
     /// Whether accepted states are projected onto the system's holonomic
     /// constraints ([`OdeSystem::project`]).
     pub(crate) project: bool,
+    /// The chart regularity below which (in magnitude) the run ends in
+    /// `Singular { cause: Chart }` at the last good state, when it is above
+    /// `√eps`: the switching threshold of a segment of a run over several
+    /// charts (`charts::run`). `None`: `√eps`.
+    pub(crate) chart_floor: Option<T>,
 }
 
 /// The bookkeeping of one run, kept also when it fails.
@@ -88,6 +93,8 @@ struct Run<'r, T, H: ?Sized, const D: usize> {
     eps: T,
     sys: &'r H,
     project: bool,
+    /// The switching threshold of a segment ([`RunSettings::chart_floor`]).
+    chart_floor: Option<T>,
     /// The chart regularity at the accepted point (`None`: no chart test).
     chart: Option<T>,
     rec: &'r mut Record<T>,
@@ -127,6 +134,7 @@ where
         eps,
         sys,
         project: settings.project,
+        chart_floor: settings.chart_floor,
         chart: None,
         rec,
         event: None,
@@ -294,17 +302,20 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             stats: self.rec.stats,
             max_residual: self.rec.max_residual,
             event: self.event,
+            switches: ChartSwitches::new(),
         }
     }
 
-    /// The chart regularity at `(t, x)` if the chart is regular there and
-    /// on the same side of its singularities as the accepted point;
-    /// otherwise `Singular` at the accepted point.
+    /// The chart regularity at `(t, x)` if the chart is regular there (above
+    /// `√eps` in magnitude, and above the segment's switching threshold if
+    /// it has one) and on the same side of its singularities as the
+    /// accepted point; otherwise `Singular` at the accepted point.
     fn regular_chart(&self, t: T, x: &SVector<T, D>) -> Result<Option<T>, SimError<T, D>> {
         let Some(rho) = self.sys.chart_regularity(t, x) else {
             return Ok(None);
         };
         let floor = self.eps.sqrt();
+        let floor = self.chart_floor.map_or(floor, |f| f.max(floor));
         let flipped = self.chart.is_some_and(|prev| prev * rho < T::zero());
         if rho.abs() > floor && !flipped {
             Ok(Some(rho))

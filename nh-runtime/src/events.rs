@@ -8,7 +8,7 @@ use nalgebra::{RealField, SVector};
 
 use crate::numeric::{c, machine_epsilon};
 use crate::sink::Sink;
-use crate::{Direction, EventHit, Outcome, SimError, Stats, Step};
+use crate::{ChartSwitches, Direction, EventHit, Outcome, SimError, Stats, Step};
 
 /// `N` event functions `g(t, x)`, evaluated together (one call returns all
 /// `N` values), each with a [`Direction`] filter and a terminal flag.
@@ -445,7 +445,7 @@ pub(crate) fn counted<T, const D: usize>(
 /// run to `t1` whose steps went through the events until a terminal one,
 /// which then ends it (a failure after the event does not count; the work
 /// counters are then those of the run, zero if it failed).
-pub(crate) fn after_the_fact<T: Copy, const D: usize>(
+pub(crate) fn after_the_fact<T: RealField + Copy, const D: usize>(
     result: Result<Outcome<T, D>, SimError<T, D>>,
     hit: Option<EventHit<T, D>>,
     evals: usize,
@@ -463,6 +463,7 @@ pub(crate) fn after_the_fact<T: Copy, const D: usize>(
             stats: Stats::default(),
             max_residual: None,
             event: Some(hit),
+            switches: ChartSwitches::new(),
         }),
         (result, None) => result,
     };

@@ -75,7 +75,9 @@ const SLOW_NEWTON: usize = 10;
 ///
 /// **Memory.** The `D×D` Jacobian and the LU of `Δ` live in a heap
 /// workspace allocated once per call (three allocations, whatever the
-/// number of steps), so large systems do not need a large stack; this is
+/// number of steps; once per chart segment for a system whose atlas it
+/// runs over, [`OdeSystem::charts`](crate::OdeSystem::charts)), so large
+/// systems do not need a large stack; this is
 /// why `GaussLegendre4` needs the `alloc` feature (part of the default
 /// `std`). The analytic Jacobian of [`OdeJacobian::jacobian`](crate::OdeJacobian::jacobian) is returned
 /// by value, so it passes through the stack once per evaluation.

@@ -52,6 +52,12 @@
 //!   reported as [`EventHit`]s by [`Integrator::integrate_with_events`].
 //! * Results: [`Outcome`] with [`Stats`], or a [`SimError`] that carries the
 //!   last good state.
+//! * Charts: a system whose atlas has several charts
+//!   ([`OdeSystem::charts`]: the same positions, other velocities as state)
+//!   is integrated over them, each integrator moving to a better chart
+//!   where the current one degrades and handing everything back in chart
+//!   0's layout; the switches are recorded in [`Outcome::switches`]
+//!   ([`ChartSwitches`]).
 //! * Many runs: [`Ensemble`] runs a job per index of a parameter or
 //!   initial-state sweep and returns the results in index order,
 //!   sequentially or (feature `rayon`) on all cores with identical results;
@@ -142,6 +148,7 @@ extern crate alloc;
 
 mod auto_switch;
 mod bdf;
+mod charts;
 mod checks;
 mod crossing;
 mod dop853;
@@ -181,7 +188,7 @@ pub use ensemble::{Ensemble, Shard, ShardError};
 pub use events::Events;
 #[cfg(feature = "alloc")]
 pub use gauss_legendre4::GaussLegendre4;
-pub use outcome::{Outcome, SimError, Singularity, Stats};
+pub use outcome::{ChartSwitch, ChartSwitches, Outcome, SimError, Singularity, Stats};
 pub use rk4::Rk4;
 pub use rodas4::Rodas4;
 pub use rodas5p::Rodas5P;

@@ -2,7 +2,7 @@
 
 use core::fmt;
 
-use nalgebra::SVector;
+use nalgebra::{RealField, SVector};
 
 use crate::EventHit;
 
@@ -61,6 +61,30 @@ pub struct Stats {
     /// [`AutoSwitch`](crate::AutoSwitch); the explicit member took
     /// `steps − stiff_steps`.
     pub stiff_steps: usize,
+    /// Switches from one chart of the system's atlas to another
+    /// ([`OdeSystem::charts`](crate::OdeSystem::charts), DESIGN §6.7): all
+    /// of them, also past the capacity of [`Outcome::switches`]. 0 for a
+    /// system with one chart.
+    pub chart_switches: usize,
+}
+
+impl Stats {
+    /// Adds the counters of `other` (a later segment of the same run, see
+    /// DESIGN §6.7) to these; stiffness counts as detected if either saw
+    /// it. [`Stats::chart_switches`] is the run's, not a segment's: kept.
+    pub(crate) fn add(&mut self, other: &Stats) {
+        self.steps += other.steps;
+        self.rejected += other.rejected;
+        self.rhs_evals += other.rhs_evals;
+        self.jacobian_evals += other.jacobian_evals;
+        self.stiffness_detected |= other.stiffness_detected;
+        self.newton_iterations += other.newton_iterations;
+        self.lu_decompositions += other.lu_decompositions;
+        self.event_evals += other.event_evals;
+        self.switches_to_stiff += other.switches_to_stiff;
+        self.switches_to_nonstiff += other.switches_to_nonstiff;
+        self.stiff_steps += other.stiff_steps;
+    }
 }
 
 /// A successful integration: the final time and state, plus work counters.
@@ -99,6 +123,147 @@ pub struct Outcome<T, const D: usize> {
     pub max_residual: Option<T>,
     /// The terminal event that ended the run before `t1`, if one did.
     pub event: Option<EventHit<T, D>>,
+    /// The switches between the charts of the system's atlas, in order
+    /// (empty for a system with one chart); see [`ChartSwitches`].
+    pub switches: ChartSwitches<T>,
+}
+
+/// One switch of chart during a run: from time `t` on the integrator
+/// worked in chart `to` instead of chart `from` (see
+/// [`OdeSystem::charts`](crate::OdeSystem::charts)).
+///
+/// # Example
+///
+/// ```rust
+/// use nh_runtime::ChartSwitch;
+///
+/// let s = ChartSwitch { t: 1.2, from: 0, to: 1 };
+/// assert_eq!((s.from, s.to), (0, 1));
+/// ```
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ChartSwitch<T> {
+    /// The time of the switch: the last good state of the chart left.
+    pub t: T,
+    /// The chart left.
+    pub from: usize,
+    /// The chart taken.
+    pub to: usize,
+}
+
+/// The chart switches of one run: the first
+/// [`ChartSwitches::CAPACITY`] (32) of them in order, and how many there
+/// were in all. A fixed array (`Copy`, no allocation), so that an
+/// [`Outcome`] stays on the stack.
+///
+/// # Example
+///
+/// ```rust
+/// use nalgebra::Vector1;
+/// use nh_runtime::{Dopri5, Integrator};
+///
+/// // A system with one chart never switches.
+/// let decay = |_t: f64, x: &Vector1<f64>| -x;
+/// let out = Dopri5::new(1e-8, 1e-10).integrate(&decay, 0.0, Vector1::new(1.0), 1.0).unwrap();
+/// assert!(out.switches.is_empty());
+/// assert_eq!((out.switches.len(), out.switches.total()), (0, 0));
+/// assert_eq!(out.switches.iter().count(), 0);
+/// ```
+#[derive(Clone, Copy)]
+pub struct ChartSwitches<T> {
+    entries: [ChartSwitch<T>; CAPACITY],
+    total: usize,
+}
+
+/// [`ChartSwitches::CAPACITY`].
+const CAPACITY: usize = 32;
+
+impl<T: RealField + Copy> ChartSwitches<T> {
+    /// No switches.
+    pub fn new() -> Self {
+        ChartSwitches {
+            entries: [ChartSwitch {
+                t: T::zero(),
+                from: 0,
+                to: 0,
+            }; CAPACITY],
+            total: 0,
+        }
+    }
+}
+
+impl<T: RealField + Copy> Default for ChartSwitches<T> {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl<T> ChartSwitches<T> {
+    /// How many switches are recorded (at most 32); [`ChartSwitches::total`]
+    /// counts them all.
+    pub const CAPACITY: usize = CAPACITY;
+
+    /// The number of recorded switches, `min(total, CAPACITY)`.
+    pub fn len(&self) -> usize {
+        self.total.min(CAPACITY)
+    }
+
+    /// Whether the run switched no chart.
+    pub fn is_empty(&self) -> bool {
+        self.total == 0
+    }
+
+    /// The number of switches of the run, also those past the capacity.
+    pub fn total(&self) -> usize {
+        self.total
+    }
+
+    /// The recorded switches, in order.
+    pub fn as_slice(&self) -> &[ChartSwitch<T>] {
+        &self.entries[..self.len()]
+    }
+
+    /// The recorded switches, in order.
+    pub fn iter(&self) -> core::slice::Iter<'_, ChartSwitch<T>> {
+        self.as_slice().iter()
+    }
+
+    /// Records a switch (counted also past the capacity).
+    pub(crate) fn push(&mut self, switch: ChartSwitch<T>) {
+        if let Some(slot) = self.entries.get_mut(self.total) {
+            *slot = switch;
+        }
+        self.total += 1;
+    }
+
+    /// Forgets every switch.
+    pub(crate) fn clear(&mut self) {
+        self.total = 0;
+    }
+}
+
+impl<'a, T> IntoIterator for &'a ChartSwitches<T> {
+    type Item = &'a ChartSwitch<T>;
+    type IntoIter = core::slice::Iter<'a, ChartSwitch<T>>;
+
+    fn into_iter(self) -> Self::IntoIter {
+        self.iter()
+    }
+}
+
+/// Equal when the same switches are recorded and as many were made.
+impl<T: PartialEq> PartialEq for ChartSwitches<T> {
+    fn eq(&self, other: &Self) -> bool {
+        self.total == other.total && self.as_slice() == other.as_slice()
+    }
+}
+
+impl<T: fmt::Debug> fmt::Debug for ChartSwitches<T> {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.debug_struct("ChartSwitches")
+            .field("total", &self.total)
+            .field("recorded", &self.as_slice())
+            .finish()
+    }
 }
 
 /// What was singular when a run ended in [`SimError::Singular`].

@@ -109,6 +109,11 @@ pub trait ParameterJacobian<T: RealField + Copy, const D: usize, const P: usize>
 /// `x`, `∂x/∂p` and `∂x/∂x0` from a result. The chart's regularity, the
 /// holonomic residual and the projection are those of the state `x`; the
 /// projection moves `x` alone (the sensitivities are not projected).
+/// The augmented system keeps the system's chart 0: it has one chart
+/// ([`OdeSystem::charts`] is not forwarded), since the sensitivities
+/// would have to be carried from chart to chart with the state; a run
+/// ends at chart 0's singularity as the system's own would without
+/// switching.
 ///
 /// See [`ParameterJacobian`] for an example.
 pub struct Sensitivities<'a, S: ?Sized, const D: usize, const P: usize, const A: usize> {

@@ -8,11 +8,12 @@
 
 use nalgebra::{RealField, SVector};
 
+use crate::charts::{InChart, Segment};
 use crate::driver::{Control, Record, RunSettings, drive};
 use crate::method::Method;
 use crate::numeric::{c, machine_epsilon};
 use crate::sink::Sink;
-use crate::{ErrorTolerance, OdeSystem, Outcome, ScalarTolerance, SimError};
+use crate::{ChartSwitches, ErrorTolerance, OdeSystem, Outcome, ScalarTolerance, SimError};
 
 /// The default step budget of the adaptive integrators (attempts).
 pub(crate) const ADAPTIVE_MAX_STEPS: usize = 100_000;
@@ -32,7 +33,14 @@ pub(crate) struct Settings<T, Tol = ScalarTolerance<T>> {
     pub(crate) max_step: Option<T>,
     pub(crate) fixed_step: Option<T>,
     pub(crate) project: bool,
+    /// Whether a system with several charts switches between them
+    /// (DESIGN §6.7; `with_chart_switching`).
+    pub(crate) chart_switching: bool,
     pub(crate) record: Record<T>,
+    /// The chart switches of the last call over several charts (`None`
+    /// after a call that ran on one chart: cheaper to make and clear than
+    /// an empty record).
+    pub(crate) switches: Option<ChartSwitches<T>>,
 }
 
 impl<T: RealField + Copy> Settings<T> {
@@ -45,7 +53,9 @@ impl<T: RealField + Copy> Settings<T> {
             max_step: None,
             fixed_step: None,
             project: true,
+            chart_switching: true,
             record: Record::default(),
+            switches: None,
         }
     }
 
@@ -70,7 +80,9 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Settings<T, Tol> {
             max_step: self.max_step,
             fixed_step: self.fixed_step,
             project: self.project,
+            chart_switching: self.chart_switching,
             record: self.record,
+            switches: self.switches,
         }
     }
 
@@ -98,6 +110,7 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Settings<T, Tol> {
             max_step: self.max_step,
             max_steps: self.max_steps,
             project: self.project,
+            chart_floor: None,
         })
     }
 
@@ -118,6 +131,7 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Settings<T, Tol> {
         H: OdeSystem<T, D> + ?Sized,
         K: Sink<T, D> + ?Sized,
     {
+        self.switches = None;
         if let (Some(units), None) = (M::MIN_RTOL_EPS, self.fixed_step) {
             let rtol_min = c::<T>(units) * machine_epsilon::<T>();
             let too_tight = self
@@ -132,7 +146,66 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Settings<T, Tol> {
         let settings = self.run_settings()?;
         drive(method, sys, &settings, span, sink, &mut self.record)
     }
+
+    /// Whether a run of `sys` goes over the charts of its atlas: chart
+    /// switching is on and `sys` has more than one chart (otherwise
+    /// [`Settings::run`] runs it as it is).
+    #[inline(always)]
+    pub(crate) fn switches_charts<S, const D: usize>(&self, sys: &S) -> bool
+    where
+        S: OdeSystem<T, D> + ?Sized,
+    {
+        self.chart_switching && sys.charts() > 1
+    }
+
+    /// Runs `sys` over the charts of its atlas (`charts::run`, DESIGN
+    /// §6.7): `segment` runs the integrator's method on one chart's view.
+    pub(crate) fn run_charts<S, K, F, const D: usize>(
+        &mut self,
+        sys: &S,
+        span: (T, SVector<T, D>, T),
+        sink: &mut K,
+        segment: F,
+    ) -> Result<Outcome<T, D>, SimError<T, D>>
+    where
+        S: OdeSystem<T, D> + ?Sized,
+        K: Sink<T, D> + ?Sized,
+        F: FnMut(&InChart<'_, S>, Segment<'_, T, D>) -> Result<Outcome<T, D>, SimError<T, D>>,
+    {
+        self.switches = Some(ChartSwitches::new());
+        let settings = self.run_settings()?;
+        let rtol = match self.fixed_step {
+            Some(_) => None,
+            None => self.tol.for_dimension::<D>().and_then(|raw| {
+                let positive = raw.rtol.iter().copied().filter(|&r| r > T::zero());
+                positive.reduce(|a, b| a.min(b))
+            }),
+        };
+        let switches = self.switches.get_or_insert_with(ChartSwitches::new);
+        let rec = (&mut self.record, switches);
+        crate::charts::run(sys, &settings, rtol, span, sink, rec, segment)
+    }
 }
+
+/// The body of an entry point: resets the integrator's further fields
+/// (`$extra`, to their `Default`), then runs `$method` (built for `$sys`)
+/// from `$span` into `$sink`, over the charts of `$sys`'s atlas when it has
+/// several and chart switching is on ([`Settings::run_charts`], the method
+/// built again for each chart's view), else as it is ([`Settings::run`]).
+macro_rules! run_entry {
+    ($this:ident, $field:ident, [$($extra:ident),*], $sys:ident, $method:expr, $span:expr, $sink:expr) => {{
+        $($this.$extra = Default::default();)*
+        let span = $span;
+        if $this.$field.switches_charts($sys) {
+            $(let $extra = &mut $this.$extra;)*
+            $this.$field.run_charts($sys, span, $sink, |$sys, segment| segment.drive(&mut $method, $sys))
+        } else {
+            $(let $extra = &mut $this.$extra;)*
+            $this.$field.run(&mut $method, $sys, span, $sink)
+        }
+    }};
+}
+pub(crate) use run_entry;
 
 /// The builder and query methods shared by the adaptive integrators (their
 /// settings live in a [`Settings`] field named `a`; further fields, listed
@@ -263,12 +336,35 @@ macro_rules! integrator_impl {
                 self
             }
 
+            /// Turns the switching between the charts of a system's atlas
+            /// on or off (default on; systems with one chart are
+            /// unaffected). With it on, a system with several charts
+            /// ([`OdeSystem::charts`](crate::OdeSystem::charts)) moves to a
+            /// better chart wherever the current one degrades (DESIGN
+            /// §6.7); off, the run stays in chart 0 and ends in
+            /// [`SimError::Singular`](crate::SimError::Singular) with cause
+            /// [`Singularity::Chart`](crate::Singularity::Chart) at its
+            /// singularity. See [`OdeSystem::charts`](crate::OdeSystem::charts)
+            /// for an example.
+            pub fn with_chart_switching(mut self, on: bool) -> Self {
+                self.$field.chart_switching = on;
+                self
+            }
+
             /// Work counters of the most recent call to `integrate*`, whether
             /// it succeeded or failed (useful to read
             /// [`Stats::stiffness_detected`](crate::Stats::stiffness_detected)
             /// after [`SimError::MaxSteps`](crate::SimError::MaxSteps)).
             pub fn last_stats(&self) -> crate::Stats {
                 self.$field.record.stats
+            }
+
+            /// The chart switches of the most recent call to `integrate*`,
+            /// whether it succeeded or failed (of a successful one they
+            /// are also [`Outcome::switches`](crate::Outcome::switches));
+            /// empty for a system with one chart.
+            pub fn last_chart_switches(&self) -> crate::ChartSwitches<T> {
+                self.$field.switches.unwrap_or_default()
             }
 
             /// Integrates `sys` and reports the accepted steps to `sink`.
@@ -284,8 +380,7 @@ macro_rules! integrator_impl {
                 S: crate::OdeSystem<T, D> + ?Sized,
                 K: crate::sink::Sink<T, D> + ?Sized,
             {
-                $(let $extra = &mut self.$extra;)*
-                self.$field.run(&mut $method, $sys, (t0, x0, t1), sink)
+                crate::settings::run_entry!(self, $field, [$($extra),*], $sys, $method, (t0, x0, t1), sink)
             }
         }
 
@@ -395,9 +490,8 @@ macro_rules! jacobian_entry_points {
             where
                 S: crate::OdeJacobian<T, D> + ?Sized,
             {
-                $(let $extra = &mut self.$extra;)*
-                self.$field
-                    .run(&mut $method, $sys, (t0, x0, t1), &mut crate::sink::Discard)
+                let sink = &mut crate::sink::Discard;
+                crate::settings::run_entry!(self, $field, [$($extra),*], $sys, $method, (t0, x0, t1), sink)
             }
 
             $(#[$steps])*
@@ -413,9 +507,8 @@ macro_rules! jacobian_entry_points {
                 S: crate::OdeJacobian<T, D> + ?Sized,
                 F: FnMut(&crate::Step<'_, T, D>),
             {
-                let mut sink = crate::sink::Steps(on_step);
-                $(let $extra = &mut self.$extra;)*
-                self.$field.run(&mut $method, $sys, (t0, x0, t1), &mut sink)
+                let sink = &mut crate::sink::Steps(on_step);
+                crate::settings::run_entry!(self, $field, [$($extra),*], $sys, $method, (t0, x0, t1), sink)
             }
 
             /// Like [`Integrator::integrate_with_events`](crate::Integrator::integrate_with_events),
@@ -436,9 +529,8 @@ macro_rules! jacobian_entry_points {
                 F: FnMut(&crate::EventHit<T, D>),
             {
                 let mut tracker = crate::events::Tracker::new(events, on_event);
-                let span = (t0, x0, t1);
-                $(let $extra = &mut self.$extra;)*
-                let result = self.$field.run(&mut $method, $sys, span, &mut tracker);
+                let sink = &mut tracker;
+                let result = crate::settings::run_entry!(self, $field, [$($extra),*], $sys, $method, (t0, x0, t1), sink);
                 let record = &mut self.$field.record.stats;
                 crate::events::counted(result, tracker.evals, record)
             }

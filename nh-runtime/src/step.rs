@@ -116,6 +116,13 @@ impl<T: RealField + Copy, const D: usize> Poly<T, D> {
 /// other methods, the chord from `x_prev` to `x`. An interpolated sample
 /// is never NaN.
 ///
+/// For a system with several charts ([`OdeSystem::charts`](crate::OdeSystem::charts))
+/// the steps are reported in chart 0's layout wherever the run is: in
+/// another chart the ends are mapped by
+/// [`OdeSystem::change_chart`](crate::OdeSystem::change_chart) and so is
+/// every interpolated point (the polynomial is the chart's; the chord
+/// fallback joins the mapped ends).
+///
 /// # Example
 ///
 /// ```rust
@@ -142,7 +149,14 @@ pub struct Step<'a, T, const D: usize> {
     /// The length of time the dense output's `θ ∈ [0, 1]` spans: `t −
     /// t_prev`, or the whole step's for a [`Step::truncated`] one.
     span: T,
+    /// The map from the chart the dense output is in to the layout the
+    /// step is reported in (chart 0), for a step of a run in another
+    /// chart ([`Step::mapped`]); the ends are already mapped.
+    map: Option<&'a ChartMap<'a, T, D>>,
 }
+
+/// A map of states `(t, x) ↦ x'` between the charts of a system.
+pub(crate) type ChartMap<'a, T, const D: usize> = dyn Fn(T, &SVector<T, D>) -> SVector<T, D> + 'a;
 
 impl<'a, T: RealField + Copy, const D: usize> Step<'a, T, D> {
     pub(crate) fn new(
@@ -159,6 +173,29 @@ impl<'a, T: RealField + Copy, const D: usize> Step<'a, T, D> {
             x,
             dense,
             span: t - t_prev,
+            map: None,
+        }
+    }
+
+    /// This step reported in another chart: the ends `x_prev` and `x`
+    /// already mapped, and every interpolated point mapped by `map`.
+    pub(crate) fn mapped<'b>(
+        &self,
+        x_prev: &'b SVector<T, D>,
+        x: &'b SVector<T, D>,
+        map: &'b ChartMap<'b, T, D>,
+    ) -> Step<'b, T, D>
+    where
+        'a: 'b,
+    {
+        Step {
+            t_prev: self.t_prev,
+            t: self.t,
+            x_prev,
+            x,
+            dense: self.dense,
+            span: self.span,
+            map: Some(map),
         }
     }
 
@@ -175,6 +212,7 @@ impl<'a, T: RealField + Copy, const D: usize> Step<'a, T, D> {
             x,
             dense: self.dense,
             span: self.span,
+            map: self.map,
         }
     }
 }
@@ -220,7 +258,13 @@ impl<T: RealField + Copy, const D: usize> Step<'_, T, D> {
             return *self.x_prev;
         }
         match self.dense {
-            Some(p) => p.eval((t - self.t_prev) / self.span),
+            Some(p) => {
+                let x = p.eval((t - self.t_prev) / self.span);
+                match self.map {
+                    Some(map) => map(t, &x),
+                    None => x,
+                }
+            }
             // Steps reported without dense output (to observers, which do
             // not interpolate): the chord.
             None => {

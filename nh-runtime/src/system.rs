@@ -146,27 +146,125 @@ pub trait OdeSystem<T, const D: usize> {
         false
     }
 
-    /// How many charts the system's atlas has (1: the default).
+    /// How many charts the system's atlas has (1: the system has one chart,
+    /// the default).
+    ///
+    /// A system whose constraints are solved for dependent velocities has
+    /// a *chart*: its state is `[q, ṙ]`, the positions and the independent
+    /// velocities, and the chart is singular where the block solved for
+    /// the dependent velocities is ([`OdeSystem::chart_regularity`]). An
+    /// *atlas* is several such charts, all with the same dimension `D` and
+    /// the same positions `q`: only the meaning of the last entries (which
+    /// velocities are state) differs. Chart 0 is the system's own, the
+    /// layout of [`OdeSystem::rhs`] and of everything the integrators hand
+    /// back. With more than one chart the integrators move to a better
+    /// chart when the current one degrades (DESIGN §6.7): the hooks
+    /// `*_in` and [`OdeSystem::rhs_in_chart`] give the equations in each
+    /// chart, [`OdeSystem::change_chart`] maps states between them.
+    ///
+    /// # Example
+    ///
+    /// A point running round the unit circle, `x ẋ + y ẏ = 0`: chart 0
+    /// keeps `ẋ` (state `[x, y, ẋ]`, `ẏ = −x ẋ/y`, singular where `y = 0`),
+    /// chart 1 keeps `ẏ` (state `[x, y, ẏ]`, singular where `x = 0`).
+    ///
+    /// ```rust
+    /// use nalgebra::Vector3;
+    /// use nh_runtime::{Dopri5, Integrator, OdeSystem, SimError, Singularity};
+    ///
+    /// struct Circle;
+    ///
+    /// impl Circle {
+    ///     /// (ẋ, ẏ) from the state of `chart`.
+    ///     fn velocity(chart: usize, s: &Vector3<f64>) -> (f64, f64) {
+    ///         let (x, y) = (s[0], s[1]);
+    ///         if chart == 0 { (s[2], -x * s[2] / y) } else { (-y * s[2] / x, s[2]) }
+    ///     }
+    /// }
+    ///
+    /// impl OdeSystem<f64, 3> for Circle {
+    ///     fn rhs(&self, t: f64, s: &Vector3<f64>) -> Vector3<f64> {
+    ///         self.rhs_in_chart(0, t, s)
+    ///     }
+    ///     fn chart_regularity(&self, t: f64, s: &Vector3<f64>) -> Option<f64> {
+    ///         self.chart_regularity_in(0, t, s)
+    ///     }
+    ///     fn charts(&self) -> usize {
+    ///         2
+    ///     }
+    ///     fn chart_name(&self, chart: usize) -> &'static str {
+    ///         ["solved for y", "solved for x"][chart]
+    ///     }
+    ///     fn rhs_in_chart(&self, chart: usize, _t: f64, s: &Vector3<f64>) -> Vector3<f64> {
+    ///         let (vx, vy) = Self::velocity(chart, s);
+    ///         let w2 = (vx * vx + vy * vy) / (s[0] * s[0] + s[1] * s[1]);
+    ///         // uniform motion on the circle: the acceleration is −ω² (x, y)
+    ///         let a = if chart == 0 { -w2 * s[0] } else { -w2 * s[1] };
+    ///         Vector3::new(vx, vy, a)
+    ///     }
+    ///     fn chart_regularity_in(&self, chart: usize, _t: f64, s: &Vector3<f64>) -> Option<f64> {
+    ///         let r = (s[0] * s[0] + s[1] * s[1]).sqrt();
+    ///         Some(if chart == 0 { s[1] / r } else { s[0] / r })
+    ///     }
+    ///     fn change_chart(&self, from: usize, to: usize, _t: f64, s: &Vector3<f64>) -> Vector3<f64> {
+    ///         let (vx, vy) = Self::velocity(from, s);
+    ///         Vector3::new(s[0], s[1], if to == 0 { vx } else { vy })
+    ///     }
+    /// }
+    ///
+    /// // Ten radians round the circle from the angle 0.5, at unit speed.
+    /// let x0 = Vector3::new(0.5f64.cos(), 0.5f64.sin(), -0.5f64.sin());
+    /// let out = Dopri5::new(1e-10, 1e-12).integrate(&Circle, 0.0, x0, 10.0).unwrap();
+    /// // Chart 0's layout, [x, y, ẋ], and the closed form.
+    /// let exact = Vector3::new(10.5f64.cos(), 10.5f64.sin(), -10.5f64.sin());
+    /// assert!((out.x - exact).amax() < 1e-7, "{}", out.x - exact);
+    /// // Near the angles π, 2π, 3π (y = 0) and 3π/2, 5π/2 (x = 0); at π/2
+    /// // the run is in chart 0, which is regular there.
+    /// assert_eq!(out.switches.total(), 5);
+    /// assert_eq!(out.stats.chart_switches, 5);
+    /// let first = out.switches.iter().next().unwrap();
+    /// assert_eq!((first.from, first.to), (0, 1));
+    /// assert!((first.t + 0.5 - std::f64::consts::PI).abs() < 0.15);
+    ///
+    /// // Held in chart 0, the run ends where y = 0.
+    /// let err = Dopri5::new(1e-10, 1e-12)
+    ///     .with_chart_switching(false)
+    ///     .integrate(&Circle, 0.0, x0, 10.0)
+    ///     .unwrap_err();
+    /// assert!(matches!(err, SimError::Singular { cause: Singularity::Chart, .. }));
+    /// assert!(err.time().unwrap() < std::f64::consts::PI - 0.5);
+    /// ```
+    #[inline]
     fn charts(&self) -> usize {
         1
     }
 
-    /// A short description of chart `chart`.
+    /// A short description of chart `chart` for reports, e.g. `"solved
+    /// for y"`; `""` by default.
+    #[inline]
     fn chart_name(&self, _chart: usize) -> &'static str {
         ""
     }
 
-    /// f(t, x) in chart `chart`.
+    /// `f(t, x)` with `x` in the layout of chart `chart` (`[q, the chart's
+    /// independent velocities]`, see [`OdeSystem::charts`]); chart 0 is
+    /// [`OdeSystem::rhs`], which is the default for every chart.
+    #[inline]
     fn rhs_in_chart(&self, _chart: usize, t: T, x: &SVector<T, D>) -> SVector<T, D> {
         self.rhs(t, x)
     }
 
-    /// The regularity of chart `chart`.
+    /// [`OdeSystem::chart_regularity`] of chart `chart` at `x` in that
+    /// chart's layout; the integrators switch to the chart where it is
+    /// largest in magnitude (DESIGN §6.7). Default: chart 0's.
+    #[inline]
     fn chart_regularity_in(&self, _chart: usize, t: T, x: &SVector<T, D>) -> Option<T> {
         self.chart_regularity(t, x)
     }
 
-    /// [`OdeSystem::crossed_pole`] in chart `chart`.
+    /// [`OdeSystem::crossed_pole`] of the equations of chart `chart`, the
+    /// states in that chart's layout. Default: chart 0's.
+    #[inline]
     fn crossed_pole_in(
         &self,
         _chart: usize,
@@ -178,12 +276,16 @@ pub trait OdeSystem<T, const D: usize> {
         self.crossed_pole(t0, x0, t1, x1)
     }
 
-    /// [`OdeSystem::constraint_residual`] in chart `chart`.
+    /// [`OdeSystem::constraint_residual`] at `x` in the layout of chart
+    /// `chart`. Default: chart 0's.
+    #[inline]
     fn constraint_residual_in(&self, _chart: usize, t: T, x: &SVector<T, D>) -> Option<T> {
         self.constraint_residual(t, x)
     }
 
-    /// [`OdeSystem::project`] in chart `chart`.
+    /// [`OdeSystem::project`] of `x` in the layout of chart `chart`.
+    /// Default: chart 0's.
+    #[inline]
     fn project_in(
         &self,
         _chart: usize,
@@ -193,12 +295,17 @@ pub trait OdeSystem<T, const D: usize> {
         self.project(t, x)
     }
 
-    /// The state `x` of chart `from` in chart `to`.
+    /// The state `x` of chart `from` written in chart `to`: the same
+    /// positions, and `to`'s independent velocities read off the full
+    /// velocity `q̇` that chart `from` gives at `(t, x)`. Finite wherever
+    /// chart `from` is regular (chart `to` may be singular there).
+    /// Identity by default. See [`OdeSystem::charts`].
+    #[inline]
     fn change_chart(&self, _from: usize, _to: usize, _t: T, x: &SVector<T, D>) -> SVector<T, D>
     where
-        T: Clone,
+        T: Copy,
     {
-        x.clone()
+        *x
     }
 }
 
@@ -305,6 +412,16 @@ pub trait OdeJacobian<T, const D: usize>: OdeSystem<T, D> {
     fn time_derivative(&self, _t: T, _x: &SVector<T, D>) -> Option<SVector<T, D>> {
         None
     }
+
+    /// The Jacobian `∂f/∂x` of the equations of chart `chart`
+    /// ([`OdeSystem::rhs_in_chart`]) at `x` in that chart's layout, if the
+    /// system gives it: by default [`OdeJacobian::jacobian`] for chart 0
+    /// and `None` for the others, where the implicit methods then take
+    /// finite differences (as for a system without a Jacobian).
+    #[inline]
+    fn jacobian_in_chart(&self, chart: usize, t: T, x: &SVector<T, D>) -> Option<SMatrix<T, D, D>> {
+        (chart == 0).then(|| self.jacobian(t, x))
+    }
 }
 
 /// A system with `M` control inputs `u`: `x' = f(t, x, u)`.
@@ -374,6 +491,79 @@ pub trait ControlledSystem<T, const D: usize, const M: usize> {
     fn is_autonomous(&self) -> bool {
         false
     }
+
+    /// [`OdeSystem::charts`]: the number of charts of the atlas (1 by
+    /// default); the input does not enter the charts.
+    #[inline]
+    fn charts(&self) -> usize {
+        1
+    }
+
+    /// [`OdeSystem::chart_name`].
+    #[inline]
+    fn chart_name(&self, _chart: usize) -> &'static str {
+        ""
+    }
+
+    /// [`OdeSystem::rhs_in_chart`] at the input `u`: `f(t, x, u)` with `x`
+    /// in the layout of chart `chart`; chart 0 is
+    /// [`ControlledSystem::rhs_with_input`], the default.
+    #[inline]
+    fn rhs_with_input_in_chart(
+        &self,
+        _chart: usize,
+        t: T,
+        x: &SVector<T, D>,
+        u: &SVector<T, M>,
+    ) -> SVector<T, D> {
+        self.rhs_with_input(t, x, u)
+    }
+
+    /// [`OdeSystem::chart_regularity_in`]; the input does not enter it.
+    #[inline]
+    fn chart_regularity_in(&self, _chart: usize, t: T, x: &SVector<T, D>) -> Option<T> {
+        self.chart_regularity(t, x)
+    }
+
+    /// [`OdeSystem::crossed_pole_in`]; the input does not enter it.
+    #[inline]
+    fn crossed_pole_in(
+        &self,
+        _chart: usize,
+        t0: T,
+        x0: &SVector<T, D>,
+        t1: T,
+        x1: &SVector<T, D>,
+    ) -> Option<&'static str> {
+        self.crossed_pole(t0, x0, t1, x1)
+    }
+
+    /// [`OdeSystem::constraint_residual_in`].
+    #[inline]
+    fn constraint_residual_in(&self, _chart: usize, t: T, x: &SVector<T, D>) -> Option<T> {
+        self.constraint_residual(t, x)
+    }
+
+    /// [`OdeSystem::project_in`].
+    #[inline]
+    fn project_in(
+        &self,
+        _chart: usize,
+        t: T,
+        x: &mut SVector<T, D>,
+    ) -> Result<bool, ProjectionFailure<T>> {
+        self.project(t, x)
+    }
+
+    /// [`OdeSystem::change_chart`]; the input does not enter it (the
+    /// constraints have no inputs). Identity by default.
+    #[inline]
+    fn change_chart(&self, _from: usize, _to: usize, _t: T, x: &SVector<T, D>) -> SVector<T, D>
+    where
+        T: Copy,
+    {
+        *x
+    }
 }
 
 /// A [`ControlledSystem`] that can also provide the Jacobian `∂f/∂x` of
@@ -432,6 +622,20 @@ pub trait ControlledJacobian<T, const D: usize, const M: usize>: ControlledSyste
         _u: &SVector<T, M>,
     ) -> Option<SVector<T, D>> {
         None
+    }
+
+    /// [`OdeJacobian::jacobian_in_chart`] at the input `u`: by default
+    /// [`ControlledJacobian::jacobian_with_input`] for chart 0 and `None`
+    /// (finite differences) for the others.
+    #[inline]
+    fn jacobian_with_input_in_chart(
+        &self,
+        chart: usize,
+        t: T,
+        x: &SVector<T, D>,
+        u: &SVector<T, M>,
+    ) -> Option<SMatrix<T, D, D>> {
+        (chart == 0).then(|| self.jacobian_with_input(t, x, u))
     }
 }
 
@@ -536,6 +740,61 @@ where
     fn is_autonomous(&self) -> bool {
         self.system.is_autonomous()
     }
+
+    #[inline]
+    fn charts(&self) -> usize {
+        self.system.charts()
+    }
+
+    #[inline]
+    fn chart_name(&self, chart: usize) -> &'static str {
+        self.system.chart_name(chart)
+    }
+
+    #[inline]
+    fn rhs_in_chart(&self, chart: usize, t: T, x: &SVector<T, D>) -> SVector<T, D> {
+        self.system.rhs_with_input_in_chart(chart, t, x, &self.u)
+    }
+
+    #[inline]
+    fn chart_regularity_in(&self, chart: usize, t: T, x: &SVector<T, D>) -> Option<T> {
+        self.system.chart_regularity_in(chart, t, x)
+    }
+
+    #[inline]
+    fn crossed_pole_in(
+        &self,
+        chart: usize,
+        t0: T,
+        x0: &SVector<T, D>,
+        t1: T,
+        x1: &SVector<T, D>,
+    ) -> Option<&'static str> {
+        self.system.crossed_pole_in(chart, t0, x0, t1, x1)
+    }
+
+    #[inline]
+    fn constraint_residual_in(&self, chart: usize, t: T, x: &SVector<T, D>) -> Option<T> {
+        self.system.constraint_residual_in(chart, t, x)
+    }
+
+    #[inline]
+    fn project_in(
+        &self,
+        chart: usize,
+        t: T,
+        x: &mut SVector<T, D>,
+    ) -> Result<bool, ProjectionFailure<T>> {
+        self.system.project_in(chart, t, x)
+    }
+
+    #[inline]
+    fn change_chart(&self, from: usize, to: usize, t: T, x: &SVector<T, D>) -> SVector<T, D>
+    where
+        T: Copy,
+    {
+        self.system.change_chart(from, to, t, x)
+    }
 }
 
 /// `∂f/∂x` at the held input, for the implicit methods.
@@ -552,6 +811,13 @@ where
     #[inline]
     fn time_derivative(&self, t: T, x: &SVector<T, D>) -> Option<SVector<T, D>> {
         self.system.time_derivative_with_input(t, x, &self.u)
+    }
+
+    /// `∂f/∂x` of chart `chart` at the held input.
+    #[inline]
+    fn jacobian_in_chart(&self, chart: usize, t: T, x: &SVector<T, D>) -> Option<SMatrix<T, D, D>> {
+        self.system
+            .jacobian_with_input_in_chart(chart, t, x, &self.u)
     }
 }
 
@@ -578,7 +844,13 @@ where
 ///   `t1`.
 /// * No heap allocation per step: states live in `SVector` stack arrays;
 ///   only [`GaussLegendre4`](crate::GaussLegendre4) allocates its work
-///   matrices, once per call.
+///   matrices, once per call (once per chart segment, below).
+/// * A system whose atlas has several charts ([`OdeSystem::charts`]) is
+///   integrated over them, moving to a better chart wherever the current
+///   one degrades (unless `with_chart_switching(false)`); everything
+///   handed back (the outcome, the errors' states, observers, output
+///   times, steps, events) is in chart 0's layout, and the switches are
+///   in [`Outcome::switches`](crate::Outcome::switches).
 ///
 /// # Example
 ///

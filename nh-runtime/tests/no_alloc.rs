@@ -250,3 +250,164 @@ fn analytic_jacobian_paths_do_not_allocate() {
         "GaussLegendre4: one workspace of three buffers per call"
     );
 }
+
+/// A point running round the unit circle (`x ẋ + y ẏ = 0`) with an atlas
+/// of two charts: chart 0 keeps ẋ (`[x, y, ẋ]`, singular where y = 0),
+/// chart 1 keeps ẏ (`[x, y, ẏ]`, singular where x = 0).
+struct Circle;
+
+impl Circle {
+    fn velocity(chart: usize, s: &nalgebra::Vector3<f64>) -> (f64, f64) {
+        let (x, y) = (s[0], s[1]);
+        if chart == 0 {
+            (s[2], -x * s[2] / y)
+        } else {
+            (-y * s[2] / x, s[2])
+        }
+    }
+}
+
+impl nh_runtime::OdeSystem<f64, 3> for Circle {
+    fn rhs(&self, t: f64, s: &nalgebra::Vector3<f64>) -> nalgebra::Vector3<f64> {
+        self.rhs_in_chart(0, t, s)
+    }
+    fn charts(&self) -> usize {
+        2
+    }
+    fn rhs_in_chart(
+        &self,
+        chart: usize,
+        _t: f64,
+        s: &nalgebra::Vector3<f64>,
+    ) -> nalgebra::Vector3<f64> {
+        let (vx, vy) = Self::velocity(chart, s);
+        let w2 = (vx * vx + vy * vy) / (s[0] * s[0] + s[1] * s[1]);
+        let a = if chart == 0 { -w2 * s[0] } else { -w2 * s[1] };
+        nalgebra::Vector3::new(vx, vy, a)
+    }
+    fn chart_regularity_in(
+        &self,
+        chart: usize,
+        _t: f64,
+        s: &nalgebra::Vector3<f64>,
+    ) -> Option<f64> {
+        let r = (s[0] * s[0] + s[1] * s[1]).sqrt();
+        Some(if chart == 0 { s[1] / r } else { s[0] / r })
+    }
+    fn change_chart(
+        &self,
+        from: usize,
+        to: usize,
+        _t: f64,
+        s: &nalgebra::Vector3<f64>,
+    ) -> nalgebra::Vector3<f64> {
+        let (vx, vy) = Self::velocity(from, s);
+        nalgebra::Vector3::new(s[0], s[1], if to == 0 { vx } else { vy })
+    }
+}
+
+/// Switching charts allocates nothing either: every integrator round the
+/// circle five times (19 switches: from the angle 0.5 the first is at π),
+/// with events and output times; the
+/// implicit Gauss–Legendre method allocates its workspace once per chart
+/// segment.
+#[test]
+fn switching_charts_does_not_allocate() {
+    let x0 = nalgebra::Vector3::new(0.5f64.cos(), 0.5f64.sin(), -0.5f64.sin());
+    let t1 = 10.0 * std::f64::consts::PI;
+    let times: [f64; 64] = core::array::from_fn(|i| i as f64 * t1 / 63.0);
+    let crossings = Events::new(|_t: f64, s: &nalgebra::Vector3<f64>| Vector1::new(s[0] - 0.3));
+    fn check<I: Integrator<f64>>(
+        name: &str,
+        mut i: I,
+        x0: nalgebra::Vector3<f64>,
+        t1: f64,
+        times: &[f64],
+        crossings: &Events<f64, impl Fn(f64, &nalgebra::Vector3<f64>) -> Vector1<f64>, 1>,
+        workspace: bool,
+    ) {
+        let (n, out) = allocations_during(|| i.integrate(&Circle, 0.0, x0, t1));
+        let out = out.unwrap();
+        assert_eq!(out.switches.total(), 19, "{name}");
+        let segments = out.switches.total() + 1;
+        // (GaussLegendre4: its three work vectors, once per segment.)
+        let expected = if workspace { 3 * segments } else { 0 };
+        assert_eq!(n, expected, "{name}: integrate allocated {n} times");
+        let mut seen = 0;
+        let (n, out) = allocations_during(|| {
+            i.integrate_with_outputs(&Circle, 0.0, x0, t1, times, |_, _| seen += 1)
+        });
+        out.unwrap();
+        assert_eq!((n, seen), (expected, 64), "{name}: outputs");
+        let mut hits = 0;
+        let (n, out) = allocations_during(|| {
+            i.integrate_with_events(&Circle, 0.0, x0, t1, crossings, |_| hits += 1)
+        });
+        out.unwrap();
+        assert_eq!((n, hits), (expected, 10), "{name}: events");
+    }
+    check("rk4", Rk4::new(1e-3), x0, t1, &times, &crossings, false);
+    check(
+        "dopri5",
+        Dopri5::new(1e-9, 1e-11),
+        x0,
+        t1,
+        &times,
+        &crossings,
+        false,
+    );
+    check(
+        "dop853",
+        Dop853::new(1e-9, 1e-11),
+        x0,
+        t1,
+        &times,
+        &crossings,
+        false,
+    );
+    check(
+        "rodas4",
+        Rodas4::new(1e-6, 1e-8),
+        x0,
+        t1,
+        &times,
+        &crossings,
+        false,
+    );
+    check(
+        "rodas5p",
+        Rodas5P::new(1e-6, 1e-8),
+        x0,
+        t1,
+        &times,
+        &crossings,
+        false,
+    );
+    check(
+        "bdf",
+        nh_runtime::Bdf::new(1e-6, 1e-8),
+        x0,
+        t1,
+        &times,
+        &crossings,
+        false,
+    );
+    check(
+        "auto",
+        AutoSwitch::new(1e-9, 1e-11),
+        x0,
+        t1,
+        &times,
+        &crossings,
+        false,
+    );
+    check(
+        "gauss4",
+        GaussLegendre4::new(1e-3),
+        x0,
+        t1,
+        &times,
+        &crossings,
+        true,
+    );
+}
