@@ -101,14 +101,15 @@ fn hidden_def(def: &SystemDef, model: &Model, c: usize, dependent: &[usize]) -> 
             .collect(),
     ));
     hidden.one_chart = true;
-    if let Some((kw, outputs)) = &def.outputs {
-        let kept = outputs
-            .iter()
-            .filter(|o| o.word == Some(Output::Jacobian))
-            .cloned()
-            .collect();
-        hidden.outputs = Some((kw.clone(), kept));
-    }
+    // the Jacobian, when the system has one (asked for, or implied by
+    // `sensitivities` or `linearization`), and nothing else
+    hidden.outputs = model.outputs.contains(Output::Jacobian).then(|| {
+        let jacobian = crate::words::Spelled {
+            ident: Ident::new("jacobian", span),
+            word: Some(Output::Jacobian),
+        };
+        (Ident::new("outputs", span), vec![jacobian])
+    });
     hidden.output_arguments = Vec::new();
     hidden
 }
