@@ -1026,6 +1026,19 @@ const NOT_NUMERIC: &[&str] = &[
     "project",
     "sensitivities",
     "crossed_pole",
+    // the atlas's methods reach the other charts' hidden systems, which
+    // the tests of the atlas run compiled (tests/atlas.rs)
+    "charts",
+    "chart_name",
+    "rhs_in_chart",
+    "rhs_with_input_in_chart",
+    "chart_regularity_in",
+    "crossed_pole_in",
+    "constraint_residual_in",
+    "project_in",
+    "change_chart",
+    "jacobian_in_chart",
+    "jacobian_with_input_in_chart",
 ];
 
 /// The bodies of the `nonholonomic_system!` invocations in a file.

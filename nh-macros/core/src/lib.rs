@@ -61,10 +61,11 @@ fn expand_derivation(input: TokenStream) -> (TokenStream, Stats) {
     if let Some(def) = &def
         && let Some((model, mut engine)) = lower::lower(def, &mut cx)
     {
-        let (atlas, charts) = generate::atlas::charts(def, &model, &engine);
+        let (atlas, charts, figures) = generate::atlas::charts(def, &model, &engine);
         let (tokens, s) = generate::generate(def, &model, &mut engine, &mut cx, atlas);
         out = quote!(#tokens #charts);
         stats = s;
+        stats.charts = figures;
     }
     let rows = cx.constraint_rows;
     match cx.finish() {

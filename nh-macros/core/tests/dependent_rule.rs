@@ -58,10 +58,10 @@ fn named_dependent_coordinates_win() {
 fn only_implicit_and_holonomic_systems_get_the_manifold_hooks() {
     let explicit = expand("x, y, z", "constraints { dot(y) = z*dot(x); }");
     assert!(!explicit.contains("chart_regularity"));
-    assert!(!explicit.contains("fn project"));
+    assert!(!explicit.contains("fn project ("));
     let implicit = expand("x, y, z", "constraints { z*dot(x) - x*dot(y) = 0; }");
     assert!(implicit.contains("fn chart_regularity"));
-    assert!(!implicit.contains("fn project"));
+    assert!(!implicit.contains("fn project ("));
     let holonomic = expand("x, y, z", "constraints { x^2 + y^2 = 1; }");
     assert_eq!(dependent(&holonomic), "[1usize]");
     assert!(holonomic.contains("fn chart_regularity"));

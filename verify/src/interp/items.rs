@@ -57,6 +57,10 @@ fn impl_block<'t>(toks: &'t [Tok], i: usize, out: &mut Items<'t>) -> usize {
         return open + 1;
     };
     let header = &toks[i..open];
+    if header.iter().any(is_hidden_chart) {
+        // another chart of the system's atlas: a system of its own
+        return open + 1;
+    }
     let is_for = |t: &Tok| matches!(t, Tok::Ident(w) if w == "for");
     if let Some(at) = header.iter().position(is_for) {
         let target = match header.get(at + 1) {
@@ -75,6 +79,15 @@ fn impl_block<'t>(toks: &'t [Tok], i: usize, out: &mut Items<'t>) -> usize {
         out.inherent.extend(methods(body));
     }
     open + 1
+}
+
+/// Whether `t` names one of the hidden systems of an atlas's other charts,
+/// `__nh_{Name}_chart{c}`.
+fn is_hidden_chart(t: &Tok) -> bool {
+    let Tok::Ident(w) = t else { return false };
+    w.starts_with("__nh_")
+        && w.rsplit_once("_chart")
+            .is_some_and(|(_, c)| !c.is_empty() && c.bytes().all(|b| b.is_ascii_digit()))
 }
 
 /// `NAME` in `impl NAME<f64>`.

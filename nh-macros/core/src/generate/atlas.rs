@@ -15,10 +15,11 @@ pub fn charts(
     def: &SystemDef,
     model: &Model,
     engine: &crate::sym::Engine,
-) -> (Vec<ChartShape>, TokenStream) {
+) -> (Vec<ChartShape>, TokenStream, Vec<(String, usize)>) {
     if model.atlas.len() < 2 {
-        return (Vec::new(), TokenStream::new());
+        return (Vec::new(), TokenStream::new(), Vec::new());
     }
+    let mut figures = Vec::new();
     let jacobian = model.outputs.contains(Output::Jacobian);
     let own = &model.atlas[0];
     let mut shapes = vec![ChartShape {
@@ -39,10 +40,12 @@ pub fn charts(
             continue;
         };
         let rheonomic = rheonomic_of(&hmodel, &engine);
-        let (code, _) = super::generate(&hidden, &hmodel, &mut engine, &mut cx, Vec::new());
+        let (code, stats) = super::generate(&hidden, &hmodel, &mut engine, &mut cx, Vec::new());
         if cx.finish().is_err() || code.is_empty() {
             continue;
         }
+        let ops = stats.route.map_or(0, |r| stats.ops(r));
+        figures.push((chart_name(model, &chart.dependent), ops));
         tokens.extend(code);
         shapes.push(ChartShape {
             system: Some(hidden.name.clone()),
@@ -55,9 +58,9 @@ pub fn charts(
         });
     }
     if shapes.len() < 2 {
-        return (Vec::new(), TokenStream::new());
+        return (Vec::new(), TokenStream::new(), Vec::new());
     }
-    (shapes, tokens)
+    (shapes, tokens, figures)
 }
 
 /// "solved for `x`, `y`".

@@ -67,6 +67,9 @@ pub struct Stats {
     /// are in the curvature route's slots: Maggi's reduced system is solved
     /// as the curvature route's is).
     pub formulation: Option<Formulation>,
+    /// The other charts of the atlas (DESIGN §9.3): per chart, its name and
+    /// the operations of its `accelerations`; empty with one chart.
+    pub charts: Vec<(String, usize)>,
 }
 
 impl Stats {
@@ -102,8 +105,20 @@ impl Stats {
         } else {
             format!("{} ops (cost {})", self.ops_curvature, self.cost_curvature)
         };
+        let atlas = if self.charts.is_empty() {
+            String::new()
+        } else {
+            let each: Vec<String> = (self.charts.iter())
+                .map(|(name, ops)| format!("{name}: {ops} ops"))
+                .collect();
+            format!(
+                "; atlas of {} charts, the others {}",
+                self.charts.len() + 1,
+                each.join(", ")
+            )
+        };
         format!(
-            "accelerations: multiplier route {} ops (cost {}), curvature route {curvature} after CSE, using the {} route ({} ops of it on the parameters alone, cached); {} generated lines; graph {} expressions, {} derivatives; integrable: {}",
+            "accelerations: multiplier route {} ops (cost {}), curvature route {curvature} after CSE, using the {} route ({} ops of it on the parameters alone, cached); {} generated lines; graph {} expressions, {} derivatives; integrable: {}{atlas}",
             self.ops_multiplier,
             self.cost_multiplier,
             match self.route {
