@@ -77,3 +77,114 @@ fn an_affine_explicit_constraint_takes_the_multiplier_route() {
     // its dependent velocity depends on time: `dependent_velocities` takes `t`
     assert!(out.contains("pub fn dependent_velocities (& self , t : T"));
 }
+
+/// The messages of an expansion's errors.
+fn errors(src: &str) -> Vec<String> {
+    let expansion = nh_core::expand(src.parse().expect("Rust tokens"));
+    nh_core::reported_errors(&expansion)
+        .into_iter()
+        .map(|e| e.message)
+        .collect()
+}
+
+/// A system of coordinates `x, y, z, w` with `items` added.
+fn four(items: &str) -> String {
+    format!(
+        "pub struct S {{ parameters {{ m }} coordinates {{ x, y, z, w }} \
+         lagrangian = m*(dot(x)^2 + dot(y)^2 + dot(z)^2 + dot(w)^2)/2; {items} }}"
+    )
+}
+
+#[test]
+fn a_list_in_the_wrong_order_gets_the_order_that_works() {
+    let src = four(
+        "constraints { dot(x) + z*dot(z) = 0; dot(y) + dot(x) = w*dot(w); } dependent { y, x }",
+    );
+    assert_eq!(
+        errors(&src),
+        [
+            "`dot(y)` does not appear in the 1st implicit or holonomic constraint, `dot(x) + z*dot(z) = 0`, which `dependent { .. }` pairs with `y` (it lists one coordinate per such constraint, in the constraints' order); write `dependent { x, y }`: the same coordinates in an order that works"
+        ]
+    );
+    // the order suggested is accepted
+    let fixed = src.replace("dependent { y, x }", "dependent { x, y }");
+    assert!(errors(&fixed).is_empty());
+}
+
+#[test]
+fn a_velocity_that_an_explicit_row_cancels_is_said_to() {
+    // written, the 1st implicit row has dot(x); dot(w) = -dot(x) cancels it
+    let src = four(
+        "constraints { dot(w) = -dot(x); dot(x) + dot(w) + z*dot(y) = 0; y*dot(x) + dot(z) = 0; } dependent { x, y }",
+    );
+    let found = errors(&src);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(
+        found[0].starts_with("`dot(x)` does not appear in the 1st implicit or holonomic constraint, `dot(x) + dot(w) + z*dot(y) = 0`, once the explicit constraints are substituted into it, which"),
+        "{}",
+        found[0]
+    );
+    assert!(
+        found[0]
+            .ends_with("write `dependent { y, x }`: the same coordinates in an order that works"),
+        "{}",
+        found[0]
+    );
+}
+
+#[test]
+fn a_holonomic_row_names_the_coordinate() {
+    let src =
+        four("constraints { y^2 + z^2 = 1; y*dot(x) = dot(z) + x*dot(w); } dependent { x, z }");
+    let found = errors(&src);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(
+        found[0].starts_with("`x` does not appear in the 1st implicit or holonomic constraint, `y^2 + z^2 = 1`, which"),
+        "{}",
+        found[0]
+    );
+}
+
+#[test]
+fn rows_that_no_choice_solves_get_the_rules_error_once() {
+    // the 2nd row repeats the 1st: no list of dependent coordinates works
+    let src =
+        four("constraints { dot(x) + dot(y) = 0; 2*dot(x) + 2*dot(y) = 0; } dependent { x, y }");
+    let found = errors(&src);
+    assert_eq!(found.len(), 1, "{found:?}");
+    assert!(
+        found[0]
+            .starts_with("this constraint cannot be solved for any velocity not already dependent"),
+        "{}",
+        found[0]
+    );
+}
+
+#[test]
+fn the_search_over_orders_of_eight_rows_is_bounded() {
+    // eight rows, Vandermonde in x1..x8 but the last repeats the first:
+    // every leading block is regular until the last, so the search sees
+    // every set of columns before it gives up
+    let names: Vec<String> = (1..=9).map(|i| format!("x{i}")).collect();
+    let row = |a: i64| -> String {
+        let terms: Vec<String> = (0..8)
+            .map(|j| format!("{}*dot(x{})", (a + 1).pow(j as u32), j + 1))
+            .collect();
+        format!("{} = dot(x9);", terms.join(" + "))
+    };
+    let rows: Vec<String> = (0..7).map(row).chain([row(0)]).collect();
+    let src = format!(
+        "pub struct S {{ parameters {{ m }} coordinates {{ {} }} lagrangian = m*dot(x9)^2/2; \
+         constraints {{ {} }} dependent {{ x8, x7, x6, x5, x4, x3, x2, x1 }} }}",
+        names.join(", "),
+        rows.join(" ")
+    );
+    let start = std::time::Instant::now();
+    let found = errors(&src);
+    assert!(
+        start.elapsed().as_secs_f64() < 20.0,
+        "{:?}",
+        start.elapsed()
+    );
+    assert_eq!(found.len(), 1, "{found:?}");
+}
