@@ -45,6 +45,25 @@ fn a_singular_block_moves_on_to_the_next_candidate() {
 }
 
 #[test]
+fn a_row_left_without_a_candidate_sends_the_rule_back() {
+    // greedily the 1st row takes x, which the 2nd row alone involves: the
+    // rule goes back and gives the 1st row y
+    let out = expand(
+        "x, y, z",
+        "constraints { dot(x) + dot(y) = 0; 2*dot(x) = 0; }",
+    );
+    assert_eq!(dependent(&out), "[0usize,1usize]");
+    assert!(
+        out.contains("dot(x) + dot(y) = 0` (implicit): solved for `y`"),
+        "{out}"
+    );
+    assert!(
+        out.contains("2*dot(x) = 0` (implicit): solved for `x`"),
+        "{out}"
+    );
+}
+
+#[test]
 fn named_dependent_coordinates_win() {
     let out = expand(
         "x, y, z",

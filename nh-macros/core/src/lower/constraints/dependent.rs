@@ -54,33 +54,30 @@ impl Lowerer<'_> {
     /// coordinates not yet dependent with a nonzero coefficient, those with
     /// a nonzero constant coefficient first (declared order), then the
     /// others from the last declared backwards; the first that keeps the
-    /// leading block generically nonsingular is taken. `Err(a)`: row `a`
-    /// has no candidate.
+    /// leading block generically nonsingular is taken, and where a row has
+    /// none left, the search goes back to the rows before it (see
+    /// [`Lowerer::first_order`]). `Err(a)`: no choice found, and the first
+    /// row that had no candidate left is `a`.
     fn rule(&mut self, coef: &[Vec<ExprId>]) -> Result<Vec<usize>, usize> {
-        let mut chosen: Vec<usize> = Vec::new();
-        for (a, row) in coef.iter().enumerate() {
-            let mut with_constant: Vec<usize> = Vec::new();
-            let mut others: Vec<usize> = Vec::new();
-            for (j, &c) in row.iter().enumerate() {
-                if chosen.contains(&j) || c == ZERO {
-                    continue;
+        let prefs: Vec<Vec<usize>> = (coef.iter())
+            .map(|row| {
+                let mut with_constant: Vec<usize> = Vec::new();
+                let mut others: Vec<usize> = Vec::new();
+                for (j, &c) in row.iter().enumerate() {
+                    if c == ZERO {
+                        continue;
+                    }
+                    match self.e.as_constant(c) {
+                        Some(_) => with_constant.push(j),
+                        None => others.push(j),
+                    }
                 }
-                match self.e.as_constant(c) {
-                    Some(_) => with_constant.push(j),
-                    None => others.push(j),
-                }
-            }
-            others.reverse();
-            let pick = with_constant.into_iter().chain(others).find(|&j| {
-                let cols: Vec<usize> = chosen.iter().copied().chain([j]).collect();
-                !self.leading_block_singular(coef, &cols)
-            });
-            match pick {
-                Some(j) => chosen.push(j),
-                None => return Err(a),
-            }
-        }
-        Ok(chosen)
+                others.reverse();
+                with_constant.extend(others);
+                with_constant
+            })
+            .collect();
+        self.first_order(coef, &prefs)
     }
 
     /// Whether the leading block of `coef`, its first `cols.len()` rows in
@@ -209,81 +206,126 @@ impl Lowerer<'_> {
 
     /// An order of the coordinates `names` (indices into `free`, one per
     /// row of `coef`) whose every leading block is generically
-    /// nonsingular, if there is one: a search over the orders, row by row,
-    /// that tries the names as the rule does (a nonzero constant
+    /// nonsingular, if there is one: [`Lowerer::first_order`] with the
+    /// names tried as the rule tries candidates (a nonzero constant
     /// coefficient first, then another nonzero one, then the rest; within
-    /// each, the name listed for the row first, then the listed order). The
-    /// singularity of a leading block depends only on the set of its
-    /// columns, and so whether an order can be completed: both are
-    /// remembered by set, so at most 2^p blocks are tested for p rows
-    /// (p ≤ [`MAX_IMPLICIT`](super::MAX_IMPLICIT)). The order found is
-    /// checked as written lists are.
+    /// each, the name listed for the row first, then the listed order).
+    /// With p ≤ [`MAX_IMPLICIT`](super::MAX_IMPLICIT) names there are at
+    /// most 2^p sets of columns to test. The order found is checked as
+    /// written lists are.
     fn reorder(&mut self, coef: &[Vec<ExprId>], names: &[usize]) -> Option<Vec<usize>> {
-        let mut search = Search::default();
-        let mut order = Vec::with_capacity(names.len());
-        if !self.extend_order(coef, names, &mut order, &mut search) {
-            return None;
-        }
+        let prefs: Vec<Vec<usize>> = (0..names.len())
+            .map(|a| {
+                let class = |j: usize| match coef[a][j] {
+                    ZERO => 2,
+                    c if self.e.as_constant(c).is_some() => 0,
+                    _ => 1,
+                };
+                let mut p = names.to_vec();
+                // a stable sort: the listed order within each class
+                p.sort_by_key(|&j| (class(j), j != names[a]));
+                p
+            })
+            .collect();
+        let order = self.first_order(coef, &prefs).ok()?;
         self.first_singular(coef, &order).is_none().then_some(order)
     }
 
-    /// Extends the order `order` of some of `names` to all of them (see
-    /// [`Lowerer::reorder`]); whether it could.
+    /// The first list, in the order of the preferences `prefs` (for each
+    /// row of `coef`, its candidate columns, most preferred first), of one
+    /// column per row whose every leading block is generically
+    /// nonsingular: a depth-first search, row by row, that takes the first
+    /// candidate not yet taken that keeps the block nonsingular, and goes
+    /// back to the row before when a row has none. Where no row runs out,
+    /// this is the greedy choice, with the same blocks tested. The
+    /// singularity of a leading block depends only on the set of its
+    /// columns, and so whether a list can be completed: both are
+    /// remembered by set, and past the first dead end at most
+    /// [`BACKTRACK_TESTS`] more blocks are tested. `Err(a)`: none found;
+    /// `a` is the first row that had no candidate left.
+    fn first_order(
+        &mut self,
+        coef: &[Vec<ExprId>],
+        prefs: &[Vec<usize>],
+    ) -> Result<Vec<usize>, usize> {
+        let mut search = Search {
+            tests_left: BACKTRACK_TESTS,
+            ..Search::default()
+        };
+        let mut order = Vec::with_capacity(prefs.len());
+        if self.extend_order(coef, prefs, &mut order, &mut search) {
+            Ok(order)
+        } else {
+            Err(search.first_dead.unwrap_or(0))
+        }
+    }
+
+    /// Extends `order` (a column for each of the first rows) to every row
+    /// (see [`Lowerer::first_order`]); whether it could.
     fn extend_order(
         &mut self,
         coef: &[Vec<ExprId>],
-        names: &[usize],
+        prefs: &[Vec<usize>],
         order: &mut Vec<usize>,
         search: &mut Search,
     ) -> bool {
         let a = order.len();
-        if a == names.len() {
+        if a == prefs.len() {
             return true;
         }
         let set = sorted(order);
-        if search.dead.contains(&set) {
+        if search.exhausted || search.dead.contains(&set) {
             return false;
         }
-        let mut candidates: Vec<usize> = (names.iter().copied())
-            .filter(|j| !order.contains(j))
-            .collect();
-        // as the rule orders them: a nonzero constant coefficient first,
-        // then another nonzero one, then the rest; within each, the name
-        // listed for this row, then the listed order (a stable sort)
-        let class = |e: &crate::sym::Engine, j: usize| match coef[a][j] {
-            ZERO => 2,
-            c if e.as_constant(c).is_some() => 0,
-            _ => 1,
-        };
-        candidates.sort_by_key(|&j| (class(&self.e, j), j != names[a]));
-        for j in candidates {
+        for &j in &prefs[a] {
+            if order.contains(&j) {
+                continue;
+            }
             order.push(j);
             let key = sorted(order);
             let singular = match search.singular.get(&key) {
                 Some(&s) => s,
+                None if search.first_dead.is_some() && search.tests_left == 0 => {
+                    search.exhausted = true;
+                    return false;
+                }
                 None => {
+                    if search.first_dead.is_some() {
+                        search.tests_left -= 1;
+                    }
                     let s = self.leading_block_singular(coef, order);
                     search.singular.insert(key, s);
                     s
                 }
             };
-            if !singular && self.extend_order(coef, names, order, search) {
+            if !singular && self.extend_order(coef, prefs, order, search) {
                 return true;
             }
             order.pop();
+            if search.exhausted {
+                return false;
+            }
         }
+        search.first_dead.get_or_insert(a);
         search.dead.insert(set);
         false
     }
 }
 
-/// What [`Lowerer::reorder`] remembers, by the set of columns (sorted):
-/// whether the leading block in them is singular, and the sets no order
-/// of the remaining names completes.
+/// The blocks [`Lowerer::first_order`] may test past its first dead end.
+const BACKTRACK_TESTS: usize = 512;
+
+/// What [`Lowerer::first_order`] remembers, by the set of columns (a
+/// sorted list): whether the leading block in them is singular, and the
+/// sets that no list completes; and the first row that had no candidate
+/// left, the tests left past it, whether they ran out.
 #[derive(Default)]
 struct Search {
     singular: HashMap<Vec<usize>, bool>,
     dead: HashSet<Vec<usize>>,
+    first_dead: Option<usize>,
+    tests_left: usize,
+    exhausted: bool,
 }
 
 /// A set of columns as its sorted list.
