@@ -207,3 +207,89 @@ fn the_search_over_orders_of_eight_rows_is_bounded() {
     );
     assert_eq!(found.len(), 1, "{found:?}");
 }
+
+/// A Segway: a body pitching (`alpha`) on a differential drive.
+const SEGWAY: &str = "
+    pub struct Segway {
+        parameters { m, I1, I2, I3, l, mw, Iw, Id, r, b, g }
+        coordinates { x, y, theta, alpha, phi_l, phi_r }
+        let axle = [-sin(theta), cos(theta), 0];
+        let O = [x, y, r];
+        let B = rot_z(theta)*rot_y(alpha);
+        body chassis { mass: m, centre: O + l*(B*[0, 0, 1]), orientation: B, inertia: diag(I1, I2, I3) }
+        body wheel_l { mass: mw, centre: O + b*axle, orientation: rot_z(theta)*rot_y(phi_l), inertia: diag(Id, Iw, Id) }
+        body wheel_r { mass: mw, centre: O - b*axle, orientation: rot_z(theta)*rot_y(phi_r), inertia: diag(Id, Iw, Id) }
+        lagrangian = kinetic_energy(chassis) + kinetic_energy(wheel_l) + kinetic_energy(wheel_r) - m*g*l*cos(alpha);
+        constraints {
+            rolls(wheel_l, radius: r, axle: [0, 1, 0]);
+            rolls(wheel_r, radius: r, axle: [0, 1, 0]);
+        }
+    }";
+
+/// A differential-drive robot towing a two-wheeled trailer hitched at its
+/// axle's centre (`beta`, the hitch angle).
+const TOWING: &str = "
+    pub struct Towing {
+        parameters { m, Ic, mw, Iw, Id, r, b, L, mt, It }
+        coordinates { x, y, theta, phi_l, phi_r, beta, psi_l, psi_r }
+        let axle = [-sin(theta), cos(theta), 0];
+        let O = [x, y, r];
+        let T = rot_z(theta + beta);
+        let H = O - L*(T*[1, 0, 0]);
+        body chassis { mass: m, centre: O, orientation: rot_z(theta), inertia: diag(0, 0, Ic) }
+        body wheel_l { mass: mw, centre: O + b*axle, orientation: rot_z(theta)*rot_y(phi_l), inertia: diag(Id, Iw, Id) }
+        body wheel_r { mass: mw, centre: O - b*axle, orientation: rot_z(theta)*rot_y(phi_r), inertia: diag(Id, Iw, Id) }
+        body trailer { mass: mt, centre: H, orientation: T, inertia: diag(0, 0, It) }
+        body trailer_l { mass: mw, centre: H + b*(T*[0, 1, 0]), orientation: T*rot_y(psi_l), inertia: diag(Id, Iw, Id) }
+        body trailer_r { mass: mw, centre: H - b*(T*[0, 1, 0]), orientation: T*rot_y(psi_r), inertia: diag(Id, Iw, Id) }
+        lagrangian = kinetic_energy(chassis) + kinetic_energy(wheel_l) + kinetic_energy(wheel_r)
+                   + kinetic_energy(trailer) + kinetic_energy(trailer_l) + kinetic_energy(trailer_r);
+        constraints {
+            rolls(wheel_l, radius: r, axle: [0, 1, 0]);
+            rolls(wheel_r, radius: r, axle: [0, 1, 0]);
+            rolls(trailer_l, radius: r, axle: [0, 1, 0]);
+            rolls(trailer_r, radius: r, axle: [0, 1, 0]);
+        }
+    }";
+
+/// The coordinates each constraint is solved for, as the documentation of
+/// `DEPENDENT` lists them (constraint: coordinate).
+fn pairs(out: &str) -> Vec<String> {
+    out.split("\\n - `")
+        .skip(1)
+        .filter_map(|s| {
+            let (row, rest) = s.split_once('`')?;
+            let (_, name) = rest.split_once("solved for `")?;
+            Some(format!("{row}: {}", name.split('`').next()?))
+        })
+        .collect()
+}
+
+#[test]
+fn a_wheeled_vehicle_keeps_its_wheels_rates_independent() {
+    // the heading, on which the wheels' headings depend, is preferred to
+    // the wheels' spins: the third row is solved for theta, not phi_r
+    let out = nh_core::expand(SEGWAY.parse().expect("lexes")).to_string();
+    assert_eq!(dependent(&out), "[0usize,1usize,2usize]");
+    assert_eq!(
+        pairs(&out),
+        [
+            "rolls(wheel_l, ..): no slip along x: x",
+            "rolls(wheel_l, ..): no slip along y: y",
+            "rolls(wheel_r, ..): no slip along x: theta",
+        ]
+    );
+    // with the trailer, its hitch angle and its wheels' spins are dependent
+    let out = nh_core::expand(TOWING.parse().expect("lexes")).to_string();
+    assert_eq!(
+        dependent(&out),
+        "[0usize,1usize,2usize,5usize,6usize,7usize]"
+    );
+    assert!(
+        out.contains(
+            "pub const INDEPENDENT : [:: core :: primitive :: usize ; 2usize] = [3usize , 4usize]"
+        ),
+        "{}",
+        &out[out.find("INDEPENDENT").unwrap_or(0)..][..120]
+    );
+}

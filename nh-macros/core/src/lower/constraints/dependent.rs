@@ -10,6 +10,7 @@ use crate::ctxt::SpanRange;
 use crate::model::ConstraintKind;
 use crate::sym::random_points::vanish_at_random_points;
 use crate::sym::{ExprId, ZERO};
+use crate::words::RollingField;
 use proc_macro2::Ident;
 use rustc_hash::{FxHashMap as HashMap, FxHashSet as HashSet};
 
@@ -32,9 +33,9 @@ impl Lowerer<'_> {
         coef: &[Vec<ExprId>],
     ) -> Option<Vec<usize>> {
         if let Some((kw, names)) = &def.dependent {
-            return self.named_dependent(kw, names, rows, implicit, free, coef);
+            return self.named_dependent(def, (kw, names), rows, implicit, free, coef);
         }
-        match self.rule(coef) {
+        match self.automatic(def, free, coef) {
             Ok(chosen) => Some(chosen),
             Err(a) => {
                 self.no_candidate(rows[implicit[a]].src.range());
@@ -49,16 +50,61 @@ impl Lowerer<'_> {
         self.cx.error(at, "this constraint cannot be solved for any velocity not already dependent: with the constraints before it, its block of dependent velocities is singular at every point (it repeats or combines them, or involves only dependent coordinates); remove it or rewrite it");
     }
 
+    /// The automatic choice: [`Lowerer::rule`] with the headings of the
+    /// wheels (see [`Lowerer::rolling_headings`]).
+    fn automatic(
+        &mut self,
+        def: &SystemDef,
+        free: &[usize],
+        coef: &[Vec<ExprId>],
+    ) -> Result<Vec<usize>, usize> {
+        let headings = self.rolling_headings(def, free);
+        self.rule(coef, &headings)
+    }
+
+    /// For each free coordinate (indices into `free`), whether the heading
+    /// of a wheel depends on it: of a body that rolls on an axle (a
+    /// `rolls(..)` line with `axle: ..`, a disc or a torus; not a sphere),
+    /// the angle of the first factor of its orientation, when that factor
+    /// turns about the vertical z. The rule prefers these as dependent
+    /// coordinates, so that a vehicle's heading follows from its wheels
+    /// and the wheels' rates stay independent.
+    fn rolling_headings(&mut self, def: &SystemDef, free: &[usize]) -> Vec<bool> {
+        let mut angles = Vec::new();
+        for r in &def.rolling {
+            let on_axle =
+                (r.fields.iter()).any(|f| RollingField::of(&f.name) == Some(RollingField::Axle));
+            if !on_axle {
+                continue;
+            }
+            let Some(body) = self.body(&r.body) else {
+                continue;
+            };
+            if let Some((rotation, _)) = &body.rotation
+                && let Some(&(2, angle)) = rotation.factors.first()
+            {
+                angles.push(angle);
+            }
+        }
+        (free.iter())
+            .map(|&i| {
+                let q = self.coords[i].position;
+                angles.iter().any(|&a| self.e.depends_on(a, q))
+            })
+            .collect()
+    }
+
     /// The rule of DESIGN §9 on the rows `coef` (coefficients of the free
     /// velocities): rows in order; for each, the candidates are the
     /// coordinates not yet dependent with a nonzero coefficient, those with
     /// a nonzero constant coefficient first (declared order), then the
-    /// others from the last declared backwards; the first that keeps the
-    /// leading block generically nonsingular is taken, and where a row has
-    /// none left, the search goes back to the rows before it (see
-    /// [`Lowerer::first_order`]). `Err(a)`: no choice found, and the first
-    /// row that had no candidate left is `a`.
-    fn rule(&mut self, coef: &[Vec<ExprId>]) -> Result<Vec<usize>, usize> {
+    /// others from the last declared backwards, those a wheel's heading
+    /// depends on (`headings`, per free coordinate) before the rest; the
+    /// first that keeps the leading block generically nonsingular is
+    /// taken, and where a row has none left, the search goes back to the
+    /// rows before it (see [`Lowerer::first_order`]). `Err(a)`: no choice
+    /// found, and the first row that had no candidate left is `a`.
+    fn rule(&mut self, coef: &[Vec<ExprId>], headings: &[bool]) -> Result<Vec<usize>, usize> {
         let prefs: Vec<Vec<usize>> = (coef.iter())
             .map(|row| {
                 let mut with_constant: Vec<usize> = Vec::new();
@@ -73,6 +119,8 @@ impl Lowerer<'_> {
                     }
                 }
                 others.reverse();
+                // a stable sort: the headings first, each part backwards
+                others.sort_by_key(|&j| !headings[j]);
                 with_constant.extend(others);
                 with_constant
             })
@@ -96,11 +144,12 @@ impl Lowerer<'_> {
         (0..order.len()).find(|&a| self.leading_block_singular(coef, &order[..=a]))
     }
 
-    /// The dependent coordinates named in `dependent { .. }`, checked.
+    /// The dependent coordinates named in `def`'s `dependent { .. }` (its
+    /// keyword and names), checked.
     fn named_dependent(
         &mut self,
-        kw: &Ident,
-        names: &[Ident],
+        def: &SystemDef,
+        (kw, names): (&Ident, &[Ident]),
         rows: &[Row<'_>],
         implicit: &[usize],
         free: &[usize],
@@ -148,7 +197,7 @@ impl Lowerer<'_> {
                 "write `{}`: the same coordinates in an order that works",
                 self.dependent_list(free, &order)
             ),
-            None => match self.rule(coef) {
+            None => match self.automatic(def, free, coef) {
                 Ok(rule) => format!(
                     "no order of `{}` works: write `{}` (the automatic choice), or leave `dependent` out",
                     (names.iter().map(|n| n.to_string()))
@@ -287,6 +336,7 @@ impl Lowerer<'_> {
                 Some(&s) => s,
                 None if search.first_dead.is_some() && search.tests_left == 0 => {
                     search.exhausted = true;
+                    order.pop();
                     return false;
                 }
                 None => {
