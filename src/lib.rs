@@ -219,12 +219,20 @@
 //! listed in `dependent { .. }` (one per such constraint, in their order), else
 //! chosen by this rule: constraints in order; for each, among the coordinates not
 //! yet dependent whose velocity has a non-zero coefficient, the first (in
-//! declared order) whose coefficient is a nonzero constant, else the last
-//! declared; a candidate is kept only if the block c_s of dependent-velocity
-//! coefficients so far stays nonsingular at a generic point (exact zero test,
-//! then 16 random points in 32-digit arithmetic), else the next is tried
-//! (constant coefficients first, then from the last declared backwards). A block
-//! singular for every choice is a compile error at the constraint. The chosen
+//! declared order) whose coefficient is a nonzero constant, else one on which a
+//! wheel's heading depends (the first factor, about z, of the orientation of a
+//! body that rolls on an `axle`), else the last declared; a candidate is kept
+//! only if the block c_s of dependent-velocity coefficients so far stays
+//! nonsingular at a generic point (exact zero test, then 16 random points in
+//! 32-digit arithmetic), else the next is tried (constant coefficients first,
+//! then from the last declared backwards, headings first), and a constraint left
+//! with no candidate sends the choice back to the one before. So a differential
+//! drive, a Segway or a robot towing a trailer keeps its wheels' rates
+//! independent. Rows that no choice solves are a compile error at the
+//! constraint; a `dependent` list that cannot work is one error at the name
+//! where it fails, saying why (the coordinate does not appear in that
+//! constraint, or the block is singular) and which list works (the same
+//! coordinates in another order, else the automatic choice). The chosen
 //! coordinates are in `DEPENDENT`, whose documentation says which constraint is
 //! solved for which coordinate. At most 8 constraints may be implicit or
 //! holonomic: their block is solved symbolically, by Cramer's rule up to 3

@@ -343,11 +343,12 @@ impl Lowerer<'_> {
     /// `dependent { .. }` needs; `None` if no order is.
     fn row_order(&mut self, coef: &[Vec<ExprId>], cols: &[usize]) -> Option<Vec<usize>> {
         let mut order = Vec::new();
-        self.extend_order(coef, cols, &mut order).then_some(order)
+        self.extend_chart_order(coef, cols, &mut order)
+            .then_some(order)
     }
 
     /// Backtracking for [`Self::row_order`].
-    fn extend_order(
+    fn extend_chart_order(
         &mut self,
         coef: &[Vec<ExprId>],
         cols: &[usize],
@@ -366,7 +367,7 @@ impl Lowerer<'_> {
                 .iter()
                 .map(|row| order.iter().map(|&c| row[c]).collect())
                 .collect();
-            if !self.generically_singular(&block) && self.extend_order(coef, cols, order) {
+            if !self.generically_singular(&block) && self.extend_chart_order(coef, cols, order) {
                 return true;
             }
             order.pop();
