@@ -40,6 +40,8 @@ pub struct Chart {
 struct Numeric<'e> {
     e: &'e Engine,
     coef: &'e [Vec<ExprId>],
+    /// The holonomic constraints f(q, t) = 0: the points searched are on them.
+    holonomic: &'e [ExprId],
     base: Vec<f64>,
     /// The symbols varied: the coordinates' positions, then time.
     varied: Vec<usize>,
@@ -69,6 +71,27 @@ impl Numeric<'_> {
             })
             .collect();
         m.iter().flatten().all(|v| v.is_finite()).then_some(m)
+    }
+
+    /// The holonomic constraints' values at `z`.
+    fn holonomic_at(&self, z: &[f64]) -> Vec<f64> {
+        let mut vals = self.base.clone();
+        for (&s, &v) in self.varied.iter().zip(z) {
+            vals[s] = v;
+        }
+        let mut memo = crate::sym::EvalMemo::default();
+        (self.holonomic.iter())
+            .map(|&f| self.e.eval_memo(f, &vals, &mut memo))
+            .collect()
+    }
+
+    /// The ratios of `charts` and the holonomic constraints' values at
+    /// `z`: what vanishes on the common singular set of the charts on the
+    /// constraint manifold.
+    fn residuals(&self, charts: &[Vec<usize>], z: &[f64]) -> Vec<f64> {
+        let mut r = self.ratios(charts, z);
+        r.extend(self.holonomic_at(z));
+        r
     }
 
     /// The signed ratios of `charts` at `z` (zeros where not finite).
@@ -181,7 +204,7 @@ fn common_singular_point(
     mut z: Vec<f64>,
 ) -> Option<Vec<f64>> {
     for _ in 0..ITERATIONS {
-        let r = num.ratios(charts, &z);
+        let r = num.residuals(charts, &z);
         if r.iter().any(|v| !v.is_finite()) {
             return None;
         }
@@ -194,11 +217,11 @@ fn common_singular_point(
                 let h = 1e-7 * (1.0 + z[i].abs());
                 let mut zi = z.clone();
                 zi[i] += h;
-                let ri = num.ratios(charts, &zi);
+                let ri = num.residuals(charts, &zi);
                 ri.iter().zip(&r).map(|(a, b)| (a - b) / h).collect()
             })
             .collect();
-        let j = charts.len();
+        let j = r.len();
         // (J Jᵀ + μ I) y = r, Δz = −Jᵀ y
         let gram: Vec<Vec<f64>> = (0..j)
             .map(|a| {
@@ -228,6 +251,7 @@ impl Lowerer<'_> {
         coef: &[Vec<ExprId>],
         free: &[usize],
         chosen: &[usize],
+        holonomic: &[ExprId],
     ) -> Vec<Chart> {
         let p = coef.len();
         let involved: Vec<usize> = (0..free.len())
@@ -248,6 +272,7 @@ impl Lowerer<'_> {
         let num = Numeric {
             e: &self.e,
             coef,
+            holonomic,
             base,
             varied,
         };

@@ -472,7 +472,8 @@ impl Lowerer<'_> {
         let atlas = if implicit.is_empty() || def.one_chart {
             Vec::new()
         } else {
-            self.atlas(&coef, &free, &chosen)
+            let holonomic: Vec<ExprId> = rows.iter().filter_map(|r| r.holonomic).collect();
+            self.atlas(&coef, &free, &chosen, &holonomic)
         };
         let back: HashMap<SymId, ExprId> = chosen
             .iter()
