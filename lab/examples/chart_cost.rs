@@ -4,9 +4,9 @@
 //! as generated (four charts: the run goes through the atlas's segments)
 //! and behind a wrapper that shows the runtime one chart (today's path,
 //! bit for bit). Both take the same steps; the times are medians of
-//! alternating runs. Then the cost of a switch: the slow bicycle (1 m/s),
-//! which switches twice on its way to the ground, against the steps of the
-//! same run before its first switch.
+//! alternating runs. Then the slow bicycle (1 m/s), which switches charts
+//! on its way to the ground: its steps, rejections, right-hand sides and
+//! switches.
 //!
 //! ```text
 //! cargo run --release -p nh-lab --example chart_cost
@@ -101,7 +101,7 @@ fn main() {
         t1 * 1e3,
         ta / t1
     );
-    // the cost of a switch: the slow bicycle, which switches twice
+    // the slow bicycle, which switches on its way down
     let slow = riding(&b, 1.0, 0.5);
     let mut dop = Dop853::new(1e-11, 1e-13);
     let out = dop.integrate(&b, 0.0, slow, 1.04);

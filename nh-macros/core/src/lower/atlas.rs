@@ -18,9 +18,9 @@ pub const MAX_CHARTS: usize = 4;
 /// Most candidate blocks examined (the first ones in column order).
 const MAX_CANDIDATES: usize = 512;
 /// Random starts of the search for common singular points.
-const STARTS: u64 = 16;
+const STARTS: u64 = 8;
 /// Gauss–Newton iterations per start.
-const ITERATIONS: usize = 30;
+const ITERATIONS: usize = 20;
 /// A Hadamard ratio at least this large: the rows are regular there.
 const REGULAR: f64 = 1e-3;
 
