@@ -64,20 +64,12 @@ const J_SLED: f64 = 0.3;
 /// A short arm, so that the sleigh turns about 19 times before it stops.
 const A_SLED: f64 = 0.005;
 
-/// The sleigh's closed form (Bloch, sec. 1.7): θ, the speed v of the blade
-/// along the body axis and ω = θ̇ at t.
+#[path = "common/sleigh.rs"]
+mod sleigh;
+
+/// The closed form of the sleigh of these tests.
 fn sleigh_closed_form(theta0: f64, v0: f64, omega0: f64, t: f64) -> (f64, f64, f64) {
-    let inertia = J_SLED + M * A_SLED * A_SLED;
-    let v_inf = (v0 * v0 + inertia * omega0 * omega0 / M).sqrt();
-    let k = M * A_SLED * v_inf / inertia;
-    let c = (v0 / v_inf).atanh();
-    let gd = |s: f64| s.sinh().atan();
-    let s = k * t + c;
-    (
-        theta0 + omega0 * c.cosh() / k * (gd(s) - gd(c)),
-        v_inf * s.tanh(),
-        omega0 * c.cosh() / s.cosh(),
-    )
+    sleigh::sleigh_closed_form((M, J_SLED, A_SLED), (theta0, v0, omega0), t)
 }
 
 #[test]

@@ -101,21 +101,12 @@ const M: f64 = 2.0;
 const J_SLED: f64 = 0.3;
 const A: f64 = 0.5;
 
-/// The sled's closed form (Bloch, sec. 1.7): v = v∞ tanh(kt + c),
-/// ω = ω₀ cosh c / cosh(kt + c), θ = θ₀ + ω₀ cosh c / k (gd(kt + c) − gd(c)),
-/// v∞ = sqrt(v₀² + (J + m a²) ω₀² / m), k = m a v∞ / (J + m a²), c = atanh(v₀/v∞).
+#[path = "common/sleigh.rs"]
+mod sleigh;
+
+/// The closed form of the sleigh of these tests.
 fn sled_closed_form(theta0: f64, v0: f64, omega0: f64, t: f64) -> (f64, f64, f64) {
-    let inertia = J_SLED + M * A * A;
-    let v_inf = (v0 * v0 + inertia * omega0 * omega0 / M).sqrt();
-    let k = M * A * v_inf / inertia;
-    let c = (v0 / v_inf).atanh();
-    let gd = |s: f64| s.sinh().atan();
-    let s = k * t + c;
-    (
-        theta0 + omega0 * c.cosh() / k * (gd(s) - gd(c)),
-        v_inf * s.tanh(),
-        omega0 * c.cosh() / s.cosh(),
-    )
+    sleigh::sleigh_closed_form((M, J_SLED, A), (theta0, v0, omega0), t)
 }
 
 #[test]
