@@ -120,19 +120,27 @@ fn hadamard(m: &[Vec<f64>], cols: &[usize]) -> f64 {
     ratio
 }
 
-/// The determinant of a small matrix (partial pivoting).
-fn det(mut a: Vec<Vec<f64>>) -> f64 {
+/// Gaussian elimination with partial pivoting of the small system
+/// `a x = b` (`b` may be empty): the upper-triangular factor, the right
+/// side carried along, and det a; `None` at a pivot of magnitude `tiny`
+/// or less.
+fn eliminate(
+    mut a: Vec<Vec<f64>>,
+    mut b: Vec<f64>,
+    tiny: f64,
+) -> Option<(Vec<Vec<f64>>, Vec<f64>, f64)> {
     let n = a.len();
     let mut d = 1.0;
     for c in 0..n {
-        let Some(p) = (c..n).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs())) else {
-            return 0.0;
-        };
-        if a[p][c] == 0.0 {
-            return 0.0;
+        let p = (c..n).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+        if a[p][c].abs() <= tiny {
+            return None;
         }
         if p != c {
             a.swap(p, c);
+            if !b.is_empty() {
+                b.swap(p, c);
+            }
             d = -d;
         }
         d *= a[c][c];
@@ -141,33 +149,27 @@ fn det(mut a: Vec<Vec<f64>>) -> f64 {
             for k in c..n {
                 a[r][k] -= f * a[c][k];
             }
+            if !b.is_empty() {
+                b[r] -= f * b[c];
+            }
         }
     }
-    d
+    Some((a, b, d))
 }
 
-/// Solves the small system `a x = b` (partial pivoting); `None` if singular.
-fn solve(mut a: Vec<Vec<f64>>, mut b: Vec<f64>) -> Option<Vec<f64>> {
+/// The determinant of a small matrix (0 for a zero pivot).
+fn det(a: Vec<Vec<f64>>) -> f64 {
+    eliminate(a, Vec::new(), 0.0).map_or(0.0, |(_, _, d)| d)
+}
+
+/// Solves the small system `a x = b`; `None` if a pivot is below 1e-300.
+fn solve(a: Vec<Vec<f64>>, b: Vec<f64>) -> Option<Vec<f64>> {
+    let (u, b, _) = eliminate(a, b, 1e-300)?;
     let n = b.len();
-    for c in 0..n {
-        let p = (c..n).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
-        if a[p][c].abs() < 1e-300 {
-            return None;
-        }
-        a.swap(p, c);
-        b.swap(p, c);
-        for r in c + 1..n {
-            let f = a[r][c] / a[c][c];
-            for k in c..n {
-                a[r][k] -= f * a[c][k];
-            }
-            b[r] -= f * b[c];
-        }
-    }
     let mut x = vec![0.0; n];
     for c in (0..n).rev() {
-        let s: f64 = (c + 1..n).map(|k| a[c][k] * x[k]).sum();
-        x[c] = (b[c] - s) / a[c][c];
+        let s: f64 = (c + 1..n).map(|k| u[c][k] * x[k]).sum();
+        x[c] = (b[c] - s) / u[c][c];
     }
     Some(x)
 }
