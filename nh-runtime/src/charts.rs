@@ -22,11 +22,6 @@ use crate::{
     SimError, Singularity, Stats,
 };
 
-/// The switching threshold τ: a segment ends when its chart's regularity
-/// falls below `min(τ, |ρ_start|/2)` in magnitude (`|ρ_start|` at the
-/// segment's start, so that a segment that starts poorly still goes on).
-pub(crate) const SWITCH_BELOW: f64 = 0.1;
-
 /// The hysteresis: the run moves to another chart only where that chart's
 /// regularity exceeds the current one's by this factor.
 pub(crate) const HYSTERESIS: f64 = 2.0;
@@ -133,15 +128,39 @@ where
 /// A sink seen from a segment in chart `chart`: the steps (their ends and
 /// every interpolated point) and the trial ends are mapped to chart 0
 /// before they reach `inner`; in chart 0 they pass as they are.
-struct Charted<'k, 's, K: ?Sized, S: ?Sized> {
+struct Charted<'k, 's, K: ?Sized, S: ?Sized, T, const D: usize> {
     inner: &'k mut K,
     sys: &'s S,
     chart: usize,
+    /// The last state handed to `inner` (chart 0's layout): each mapped
+    /// state is the representative nearest it
+    /// ([`OdeSystem::change_chart_near`]), so that angles do not jump by
+    /// whole turns where the run is in another chart.
+    near: Cell<SVector<T, D>>,
+}
+
+impl<K: ?Sized, S, T, const D: usize> Charted<'_, '_, K, S, T, D>
+where
+    T: RealField + Copy,
+    S: OdeSystem<T, D> + ?Sized,
+{
+    /// `x` of the current chart in chart 0's layout, nearest the last state
+    /// handed out, which it becomes.
+    fn to_chart_0(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
+        let y = if self.chart == 0 {
+            *x
+        } else {
+            self.sys
+                .change_chart_near(self.chart, 0, t, x, &self.near.get())
+        };
+        self.near.set(y);
+        y
+    }
 }
 
 /// `f` on the inner sink of `charted` and `step` in chart 0's layout.
 fn pass<T, K, S, R, const D: usize>(
-    charted: &mut Charted<'_, '_, K, S>,
+    charted: &mut Charted<'_, '_, K, S, T, D>,
     step: &Step<'_, T, D>,
     f: impl FnOnce(&mut K, &Step<'_, T, D>) -> R,
 ) -> R
@@ -151,16 +170,20 @@ where
     S: OdeSystem<T, D> + ?Sized,
 {
     if charted.chart == 0 {
+        charted.near.set(*step.x());
         return f(charted.inner, step);
     }
-    let (sys, chart) = (charted.sys, charted.chart);
-    let map = move |t: T, x: &SVector<T, D>| sys.change_chart(chart, 0, t, x);
-    let x_prev = map(step.t_prev(), step.x_prev());
-    let x = map(step.t(), step.x());
-    f(charted.inner, &step.mapped(&x_prev, &x, &map))
+    let x_prev = charted.to_chart_0(step.t_prev(), step.x_prev());
+    let x = charted.to_chart_0(step.t(), step.x());
+    let (sys, chart, near) = (charted.sys, charted.chart, &charted.near);
+    // interpolated points nearest the step's end
+    let map = move |t: T, x: &SVector<T, D>| sys.change_chart_near(chart, 0, t, x, &near.get());
+    let out = f(charted.inner, &step.mapped(&x_prev, &x, &map));
+    charted.near.set(x);
+    out
 }
 
-impl<T, K, S, const D: usize> Sink<T, D> for Charted<'_, '_, K, S>
+impl<T, K, S, const D: usize> Sink<T, D> for Charted<'_, '_, K, S, T, D>
 where
     T: RealField + Copy,
     K: Sink<T, D> + ?Sized,
@@ -174,8 +197,8 @@ where
         if self.chart == 0 {
             return self.inner.wants_dense_at(prev, end);
         }
-        let x_prev = self.sys.change_chart(self.chart, 0, prev.0, prev.1);
-        let x = self.sys.change_chart(self.chart, 0, end.0, end.1);
+        let x_prev = self.to_chart_0(prev.0, prev.1);
+        let x = self.to_chart_0(end.0, end.1);
         self.inner.wants_dense_at((prev.0, &x_prev), (end.0, &x))
     }
 
@@ -274,9 +297,11 @@ where
 
 /// The switching threshold of a segment that starts where its chart's
 /// regularity is `rho`, after `stalls` segments that ended where they
-/// started: `min(τ, |ρ|/2)`, divided by 4 for each stall.
-fn threshold<T: RealField + Copy>(rho: T, stalls: usize) -> T {
-    let mut floor = c::<T>(SWITCH_BELOW).min(rho.abs() * c(0.5));
+/// started: `min(τ, |ρ|/2)`, divided by 4 for each stall, τ the chart's
+/// [`OdeSystem::chart_switch_below`] (`|ρ|/2` so that a segment that starts
+/// poorly still goes on).
+fn threshold<T: RealField + Copy>(tau: f64, rho: T, stalls: usize) -> T {
+    let mut floor = c::<T>(tau).min(rho.abs() * c(0.5));
     for _ in 0..stalls {
         floor *= c(0.25);
     }
@@ -340,7 +365,7 @@ where
     // A run that starts where chart 0 is poor starts in a better chart.
     let moving = check_arguments(t0, &x0, t1).is_ok_and(|dir| dir != T::zero());
     if moving
-        && magnitude(sys, 0, t0, &x0) < c(SWITCH_BELOW)
+        && magnitude(sys, 0, t0, &x0) < c(sys.chart_switch_below(0))
         && let Some((to, y)) = better(sys, 0, t0, &x0)
     {
         switches.push(ChartSwitch { t: t0, from: 0, to });
@@ -350,6 +375,7 @@ where
         inner: sink,
         sys,
         chart: 0,
+        near: Cell::new(x0),
     };
     let (mut h, mut stalls) = (base.initial_step, 0);
     loop {
@@ -357,7 +383,8 @@ where
         settings.initial_step = h;
         settings.max_steps = base.max_steps.saturating_sub(attempts(&rec.stats, base));
         let rho = sys.chart_regularity_in(at.chart, at.t, &at.x);
-        settings.chart_floor = rho.map(|rho| threshold(rho, stalls));
+        let tau = sys.chart_switch_below(at.chart);
+        settings.chart_floor = rho.map(|rho| threshold(tau, rho, stalls));
         let view = InChart::new(sys, at.chart);
         sink.chart = at.chart;
         let mut seg = Record::default();
@@ -375,13 +402,13 @@ where
         add(rec, &seg);
         rec.stats.chart_switches = switches.total();
         let (t, x) = match result {
-            Ok(out) => return Ok(finished(sys, at.chart, out, rec, switches)),
+            Ok(out) => return Ok(finished(&sink, out, rec, switches)),
             Err(SimError::Singular {
                 t,
                 x,
                 cause: Singularity::Chart,
             }) => (t, x),
-            Err(e) => return Err(in_chart_0(sys, at.chart, e, (t0, x0), rec)),
+            Err(e) => return Err(in_chart_0(&sink, e, (t0, x0), rec)),
         };
         stalls = if t == at.t { stalls + 1 } else { 0 };
         h = if stalls > 0 {
@@ -392,15 +419,19 @@ where
         let next = better(sys, at.chart, t, &x);
         let regular = magnitude(sys, at.chart, t, &x) > machine_epsilon::<T>().sqrt();
         if stalls > MAX_STALLS || (next.is_none() && !regular) {
-            let x = sys.change_chart(at.chart, 0, t, &x);
+            let x = sink.to_chart_0(t, &x);
             let cause = Singularity::Chart;
             return Err(SimError::Singular { t, x, cause });
         }
         at.t = t;
         at.x = x;
         // No better chart: the same one again, with a lower threshold.
-        if let Some((to, y)) = next {
+        if let Some((to, mut y)) = next {
             let from = at.chart;
+            if to == 0 {
+                // back in the layout the caller sees: continuous with it
+                y = sink.to_chart_0(t, &x);
+            }
             switches.push(ChartSwitch { t, from, to });
             rec.stats.chart_switches = switches.total();
             (at.chart, at.x) = (to, y);
@@ -408,24 +439,24 @@ where
     }
 }
 
-/// The outcome of the last segment, in chart `chart`, as the run's: its
-/// state in chart 0's layout (a terminal event's already is), the run's
-/// record and switches.
-fn finished<T, S, const D: usize>(
-    sys: &S,
-    chart: usize,
+/// The outcome of the last segment, in the chart of `sink`, as the run's:
+/// its state in chart 0's layout (a terminal event's already is), the
+/// run's record and switches.
+fn finished<T, K, S, const D: usize>(
+    sink: &Charted<'_, '_, K, S, T, D>,
     out: Outcome<T, D>,
     rec: &Record<T>,
     switches: &ChartSwitches<T>,
 ) -> Outcome<T, D>
 where
     T: RealField + Copy,
+    K: ?Sized,
     S: OdeSystem<T, D> + ?Sized,
 {
-    let x = if chart == 0 || out.event.is_some() {
+    let x = if out.event.is_some() {
         out.x
     } else {
-        sys.change_chart(chart, 0, out.t, &out.x)
+        sink.to_chart_0(out.t, &out.x)
     };
     Outcome {
         x,
@@ -436,27 +467,21 @@ where
     }
 }
 
-/// The failure `e` of a segment in chart `chart` as the run's: its state
-/// in chart 0's layout, a tolerance too tight at the run's start `(t0,
-/// x0)`, the step attempts of the whole run.
-fn in_chart_0<T, S, const D: usize>(
-    sys: &S,
-    chart: usize,
+/// The failure `e` of a segment in the chart of `sink` as the run's: its
+/// state in chart 0's layout, a tolerance too tight at the run's start
+/// `(t0, x0)`, the step attempts of the whole run.
+fn in_chart_0<T, K, S, const D: usize>(
+    sink: &Charted<'_, '_, K, S, T, D>,
     e: SimError<T, D>,
     (t0, x0): (T, SVector<T, D>),
     rec: &Record<T>,
 ) -> SimError<T, D>
 where
     T: RealField + Copy,
+    K: ?Sized,
     S: OdeSystem<T, D> + ?Sized,
 {
-    let map = |t: T, x: SVector<T, D>| {
-        if chart == 0 {
-            x
-        } else {
-            sys.change_chart(chart, 0, t, &x)
-        }
-    };
+    let map = |t: T, x: SVector<T, D>| sink.to_chart_0(t, &x);
     match e {
         SimError::NonFinite { t, x } => SimError::NonFinite { t, x: map(t, x) },
         SimError::StepSizeTooSmall { t, x, h } => SimError::StepSizeTooSmall { t, x: map(t, x), h },

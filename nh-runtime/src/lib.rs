@@ -156,6 +156,7 @@ mod dopri5;
 mod driver;
 #[cfg(feature = "std")]
 mod ensemble;
+mod euler;
 mod events;
 #[cfg(feature = "alloc")]
 mod gauss_legendre4;
@@ -185,6 +186,7 @@ pub use dop853::Dop853;
 pub use dopri5::Dopri5;
 #[cfg(feature = "std")]
 pub use ensemble::{Ensemble, Shard, ShardError};
+pub use euler::EulerSequence;
 pub use events::Events;
 #[cfg(feature = "alloc")]
 pub use gauss_legendre4::GaussLegendre4;

@@ -307,6 +307,41 @@ pub trait OdeSystem<T, const D: usize> {
     {
         *x
     }
+
+    /// The regularity below which a run leaves chart `chart` for a better
+    /// one (DESIGN §6.7): `0.1` by default, the threshold for the charts of
+    /// constraints, whose regularity can be well below 1 on the whole of a
+    /// good chart. The charts of a free rotation take `0.4`: one of the two
+    /// sequences always has `|cos β| ≥ 1/√2`, and the cost of the angles
+    /// grows as `1/cos β` long before the pole.
+    #[inline]
+    fn chart_switch_below(&self, chart: usize) -> f64 {
+        let _ = chart;
+        0.1
+    }
+
+    /// [`OdeSystem::change_chart`] where chart `to`'s positions are one of
+    /// several that describe the same configuration (the angles of a
+    /// rotation, which are defined up to whole turns, and a rotation's two
+    /// sets of Euler angles): the one nearest `near`, a state in chart
+    /// `to`'s layout. The integrators pass the last state they reported, so
+    /// that what the caller sees is continuous across switches. Default:
+    /// [`OdeSystem::change_chart`].
+    #[inline]
+    fn change_chart_near(
+        &self,
+        from: usize,
+        to: usize,
+        t: T,
+        x: &SVector<T, D>,
+        near: &SVector<T, D>,
+    ) -> SVector<T, D>
+    where
+        T: Copy,
+    {
+        let _ = near;
+        self.change_chart(from, to, t, x)
+    }
 }
 
 /// A projection onto holonomic constraints that did not converge.
@@ -564,6 +599,31 @@ pub trait ControlledSystem<T, const D: usize, const M: usize> {
     {
         *x
     }
+
+    /// [`OdeSystem::chart_switch_below`]: `0.1` by default.
+    #[inline]
+    fn chart_switch_below(&self, chart: usize) -> f64 {
+        let _ = chart;
+        0.1
+    }
+
+    /// [`OdeSystem::change_chart_near`]; the input does not enter it.
+    /// Default: [`ControlledSystem::change_chart`].
+    #[inline]
+    fn change_chart_near(
+        &self,
+        from: usize,
+        to: usize,
+        t: T,
+        x: &SVector<T, D>,
+        near: &SVector<T, D>,
+    ) -> SVector<T, D>
+    where
+        T: Copy,
+    {
+        let _ = near;
+        self.change_chart(from, to, t, x)
+    }
 }
 
 /// A [`ControlledSystem`] that can also provide the Jacobian `∂f/∂x` of
@@ -794,6 +854,26 @@ where
         T: Copy,
     {
         self.system.change_chart(from, to, t, x)
+    }
+
+    #[inline]
+    fn change_chart_near(
+        &self,
+        from: usize,
+        to: usize,
+        t: T,
+        x: &SVector<T, D>,
+        near: &SVector<T, D>,
+    ) -> SVector<T, D>
+    where
+        T: Copy,
+    {
+        self.system.change_chart_near(from, to, t, x, near)
+    }
+
+    #[inline]
+    fn chart_switch_below(&self, chart: usize) -> f64 {
+        self.system.chart_switch_below(chart)
     }
 }
 
