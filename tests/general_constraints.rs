@@ -21,7 +21,10 @@ use serde_json::Value;
 
 #[path = "common/refdata_json.rs"]
 mod refdata_json;
+#[path = "common/turntable.rs"]
+mod turntable;
 use refdata_json::{arr, load, num, vector};
+use turntable::ball_centre;
 
 nonholonomic_system! {
     /// Chaplygin sled, the knife edge as written (explicit, singular at θ = π/2).
@@ -349,15 +352,6 @@ fn implicit_sled_in_one_chart_ends_in_a_singular_chart_at_a_right_angle() {
         "θ = {}",
         out.x[1]
     );
-}
-
-/// The ball's centre: ṙ turns at ν = 2Ω/7, so
-/// r(t) = r0 + v0 (e^{iνt} − 1)/(iν) in complex notation.
-fn ball_centre(r0: (f64, f64), v0: (f64, f64), nu: f64, t: f64) -> (f64, f64) {
-    let (s, c) = (nu * t).sin_cos();
-    // (e^{iνt} − 1)/(iν) = (sin νt + i(1 − cos νt))/ν
-    let (re, im) = (s / nu, (1.0 - c) / nu);
-    (r0.0 + v0.0 * re - v0.1 * im, r0.1 + v0.0 * im + v0.1 * re)
 }
 
 fn ball_run<S: OdeSystem<f64, 8>>(ball: &S, name: &str) {

@@ -1037,6 +1037,8 @@ const NOT_NUMERIC: &[&str] = &[
     "constraint_residual_in",
     "project_in",
     "change_chart",
+    "change_chart_near",
+    "chart_switch_below",
     "jacobian_in_chart",
     "jacobian_with_input_in_chart",
 ];

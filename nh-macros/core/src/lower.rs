@@ -6,6 +6,7 @@
 pub(crate) mod atlas;
 mod bodies;
 pub(crate) mod constraints;
+pub(crate) mod euler_charts;
 mod expressions;
 mod functions;
 pub(crate) mod linear;
@@ -162,7 +163,18 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<(Model, Engine)> {
     lw.lower_lets(def, &let_ok);
     let lagrangian = lw.lower_lagrangian(def);
     lw.lower_forces(def);
-    let lowered = lw.lower_constraints(def);
+    let mut lowered = lw.lower_constraints(def);
+    let dependent: Vec<usize> = lowered.constraints.iter().map(|c| c.dependent).collect();
+    let constraint_atlas = !lowered.atlas.is_empty();
+    if let Some(charts) = lw.euler_charts(def, &dependent, &mut lowered.chart, constraint_atlas) {
+        lowered.atlas = (charts.into_iter())
+            .map(|(euler, singular)| atlas::Chart {
+                dependent: dependent.clone(),
+                singular,
+                euler: Some(euler),
+            })
+            .collect();
+    }
     for text in &lowered.implied {
         lw.description.push(format!(
             "- `{text}`: implied by the constraint rows before it (as for two wheels on one axle), so dropped: it has no dependent coordinate and no multiplier"

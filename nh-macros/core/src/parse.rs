@@ -129,6 +129,7 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         poisoned: Vec::new(),
         lagrangian_written: false,
         one_chart: false,
+        euler_chart: false,
         rejected: Rejected::default(),
         krate,
     };

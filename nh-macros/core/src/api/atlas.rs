@@ -24,6 +24,18 @@ pub struct ChartShape {
     pub rheonomic: bool,
     /// Whether its hidden system has a Jacobian.
     pub jacobian: bool,
+    /// The sequence its free rotation is read in (DESIGN §9.4), in an
+    /// atlas of a rotation's charts.
+    pub euler: Option<EulerShape>,
+}
+
+/// A free rotation's sequence in one chart.
+#[derive(Clone, Debug)]
+pub struct EulerShape {
+    /// The runtime's `EulerSequence` constant: `ZYX`.
+    pub sequence: String,
+    /// The angles' coordinates (indices in q), in the order of the factors.
+    pub angles: [usize; 3],
 }
 
 /// The lines of the struct's documentation that list the charts.
@@ -107,6 +119,17 @@ pub fn atlas_methods(shape: &Shape, dims: Dims) -> TokenStream {
     let residual = arms(&|s| quote!(<_ as #trait_path>::constraint_residual(#s, t, x)));
     let project = arms(&|s| quote!(<_ as #trait_path>::project(#s, t, x)));
     let change = change_chart(shape, dims, &system);
+    // the charts of a free rotation leave a sequence at |cos β| = 0.4, where
+    // the other has |cos β| ≥ 0.91 (DESIGN §9.4)
+    let switch_below = shape.atlas.iter().any(|c| c.euler.is_some()).then(|| {
+        quote! {
+            #[inline]
+            fn chart_switch_below(&self, chart: usize) -> f64 {
+                let _ = chart;
+                0.4
+            }
+        }
+    });
     quote! {
         #[inline]
         fn charts(&self) -> usize { #count }
@@ -124,22 +147,62 @@ pub fn atlas_methods(shape: &Shape, dims: Dims) -> TokenStream {
         #[inline]
         fn project_in(&self, chart: usize, t: T, x: &mut #xty) -> ::core::result::Result<bool, __nh_private::nh_runtime::ProjectionFailure<T>> { #project }
         #change
+        #switch_below
     }
 }
 
 /// `change_chart`: the full velocity from chart `from`'s dependent
-/// velocities, then chart `to`'s independent velocities read off it.
+/// velocities, then chart `to`'s independent velocities read off it; with
+/// charts of a free rotation, its angles and their rates in `to`'s
+/// sequence in between, and `change_chart_near`, whose angles are the ones
+/// nearest `near`'s.
 fn change_chart(
     shape: &Shape,
     dims: Dims,
     system: &dyn Fn(&ChartShape) -> TokenStream,
 ) -> TokenStream {
-    let (n, k) = (dims.n, dims.k);
     let xty = svector(dims.state);
+    let body = |near: TokenStream| change_chart_body(shape, dims, system, near);
+    let Some(angles) = shape
+        .atlas
+        .iter()
+        .find_map(|c| c.euler.as_ref())
+        .map(|e| e.angles)
+    else {
+        let plain = body(TokenStream::new());
+        return quote! {
+            fn change_chart(&self, from: usize, to: usize, t: T, x: &#xty) -> #xty {
+                #plain
+            }
+        };
+    };
+    let lits = angles.map(Literal::usize_unsuffixed);
+    let principal = body(quote!(::core::option::Option::None));
+    let nearest = body(quote!(::core::option::Option::Some(&[#(near[#lits]),*])));
+    quote! {
+        fn change_chart(&self, from: usize, to: usize, t: T, x: &#xty) -> #xty {
+            #principal
+        }
+        fn change_chart_near(&self, from: usize, to: usize, t: T, x: &#xty, near: &#xty) -> #xty {
+            #nearest
+        }
+    }
+}
+
+/// The body of `change_chart` (`near`: empty without charts of a free
+/// rotation, else the `Option` of the angles to be nearest).
+fn change_chart_body(
+    shape: &Shape,
+    dims: Dims,
+    system: &dyn Fn(&ChartShape) -> TokenStream,
+    near: TokenStream,
+) -> TokenStream {
+    let (n, k) = (dims.n, dims.k);
     let qty = svector(n);
     let rty = svector(k);
     let mut from_arms = TokenStream::new();
     let mut to_arms = TokenStream::new();
+    let mut seq_arms = TokenStream::new();
     for (c, chart) in shape.atlas.iter().enumerate() {
         let s = system(chart);
         let t_arg = if chart.rheonomic {
@@ -161,31 +224,53 @@ fn change_chart(
             #(__nh_qdot[#dep] = __nh_s[#da];)*
         }};
         let to = quote!([#(#ind),*]);
+        let seq = chart.euler.as_ref().map(|e| {
+            let id = Ident::new(&e.sequence, proc_macro2::Span::call_site());
+            quote!(__nh_private::nh_runtime::EulerSequence::#id)
+        });
         if c == 0 {
             from_arms.extend(quote!(_ => #fill));
             to_arms.extend(quote!(_ => #to));
+            seq_arms.extend(quote!(_ => #seq));
         } else {
             from_arms = quote!(#c => #fill, #from_arms);
             to_arms = quote!(#c => #to, #to_arms);
+            seq_arms = quote!(#c => #seq, #seq_arms);
         }
     }
-    quote! {
-        fn change_chart(&self, from: usize, to: usize, t: T, x: &#xty) -> #xty {
-            let _ = t;
-            if from == to {
-                return *x;
-            }
-            let __nh_q: #qty = x.fixed_rows::<#n>(0).into_owned();
-            let __nh_r: #rty = x.fixed_rows::<#k>(#n).into_owned();
-            let mut __nh_qdot: #qty = <#qty>::zeros();
-            match from { #from_arms }
-            let __nh_to: [usize; #k] = match to { #to_arms };
-            let mut __nh_y = *x;
-            for (__nh_a, &__nh_i) in __nh_to.iter().enumerate() {
-                __nh_y[#n + __nh_a] = __nh_qdot[__nh_i];
-            }
-            __nh_y
+    let rotation = shape.atlas.iter().find_map(|c| c.euler.as_ref()).map(|e| {
+        let a = e.angles.map(Literal::usize_unsuffixed);
+        let i = [0usize, 1, 2].map(Literal::usize_unsuffixed);
+        quote! {
+            // the free rotation: its angles and their rates in `to`'s sequence
+            let __nh_seq = |__nh_c: usize| match __nh_c { #seq_arms };
+            let (__nh_a, __nh_w) = __nh_private::nh_runtime::EulerSequence::change(
+                __nh_seq(from),
+                __nh_seq(to),
+                &[#(__nh_q[#a]),*],
+                &[#(__nh_qdot[#a]),*],
+                #near,
+            );
+            #(__nh_y[#a] = __nh_a[#i];)*
+            #(__nh_qdot[#a] = __nh_w[#i];)*
         }
+    });
+    quote! {
+        let _ = t;
+        if from == to {
+            return *x;
+        }
+        let __nh_q: #qty = x.fixed_rows::<#n>(0).into_owned();
+        let __nh_r: #rty = x.fixed_rows::<#k>(#n).into_owned();
+        let mut __nh_qdot: #qty = <#qty>::zeros();
+        match from { #from_arms }
+        let __nh_to: [usize; #k] = match to { #to_arms };
+        let mut __nh_y = *x;
+        #rotation
+        for (__nh_a, &__nh_i) in __nh_to.iter().enumerate() {
+            __nh_y[#n + __nh_a] = __nh_qdot[__nh_i];
+        }
+        __nh_y
     }
 }
 

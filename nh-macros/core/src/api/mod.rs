@@ -19,7 +19,7 @@ mod cache;
 mod named;
 mod table;
 
-pub use atlas::ChartShape;
+pub use atlas::{ChartShape, EulerShape};
 use cache::{Cache, new_fn};
 pub use table::{Arguments, GeneratedMethod, METHODS, Returns};
 

@@ -2,7 +2,8 @@
 //! definition with its implicit and holonomic rows solved for other
 //! coordinates, expanded as a hidden system of its own.
 
-use crate::api::ChartShape;
+use crate::api::{ChartShape, EulerShape};
+use crate::lower::atlas::Chart;
 use crate::model::{Model, Output};
 use crate::parse::SystemDef;
 use proc_macro2::{Ident, TokenStream};
@@ -24,16 +25,17 @@ pub fn charts(
     let own = &model.atlas[0];
     let mut shapes = vec![ChartShape {
         system: None,
-        name: chart_name(model, &own.dependent),
+        name: chart_name(model, own),
         singular: own.singular.clone(),
         independent: model.independent().to_vec(),
         dependent: model.dependent().to_vec(),
         rheonomic: rheonomic_of(model, engine),
         jacobian,
+        euler: euler_shape(own),
     }];
     let mut tokens = TokenStream::new();
     for (c, chart) in model.atlas.iter().enumerate().skip(1) {
-        let hidden = hidden_def(def, model, c, &chart.dependent);
+        let hidden = hidden_def(def, model, c, chart);
         let mut cx = crate::ctxt::Ctxt::new();
         let Some((hmodel, mut engine)) = crate::lower::lower(&hidden, &mut cx) else {
             let _ = cx.finish();
@@ -45,16 +47,17 @@ pub fn charts(
             continue;
         }
         let ops = stats.route.map_or(0, |r| stats.ops(r));
-        figures.push((chart_name(model, &chart.dependent), ops));
+        figures.push((chart_name(model, chart), ops));
         tokens.extend(code);
         shapes.push(ChartShape {
             system: Some(hidden.name.clone()),
-            name: chart_name(model, &chart.dependent),
+            name: chart_name(model, chart),
             singular: chart.singular.clone(),
             independent: hmodel.independent().to_vec(),
             dependent: hmodel.dependent().to_vec(),
             rheonomic,
             jacobian,
+            euler: euler_shape(chart),
         });
     }
     if shapes.len() < 2 {
@@ -63,13 +66,32 @@ pub fn charts(
     (shapes, tokens, figures)
 }
 
-/// "solved for `x`, `y`".
-fn chart_name(model: &Model, dependent: &[usize]) -> String {
-    let names: Vec<String> = dependent
+/// "solved for `x`, `y`", or for a chart of a free rotation "the angles
+/// of `rot_z(phi)*rot_x(theta)*rot_y(psi)`".
+fn chart_name(model: &Model, chart: &Chart) -> String {
+    if let Some(e) = &chart.euler {
+        let names: Vec<String> = model
+            .coordinates
+            .iter()
+            .map(|c| c.name.to_string())
+            .collect();
+        let names: Vec<&str> = names.iter().map(String::as_str).collect();
+        return e.name(&names);
+    }
+    let names: Vec<String> = chart
+        .dependent
         .iter()
         .map(|&i| format!("`{}`", model.coordinates[i].name))
         .collect();
     format!("solved for {}", names.join(", "))
+}
+
+/// The sequence of `chart`'s free rotation, for the API.
+fn euler_shape(chart: &Chart) -> Option<EulerShape> {
+    chart.euler.as_ref().map(|e| EulerShape {
+        sequence: e.sequence(),
+        angles: e.angles,
+    })
 }
 
 /// Whether some dependent velocity of `model` depends on t (then its
@@ -82,9 +104,10 @@ fn rheonomic_of(model: &Model, engine: &crate::sym::Engine) -> bool {
 }
 
 /// The definition of chart `c`: hidden, named `__nh_{Name}_chart{c}`, its
-/// rows solved for `dependent`, with one chart and only the outputs the
+/// rows solved for the chart's coordinates (or its free rotation written
+/// in the chart's sequence), with one chart and only the outputs the
 /// runtime takes from it.
-fn hidden_def(def: &SystemDef, model: &Model, c: usize, dependent: &[usize]) -> SystemDef {
+fn hidden_def(def: &SystemDef, model: &Model, c: usize, chart: &Chart) -> SystemDef {
     let span = def.name.span();
     let mut hidden = def.clone();
     let name = syn::ext::IdentExt::unraw(&def.name);
@@ -96,13 +119,17 @@ fn hidden_def(def: &SystemDef, model: &Model, c: usize, dependent: &[usize]) -> 
         quote!(#[allow(dead_code, unused_imports, missing_docs, non_camel_case_types)]),
     ];
     hidden.attrs.extend(crate::attrs::inherited(&def.attrs));
-    hidden.dependent = Some((
-        Ident::new("dependent", span),
-        dependent
-            .iter()
-            .map(|&i| model.coordinates[i].name.clone())
-            .collect(),
-    ));
+    if let Some(euler) = &chart.euler {
+        euler.rewrite(&mut hidden);
+        hidden.euler_chart = true;
+    } else {
+        hidden.dependent = Some((
+            Ident::new("dependent", span),
+            (chart.dependent.iter())
+                .map(|&i| model.coordinates[i].name.clone())
+                .collect(),
+        ));
+    }
     hidden.one_chart = true;
     // the Jacobian, when the system has one (asked for, or implied by
     // `sensitivities` or `linearization`), and nothing else

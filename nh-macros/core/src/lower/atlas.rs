@@ -33,6 +33,9 @@ pub struct Chart {
     /// det c_s of the chart as text: the chart is singular where it
     /// vanishes.
     pub singular: String,
+    /// The sequence a free rotation is read in, in a chart of its angles
+    /// (DESIGN §9.4); `None` in a chart of the constraints.
+    pub euler: Option<super::euler_charts::EulerChart>,
 }
 
 /// The rows' coefficients evaluated at points that differ in the
@@ -360,6 +363,7 @@ impl Lowerer<'_> {
             atlas.push(Chart {
                 dependent: ordered.iter().map(|&j| free[j]).collect(),
                 singular,
+                euler: None,
             });
         }
         if atlas.len() < 2 { Vec::new() } else { atlas }

@@ -287,6 +287,10 @@ pub struct SystemDef {
     /// Whether the system keeps one chart: no atlas is derived (a chart of
     /// another system's atlas, DESIGN §9.3).
     pub one_chart: bool,
+    /// Whether the system is the chart of another system's atlas in which
+    /// a free rotation is read in another sequence (DESIGN §9.4): its
+    /// chart regularity includes the rotation's.
+    pub euler_chart: bool,
     /// What the rejected items were meant to declare, for the stand-in
     /// emitted next to the errors (lowering does not see it).
     pub rejected: Rejected,

@@ -1,0 +1,215 @@
+//! Orientations without gimbal lock (DESIGN §9.4): a ball on a turntable
+//! with its orientation in yaw, pitch and roll, whose chart is singular
+//! where the pitch is ±π/2, runs through that pole in the chart of another
+//! sequence, against
+//!
+//! * the closed form of its centre, which circles at 2Ω/7 of the table's
+//!   rate;
+//! * the same ball with the rates of three fictitious angles as velocities
+//!   (no singularity): the same centre, the same angular velocity, and the
+//!   steps it takes;
+//! * itself held in one chart, away from the pole.
+use nonholonomic::prelude::*;
+use std::f64::consts::FRAC_PI_2;
+
+#[path = "common/turntable.rs"]
+mod turntable;
+use turntable::ball_centre;
+
+nonholonomic_system! {
+    /// A homogeneous ball rolling on a table that turns at `Omega`, its
+    /// orientation in yaw, pitch and roll.
+    pub struct EulerBall {
+        parameters { m, R, Omega }
+        coordinates { x, y, phi, theta, psi }
+        let Q = rot_z(phi) * rot_y(theta) * rot_x(psi);
+        let w = omega(Q);
+        lagrangian = m*(dot(x)^2 + dot(y)^2)/2 + m*R^2/5*(w.x^2 + w.y^2 + w.z^2);
+        constraints {
+            dot(x) = R*w.y - Omega*y;
+            dot(y) = -R*w.x + Omega*x;
+        }
+    }
+}
+
+nonholonomic_system! {
+    /// The same ball with its angular velocity as the rates of three
+    /// fictitious angles (its inertia is isotropic): no singularity.
+    pub struct FreeBall {
+        parameters { m, R, Omega }
+        coordinates { x, y, ax, ay, az }
+        lagrangian = m*(dot(x)^2 + dot(y)^2)/2 + m*R^2/5*(dot(ax)^2 + dot(ay)^2 + dot(az)^2);
+        constraints {
+            dot(x) = R*dot(ay) - Omega*y;
+            dot(y) = -R*dot(ax) + Omega*x;
+        }
+    }
+}
+
+const M: f64 = 1.0;
+const R: f64 = 0.1;
+const OMEGA: f64 = 2.0 * std::f64::consts::PI;
+/// The centre and the angular velocity (world axes) at t = 0.
+const START: (f64, f64, [f64; 3]) = (0.3, -0.1, [0.7, -0.4, 1.1]);
+
+/// The Euler ball's world angular velocity from its state.
+fn omega_world(x: &SVector<f64, 8>) -> Vector3<f64> {
+    let angles = [x[2], x[3], x[4]];
+    let rates = [x[5], x[6], x[7]];
+    EulerSequence::ZYX.matrix(&angles) * EulerSequence::ZYX.body_rates(&angles, &rates)
+}
+
+/// The Euler ball's state at t = 0 with the orientation `angles`.
+fn euler_start(angles: [f64; 3]) -> SVector<f64, 8> {
+    let (x0, y0, w) = START;
+    let q = EulerSequence::ZYX.matrix(&angles);
+    let rates = EulerSequence::ZYX.rates(&angles, &(q.transpose() * Vector3::from(w)));
+    SVector::<f64, 8>::from([
+        x0, y0, angles[0], angles[1], angles[2], rates[0], rates[1], rates[2],
+    ])
+}
+
+/// The free ball's state at t = 0.
+fn free_start() -> SVector<f64, 8> {
+    let (x0, y0, w) = START;
+    SVector::<f64, 8>::from([x0, y0, 0.0, 0.0, 0.0, w[0], w[1], w[2]])
+}
+
+/// The largest errors of the Euler ball's states `euler` (at the times
+/// of `free`'s) in its centre against the closed form and in its angular
+/// velocity against the free ball's.
+fn errors(euler: &[(f64, SVector<f64, 8>)], free: &[(f64, SVector<f64, 8>)]) -> (f64, f64) {
+    let (x0, y0, w) = START;
+    let v0 = (R * w[1] - OMEGA * y0, -R * w[0] + OMEGA * x0);
+    let nu = 2.0 * OMEGA / 7.0;
+    let (mut centre, mut spin) = (0.0f64, 0.0f64);
+    for ((t, xe), (tf, xf)) in euler.iter().zip(free) {
+        assert_eq!(t, tf);
+        let (cx, cy) = ball_centre((x0, y0), v0, nu, *t);
+        centre = centre.max((xe[0] - cx).abs()).max((xe[1] - cy).abs());
+        let wf = Vector3::new(xf[5], xf[6], xf[7]);
+        spin = spin.max((omega_world(xe) - wf).amax());
+    }
+    (centre, spin)
+}
+
+/// The states of a run of `sys` from `x0` to t = 10 at every 0.1, and the
+/// outcome.
+fn sampled<S: OdeSystem<f64, 8>>(
+    mut method: Dop853<f64>,
+    sys: &S,
+    x0: SVector<f64, 8>,
+) -> (Vec<(f64, SVector<f64, 8>)>, Outcome<f64, 8>) {
+    let times: Vec<f64> = (1..=100).map(|i| 0.1 * i as f64).collect();
+    let mut states = Vec::new();
+    let out = method
+        .integrate_with_outputs(sys, 0.0, x0, 10.0, &times, |t, x| states.push((t, *x)))
+        .unwrap();
+    (states, out)
+}
+
+#[test]
+fn the_euler_ball_circles_at_two_sevenths_of_the_table_rate_through_gimbal_lock() {
+    let euler = EulerBall::new(M, R, OMEGA);
+    assert_eq!(euler.charts(), 2);
+    assert_eq!(
+        euler.chart_name(0),
+        "the angles of `rot_z(phi)*rot_y(theta)*rot_x(psi)`"
+    );
+    assert_eq!(
+        euler.chart_name(1),
+        "the angles of `rot_z(phi)*rot_x(theta)*rot_y(psi)`"
+    );
+    let tol = Dop853::new(1e-12, 1e-14);
+    let (free_states, free_out) = sampled(tol, &FreeBall::new(M, R, OMEGA), free_start());
+    // from the upright orientation, and from 0.01 short of the pole
+    for (angles, name) in [
+        ([0.0, 0.0, 0.0], "upright"),
+        ([0.3, FRAC_PI_2 - 0.01, -0.2], "near the pole"),
+    ] {
+        let x0 = euler_start(angles);
+        let (states, out) = sampled(tol, &euler, x0);
+        let (centre, spin) = errors(&states, &free_states);
+        let held = tol
+            .with_chart_switching(false)
+            .integrate(&euler, 0.0, x0, 10.0);
+        let switches: Vec<(f64, usize, usize)> =
+            out.switches.iter().map(|s| (s.t, s.from, s.to)).collect();
+        println!(
+            "{name}: {} steps + {} rejected, switches {switches:.4?}; held in chart 0: {}; \
+             the free ball {} + {}; centre {centre:.1e}, ω {spin:.1e}",
+            out.stats.steps,
+            out.stats.rejected,
+            match &held {
+                Ok(o) => format!("{} steps + {} rejected", o.stats.steps, o.stats.rejected),
+                Err(e) => format!("{e}"),
+            },
+            free_out.stats.steps,
+            free_out.stats.rejected,
+        );
+        assert!(centre <= 1e-9, "{name}: {centre:e}");
+        assert!(spin <= 1e-8, "{name}: {spin:e}");
+        assert!(!switches.is_empty(), "{name}");
+        // the pole costs held runs at least twice the steps
+        if let Ok(o) = held {
+            assert!(2 * out.stats.steps <= o.stats.steps, "{name}");
+        }
+    }
+}
+
+#[test]
+fn the_sequences_agree_away_from_their_poles() {
+    // chart 1's equations alone, from chart 0's state mapped there, against
+    // chart 0's run, over 0.15 s (before the first switch at 0.19)
+    let euler = EulerBall::new(M, R, OMEGA);
+    let x0 = euler_start([0.0, 0.0, 0.0]);
+    let chart_1 = |t: f64, x: &SVector<f64, 8>| euler.rhs_in_chart(1, t, x);
+    let y0 = euler.change_chart(0, 1, 0.0, &x0);
+    let mut tol = Dop853::new(1e-13, 1e-15);
+    let mut worst = 0.0f64;
+    for k in 1..=15 {
+        let t = 0.01 * k as f64;
+        let a = tol
+            .with_chart_switching(false)
+            .integrate(&euler, 0.0, x0, t)
+            .unwrap()
+            .x;
+        let b = tol.integrate(&chart_1, 0.0, y0, t).unwrap().x;
+        let b = euler.change_chart_near(1, 0, t, &b, &a);
+        worst = worst.max((a - b).amax() / a.amax());
+    }
+    println!("chart 0 against chart 1 over 0.15 s: {worst:.1e} of the largest entry");
+    assert!(worst < 1e-10, "{worst:e}");
+}
+
+#[test]
+fn the_angles_seen_are_continuous_across_switches() {
+    // outputs every millisecond through 30 s and its switches (the first
+    // at 0.19 s, then, from 28.07 s on, a spin about the body's z axis
+    // while it lies horizontal takes the body's x and y axes through the
+    // vertical in turn, the poles of both sequences): no jump by a whole
+    // turn where chart 0 is far from its pole (|cos θ| > 0.5, where the
+    // rates stay below a few hundred rad/s)
+    let euler = EulerBall::new(M, R, OMEGA);
+    let x0 = euler_start([0.0, 0.0, 0.0]);
+    let times: Vec<f64> = (1..=30_000).map(|i| 1e-3 * i as f64).collect();
+    let mut last: Option<SVector<f64, 8>> = None;
+    let mut jump = 0.0f64;
+    let out = Dop853::new(1e-10, 1e-12)
+        .integrate_with_outputs(&euler, 0.0, x0, 30.0, &times, |_, x| {
+            if let Some(p) = last
+                && p[3].cos().abs() > 0.5
+                && x[3].cos().abs() > 0.5
+            {
+                jump = (2..5).map(|i| (x[i] - p[i]).abs()).fold(jump, f64::max);
+            }
+            last = Some(*x);
+        })
+        .unwrap();
+    println!(
+        "{} switches; largest step of an angle between outputs: {jump:.3}",
+        out.stats.chart_switches
+    );
+    assert!(out.stats.chart_switches >= 10);
+    assert!(jump < 1.0, "{jump}");
+}
