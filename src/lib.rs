@@ -272,36 +272,39 @@
 //!
 //! A chart of dependent coordinates can be singular somewhere (the implicit
 //! sled solved for y at θ = π/2): the generated `chart_regularity` (the signed
-//! ratio det(c_s)/Π‖c_a‖ of the block, in [−1, 1]) lets every integrator end
-//! such a run in `SimError::Singular { cause: Singularity::Chart, .. }` with
-//! the last good state.
+//! ratio det(c_s)/Π‖c_a‖ of the block, in [−1, 1]) tells the integrators
+//! where, and they move to another chart of the system's atlas there (the
+//! row solved for x); held in one chart (`with_chart_switching(false)`) every
+//! integrator ends such a run in `SimError::Singular { cause:
+//! Singularity::Chart, .. }` with the last good state. An explicit row that
+//! divides by the coordinates (`dot(y) = tan(theta)*dot(x)`) is solved as
+//! the implicit row with its denominators cleared, and charted alike.
 //!
-//! The same holds for poles the constraint block does not see: a division by
-//! an expression of the state, or `ln`, a root, `asin`, `acos` or `atan2` at
-//! the edge of its domain, in the Lagrangian, the forces, a constraint as
-//! written or the kinematics (`dot(y) = tan(theta)*dot(x)` divides by
-//! cos θ). The generated `crossed_pole` checks each such denominator or
-//! argument at both ends of every step, and a step that would carry the
-//! motion across ends the run in `SimError::Singular { cause:
-//! Singularity::Pole("1/cos(theta)"), .. }` with the last good state:
+//! The other poles, a division by an expression of the state, or `ln`, a
+//! root, `asin`, `acos` or `atan2` at the edge of its domain, in the
+//! Lagrangian, the forces or the kinematics, are guards: the generated
+//! `crossed_pole` checks each such denominator or argument at both ends of
+//! every step, and a step that would carry the motion across ends the run
+//! in `SimError::Singular { cause: Singularity::Pole("1/cos(theta)"), .. }`
+//! with the last good state:
 //!
 //! ```rust
 //! use nonholonomic::prelude::*;
 //!
 //! nonholonomic_system! {
-//!     pub struct TanSled {
-//!         parameters { m, J, a }
-//!         coordinates { x, theta, y }
-//!         lagrangian = J*dot(theta)^2/2
-//!             + m*((-a*dot(theta)*sin(theta) + dot(x))^2 + (a*dot(theta)*cos(theta) + dot(y))^2)/2;
-//!         constraints { dot(y) = tan(theta)*dot(x); }
+//!     /// Pushed along x by a force that grows as tan θ while θ turns freely.
+//!     pub struct TanForce {
+//!         parameters { m, k }
+//!         coordinates { x, theta }
+//!         lagrangian = m*(dot(x)^2 + dot(theta)^2)/2;
+//!         forces { x: k*tan(theta); }
 //!     }
 //! }
 //!
-//! let sled = TanSled::new(1.0, 0.3, 0.4);
-//! // heading 1.2 rad, turning at 1.5 rad/s: θ passes π/2 near t = 0.26
-//! let x0 = SVector::from([0.0, 1.2, 0.0, 0.5 * 1.2f64.cos(), 1.5]);
-//! let err = Dopri5::new(1e-8, 1e-10).integrate(&sled, 0.0, x0, 2.0).unwrap_err();
+//! let point = TanForce::new(1.0, 0.5);
+//! // θ from 1.2 at 1 rad/s: the force's pole at t = π/2 − 1.2
+//! let x0 = SVector::from([0.0, 1.2, 0.0, 1.0]);
+//! let err = Dopri5::new(1e-8, 1e-10).integrate(&point, 0.0, x0, 1.0).unwrap_err();
 //! assert!(matches!(err, SimError::Singular { cause: Singularity::Pole("1/cos(theta)"), .. }));
 //! assert!(err.state().unwrap()[1] < std::f64::consts::FRAC_PI_2);
 //! ```

@@ -1,10 +1,12 @@
-//! The cost of the pole check on a run that never comes near a pole: the
-//! lab's Chaplygin sled (the tan chart, `dot(y) = tan(theta)*dot(x)`, one
-//! guard cos θ) from θ = 0 with a slowly decaying turn (θ stays below 1.1),
-//! integrated by Dormand–Prince at rtol 1e-8, with its generated
-//! `crossed_pole` and with the system behind a wrapper that hides it.
-//! Both runs take the same steps; the difference of their instructions is
-//! the check's.
+//! The cost of the chart check on a run that never comes near the chart's
+//! singularity: the lab's Chaplygin sled (the tan chart, `dot(y) =
+//! tan(theta)*dot(x)`, cleared to an implicit row with an atlas of two
+//! charts, DESIGN §9.3; before that, one pole guard cos θ, §9.2) from θ = 0
+//! with a slowly decaying turn (θ stays below 1.1), integrated by
+//! Dormand–Prince at rtol 1e-8, as generated and behind a wrapper that
+//! hides its chart (one chart, no regularity, no pole check). Both runs
+//! take the same steps; the difference of their instructions is the
+//! check's.
 //!
 //! ```text
 //! cargo build --release -p nh-lab --example pole_cost

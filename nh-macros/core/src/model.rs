@@ -97,6 +97,10 @@ pub enum ConstraintKind {
     /// solved for the dependent velocity the rule or `dependent { .. }`
     /// chose (DESIGN §9).
     Implicit,
+    /// `dot(s) = rhs` whose right side divides by a function of the
+    /// coordinates that can vanish: an implicit row with its denominators
+    /// cleared, solved for s in the system's own chart (DESIGN §9.3).
+    Cleared,
     /// `f(q, t) = 0`: no velocities; its time derivative is the velocity row
     /// (DESIGN §9).
     Holonomic,
@@ -109,7 +113,7 @@ impl ConstraintKind {
         match self {
             ConstraintKind::ExplicitVelocity => "dependent velocity from the constraint (5.3)",
             ConstraintKind::ExplicitAffine => "dependent velocity from the affine constraint",
-            ConstraintKind::Implicit | ConstraintKind::Holonomic => {
+            ConstraintKind::Implicit | ConstraintKind::Cleared | ConstraintKind::Holonomic => {
                 "dependent velocity solved from the constraint rows"
             }
         }
@@ -121,6 +125,7 @@ impl ConstraintKind {
             ConstraintKind::ExplicitVelocity => "explicit",
             ConstraintKind::ExplicitAffine => "explicit, affine or time-dependent",
             ConstraintKind::Implicit => "implicit",
+            ConstraintKind::Cleared => "explicit, solved with its denominators cleared",
             ConstraintKind::Holonomic => "holonomic",
         }
     }

@@ -119,32 +119,13 @@ impl Walk<'_> {
 
     pub(crate) fn guard(&mut self, g: ExprId, text: String) {
         let free = self.e.free_symbols(g);
-        if !free.iter().any(|s| self.state.contains(s)) || self.positive(g) {
+        if !free.iter().any(|s| self.state.contains(s)) || self.e.seen_positive(g) {
             return;
         }
         if self.found.iter().any(|h| h.value == g) {
             return;
         }
         self.found.push(Guard { value: g, text });
-    }
-
-    /// Whether every term of `g` is a positive constant times factors that
-    /// cannot be negative (even integer powers, `exp`, `cosh`): then g > 0
-    /// wherever it has a constant term, and g ≥ 0 otherwise (such a guard
-    /// is kept).
-    pub(crate) fn positive(&self, g: ExprId) -> bool {
-        let terms = self.e.terms(g);
-        let constant = terms
-            .iter()
-            .any(|(m, c)| self.e.factors(*m).is_empty() && !c.is_negative());
-        constant
-            && terms.iter().all(|(m, c)| {
-                !c.is_negative()
-                    && self.e.factors(*m).iter().all(|&(a, k)| {
-                        let even = k.to_integer().is_some_and(|k| k % 2 == 0);
-                        even || matches!(self.e.atom(a), Atom::Func(Fun::Exp | Fun::Cosh, _))
-                    })
-            })
     }
 }
 

@@ -117,6 +117,10 @@ struct Row<'d> {
     value: ExprId,
     /// f of a holonomic row.
     holonomic: Option<ExprId>,
+    /// The written `dot(s)` of an explicit row with a denominator that can
+    /// vanish, made implicit with its denominators cleared (DESIGN §9.3):
+    /// the system's own chart solves it for s.
+    pinned: Option<usize>,
 }
 
 /// A constraint's text as written, shortened for messages and docs.
@@ -280,7 +284,14 @@ impl Lowerer<'_> {
         rhs: ExprId,
         explicit: Option<usize>,
     ) -> Option<Row<'d>> {
-        let g = self.e.sub(lhs, rhs);
+        let mut g = self.e.sub(lhs, rhs);
+        // an explicit row that divides by a function of the coordinates is
+        // an implicit row with its denominators cleared, solved for s in
+        // the system's own chart and for others in the atlas's
+        let cleared = explicit.and_then(|_| self.cleared(g));
+        if let Some(h) = cleared {
+            g = h;
+        }
         if let Source::Written(_) = c {
             self.written.push(g);
         }
@@ -299,11 +310,22 @@ impl Lowerer<'_> {
                 explicit: None,
                 value,
                 holonomic: Some(g),
+                pinned: None,
             });
         }
         // a contact's rows are linear by construction
         if matches!(c, Source::Written(_)) && !self.linear_in_velocities(c, g, explicit) {
             return None;
+        }
+        if cleared.is_some() {
+            return Some(Row {
+                src: c,
+                kind: ConstraintKind::Cleared,
+                explicit: None,
+                value: g,
+                holonomic: None,
+                pinned: explicit,
+            });
         }
         let (kind, value) = match explicit {
             Some(_) => {
@@ -324,7 +346,37 @@ impl Lowerer<'_> {
             explicit,
             value,
             holonomic: None,
+            pinned: None,
         })
+    }
+
+    /// `g` times the denominators of its terms that depend on the
+    /// coordinates and may vanish (each atom to the highest power it
+    /// divides by; `tan` is sin·cos⁻¹), `None` if there are none.
+    fn cleared(&mut self, g: ExprId) -> Option<ExprId> {
+        let positions: Vec<SymId> = self.coords.iter().map(|c| c.position).collect();
+        let mut denominators: Vec<(crate::sym::AtomId, Rational)> = Vec::new();
+        for &(m, _) in self.e.terms(g) {
+            for &(a, k) in self.e.factors(m) {
+                if !k.is_negative() {
+                    continue;
+                }
+                match denominators.iter_mut().find(|d| d.0 == a) {
+                    Some(d) => d.1 = d.1.max(k.abs()),
+                    None => denominators.push((a, k.abs())),
+                }
+            }
+        }
+        let mut product = crate::sym::ONE;
+        for (a, k) in denominators {
+            let base = self.e.atom_power(a, Rational::ONE);
+            let of_coordinates = (self.e.free_symbols(base).iter()).any(|s| positions.contains(s));
+            if of_coordinates && !self.e.seen_positive(base) {
+                let power = self.e.atom_power(a, k);
+                product = self.e.mul(product, power);
+            }
+        }
+        (product != crate::sym::ONE).then(|| self.e.mul(product, g))
     }
 
     /// `x` with every velocity set to zero.

@@ -59,7 +59,8 @@ impl Engine {
         self.atom_power(a, Rational::ONE)
     }
 
-    pub(super) fn atom_power(&mut self, a: AtomId, e: Rational) -> ExprId {
+    /// `a^e` for an atom `a`.
+    pub fn atom_power(&mut self, a: AtomId, e: Rational) -> ExprId {
         let m = self.intern_mono(vec![(a, e)]);
         self.intern_expr(vec![(m, Rational::ONE)])
     }

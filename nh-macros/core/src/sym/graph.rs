@@ -233,6 +233,24 @@ impl Engine {
         &self.atom_syms[a.index()]
     }
 
+    /// Whether every term of `g` is a positive constant times factors that
+    /// cannot be negative (even integer powers, `exp`, `cosh`): then g > 0
+    /// wherever it has a constant term, and g ≥ 0 otherwise (`false`).
+    pub fn seen_positive(&self, g: ExprId) -> bool {
+        let terms = self.terms(g);
+        let constant = terms
+            .iter()
+            .any(|(m, c)| self.factors(*m).is_empty() && !c.is_negative());
+        constant
+            && terms.iter().all(|(m, c)| {
+                !c.is_negative()
+                    && self.factors(*m).iter().all(|&(a, k)| {
+                        let even = k.to_integer().is_some_and(|k| k % 2 == 0);
+                        even || matches!(self.atom(a), Atom::Func(Fun::Exp | Fun::Cosh, _))
+                    })
+            })
+    }
+
     /// Does `e` depend on symbol `s`?
     pub fn depends_on(&self, e: ExprId, s: SymId) -> bool {
         self.expr_syms[e.index()].binary_search(&s).is_ok()

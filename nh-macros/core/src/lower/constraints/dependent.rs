@@ -32,10 +32,19 @@ impl Lowerer<'_> {
         free: &[usize],
         coef: &[Vec<ExprId>],
     ) -> Option<Vec<usize>> {
+        // the explicit rows made implicit keep their written coordinate
+        let pins: Vec<Option<usize>> = (implicit.iter())
+            .map(|&a| {
+                rows[a]
+                    .pinned
+                    .and_then(|s| free.iter().position(|&f| f == s))
+            })
+            .collect();
         if let Some((kw, names)) = &def.dependent {
-            return self.named_dependent(def, (kw, names), rows, implicit, free, coef);
+            let names = with_pins(names, &pins, free, kw, self);
+            return self.named_dependent(def, (kw, &names), rows, implicit, free, coef);
         }
-        match self.automatic(def, free, coef) {
+        match self.automatic(def, free, coef, &pins) {
             Ok(chosen) => Some(chosen),
             Err(a) => {
                 self.no_candidate(rows[implicit[a]].src.range());
@@ -57,9 +66,10 @@ impl Lowerer<'_> {
         def: &SystemDef,
         free: &[usize],
         coef: &[Vec<ExprId>],
+        pins: &[Option<usize>],
     ) -> Result<Vec<usize>, usize> {
         let headings = self.rolling_headings(def, free);
-        self.rule(coef, &headings)
+        self.rule(coef, &headings, pins)
     }
 
     /// For each free coordinate (indices into `free`), whether the heading
@@ -104,9 +114,17 @@ impl Lowerer<'_> {
     /// taken, and where a row has none left, the search goes back to the
     /// rows before it (see [`Lowerer::first_order`]). `Err(a)`: no choice
     /// found, and the first row that had no candidate left is `a`.
-    fn rule(&mut self, coef: &[Vec<ExprId>], headings: &[bool]) -> Result<Vec<usize>, usize> {
-        let prefs: Vec<Vec<usize>> = (coef.iter())
-            .map(|row| {
+    fn rule(
+        &mut self,
+        coef: &[Vec<ExprId>],
+        headings: &[bool],
+        pins: &[Option<usize>],
+    ) -> Result<Vec<usize>, usize> {
+        let prefs: Vec<Vec<usize>> = (coef.iter().zip(pins))
+            .map(|(row, pin)| {
+                if let Some(j) = *pin {
+                    return vec![j];
+                }
                 let mut with_constant: Vec<usize> = Vec::new();
                 let mut others: Vec<usize> = Vec::new();
                 for (j, &c) in row.iter().enumerate() {
@@ -197,7 +215,7 @@ impl Lowerer<'_> {
                 "write `{}`: the same coordinates in an order that works",
                 self.dependent_list(free, &order)
             ),
-            None => match self.automatic(def, free, coef) {
+            None => match self.automatic(def, free, coef, &vec![None; coef.len()]) {
                 Ok(rule) => format!(
                     "no order of `{}` works: write `{}` (the automatic choice), or leave `dependent` out",
                     (names.iter().map(|n| n.to_string()))
@@ -395,4 +413,28 @@ fn ordinal(n: usize) -> String {
         _ => "th",
     };
     format!("{n}{suffix}")
+}
+
+/// `names` of `dependent { .. }` with the written coordinate of each
+/// explicit row made implicit (`pins`, indices into `free`) put in its
+/// row's place, when the list names one coordinate per other row: such a
+/// row was explicit when the list was written.
+fn with_pins(
+    names: &[Ident],
+    pins: &[Option<usize>],
+    free: &[usize],
+    kw: &Ident,
+    lw: &Lowerer<'_>,
+) -> Vec<Ident> {
+    let pinned = pins.iter().filter(|p| p.is_some()).count();
+    if pinned == 0 || names.len() + pinned != pins.len() {
+        return names.to_vec();
+    }
+    let mut rest = names.iter();
+    (pins.iter())
+        .filter_map(|pin| match pin {
+            Some(j) => Some(Ident::new(&lw.coords[free[*j]].name.to_string(), kw.span())),
+            None => rest.next().cloned(),
+        })
+        .collect()
 }
