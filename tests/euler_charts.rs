@@ -14,7 +14,7 @@ use std::f64::consts::FRAC_PI_2;
 
 #[path = "common/turntable.rs"]
 mod turntable;
-use turntable::ball_centre;
+use turntable::{TurntableBall, ball_centre};
 
 nonholonomic_system! {
     /// A homogeneous ball rolling on a table that turns at `Omega`, its
@@ -28,20 +28,6 @@ nonholonomic_system! {
         constraints {
             dot(x) = R*w.y - Omega*y;
             dot(y) = -R*w.x + Omega*x;
-        }
-    }
-}
-
-nonholonomic_system! {
-    /// The same ball with its angular velocity as the rates of three
-    /// fictitious angles (its inertia is isotropic): no singularity.
-    pub struct FreeBall {
-        parameters { m, R, Omega }
-        coordinates { x, y, ax, ay, az }
-        lagrangian = m*(dot(x)^2 + dot(y)^2)/2 + m*R^2/5*(dot(ax)^2 + dot(ay)^2 + dot(az)^2);
-        constraints {
-            dot(x) = R*dot(ay) - Omega*y;
-            dot(y) = -R*dot(ax) + Omega*x;
         }
     }
 }
@@ -111,17 +97,18 @@ fn sampled<S: OdeSystem<f64, 8>>(
 #[test]
 fn the_euler_ball_circles_at_two_sevenths_of_the_table_rate_through_gimbal_lock() {
     let euler = EulerBall::new(M, R, OMEGA);
-    assert_eq!(euler.charts(), 2);
+    let names: Vec<&str> = (0..euler.charts()).map(|c| euler.chart_name(c)).collect();
     assert_eq!(
-        euler.chart_name(0),
-        "the angles of `rot_z(phi)*rot_y(theta)*rot_x(psi)`"
-    );
-    assert_eq!(
-        euler.chart_name(1),
-        "the angles of `rot_z(phi)*rot_x(theta)*rot_y(psi)`"
+        names,
+        [
+            "the angles of `rot_z(phi)*rot_y(theta)*rot_x(psi)`",
+            "the angles of `rot_z(phi)*rot_x(theta)*rot_y(psi)`",
+            "the angles of `rot_x(phi)*rot_y(theta)*rot_z(psi)`",
+            "the angles of `rot_y(phi)*rot_x(theta)*rot_z(psi)`",
+        ]
     );
     let tol = Dop853::new(1e-12, 1e-14);
-    let (free_states, free_out) = sampled(tol, &FreeBall::new(M, R, OMEGA), free_start());
+    let (free_states, free_out) = sampled(tol, &TurntableBall::new(M, R, OMEGA), free_start());
     // from the upright orientation, and from 0.01 short of the pole
     for (angles, name) in [
         ([0.0, 0.0, 0.0], "upright"),
@@ -159,37 +146,41 @@ fn the_euler_ball_circles_at_two_sevenths_of_the_table_rate_through_gimbal_lock(
 
 #[test]
 fn the_sequences_agree_away_from_their_poles() {
-    // chart 1's equations alone, from chart 0's state mapped there, against
-    // chart 0's run, over 0.15 s (before the first switch at 0.19)
+    // each other chart's equations alone, from chart 0's state mapped
+    // there, against chart 0's run, over 0.15 s (before the first switch
+    // at 0.19)
     let euler = EulerBall::new(M, R, OMEGA);
     let x0 = euler_start([0.0, 0.0, 0.0]);
-    let chart_1 = |t: f64, x: &SVector<f64, 8>| euler.rhs_in_chart(1, t, x);
-    let y0 = euler.change_chart(0, 1, 0.0, &x0);
     let mut tol = Dop853::new(1e-13, 1e-15);
-    let mut worst = 0.0f64;
-    for k in 1..=15 {
-        let t = 0.01 * k as f64;
-        let a = tol
-            .with_chart_switching(false)
-            .integrate(&euler, 0.0, x0, t)
-            .unwrap()
-            .x;
-        let b = tol.integrate(&chart_1, 0.0, y0, t).unwrap().x;
-        let b = euler.change_chart_near(1, 0, t, &b, &a);
-        worst = worst.max((a - b).amax() / a.amax());
+    for c in 1..euler.charts() {
+        let chart = |t: f64, x: &SVector<f64, 8>| euler.rhs_in_chart(c, t, x);
+        let y0 = euler.change_chart(0, c, 0.0, &x0);
+        let mut worst = 0.0f64;
+        for k in 1..=15 {
+            let t = 0.01 * k as f64;
+            let a = tol
+                .with_chart_switching(false)
+                .integrate(&euler, 0.0, x0, t)
+                .unwrap()
+                .x;
+            let b = tol.integrate(&chart, 0.0, y0, t).unwrap().x;
+            let b = euler.change_chart_near(c, 0, t, &b, &a);
+            worst = worst.max((a - b).amax() / a.amax());
+        }
+        println!("chart 0 against chart {c} over 0.15 s: {worst:.1e} of the largest entry");
+        assert!(worst < 1e-10, "chart {c}: {worst:e}");
     }
-    println!("chart 0 against chart 1 over 0.15 s: {worst:.1e} of the largest entry");
-    assert!(worst < 1e-10, "{worst:e}");
 }
 
 #[test]
 fn the_angles_seen_are_continuous_across_switches() {
-    // outputs every millisecond through 30 s and its switches (the first
-    // at 0.19 s, then, from 28.07 s on, a spin about the body's z axis
-    // while it lies horizontal takes the body's x and y axes through the
-    // vertical in turn, the poles of both sequences): no jump by a whole
-    // turn where chart 0 is far from its pole (|cos θ| > 0.5, where the
-    // rates stay below a few hundred rad/s)
+    // outputs every millisecond through 30 s and its switches (10, the
+    // first at 0.19 s; from 28.07 s on, a spin about the body's z axis
+    // while it lies horizontal takes its x and y axes through the vertical
+    // in turn, the poles of the first two sequences, and the run keeps to
+    // the ones whose poles are on the z axis): no jump by a whole turn
+    // where chart 0 is far from its pole (|cos θ| > 0.5, where the rates
+    // stay below a few hundred rad/s)
     let euler = EulerBall::new(M, R, OMEGA);
     let x0 = euler_start([0.0, 0.0, 0.0]);
     let times: Vec<f64> = (1..=30_000).map(|i| 1e-3 * i as f64).collect();
@@ -210,6 +201,6 @@ fn the_angles_seen_are_continuous_across_switches() {
         "{} switches; largest step of an angle between outputs: {jump:.3}",
         out.stats.chart_switches
     );
-    assert!(out.stats.chart_switches >= 10);
+    assert!(out.stats.chart_switches >= 5);
     assert!(jump < 1.0, "{jump}");
 }

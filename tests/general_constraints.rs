@@ -24,7 +24,7 @@ mod refdata_json;
 #[path = "common/turntable.rs"]
 mod turntable;
 use refdata_json::{arr, load, num, vector};
-use turntable::ball_centre;
+use turntable::{TurntableBall, ball_centre};
 
 nonholonomic_system! {
     /// Chaplygin sled, the knife edge as written (explicit, singular at θ = π/2).
@@ -48,22 +48,6 @@ nonholonomic_system! {
             + m*((-a*dot(theta)*sin(theta) + dot(x))^2 + (a*dot(theta)*cos(theta) + dot(y))^2)/2;
         constraints { cos(theta)*dot(y) - sin(theta)*dot(x) = 0; }
         outputs { multipliers, jacobian }
-    }
-}
-
-nonholonomic_system! {
-    /// A homogeneous ball (I = 2/5 m R²) rolling on a table that turns at
-    /// rate Omega about the vertical through the origin; its angular velocity
-    /// written as the rates of three fictitious angles (its inertia is
-    /// isotropic). The contact point moves with the table.
-    pub struct TurntableBall {
-        parameters { m, R, Omega }
-        coordinates { x, y, phix, phiy, phiz }
-        lagrangian = m*(dot(x)^2 + dot(y)^2)/2 + m*R^2/5*(dot(phix)^2 + dot(phiy)^2 + dot(phiz)^2);
-        constraints {
-            dot(x) = R*dot(phiy) - Omega*y;
-            dot(y) = -R*dot(phix) + Omega*x;
-        }
     }
 }
 

@@ -6,6 +6,10 @@ use nalgebra::{RealField, SMatrix, SVector};
 
 use crate::{EventHit, Events, Outcome, SimError, Step};
 
+/// The default regularity below which a run leaves a chart (DESIGN §6.7):
+/// [`OdeSystem::chart_switch_below`].
+const SWITCH_BELOW: f64 = 0.1;
+
 /// An autonomous or time-dependent first-order ODE `x' = f(t, x)` with a
 /// state of fixed dimension `D`.
 ///
@@ -317,7 +321,7 @@ pub trait OdeSystem<T, const D: usize> {
     #[inline]
     fn chart_switch_below(&self, chart: usize) -> f64 {
         let _ = chart;
-        0.1
+        SWITCH_BELOW
     }
 
     /// [`OdeSystem::change_chart`] where chart `to`'s positions are one of
@@ -604,7 +608,7 @@ pub trait ControlledSystem<T, const D: usize, const M: usize> {
     #[inline]
     fn chart_switch_below(&self, chart: usize) -> f64 {
         let _ = chart;
-        0.1
+        SWITCH_BELOW
     }
 
     /// [`OdeSystem::change_chart_near`]; the input does not enter it.

@@ -120,7 +120,7 @@ pub fn atlas_methods(shape: &Shape, dims: Dims) -> TokenStream {
     let project = arms(&|s| quote!(<_ as #trait_path>::project(#s, t, x)));
     let change = change_chart(shape, dims, &system);
     // the charts of a free rotation leave a sequence at |cos β| = 0.4, where
-    // the other has |cos β| ≥ 0.91 (DESIGN §9.4)
+    // the one whose pole is in the same row has |cos β| ≥ 0.91 (DESIGN §9.4)
     let switch_below = shape.atlas.iter().any(|c| c.euler.is_some()).then(|| {
         quote! {
             #[inline]

@@ -4,10 +4,10 @@
 //! (gimbal lock: `cos β = 0` for Tait–Bryan angles, `sin β = 0` for proper
 //! Euler angles), a singularity of the coordinates, not of the motion. When
 //! the three angles appear nowhere else in the system, the same coordinates
-//! can be read as the angles of another sequence, singular elsewhere: the
-//! system gets a second chart, the same definition with the rotation
-//! written in that sequence, and the runtime moves between them (DESIGN
-//! §6.7) through the rotation and its angular velocity.
+//! can be read as the angles of other sequences, singular elsewhere: the
+//! system gets three more charts, each the same definition with the
+//! rotation written in its sequence, and the runtime moves between them
+//! (DESIGN §6.7) through the rotation and its angular velocity.
 
 use super::Lowerer;
 use crate::parse::{BinOp, Expr, SystemDef};
@@ -42,22 +42,27 @@ impl EulerChart {
         self.axes[0] == self.axes[2]
     }
 
-    /// The sequence of the other chart, singular where this one is not:
-    /// the same first axis, then a-c-b for Tait–Bryan angles a-b-c (its
-    /// pole needs R_ab = ±1 where this one's needs R_ac = ±1, entries of
-    /// one row of a rotation), a-b-c for proper Euler angles a-b-a (R_ac
-    /// against R_aa).
-    pub fn other(&self) -> EulerChart {
+    /// The sequences of the other charts, all Tait–Bryan. A sequence
+    /// p-q-r is singular where world axis p is body axis r (R_pr = ±1).
+    /// This one's pole is (a, c) for Tait–Bryan angles a-b-c, (a, a) for
+    /// proper Euler angles a-b-a (then c is the third axis); the others'
+    /// are (a, b) — in row a with this one's, so where one of the two is
+    /// singular the other is not, and one of them has |cos β| ≥ 1/√2
+    /// everywhere — and (c, a), (b, a): the body axis a, about which a spin
+    /// with that axis horizontal takes the body's other axes through the
+    /// vertical in turn, the poles of the first two.
+    pub fn others(&self) -> [EulerChart; 3] {
         let [a, b, c] = self.axes;
-        let axes = if self.is_proper() {
-            [a, b, 3 - a - b]
+        let c = if self.is_proper() { 3 - a - b } else { c };
+        let first = if self.is_proper() {
+            [a, b, c]
         } else {
             [a, c, b]
         };
-        EulerChart {
+        [first, [c, b, a], [b, c, a]].map(|axes| EulerChart {
             axes,
             ..self.clone()
-        }
+        })
     }
 
     /// The regularity `cos β` (Tait–Bryan) or `sin β` (proper Euler) of
@@ -252,7 +257,7 @@ const REGULAR: f64 = 1e-3;
 impl Lowerer<'_> {
     /// The charts of a free rotation, for a system whose constraints need
     /// no atlas of their own (`constraint_atlas` false; DESIGN §9.4): its
-    /// own sequence and the other, each with where it is singular, and the
+    /// own sequence and three others, each with where it is singular, and the
     /// rotation's regularity multiplied into the chart's, `chart`. In a
     /// chart of another system's atlas (`def.euler_chart`), the regularity
     /// only. Nothing when the angles are not all independent (`dependent`:
@@ -264,7 +269,7 @@ impl Lowerer<'_> {
         dependent: &[usize],
         chart: &mut Option<ExprId>,
         constraint_atlas: bool,
-    ) -> Option<[(EulerChart, String); 2]> {
+    ) -> Option<Vec<(EulerChart, String)>> {
         if def.speeds.is_some() || constraint_atlas || (def.one_chart && !def.euler_chart) {
             return None;
         }
@@ -287,9 +292,12 @@ impl Lowerer<'_> {
         if def.euler_chart {
             return None;
         }
-        let other = rotation.other();
-        let (own, alt) = (rotation.singular(&coords), other.singular(&coords));
-        Some([(rotation, own), (other, alt)])
+        let mut charts = vec![(rotation.clone(), rotation.singular(&coords))];
+        for other in rotation.others() {
+            let singular = other.singular(&coords);
+            charts.push((other, singular));
+        }
+        Some(charts)
     }
 
     /// Whether the constraints' regularity `chart` (none: always regular)
