@@ -59,6 +59,24 @@ nonholonomic_system! {
     }
 }
 
+nonholonomic_system! {
+    /// The sleigh written with its knife edge explicit, `dot(y) =
+    /// tan(theta)*dot(x)`, and a slider z tied to x and the heading by a
+    /// holonomic row; `dependent` names the slider only, as it did when the
+    /// knife edge was an explicit row.
+    pub struct TanSleighWithSlider {
+        parameters { m, J, a, k }
+        coordinates { x, theta, y, z }
+        lagrangian = J*dot(theta)^2/2 + dot(z)^2/2
+            + m*((-a*dot(theta)*sin(theta) + dot(x))^2 + (a*dot(theta)*cos(theta) + dot(y))^2)/2;
+        constraints {
+            dot(y) = tan(theta)*dot(x);
+            z = k*x + theta;
+        }
+        dependent { z }
+    }
+}
+
 const M: f64 = 2.0;
 const J_SLED: f64 = 0.3;
 /// A short arm, so that the sleigh turns about 19 times before it stops.
@@ -243,4 +261,36 @@ fn the_implicit_suslov_problem_runs_to_t_100_with_its_speeds_form() {
     assert!(out.stats.chart_switches > 0);
     assert!(drift <= 1e-10, "energy drift {drift:e}");
     assert!(worst <= 1e-9, "difference to the speeds form {worst:e}");
+}
+
+#[test]
+fn an_explicit_row_with_a_denominator_keeps_its_coordinate_and_gets_charts() {
+    // the cleared row is pinned to y in the system's own chart; the list
+    // written for the holonomic row alone still works
+    assert_eq!(TanSleighWithSlider::<f64>::DEPENDENT, [2, 3]);
+    let s = TanSleighWithSlider::new(M, J_SLED, 0.4, 0.5);
+    assert!(s.charts() >= 2, "{}", s.charts());
+    assert_eq!(s.chart_name(0), "solved for `y`, `z`");
+    // through θ = π/2 with the slider held on its row
+    let (theta, v, w) = (1.2_f64, 0.5, 1.5);
+    // at x = 0 the slider's row gives z = θ
+    let x0 = SVector::<f64, 6>::new(0.0, theta, 0.0, theta, v * theta.cos(), w);
+    let out = Dop853::new(1e-10, 1e-12)
+        .integrate(&s, 0.0, x0, 1.0)
+        .unwrap();
+    println!(
+        "θ = {:.6} at t = 1, {} switches, residual {:?}",
+        out.x[1], out.stats.chart_switches, out.max_residual
+    );
+    assert!(out.x[1] > std::f64::consts::FRAC_PI_2 + 0.5);
+    assert!(out.stats.chart_switches >= 1);
+    // the slider's row and the knife edge hold at the end
+    let (q, r) = (
+        out.x.fixed_rows::<4>(0).into_owned(),
+        out.x.fixed_rows::<2>(4).into_owned(),
+    );
+    assert!((q[3] - 0.5 * q[0] - q[1]).abs() < 1e-9);
+    let sdot = s.dependent_velocities(&q, &r);
+    let (xdot, ydot) = (r[0], sdot[0]);
+    assert!((q[1].cos() * ydot - q[1].sin() * xdot).abs() < 1e-9);
 }
