@@ -32,24 +32,50 @@ nonholonomic_system! {
     }
 }
 
+nonholonomic_system! {
+    /// The same ball with its orientation in proper Euler angles z-x-z,
+    /// singular where sin(theta) = 0: upright is its pole.
+    pub struct ProperEulerBall {
+        parameters { m, R, Omega }
+        coordinates { x, y, phi, theta, psi }
+        let Q = rot_z(phi) * rot_x(theta) * rot_z(psi);
+        let w = omega(Q);
+        lagrangian = m*(dot(x)^2 + dot(y)^2)/2 + m*R^2/5*(w.x^2 + w.y^2 + w.z^2);
+        constraints {
+            dot(x) = R*w.y - Omega*y;
+            dot(y) = -R*w.x + Omega*x;
+        }
+    }
+}
+
 const M: f64 = 1.0;
 const R: f64 = 0.1;
 const OMEGA: f64 = 2.0 * std::f64::consts::PI;
 /// The centre and the angular velocity (world axes) at t = 0.
 const START: (f64, f64, [f64; 3]) = (0.3, -0.1, [0.7, -0.4, 1.1]);
 
-/// The Euler ball's world angular velocity from its state.
-fn omega_world(x: &SVector<f64, 8>) -> Vector3<f64> {
+/// The world angular velocity of a ball whose angles are of `seq`.
+fn omega_in(seq: EulerSequence, x: &SVector<f64, 8>) -> Vector3<f64> {
     let angles = [x[2], x[3], x[4]];
     let rates = [x[5], x[6], x[7]];
-    EulerSequence::ZYX.matrix(&angles) * EulerSequence::ZYX.body_rates(&angles, &rates)
+    seq.matrix(&angles) * seq.body_rates(&angles, &rates)
+}
+
+/// The Euler ball's world angular velocity from its state.
+fn omega_world(x: &SVector<f64, 8>) -> Vector3<f64> {
+    omega_in(EulerSequence::ZYX, x)
 }
 
 /// The Euler ball's state at t = 0 with the orientation `angles`.
 fn euler_start(angles: [f64; 3]) -> SVector<f64, 8> {
+    start_in(EulerSequence::ZYX, angles)
+}
+
+/// The state at t = 0 of a ball whose angles are of `seq`, at `angles`.
+fn start_in(seq: EulerSequence, angles: [f64; 3]) -> SVector<f64, 8> {
     let (x0, y0, w) = START;
-    let q = EulerSequence::ZYX.matrix(&angles);
-    let rates = EulerSequence::ZYX.rates(&angles, &(q.transpose() * Vector3::from(w)));
+    let q = seq.matrix(&angles);
+    let rates = seq.rates(&angles, &(q.transpose() * Vector3::from(w)));
     SVector::<f64, 8>::from([
         x0, y0, angles[0], angles[1], angles[2], rates[0], rates[1], rates[2],
     ])
@@ -203,4 +229,68 @@ fn the_angles_seen_are_continuous_across_switches() {
     );
     assert!(out.stats.chart_switches >= 5);
     assert!(jump < 1.0, "{jump}");
+}
+
+#[test]
+fn proper_euler_angles_start_at_their_pole_and_run_through_it() {
+    // z-x-z angles from θ = 0.01, next to their pole (upright): the other
+    // charts are z-x-y, y-x-z and x-y-z
+    let ball = ProperEulerBall::new(M, R, OMEGA);
+    let names: Vec<&str> = (0..ball.charts()).map(|c| ball.chart_name(c)).collect();
+    assert_eq!(
+        names,
+        [
+            "the angles of `rot_z(phi)*rot_x(theta)*rot_z(psi)`",
+            "the angles of `rot_z(phi)*rot_x(theta)*rot_y(psi)`",
+            "the angles of `rot_y(phi)*rot_x(theta)*rot_z(psi)`",
+            "the angles of `rot_x(phi)*rot_y(theta)*rot_z(psi)`",
+        ]
+    );
+    let x0 = start_in(EulerSequence::ZXZ, [0.3, 0.01, -0.2]);
+    let tol = Dop853::new(1e-12, 1e-14);
+    let (free_states, _) = sampled(tol, &TurntableBall::new(M, R, OMEGA), free_start());
+    let (states, out) = sampled(tol, &ball, x0);
+    let (x0c, y0c, w) = START;
+    let v0 = (R * w[1] - OMEGA * y0c, -R * w[0] + OMEGA * x0c);
+    let nu = 2.0 * OMEGA / 7.0;
+    let (mut centre, mut spin) = (0.0f64, 0.0f64);
+    for ((t, x), (_, f)) in states.iter().zip(&free_states) {
+        let (cx, cy) = ball_centre((x0c, y0c), v0, nu, *t);
+        centre = centre.max((x[0] - cx).abs()).max((x[1] - cy).abs());
+        let wf = Vector3::new(f[5], f[6], f[7]);
+        spin = spin.max((omega_in(EulerSequence::ZXZ, x) - wf).amax());
+    }
+    let held = tol
+        .with_chart_switching(false)
+        .integrate(&ball, 0.0, x0, 10.0);
+    println!(
+        "z-x-z ball: {} steps + {} rejected, {} switches (first {:?}); held: {}; centre {centre:.1e}, ω {spin:.1e}",
+        out.stats.steps,
+        out.stats.rejected,
+        out.stats.chart_switches,
+        out.switches.iter().next().map(|s| (s.t, s.from, s.to)),
+        match &held {
+            Ok(o) => format!("{} steps + {} rejected", o.stats.steps, o.stats.rejected),
+            Err(e) => format!("{e}"),
+        },
+    );
+    assert!(out.stats.chart_switches >= 1);
+    assert!(centre <= 1e-9, "{centre:e}");
+    assert!(spin <= 1e-8, "{spin:e}");
+    // every other chart's equations agree with chart 0's away from poles
+    let x1 = start_in(EulerSequence::ZXZ, [0.3, 1.0, -0.2]);
+    for c in 1..ball.charts() {
+        let y = ball.change_chart(0, c, 0.0, &x1);
+        let back = ball.change_chart_near(c, 0, 0.0, &y, &x1);
+        assert!((back - x1).amax() < 1e-13, "chart {c}: {back} vs {x1}");
+        // the rates of the mapped state along chart c's motion, against
+        // chart 0's: a central difference of the map over ±1e-6 s
+        let h = 1e-6;
+        let f0 = ball.rhs_in_chart(0, 0.0, &x1);
+        let ahead = ball.change_chart_near(0, c, 0.0, &(x1 + f0 * h), &y);
+        let behind = ball.change_chart_near(0, c, 0.0, &(x1 - f0 * h), &y);
+        let fc = ball.rhs_in_chart(c, 0.0, &y);
+        let gap = ((ahead - behind) / (2.0 * h) - fc).amax() / fc.amax();
+        assert!(gap < 1e-7, "chart {c}: {gap:e}");
+    }
 }
