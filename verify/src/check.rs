@@ -63,8 +63,14 @@ pub fn check(seed: u64) -> Report {
     check_system(&generate::system(seed), seed)
 }
 
-/// Checks `sys` at the states of `seed`.
+/// Checks `sys` at the states of `seed`, and each other chart of its
+/// atlas as a system of its own.
 pub fn check_system(sys: &System, seed: u64) -> Report {
+    check_one(sys, seed, true)
+}
+
+/// [`check_system`], the other charts only if `charts`.
+fn check_one(sys: &System, seed: u64, charts: bool) -> Report {
     let text = sys.text();
     let tokens: proc_macro2::TokenStream = match text.parse() {
         Ok(t) => t,
@@ -88,8 +94,68 @@ pub fn check_system(sys: &System, seed: u64) -> Report {
         Ok(e) => e,
         Err(e) => return report(seed, text, Finding::Uninterpretable(e), route),
     };
-    let finding = compare(sys, &exp, seed);
+    let mut finding = compare(sys, &exp, seed);
+    if charts && matches!(finding, Finding::Agree { .. }) {
+        // the atlas's other charts, each as the system it was derived as
+        // (its `dependent` list, or its rotation in another sequence)
+        for chart in other_charts(sys, &out.to_string()) {
+            if let Finding::Disagree(why) = check_one(&chart.1, seed, false).finding {
+                finding = Finding::Disagree(format!("in the chart {}: {why}", chart.0));
+                break;
+            }
+        }
+    }
     report(seed, text, finding, route)
+}
+
+/// The charts of `sys`'s atlas other than its own, read off the struct's
+/// documentation in the expansion `out` (DESIGN §9.3, §9.4), each as a
+/// system of its own: "solved for `a`, `b`" with that `dependent` list,
+/// "the angles of `rot_z(q1)*rot_x(q2)*rot_y(q3)`" with its free rotation
+/// written in that sequence.
+fn other_charts(sys: &System, out: &str) -> Vec<(String, System)> {
+    let Some(section) = out.split("# Charts").nth(1) else {
+        return Vec::new();
+    };
+    // "c. NAME: singular where ..." of the struct's documentation
+    let name = |c: usize| -> Option<&str> {
+        let line = section.split(&format!("\"{c}. ")).nth(1)?;
+        line.split(": singular where").next()
+    };
+    const ANGLES: &str = "the angles of `";
+    let own = name(0)
+        .and_then(|n| n.strip_prefix(ANGLES))
+        .map(|p| p.trim_end_matches('`'));
+    let mut charts = Vec::new();
+    for c in 1..=3 {
+        let Some(name) = name(c) else { break };
+        let mut chart = sys.clone();
+        if let Some(names) = name.strip_prefix("solved for ") {
+            let named = names.split(", ").map(|n| n.trim_matches('`'));
+            chart.dependent = named
+                .map(|n| sys.coords.iter().position(|c| c == n))
+                .collect();
+            if chart.dependent.is_none() {
+                continue;
+            }
+        } else if let (Some(product), Some(own)) = (name.strip_prefix(ANGLES), own) {
+            let axes: Vec<usize> = (product.trim_end_matches('`').split('*'))
+                .filter_map(|f| {
+                    ["rot_x", "rot_y", "rot_z"]
+                        .iter()
+                        .position(|r| f.starts_with(r))
+                })
+                .collect();
+            let [a, b, c] = axes[..] else { continue };
+            if !chart.rewrite_rotation(own, [a, b, c]) {
+                continue;
+            }
+        } else {
+            continue;
+        }
+        charts.push((name.to_string(), chart));
+    }
+    charts
 }
 
 fn report(seed: u64, text: String, finding: Finding, route: String) -> Report {

@@ -503,6 +503,44 @@ impl System {
         }
     }
 
+    /// Rewrites the rotation written `own` (`rot_z(q1)*rot_y(q2)*rot_x(q3)`,
+    /// a `let` or a body's orientation) with its factors about `axes`,
+    /// keeping their angles: the same rotation read in another sequence
+    /// (DESIGN §9.4). Whether it was found.
+    pub fn rewrite_rotation(&mut self, own: &str, axes: [usize; 3]) -> bool {
+        fn set_axes(r: &mut Rx, axes: &mut std::slice::Iter<'_, usize>) {
+            match r {
+                Rx::Elem(k, _) => {
+                    if let Some(&a) = axes.next() {
+                        *k = a;
+                    }
+                }
+                Rx::Mul(a, b) => {
+                    set_axes(a, axes);
+                    set_axes(b, axes);
+                }
+                Rx::Let(_) | Rx::Transpose(_) => {}
+            }
+        }
+        let found = (0..self.lets.len())
+            .find(|&i| matches!(&self.lets[i].1, LetValue::Rotation(r) if self.rx(r) == own));
+        if let Some(i) = found
+            && let LetValue::Rotation(r) = &mut self.lets[i].1
+        {
+            set_axes(r, &mut axes.iter());
+            return true;
+        }
+        let found = (0..self.bodies.len())
+            .find(|&i| matches!(&self.bodies[i].1.rotation, Some((r, _)) if self.rx(r) == own));
+        if let Some(i) = found
+            && let Some((r, _)) = &mut self.bodies[i].1.rotation
+        {
+            set_axes(r, &mut axes.iter());
+            return true;
+        }
+        false
+    }
+
     /// A rotation expression in the language.
     pub fn rx(&self, r: &Rx) -> String {
         match r {
