@@ -16,37 +16,38 @@ use std::f64::consts::FRAC_PI_2;
 mod turntable;
 use turntable::{TurntableBall, ball_centre};
 
-nonholonomic_system! {
-    /// A homogeneous ball rolling on a table that turns at `Omega`, its
-    /// orientation in yaw, pitch and roll.
-    pub struct EulerBall {
-        parameters { m, R, Omega }
-        coordinates { x, y, phi, theta, psi }
-        let Q = rot_z(phi) * rot_y(theta) * rot_x(psi);
-        let w = omega(Q);
-        lagrangian = m*(dot(x)^2 + dot(y)^2)/2 + m*R^2/5*(w.x^2 + w.y^2 + w.z^2);
-        constraints {
-            dot(x) = R*w.y - Omega*y;
-            dot(y) = -R*w.x + Omega*x;
+/// A homogeneous ball rolling on a table that turns at `Omega`, its
+/// orientation the rotation `$q` of the angles phi, theta, psi.
+macro_rules! turntable_ball {
+    ($(#[$doc:meta])* $name:ident, $($q:tt)*) => {
+        nonholonomic_system! {
+            $(#[$doc])*
+            pub struct $name {
+                parameters { m, R, Omega }
+                coordinates { x, y, phi, theta, psi }
+                let Q = $($q)*;
+                let w = omega(Q);
+                lagrangian = m*(dot(x)^2 + dot(y)^2)/2 + m*R^2/5*(w.x^2 + w.y^2 + w.z^2);
+                constraints {
+                    dot(x) = R*w.y - Omega*y;
+                    dot(y) = -R*w.x + Omega*x;
+                }
+            }
         }
-    }
+    };
 }
 
-nonholonomic_system! {
-    /// The same ball with its orientation in proper Euler angles z-x-z,
-    /// singular where sin(theta) = 0: upright is its pole.
-    pub struct ProperEulerBall {
-        parameters { m, R, Omega }
-        coordinates { x, y, phi, theta, psi }
-        let Q = rot_z(phi) * rot_x(theta) * rot_z(psi);
-        let w = omega(Q);
-        lagrangian = m*(dot(x)^2 + dot(y)^2)/2 + m*R^2/5*(w.x^2 + w.y^2 + w.z^2);
-        constraints {
-            dot(x) = R*w.y - Omega*y;
-            dot(y) = -R*w.x + Omega*x;
-        }
-    }
-}
+turntable_ball!(
+    /// The ball in yaw, pitch and roll.
+    EulerBall,
+    rot_z(phi) * rot_y(theta) * rot_x(psi)
+);
+turntable_ball!(
+    /// The ball in proper Euler angles z-x-z, singular where
+    /// sin(theta) = 0: upright is its pole.
+    ProperEulerBall,
+    rot_z(phi) * rot_x(theta) * rot_z(psi)
+);
 
 const M: f64 = 1.0;
 const R: f64 = 0.1;
