@@ -161,6 +161,11 @@ integrator_impl!(AutoSwitch<T, Tol>, a, |sys, log| Switching::new(
     log
 ));
 
+/// AutoSwitch is a one-step method.
+impl<T, Tol> crate::settings::OneStep for AutoSwitch<T, Tol> {
+    const ONE_STEP: bool = true;
+}
+
 jacobian_entry_points! {
     AutoSwitch<T, Tol>, a, |sys, log| Switching::new(Dopri5Stages::new(sys), rodas4(Analytic(sys)), log),
     /// Like [`Integrator::integrate`](crate::Integrator::integrate), but the

@@ -196,6 +196,11 @@ pub struct Bdf<T, Tol = ScalarTolerance<T>> {
 adaptive_builders!(Bdf);
 integrator_impl!(Bdf<T, Tol>, a, |sys| BdfMethod::new(FiniteDifference(sys)));
 
+/// Bdf is a multistep method: a free rotation switches sequences (DESIGN §9.4).
+impl<T, Tol> crate::settings::OneStep for Bdf<T, Tol> {
+    const ONE_STEP: bool = false;
+}
+
 jacobian_entry_points! {
     Bdf<T, Tol>, a, |sys| BdfMethod::new(Analytic(sys)),
     /// Like [`Integrator::integrate`](crate::Integrator::integrate), but with the analytic Jacobian

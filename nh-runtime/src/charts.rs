@@ -8,11 +8,12 @@
 
 use core::cell::Cell;
 
-use nalgebra::{RealField, SMatrix, SVector};
+use nalgebra::{RealField, SMatrix, SVector, Vector3};
 
 use crate::checks::check_arguments;
 use crate::driver::{Control, Record, RunSettings, drive};
 use crate::jacobian::{FiniteDifference, JacobianSource};
+use crate::lie::Frame;
 use crate::method::Method;
 use crate::numeric::{all_finite, c, machine_epsilon};
 use crate::sink::Sink;
@@ -32,38 +33,47 @@ const MAX_STALLS: usize = 2;
 
 /// The system seen in one chart of its atlas: an [`OdeSystem`] (and an
 /// [`OdeJacobian`] when the system is one) whose equations and hooks are
-/// the chart's (`*_in_chart`, `*_in`).
-pub(crate) struct InChart<'s, S: ?Sized> {
+/// the chart's (`*_in_chart`, `*_in`), or, with a frame, those of its free
+/// rotation's canonical coordinates about the frame's base ([`Frame`]).
+pub(crate) struct InChart<'s, S: ?Sized, T> {
     sys: &'s S,
     chart: usize,
+    frame: Option<&'s Frame<T>>,
     /// Right-hand sides evaluated by the finite differences taken where
     /// the system has no Jacobian of the chart (counted after the segment).
     extra_evals: Cell<usize>,
 }
 
-impl<'s, S: ?Sized> InChart<'s, S> {
-    fn new(sys: &'s S, chart: usize) -> Self {
+impl<'s, S: ?Sized, T> InChart<'s, S, T> {
+    fn new(sys: &'s S, chart: usize, frame: Option<&'s Frame<T>>) -> Self {
         InChart {
             sys,
             chart,
+            frame,
             extra_evals: Cell::new(0),
         }
     }
 }
 
-impl<T, S, const D: usize> OdeSystem<T, D> for InChart<'_, S>
+impl<T, S, const D: usize> OdeSystem<T, D> for InChart<'_, S, T>
 where
     T: RealField + Copy,
     S: OdeSystem<T, D> + ?Sized,
 {
     #[inline]
     fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
-        self.sys.rhs_in_chart(self.chart, t, x)
+        match self.frame {
+            Some(frame) => frame.rhs(self.sys, t, x),
+            None => self.sys.rhs_in_chart(self.chart, t, x),
+        }
     }
 
     #[inline]
     fn chart_regularity(&self, t: T, x: &SVector<T, D>) -> Option<T> {
-        self.sys.chart_regularity_in(self.chart, t, x)
+        match self.frame {
+            Some(frame) => frame.regularity(self.sys, t, x),
+            None => self.sys.chart_regularity_in(self.chart, t, x),
+        }
     }
 
     #[inline]
@@ -74,17 +84,31 @@ where
         t1: T,
         x1: &SVector<T, D>,
     ) -> Option<&'static str> {
-        self.sys.crossed_pole_in(self.chart, t0, x0, t1, x1)
+        let Some(frame) = self.frame else {
+            return self.sys.crossed_pole_in(self.chart, t0, x0, t1, x1);
+        };
+        frame.in_chart(self.sys, x1, |chart, x1| {
+            let x0 = frame.to_chart(self.sys, chart, x0, None);
+            self.sys.crossed_pole_in(chart, t0, &x0, t1, x1)
+        })
     }
 
     #[inline]
     fn constraint_residual(&self, t: T, x: &SVector<T, D>) -> Option<T> {
-        self.sys.constraint_residual_in(self.chart, t, x)
+        match self.frame {
+            Some(frame) => frame.in_chart(self.sys, x, |chart, x| {
+                self.sys.constraint_residual_in(chart, t, x)
+            }),
+            None => self.sys.constraint_residual_in(self.chart, t, x),
+        }
     }
 
     #[inline]
     fn project(&self, t: T, x: &mut SVector<T, D>) -> Result<bool, ProjectionFailure<T>> {
-        self.sys.project_in(self.chart, t, x)
+        match self.frame {
+            Some(frame) => frame.project(self.sys, t, x),
+            None => self.sys.project_in(self.chart, t, x),
+        }
     }
 
     #[inline]
@@ -94,14 +118,17 @@ where
 }
 
 /// The chart's Jacobian where the system gives it
-/// ([`OdeJacobian::jacobian_in_chart`]), forward differences otherwise.
-impl<T, S, const D: usize> OdeJacobian<T, D> for InChart<'_, S>
+/// ([`OdeJacobian::jacobian_in_chart`]), forward differences otherwise
+/// (and in a free rotation's canonical coordinates).
+impl<T, S, const D: usize> OdeJacobian<T, D> for InChart<'_, S, T>
 where
     T: RealField + Copy,
     S: OdeJacobian<T, D> + ?Sized,
 {
     fn jacobian(&self, t: T, x: &SVector<T, D>) -> SMatrix<T, D, D> {
-        if let Some(j) = self.sys.jacobian_in_chart(self.chart, t, x) {
+        if self.frame.is_none()
+            && let Some(j) = self.sys.jacobian_in_chart(self.chart, t, x)
+        {
             return j;
         }
         let f0 = self.rhs(t, x);
@@ -117,7 +144,7 @@ where
     /// Chart 0's own `∂f/∂t`; in the other charts the implicit methods
     /// difference `f` in `t`.
     fn time_derivative(&self, t: T, x: &SVector<T, D>) -> Option<SVector<T, D>> {
-        if self.chart == 0 {
+        if self.chart == 0 && self.frame.is_none() {
             self.sys.time_derivative(t, x)
         } else {
             None
@@ -132,11 +159,17 @@ struct Charted<'k, 's, K: ?Sized, S: ?Sized, T, const D: usize> {
     inner: &'k mut K,
     sys: &'s S,
     chart: usize,
+    /// The frame of a free rotation's canonical coordinates, when the run
+    /// is in them (then `chart` is not used).
+    frame: Option<&'s Frame<T>>,
     /// The last state handed to `inner` (chart 0's layout): each mapped
     /// state is the representative nearest it
     /// ([`OdeSystem::change_chart_near`]), so that angles do not jump by
     /// whole turns where the run is in another chart.
     near: Cell<SVector<T, D>>,
+    /// With a frame, the canonical coordinates of `near`, from which the
+    /// next state's angles are followed ([`Frame::follow`]).
+    near_theta: Cell<Vector3<T>>,
 }
 
 impl<K: ?Sized, S, T, const D: usize> Charted<'_, '_, K, S, T, D>
@@ -147,15 +180,41 @@ where
     /// `x` of the current chart in chart 0's layout, nearest the last state
     /// handed out, which it becomes.
     fn to_chart_0(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
-        let y = if self.chart == 0 {
-            *x
-        } else {
-            self.sys
-                .change_chart_near(self.chart, 0, t, x, &self.near.get())
-        };
-        self.near.set(y);
-        y
+        let trail = (&self.near, &self.near_theta);
+        written_in_chart_0(self.sys, (self.chart, self.frame), trail, t, x)
     }
+
+    /// Whether the steps reach the inner sink as they are.
+    fn direct(&self) -> bool {
+        self.chart == 0 && self.frame.is_none()
+    }
+}
+
+/// `x` at `t`, in the chart or the frame `at`, written in chart 0's layout
+/// nearest the last state handed out, `trail.0` (with a frame, followed
+/// from it, whose canonical coordinates are `trail.1`), which it becomes.
+fn written_in_chart_0<T, S, const D: usize>(
+    sys: &S,
+    at: (usize, Option<&Frame<T>>),
+    (near, theta): (&Cell<SVector<T, D>>, &Cell<Vector3<T>>),
+    t: T,
+    x: &SVector<T, D>,
+) -> SVector<T, D>
+where
+    T: RealField + Copy,
+    S: OdeSystem<T, D> + ?Sized,
+{
+    let y = match at {
+        (_, Some(frame)) => {
+            let y = frame.follow(sys, x, (&near.get(), &theta.get()));
+            theta.set(frame.canonical(x));
+            y
+        }
+        (0, None) => *x,
+        (chart, None) => sys.change_chart_near(chart, 0, t, x, &near.get()),
+    };
+    near.set(y);
+    y
 }
 
 /// `f` on the inner sink of `charted` and `step` in chart 0's layout.
@@ -169,17 +228,37 @@ where
     K: Sink<T, D> + ?Sized,
     S: OdeSystem<T, D> + ?Sized,
 {
-    if charted.chart == 0 {
+    if charted.direct() {
         charted.near.set(*step.x());
         return f(charted.inner, step);
     }
     let x_prev = charted.to_chart_0(step.t_prev(), step.x_prev());
+    let start = (charted.near.get(), charted.near_theta.get());
     let x = charted.to_chart_0(step.t(), step.x());
-    let (sys, chart, near) = (charted.sys, charted.chart, &charted.near);
-    // interpolated points nearest the step's end
-    let map = move |t: T, x: &SVector<T, D>| sys.change_chart_near(chart, 0, t, x, &near.get());
-    let out = f(charted.inner, &step.mapped(&x_prev, &x, &map));
-    charted.near.set(x);
+    let end = (charted.near.get(), charted.near_theta.get());
+    let Charted {
+        inner,
+        sys,
+        chart,
+        frame,
+        near,
+        near_theta,
+    } = charted;
+    let out = if frame.is_some() {
+        // interpolated points followed from the step's start, each from
+        // the one before
+        near.set(start.0);
+        near_theta.set(start.1);
+        let trail = (&*near, &*near_theta);
+        let map = |t: T, x: &SVector<T, D>| written_in_chart_0(*sys, (*chart, *frame), trail, t, x);
+        f(inner, &step.mapped(&x_prev, &x, &map))
+    } else {
+        // interpolated points nearest the step's end
+        let map = |t: T, x: &SVector<T, D>| sys.change_chart_near(*chart, 0, t, x, &end.0);
+        f(inner, &step.mapped(&x_prev, &x, &map))
+    };
+    near.set(end.0);
+    near_theta.set(end.1);
     out
 }
 
@@ -194,7 +273,7 @@ where
     }
 
     fn wants_dense_at(&mut self, prev: (T, &SVector<T, D>), end: (T, &SVector<T, D>)) -> bool {
-        if self.chart == 0 {
+        if self.direct() {
             return self.inner.wants_dense_at(prev, end);
         }
         let x_prev = self.to_chart_0(prev.0, prev.1);
@@ -212,6 +291,15 @@ where
 
     fn salvage(&mut self, step: &Step<'_, T, D>) -> Option<EventHit<T, D>> {
         pass(self, step, |k, s| k.salvage(s))
+    }
+
+    fn recentre(&mut self, x: &mut SVector<T, D>) -> bool {
+        let moved = self.frame.is_some_and(|frame| frame.recentre(x));
+        if moved {
+            // the last state handed out is the step's end, now the centre
+            self.near_theta.set(Vector3::zeros());
+        }
+        moved
     }
 }
 
@@ -335,15 +423,60 @@ struct At<T, const D: usize> {
     x: SVector<T, D>,
 }
 
+/// The switching threshold of a free rotation's canonical coordinates,
+/// whose regularity `1 − |θ|/2π` starts every step at 1: a segment ends
+/// where one step turns the body by more than 3/4 of a turn.
+const FRAME_SWITCH_BELOW: f64 = 0.25;
+
+/// Where a run over the charts of `sys` starts from `(t0, x0)` (chart 0):
+/// in canonical coordinates about the rotation at `x0` with a `frame`; in
+/// a better chart when chart 0 is poor there (recorded in `switches`);
+/// else in chart 0.
+fn start<T, S, const D: usize>(
+    sys: &S,
+    frame: Option<&Frame<T>>,
+    (t0, x0, t1): (T, SVector<T, D>, T),
+    switches: &mut ChartSwitches<T>,
+) -> At<T, D>
+where
+    T: RealField + Copy,
+    S: OdeSystem<T, D> + ?Sized,
+{
+    if let Some(frame) = frame {
+        let x = frame.enter(sys, 0, &x0);
+        return At { chart: 0, t: t0, x };
+    }
+    let moving = check_arguments(t0, &x0, t1).is_ok_and(|dir| dir != T::zero());
+    if moving
+        && magnitude(sys, 0, t0, &x0) < c(sys.chart_switch_below(0))
+        && let Some((to, x)) = better(sys, 0, t0, &x0)
+    {
+        switches.push(ChartSwitch { t: t0, from: 0, to });
+        return At {
+            chart: to,
+            t: t0,
+            x,
+        };
+    }
+    At {
+        chart: 0,
+        t: t0,
+        x: x0,
+    }
+}
+
 /// Integrates `sys` over the charts of its atlas from `(t0, x0)` (chart 0)
 /// to `t1`, each segment by `segment` (the integrator's method for the
 /// chart's view, run by [`Segment::drive`]), handing `sink` chart 0's
-/// layout. The records of the segments add up in `rec`; the switches go to
-/// `switches`.
+/// layout, with the run's settings `base` and smallest relative tolerance
+/// `rtol`. The records of the segments add up in `rec`; the switches go to
+/// `switches`. With `one_step` (the method is a one-step method) a system
+/// whose charts are those of a free rotation is run in its canonical
+/// coordinates instead ([`Frame`]), re-centred after every step and at the
+/// end of every segment.
 pub(crate) fn run<T, S, K, F, const D: usize>(
     sys: &S,
-    base: &RunSettings<T, D>,
-    rtol: Option<T>,
+    (base, rtol, one_step): (&RunSettings<T, D>, Option<T>, bool),
     (t0, x0, t1): (T, SVector<T, D>, T),
     sink: &mut K,
     (rec, switches): (&mut Record<T>, &mut ChartSwitches<T>),
@@ -353,39 +486,36 @@ where
     T: RealField + Copy,
     S: OdeSystem<T, D> + ?Sized,
     K: Sink<T, D> + ?Sized,
-    F: FnMut(&InChart<'_, S>, Segment<'_, T, D>) -> Result<Outcome<T, D>, SimError<T, D>>,
+    F: FnMut(&InChart<'_, S, T>, Segment<'_, T, D>) -> Result<Outcome<T, D>, SimError<T, D>>,
 {
     *rec = Record::default();
     switches.clear();
-    let mut at = At {
-        chart: 0,
-        t: t0,
-        x: x0,
-    };
-    // A run that starts where chart 0 is poor starts in a better chart.
-    let moving = check_arguments(t0, &x0, t1).is_ok_and(|dir| dir != T::zero());
-    if moving
-        && magnitude(sys, 0, t0, &x0) < c(sys.chart_switch_below(0))
-        && let Some((to, y)) = better(sys, 0, t0, &x0)
-    {
-        switches.push(ChartSwitch { t: t0, from: 0, to });
-        (at.chart, at.x) = (to, y);
-    }
+    let frame = if one_step { Frame::of(sys) } else { None };
+    let frame = frame.as_ref();
+    let mut at = start(sys, frame, (t0, x0, t1), switches);
     let mut sink = Charted {
         inner: sink,
         sys,
         chart: 0,
+        frame,
         near: Cell::new(x0),
+        near_theta: Cell::new(Vector3::zeros()),
     };
     let (mut h, mut stalls) = (base.initial_step, 0);
     loop {
+        let view = InChart::new(sys, at.chart, frame);
         let mut settings = *base;
         settings.initial_step = h;
         settings.max_steps = base.max_steps.saturating_sub(attempts(&rec.stats, base));
-        let rho = sys.chart_regularity_in(at.chart, at.t, &at.x);
-        let tau = sys.chart_switch_below(at.chart);
+        let tau = match frame {
+            Some(_) => FRAME_SWITCH_BELOW,
+            None => sys.chart_switch_below(at.chart),
+        };
+        let rho = view.chart_regularity(at.t, &at.x);
         settings.chart_floor = rho.map(|rho| threshold(tau, rho, stalls));
-        let view = InChart::new(sys, at.chart);
+        if let Some(cap) = frame.and_then(|f| f.step_cap(&at.x)) {
+            settings.max_step = Some(base.max_step.map_or(cap, |m| m.min(cap)));
+        }
         sink.chart = at.chart;
         let mut seg = Record::default();
         let result = segment(
@@ -401,7 +531,7 @@ where
         seg.stats.rhs_evals += view.extra_evals.get();
         add(rec, &seg);
         rec.stats.chart_switches = switches.total();
-        let (t, x) = match result {
+        let (t, mut x) = match result {
             Ok(out) => return Ok(finished(&sink, out, rec, switches)),
             Err(SimError::Singular {
                 t,
@@ -416,27 +546,64 @@ where
         } else {
             seg.last_step.or(h)
         };
-        let next = better(sys, at.chart, t, &x);
-        let regular = magnitude(sys, at.chart, t, &x) > machine_epsilon::<T>().sqrt();
-        if stalls > MAX_STALLS || (next.is_none() && !regular) {
+        let moved = match frame {
+            // a trial that turned too far, or constraints that degrade:
+            // again from the centre of the canonical coordinates (the step
+            // shrinks if it ends where it started)
+            Some(frame) => {
+                frame.recentre(&mut x);
+                let floor = machine_epsilon::<T>().sqrt();
+                stalls <= MAX_STALLS && view.chart_regularity(t, &x).is_none_or(|r| r > floor)
+            }
+            None => switch(&sink, (t, &mut x), &mut at.chart, stalls, switches),
+        };
+        if !moved {
             let x = sink.to_chart_0(t, &x);
             let cause = Singularity::Chart;
             return Err(SimError::Singular { t, x, cause });
         }
-        at.t = t;
-        at.x = x;
-        // No better chart: the same one again, with a lower threshold.
-        if let Some((to, mut y)) = next {
-            let from = at.chart;
-            if to == 0 {
-                // back in the layout the caller sees: continuous with it
-                y = sink.to_chart_0(t, &x);
-            }
-            switches.push(ChartSwitch { t, from, to });
-            rec.stats.chart_switches = switches.total();
-            (at.chart, at.x) = (to, y);
-        }
+        rec.stats.chart_switches = switches.total();
+        (at.t, at.x) = (t, x);
     }
+}
+
+/// Moves the state `x` at `t` of the segment that ended in `chart` to the
+/// chart that is best there (`chart` and `x` updated, the switch recorded),
+/// or keeps it in `chart` if it is still regular there (the next segment
+/// then has a lower threshold); `false` where the run cannot go on: no
+/// chart is better and `chart` is singular, or too many segments ended
+/// where they started (`stalls`).
+fn switch<T, K, S, const D: usize>(
+    sink: &Charted<'_, '_, K, S, T, D>,
+    (t, x): (T, &mut SVector<T, D>),
+    chart: &mut usize,
+    stalls: usize,
+    switches: &mut ChartSwitches<T>,
+) -> bool
+where
+    T: RealField + Copy,
+    K: ?Sized,
+    S: OdeSystem<T, D> + ?Sized,
+{
+    let sys = sink.sys;
+    let next = better(sys, *chart, t, x);
+    let regular = magnitude(sys, *chart, t, x) > machine_epsilon::<T>().sqrt();
+    if stalls > MAX_STALLS || (next.is_none() && !regular) {
+        return false;
+    }
+    if let Some((to, mut y)) = next {
+        if to == 0 {
+            // back in the layout the caller sees: continuous with it
+            y = sink.to_chart_0(t, x);
+        }
+        switches.push(ChartSwitch {
+            t,
+            from: *chart,
+            to,
+        });
+        (*chart, *x) = (to, y);
+    }
+    true
 }
 
 /// The outcome of the last segment, in the chart of `sink`, as the run's:

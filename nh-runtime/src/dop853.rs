@@ -254,6 +254,11 @@ pub struct Dop853<T, Tol = ScalarTolerance<T>> {
 adaptive_builders!(Dop853);
 integrator_impl!(Dop853<T, Tol>, a, |sys| Dop853Stages::new(sys));
 
+/// Dop853 is a one-step method.
+impl<T, Tol> crate::settings::OneStep for Dop853<T, Tol> {
+    const ONE_STEP: bool = true;
+}
+
 /// The stages of one DOP853 step: `k[0..12]` are `k1 … k12`, `k[12]` the
 /// derivative at the new point (the next step's `k1`).
 struct Dop853Stages<'a, S: ?Sized, T, const D: usize> {

@@ -144,6 +144,11 @@ pub struct Dopri5<T, Tol = ScalarTolerance<T>> {
 adaptive_builders!(Dopri5);
 integrator_impl!(Dopri5<T, Tol>, a, |sys| Dopri5Stages::new(sys));
 
+/// Dopri5 is a one-step method.
+impl<T, Tol> crate::settings::OneStep for Dopri5<T, Tol> {
+    const ONE_STEP: bool = true;
+}
+
 /// The stages of one Dormand–Prince step (`k[6]` is the next step's `k[0]`).
 pub(crate) struct Dopri5Stages<'a, S: ?Sized, T, const D: usize> {
     sys: &'a S,

@@ -544,6 +544,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
         }
         self.t = t_new;
         self.x = x_new;
+        let moved = sink.recentre(&mut self.x) || moved;
         let stats = &mut self.rec.stats;
         let next = if moved {
             m.advance_projected(t_new, &self.x, last, stats)

@@ -110,6 +110,26 @@ impl EulerSequence {
         }
     }
 
+    /// The body's angular acceleration `ω̇_b` at the angles `angles` moving
+    /// at `rates` with the second derivatives `accelerations`: the
+    /// derivative of [`Self::body_rates`], `W q̈ + Σ_{i<j} q̇_i q̇_j (u_i × u_j)`
+    /// with `u_i` the columns of `W` in `ω_b = W q̇` (each column turns with
+    /// the angles after its own).
+    pub fn body_accelerations<T: RealField + Copy>(
+        &self,
+        angles: &[T; 3],
+        rates: &[T; 3],
+        accelerations: &[T; 3],
+    ) -> Vector3<T> {
+        let w = self.rate_matrix(angles);
+        let u = [w.column(0), w.column(1), w.column(2)];
+        let mut out = w * Vector3::from(*accelerations);
+        for (i, j) in [(0, 1), (0, 2), (1, 2)] {
+            out += u[i].cross(&u[j]) * (rates[i] * rates[j]);
+        }
+        out
+    }
+
     /// `W` in `ω_b = W (α̇, β̇, γ̇)`: the columns `R_cᵀ R_bᵀ e_a`, `R_cᵀ e_b`,
     /// `e_c`; its determinant is the [`Self::regularity`] up to sign.
     fn rate_matrix<T: RealField + Copy>(&self, angles: &[T; 3]) -> Matrix3<T> {
@@ -128,6 +148,20 @@ impl EulerSequence {
             angles[1].sin()
         } else {
             angles[1].cos()
+        }
+    }
+
+    /// [`Self::regularity`] of this sequence's angles of the rotation `r`,
+    /// in magnitude, read off `r` without the angles: `√(1 − R_ac²)`
+    /// (Tait–Bryan, `|sin β| = |R_ac|`) or `√(R_ab² + R_ac′²)` with c′ the
+    /// third axis (proper Euler, `|cos β| = |R_aa|`).
+    pub fn regularity_at<T: RealField + Copy>(&self, r: &Matrix3<T>) -> T {
+        let [a, b, c] = self.axes;
+        if self.is_proper() {
+            let c = 3 - a - b;
+            (r[(a, b)] * r[(a, b)] + r[(a, c)] * r[(a, c)]).sqrt()
+        } else {
+            (T::one() - r[(a, c)] * r[(a, c)]).max(T::zero()).sqrt()
         }
     }
 
@@ -198,6 +232,45 @@ impl EulerSequence {
         let omega = from.body_rates(angles, rates);
         (new, to.rates(&new, &omega))
     }
+}
+
+/// Where a free rotation sits in a system's state (DESIGN §9.4): its
+/// angles, of the sequence `sequence`, in the slots `angles`, and their
+/// rates in the slots `rates`. A generated system whose orientation is a
+/// free rotation gives it for each chart ([`crate::OdeSystem::free_rotation`]);
+/// the one-step integrators then advance the rotation itself, not its
+/// angles, and hand back the angles of chart 0.
+///
+/// # Example
+///
+/// ```rust
+/// use nh_runtime::{EulerSequence, FreeRotation};
+///
+/// // x, y, yaw, pitch, roll and their rates: the angles in slots 2..5
+/// let r = FreeRotation {
+///     sequence: EulerSequence::ZYX,
+///     angles: [2, 3, 4],
+///     rates: [5, 6, 7],
+///     world: true,
+/// };
+/// assert_eq!(r.sequence.axes(), [2, 1, 0]);
+/// ```
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct FreeRotation {
+    /// The sequence of the angles.
+    pub sequence: EulerSequence,
+    /// The state's slots of the three angles, in the sequence's order.
+    pub angles: [usize; 3],
+    /// The state's slots of their rates, in the same order.
+    pub rates: [usize; 3],
+    /// Whether the system writes the angular velocity in world
+    /// components (`omega(Q)`) rather than body ones (`omega_body(Q)`, a
+    /// `body`'s inertia): the canonical coordinates then turn the rotation
+    /// on the left, `R = exp([θ]×) B`, and carry `ω` in world components,
+    /// which are the smooth ones for such a system (a ball whose inertia
+    /// is isotropic, driven from the world); otherwise on the right, with
+    /// the body's components, which Euler's equations keep smooth.
+    pub world: bool,
 }
 
 /// `x + 2πk` nearest `near`.
@@ -306,6 +379,35 @@ mod tests {
             let skew = seq.matrix(&angles).transpose() * rdot;
             let from_skew = Vector3::new(skew[(2, 1)], skew[(0, 2)], skew[(1, 0)]);
             assert!((from_skew - w).amax() < 1e-9, "{seq:?}");
+        }
+    }
+
+    #[test]
+    fn the_regularity_read_off_the_rotation_is_the_angles() {
+        for seq in ALL {
+            for r in rotations() {
+                let direct = seq.regularity_at(&r);
+                let angles = seq.regularity(&seq.angles(&r)).abs();
+                assert!((direct - angles).abs() < 1e-14, "{seq:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn body_accelerations_are_the_derivative_of_the_body_rates() {
+        // along q(t) = q0 + q̇0 t + q̈0 t²/2, against a central difference
+        let (q0, v0, a0): ([f64; 3], [f64; 3], [f64; 3]) =
+            ([0.4, 1.1, -2.0], [0.3, -0.7, 1.9], [-1.2, 0.5, 0.8]);
+        for seq in ALL {
+            let at = |t: f64| {
+                let q = [0, 1, 2].map(|i| q0[i] + v0[i] * t + a0[i] * t * t / 2.0);
+                let v = [0, 1, 2].map(|i| v0[i] + a0[i] * t);
+                seq.body_rates(&q, &v)
+            };
+            let h = 1e-5;
+            let diff = (at(h) - at(-h)) / (2.0 * h);
+            let gap = (seq.body_accelerations(&q0, &v0, &a0) - diff).amax();
+            assert!(gap < 1e-9, "{seq:?}: {gap:e}");
         }
     }
 

@@ -110,6 +110,11 @@ pub struct GaussLegendre4<T> {
 fixed_builders!(GaussLegendre4);
 integrator_impl!(GaussLegendre4, f, |sys| Gauss::new(FiniteDifference(sys)));
 
+/// GaussLegendre4 is a one-step method.
+impl<T> crate::settings::OneStep for GaussLegendre4<T> {
+    const ONE_STEP: bool = true;
+}
+
 jacobian_entry_points! {
     GaussLegendre4, f, |sys| Gauss::new(Analytic(sys)),
     /// Like [`Integrator::integrate`](crate::Integrator::integrate), but with the analytic Jacobian

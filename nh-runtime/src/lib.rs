@@ -161,6 +161,7 @@ mod events;
 #[cfg(feature = "alloc")]
 mod gauss_legendre4;
 mod jacobian;
+mod lie;
 mod linalg;
 mod method;
 mod numeric;
@@ -186,7 +187,7 @@ pub use dop853::Dop853;
 pub use dopri5::Dopri5;
 #[cfg(feature = "std")]
 pub use ensemble::{Ensemble, Shard, ShardError};
-pub use euler::EulerSequence;
+pub use euler::{EulerSequence, FreeRotation};
 pub use events::Events;
 #[cfg(feature = "alloc")]
 pub use gauss_legendre4::GaussLegendre4;

@@ -46,6 +46,11 @@ pub struct Rk4<T> {
 fixed_builders!(Rk4);
 integrator_impl!(Rk4, f, |sys| Rk4Stages::new(sys));
 
+/// Rk4 is a one-step method.
+impl<T> crate::settings::OneStep for Rk4<T> {
+    const ONE_STEP: bool = true;
+}
+
 /// The four stages of one classical RK4 step.
 struct Rk4Stages<'a, S: ?Sized, T, const D: usize> {
     sys: &'a S,

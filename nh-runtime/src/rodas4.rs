@@ -97,6 +97,11 @@ pub struct Rodas4<T, Tol = ScalarTolerance<T>> {
 adaptive_builders!(Rodas4);
 integrator_impl!(Rodas4<T, Tol>, a, |sys| rodas4(FiniteDifference(sys)));
 
+/// Rodas4 is a one-step method.
+impl<T, Tol> crate::settings::OneStep for Rodas4<T, Tol> {
+    const ONE_STEP: bool = true;
+}
+
 jacobian_entry_points! {
     Rodas4<T, Tol>, a, |sys| rodas4(Analytic(sys)),
     /// Like [`Integrator::integrate`](crate::Integrator::integrate), but with the analytic Jacobian

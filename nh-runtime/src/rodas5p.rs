@@ -88,6 +88,11 @@ pub struct Rodas5P<T, Tol = ScalarTolerance<T>> {
 adaptive_builders!(Rodas5P);
 integrator_impl!(Rodas5P<T, Tol>, a, |sys| rodas5p(FiniteDifference(sys)));
 
+/// Rodas5P is a one-step method.
+impl<T, Tol> crate::settings::OneStep for Rodas5P<T, Tol> {
+    const ONE_STEP: bool = true;
+}
+
 jacobian_entry_points! {
     Rodas5P<T, Tol>, a, |sys| rodas5p(Analytic(sys)),
     /// Like [`Integrator::integrate`](crate::Integrator::integrate), but with the analytic Jacobian

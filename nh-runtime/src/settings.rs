@@ -36,6 +36,10 @@ pub(crate) struct Settings<T, Tol = ScalarTolerance<T>> {
     /// Whether a system with several charts switches between them
     /// (DESIGN §6.7; `with_chart_switching`).
     pub(crate) chart_switching: bool,
+    /// Whether a one-step method advances a free rotation in its canonical
+    /// coordinates (DESIGN §9.4; `with_lie_step`) rather than switching
+    /// sequences.
+    pub(crate) lie_step: bool,
     pub(crate) record: Record<T>,
     /// The chart switches of the last call over several charts (`None`
     /// after a call that ran on one chart: cheaper to make and clear than
@@ -54,6 +58,7 @@ impl<T: RealField + Copy> Settings<T> {
             fixed_step: None,
             project: true,
             chart_switching: true,
+            lie_step: true,
             record: Record::default(),
             switches: None,
         }
@@ -81,6 +86,7 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Settings<T, Tol> {
             fixed_step: self.fixed_step,
             project: self.project,
             chart_switching: self.chart_switching,
+            lie_step: self.lie_step,
             record: self.record,
             switches: self.switches,
         }
@@ -159,18 +165,19 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Settings<T, Tol> {
     }
 
     /// Runs `sys` over the charts of its atlas (`charts::run`, DESIGN
-    /// §6.7): `segment` runs the integrator's method on one chart's view.
+    /// §6.7): `segment` runs the integrator's method on one chart's view;
+    /// `one_step` when that method is a one-step method ([`OneStep`]).
     pub(crate) fn run_charts<S, K, F, const D: usize>(
         &mut self,
         sys: &S,
-        span: (T, SVector<T, D>, T),
+        (span, one_step): ((T, SVector<T, D>, T), bool),
         sink: &mut K,
         segment: F,
     ) -> Result<Outcome<T, D>, SimError<T, D>>
     where
         S: OdeSystem<T, D> + ?Sized,
         K: Sink<T, D> + ?Sized,
-        F: FnMut(&InChart<'_, S>, Segment<'_, T, D>) -> Result<Outcome<T, D>, SimError<T, D>>,
+        F: FnMut(&InChart<'_, S, T>, Segment<'_, T, D>) -> Result<Outcome<T, D>, SimError<T, D>>,
     {
         self.switches = Some(ChartSwitches::new());
         let settings = self.run_settings()?;
@@ -183,8 +190,17 @@ impl<T: RealField + Copy, Tol: ErrorTolerance<T>> Settings<T, Tol> {
         };
         let switches = self.switches.get_or_insert_with(ChartSwitches::new);
         let rec = (&mut self.record, switches);
-        crate::charts::run(sys, &settings, rtol, span, sink, rec, segment)
+        crate::charts::run(sys, (&settings, rtol, one_step), span, sink, rec, segment)
     }
+}
+
+/// Whether an integrator's method is a one-step method, which advances a
+/// free rotation in its canonical coordinates re-centred after every step
+/// (DESIGN §9.4), rather than a multistep one, whose history a re-centring
+/// would void.
+pub(crate) trait OneStep {
+    /// `true` for a one-step method.
+    const ONE_STEP: bool;
 }
 
 /// The body of an entry point: resets the integrator's further fields
@@ -198,7 +214,8 @@ macro_rules! run_entry {
         let span = $span;
         if $this.$field.switches_charts($sys) {
             $(let $extra = &mut $this.$extra;)*
-            $this.$field.run_charts($sys, span, $sink, |$sys, segment| segment.drive(&mut $method, $sys))
+            let one_step = <Self as crate::settings::OneStep>::ONE_STEP && $this.$field.lie_step;
+            $this.$field.run_charts($sys, (span, one_step), $sink, |$sys, segment| segment.drive(&mut $method, $sys))
         } else {
             $(let $extra = &mut $this.$extra;)*
             $this.$field.run(&mut $method, $sys, span, $sink)
@@ -348,6 +365,28 @@ macro_rules! integrator_impl {
             /// for an example.
             pub fn with_chart_switching(mut self, on: bool) -> Self {
                 self.$field.chart_switching = on;
+                self
+            }
+
+            /// Turns the Lie-group step of a free rotation on or off
+            /// (default on; it has no effect on `Bdf`, which switches
+            /// sequences, nor on systems without a free rotation,
+            /// [`OdeSystem::free_rotation`](crate::OdeSystem::free_rotation)).
+            /// On, a one-step method advances the rotation in its canonical
+            /// coordinates about the orientation at the start of each step
+            /// (DESIGN §9.4); off, it switches between the Euler sequences
+            /// of the system's charts as it does for other atlases.
+            ///
+            /// # Example
+            ///
+            /// ```rust
+            /// use nh_runtime::Dop853;
+            ///
+            /// // the sequences, for a comparison
+            /// let _switching = Dop853::<f64>::new(1e-10, 1e-12).with_lie_step(false);
+            /// ```
+            pub fn with_lie_step(mut self, on: bool) -> Self {
+                self.$field.lie_step = on;
                 self
             }
 

@@ -43,6 +43,14 @@ pub(crate) trait Sink<T, const D: usize> {
     fn salvage(&mut self, _step: &Step<'_, T, D>) -> Option<EventHit<T, D>> {
         None
     }
+
+    /// After an accepted step has been handed over, moves its end `x` to
+    /// the centre of its chart where the run is in a free rotation's
+    /// canonical coordinates (DESIGN §9.4): `true` if it moved, and the
+    /// method then restarts there. `false` (the default) elsewhere.
+    fn recentre(&mut self, _x: &mut SVector<T, D>) -> bool {
+        false
+    }
 }
 
 /// Discards every step.

@@ -324,6 +324,22 @@ pub trait OdeSystem<T, const D: usize> {
         SWITCH_BELOW
     }
 
+    /// Where the state holds a free rotation in chart `chart` (DESIGN
+    /// §9.4): its Euler sequence, the slots of its angles and of their
+    /// rates, and the components in which the system writes its angular
+    /// velocity; `None` by default. A run of a system all of whose charts
+    /// are those of one free rotation goes, with a one-step integrator, in
+    /// the rotation's canonical coordinates about the orientation at the
+    /// start of each step (a Lie-group step: the rotation advanced, not
+    /// its angles, exact for a constant angular velocity), the equations
+    /// evaluated in the chart that is regular there; with `Bdf` it
+    /// switches charts. Either way the caller sees chart 0's angles.
+    #[inline]
+    fn free_rotation(&self, chart: usize) -> Option<crate::FreeRotation> {
+        let _ = chart;
+        None
+    }
+
     /// [`OdeSystem::change_chart`] where chart `to`'s positions are one of
     /// several that describe the same configuration (the angles of a
     /// rotation, which are defined up to whole turns, and a rotation's two
@@ -611,6 +627,13 @@ pub trait ControlledSystem<T, const D: usize, const M: usize> {
         SWITCH_BELOW
     }
 
+    /// [`OdeSystem::free_rotation`]; the input does not enter it.
+    #[inline]
+    fn free_rotation(&self, chart: usize) -> Option<crate::FreeRotation> {
+        let _ = chart;
+        None
+    }
+
     /// [`OdeSystem::change_chart_near`]; the input does not enter it.
     /// Default: [`ControlledSystem::change_chart`].
     #[inline]
@@ -878,6 +901,11 @@ where
     #[inline]
     fn chart_switch_below(&self, chart: usize) -> f64 {
         self.system.chart_switch_below(chart)
+    }
+
+    #[inline]
+    fn free_rotation(&self, chart: usize) -> Option<crate::FreeRotation> {
+        self.system.free_rotation(chart)
     }
 }
 
