@@ -1039,6 +1039,7 @@ const NOT_NUMERIC: &[&str] = &[
     "change_chart",
     "change_chart_near",
     "chart_switch_below",
+    "free_rotation",
     "jacobian_in_chart",
     "jacobian_with_input_in_chart",
 ];

@@ -36,6 +36,9 @@ pub struct EulerShape {
     pub sequence: String,
     /// The angles' coordinates (indices in q), in the order of the factors.
     pub angles: [usize; 3],
+    /// Whether the system writes the angular velocity in world components
+    /// (the runtime's `FreeRotation::world`).
+    pub world: bool,
 }
 
 /// The lines of the struct's documentation that list the charts.
@@ -130,6 +133,7 @@ pub fn atlas_methods(shape: &Shape, dims: Dims) -> TokenStream {
             }
         }
     });
+    let free_rotation = free_rotation(shape, dims);
     quote! {
         #[inline]
         fn charts(&self) -> usize { #count }
@@ -148,7 +152,52 @@ pub fn atlas_methods(shape: &Shape, dims: Dims) -> TokenStream {
         fn project_in(&self, chart: usize, t: T, x: &mut #xty) -> ::core::result::Result<bool, __nh_private::nh_runtime::ProjectionFailure<T>> { #project }
         #change
         #switch_below
+        #free_rotation
     }
+}
+
+/// `free_rotation`, for charts of a free rotation: each chart's sequence,
+/// the slots of the angles (their coordinates) and of their rates (the
+/// independent velocities after the coordinates).
+fn free_rotation(shape: &Shape, dims: Dims) -> Option<TokenStream> {
+    let (mut arms, mut own) = (TokenStream::new(), None);
+    for (c, chart) in shape.atlas.iter().enumerate() {
+        let e = chart.euler.as_ref()?;
+        let id = Ident::new(&e.sequence, proc_macro2::Span::call_site());
+        let rates = e.angles.map(|a| {
+            chart
+                .independent
+                .iter()
+                .position(|&i| i == a)
+                .map(|p| dims.n + p)
+        });
+        let [Some(r0), Some(r1), Some(r2)] = rates else {
+            return None;
+        };
+        let world = e.world;
+        let angles = e.angles.map(Literal::usize_unsuffixed);
+        let rates = [r0, r1, r2].map(Literal::usize_unsuffixed);
+        let arm = quote! {
+            __nh_private::nh_runtime::FreeRotation {
+                sequence: __nh_private::nh_runtime::EulerSequence::#id,
+                angles: [#(#angles),*],
+                rates: [#(#rates),*],
+                world: #world,
+            }
+        };
+        if c == 0 {
+            own = Some(arm);
+        } else {
+            arms.extend(quote!(#c => #arm,));
+        }
+    }
+    let own = own?;
+    Some(quote! {
+        #[inline]
+        fn free_rotation(&self, chart: usize) -> ::core::option::Option<__nh_private::nh_runtime::FreeRotation> {
+            ::core::option::Option::Some(match chart { #arms _ => #own })
+        }
+    })
 }
 
 /// `change_chart`: the full velocity from chart `from`'s dependent

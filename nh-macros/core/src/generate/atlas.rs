@@ -91,6 +91,7 @@ fn euler_shape(chart: &Chart) -> Option<EulerShape> {
     chart.euler.as_ref().map(|e| EulerShape {
         sequence: e.sequence(),
         angles: e.angles,
+        world: e.world,
     })
 }
 

@@ -34,6 +34,11 @@ pub struct EulerChart {
     pub axes: [usize; 3],
     /// The coordinates (indices in q), in the order of the factors.
     pub angles: [usize; 3],
+    /// Whether the system writes the rotation's angular velocity in world
+    /// components only (`omega(Q)` of a `let`, never `omega_body(Q)` nor a
+    /// body's orientation): the runtime's canonical coordinates then carry
+    /// it in world components.
+    pub world: bool,
 }
 
 impl EulerChart {
@@ -179,10 +184,8 @@ fn count_uses(expr: &Expr, coords: &[&str], counts: &mut [usize]) {
     }
 }
 
-/// How often each coordinate is named anywhere in `def` (expressions,
-/// forces, `dependent`).
-fn uses(def: &SystemDef, coords: &[&str]) -> Vec<usize> {
-    let mut counts = vec![0; coords.len()];
+/// Every expression of `def` but the forces'.
+fn expressions(def: &SystemDef) -> Vec<&Expr> {
     let mut exprs: Vec<&Expr> = Vec::new();
     exprs.extend(def.lets.iter().map(|l| &l.value));
     exprs.extend(
@@ -199,6 +202,14 @@ fn uses(def: &SystemDef, coords: &[&str]) -> Vec<usize> {
     for block in [&def.constraints, &def.kinematics].into_iter().flatten() {
         exprs.extend(block.1.iter().flat_map(|c| [&c.lhs, &c.rhs]));
     }
+    exprs
+}
+
+/// How often each coordinate is named anywhere in `def` (expressions,
+/// forces, `dependent`).
+fn uses(def: &SystemDef, coords: &[&str]) -> Vec<usize> {
+    let mut counts = vec![0; coords.len()];
+    let mut exprs = expressions(def);
     for f in def.forces.iter().flat_map(|f| &f.1) {
         exprs.push(&f.value);
         let named = [f.coordinate.clone()];
@@ -246,8 +257,62 @@ pub fn free_rotation(def: &SystemDef, coords: &[&str]) -> Option<EulerChart> {
         angles
             .iter()
             .all(|&q| counts[q] == 1)
-            .then_some(EulerChart { site, axes, angles })
+            .then_some(EulerChart {
+                site,
+                axes,
+                angles,
+                world: world_rates(def, site),
+            })
     })
+}
+
+/// Whether the rotation at `site` is a `let` whose angular velocity `def`
+/// writes as `omega(Q)` and never as `omega_body(Q)`, and which no body
+/// takes as its orientation.
+fn world_rates(def: &SystemDef, site: Site) -> bool {
+    let Site::Let(i) = site else {
+        return false;
+    };
+    let Some(name) = def.lets.get(i).map(|l| &l.name) else {
+        return false;
+    };
+    let mut counts = [0usize; 2];
+    for e in expressions(def) {
+        count_calls(e, name, &mut counts);
+    }
+    let oriented = def.bodies.iter().flat_map(|b| &b.fields).any(|f| {
+        f.name == BodyField::Orientation && matches!(&f.value, Expr::Name(n) if n == name)
+    });
+    counts[0] > 0 && counts[1] == 0 && !oriented
+}
+
+/// Adds to `counts` the calls `omega(name)` and `omega_body(name)` in `expr`.
+fn count_calls(expr: &Expr, name: &Ident, counts: &mut [usize; 2]) {
+    match expr {
+        Expr::Num(..) | Expr::Name(_) => {}
+        Expr::Call { func, args, .. } => {
+            if let [Expr::Name(arg)] = args.as_slice()
+                && arg == name
+            {
+                match Function::of(func) {
+                    Some(Function::Omega) => counts[0] += 1,
+                    Some(Function::OmegaBody) => counts[1] += 1,
+                    _ => {}
+                }
+            }
+            args.iter().for_each(|a| count_calls(a, name, counts));
+        }
+        Expr::Vector { items, .. } => items.iter().for_each(|a| count_calls(a, name, counts)),
+        Expr::Component { base, .. } | Expr::Neg(base, _) => count_calls(base, name, counts),
+        Expr::Chain { first, rest, .. } => {
+            count_calls(first, name, counts);
+            rest.iter().for_each(|r| count_calls(&r.2, name, counts));
+        }
+        Expr::Pow { base, exp, .. } => {
+            count_calls(base, name, counts);
+            count_calls(exp, name, counts);
+        }
+    }
 }
 
 /// The constraints' regularity at least this large somewhere on the pole
