@@ -19,7 +19,7 @@ use std::f64::consts::FRAC_PI_2;
 
 #[path = "common/turntable.rs"]
 mod turntable;
-use turntable::{TurntableBall, ball_centre};
+use turntable::{TurntableBall, ball_centre, quaternion_ball};
 
 /// A homogeneous ball rolling on a table that turns at `Omega`, its
 /// orientation the rotation `$q` of the angles phi, theta, psi.
@@ -60,29 +60,6 @@ const OMEGA: f64 = 2.0 * std::f64::consts::PI;
 /// The centre and the angular velocity (world axes) at t = 0.
 const START: (f64, f64, [f64; 3]) = (0.3, -0.1, [0.7, -0.4, 1.1]);
 
-/// The ball with its orientation a unit quaternion q (world angular
-/// velocity ω): state x, y, ω, q; `v = Ω e_z × r + R ω × e_z` (rolling on
-/// the table), `v̇ = (2/7) Ω e_z × v`, `ω̇ = (5/(2R)) v̇ × e_z`... written
-/// out: `ω̇_xy = 5Ω/(7R) v`, `q̇ = ½ (0, ω) q`.
-fn quaternion_ball(_t: f64, s: &SVector<f64, 9>) -> SVector<f64, 9> {
-    let vx = R * s[3] - OMEGA * s[1];
-    let vy = -R * s[2] + OMEGA * s[0];
-    let k = 5.0 * OMEGA / (7.0 * R);
-    let (wx, wy, wz) = (s[2], s[3], s[4]);
-    let (a, b, c, d) = (s[5], s[6], s[7], s[8]);
-    SVector::<f64, 9>::from([
-        vx,
-        vy,
-        k * vx,
-        k * vy,
-        0.0,
-        0.5 * (-wx * b - wy * c - wz * d),
-        0.5 * (wx * a + wy * d - wz * c),
-        0.5 * (wy * a + wz * b - wx * d),
-        0.5 * (wz * a + wx * c - wy * b),
-    ])
-}
-
 /// The quaternion ball's orientation at t = 10 from `rotation` at t = 0,
 /// with `rtol` (atol rtol/100), and its steps.
 fn quaternion_run(rotation: &Matrix3<f64>, rtol: f64) -> (Matrix3<f64>, usize) {
@@ -95,7 +72,7 @@ fn quaternion_until(rotation: &Matrix3<f64>, rtol: f64, t1: f64) -> (Matrix3<f64
     let q = UnitQuaternion::from_matrix(rotation);
     let s0 = SVector::<f64, 9>::from([x0, y0, w[0], w[1], w[2], q.w, q.i, q.j, q.k]);
     let out = Dop853::new(rtol, rtol * 1e-2)
-        .integrate(&quaternion_ball, 0.0, s0, t1)
+        .integrate(&quaternion_ball(R, OMEGA), 0.0, s0, t1)
         .unwrap();
     let q = Quaternion::new(out.x[5], out.x[6], out.x[7], out.x[8]);
     let r = UnitQuaternion::from_quaternion(q).to_rotation_matrix();

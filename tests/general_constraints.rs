@@ -21,6 +21,8 @@ use serde_json::Value;
 
 #[path = "common/refdata_json.rs"]
 mod refdata_json;
+// the quaternion ball there is for tests/euler_charts.rs
+#[allow(dead_code)]
 #[path = "common/turntable.rs"]
 mod turntable;
 use refdata_json::{arr, load, num, vector};

@@ -23,6 +23,11 @@ use nh_lab::report::{self, Run};
 use nonholonomic::prelude::*;
 use std::path::Path;
 
+// the hand-written quaternion ball the tests compare with
+#[allow(dead_code)]
+#[path = "../../tests/common/turntable.rs"]
+mod turntable;
+
 nonholonomic_system! {
     /// A homogeneous ball on a table turning at `Omega`, in yaw, pitch and
     /// roll.
@@ -45,31 +50,11 @@ const T1: f64 = 10.0;
 const REPEATS: usize = 5;
 const RTOLS: [f64; 9] = [1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9, 1e-10, 1e-11, 1e-12];
 
-/// The ball with a unit quaternion: state x, y, world ω, q.
-fn quaternion_ball(_t: f64, s: &SVector<f64, 9>) -> SVector<f64, 9> {
-    let vx = RADIUS * s[3] - TABLE * s[1];
-    let vy = -RADIUS * s[2] + TABLE * s[0];
-    let k = 5.0 * TABLE / (7.0 * RADIUS);
-    let (wx, wy, wz) = (s[2], s[3], s[4]);
-    let (a, b, c, d) = (s[5], s[6], s[7], s[8]);
-    SVector::<f64, 9>::from([
-        vx,
-        vy,
-        k * vx,
-        k * vy,
-        0.0,
-        0.5 * (-wx * b - wy * c - wz * d),
-        0.5 * (wx * a + wy * d - wz * c),
-        0.5 * (wy * a + wz * b - wx * d),
-        0.5 * (wz * a + wx * c - wy * b),
-    ])
-}
-
 /// The quaternion ball's orientation at `T1` with `rtol`, and its outcome.
 fn quaternion_run(rtol: f64) -> (Matrix3<f64>, Outcome<f64, 9>) {
     let s0 = SVector::<f64, 9>::from([0.3, -0.1, 0.7, -0.4, 1.1, 1.0, 0.0, 0.0, 0.0]);
     let out = Dop853::new(rtol, rtol * 1e-2)
-        .integrate(&quaternion_ball, 0.0, s0, T1)
+        .integrate(&turntable::quaternion_ball(RADIUS, TABLE), 0.0, s0, T1)
         .expect("the quaternion ball runs");
     let q = Quaternion::new(out.x[5], out.x[6], out.x[7], out.x[8]);
     let r = UnitQuaternion::from_quaternion(q).to_rotation_matrix();

@@ -163,25 +163,13 @@ fn three_angles(expr: &Expr, coords: &[&str]) -> Option<([usize; 3], [usize; 3])
 
 /// Adds to `counts` the uses of each coordinate (names in `coords`) in `expr`.
 fn count_uses(expr: &Expr, coords: &[&str], counts: &mut [usize]) {
-    match expr {
-        Expr::Num(..) => {}
-        Expr::Name(id) => {
-            if let Some(i) = coords.iter().position(|c| id == c) {
-                counts[i] += 1;
-            }
+    expr.visit(&mut |e| {
+        if let Expr::Name(id) = e
+            && let Some(i) = coords.iter().position(|c| id == c)
+        {
+            counts[i] += 1;
         }
-        Expr::Call { args, .. } => args.iter().for_each(|a| count_uses(a, coords, counts)),
-        Expr::Vector { items, .. } => items.iter().for_each(|a| count_uses(a, coords, counts)),
-        Expr::Component { base, .. } | Expr::Neg(base, _) => count_uses(base, coords, counts),
-        Expr::Chain { first, rest, .. } => {
-            count_uses(first, coords, counts);
-            rest.iter().for_each(|r| count_uses(&r.2, coords, counts));
-        }
-        Expr::Pow { base, exp, .. } => {
-            count_uses(base, coords, counts);
-            count_uses(exp, coords, counts);
-        }
-    }
+    });
 }
 
 /// Every expression of `def` but the forces'.
@@ -288,31 +276,18 @@ fn world_rates(def: &SystemDef, site: Site) -> bool {
 
 /// Adds to `counts` the calls `omega(name)` and `omega_body(name)` in `expr`.
 fn count_calls(expr: &Expr, name: &Ident, counts: &mut [usize; 2]) {
-    match expr {
-        Expr::Num(..) | Expr::Name(_) => {}
-        Expr::Call { func, args, .. } => {
-            if let [Expr::Name(arg)] = args.as_slice()
-                && arg == name
-            {
-                match Function::of(func) {
-                    Some(Function::Omega) => counts[0] += 1,
-                    Some(Function::OmegaBody) => counts[1] += 1,
-                    _ => {}
-                }
+    expr.visit(&mut |e| {
+        if let Expr::Call { func, args, .. } = e
+            && let [Expr::Name(arg)] = args.as_slice()
+            && arg == name
+        {
+            match Function::of(func) {
+                Some(Function::Omega) => counts[0] += 1,
+                Some(Function::OmegaBody) => counts[1] += 1,
+                _ => {}
             }
-            args.iter().for_each(|a| count_calls(a, name, counts));
         }
-        Expr::Vector { items, .. } => items.iter().for_each(|a| count_calls(a, name, counts)),
-        Expr::Component { base, .. } | Expr::Neg(base, _) => count_calls(base, name, counts),
-        Expr::Chain { first, rest, .. } => {
-            count_calls(first, name, counts);
-            rest.iter().for_each(|r| count_calls(&r.2, name, counts));
-        }
-        Expr::Pow { base, exp, .. } => {
-            count_calls(base, name, counts);
-            count_calls(exp, name, counts);
-        }
-    }
+    });
 }
 
 /// The constraints' regularity at least this large somewhere on the pole

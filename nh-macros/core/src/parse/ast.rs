@@ -75,6 +75,27 @@ pub enum Expr {
 }
 
 impl Expr {
+    /// Calls `f` on this expression and on each of its subexpressions,
+    /// parents before children, left to right.
+    pub fn visit<'e>(&'e self, f: &mut impl FnMut(&'e Expr)) {
+        f(self);
+        match self {
+            Expr::Num(..) | Expr::Name(_) => {}
+            Expr::Call { args: items, .. } | Expr::Vector { items, .. } => {
+                items.iter().for_each(|a| a.visit(f));
+            }
+            Expr::Component { base, .. } | Expr::Neg(base, _) => base.visit(f),
+            Expr::Chain { first, rest, .. } => {
+                first.visit(f);
+                rest.iter().for_each(|r| r.2.visit(f));
+            }
+            Expr::Pow { base, exp, .. } => {
+                base.visit(f);
+                exp.visit(f);
+            }
+        }
+    }
+
     /// The source range of the whole expression.
     pub fn range(&self) -> SpanRange {
         match self {
