@@ -457,7 +457,7 @@ mod tests {
         for k in 0..30 {
             let t = k as f64;
             let v = Vector3::new((0.7 * t).sin(), (1.3 * t).cos(), (0.4 * t + 1.0).sin());
-            out.push(v.normalize() * (0.1 * t).min(3.14));
+            out.push(v.normalize() * (0.1 * t).min(3.1));
         }
         out
     }
