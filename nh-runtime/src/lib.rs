@@ -150,6 +150,7 @@ mod auto_switch;
 mod bdf;
 mod charts;
 mod checks;
+mod conservation;
 mod crossing;
 mod dop853;
 mod dopri5;
@@ -182,6 +183,7 @@ mod tolerance;
 
 pub use auto_switch::{AutoSwitch, Regime, Switch};
 pub use bdf::Bdf;
+pub use conservation::Conservation;
 pub use crossing::{Direction, EventHit};
 pub use dop853::Dop853;
 pub use dopri5::Dopri5;
