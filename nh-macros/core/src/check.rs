@@ -166,6 +166,9 @@ pub fn outputs_for_form(def: &SystemDef, cx: &mut Ctxt) {
             (Some(Output::Routes), true) => {
                 "a system in generalized speeds has one derivation, Maggi's equations (Sᵀ M S) u̇ = Sᵀ(Q − h − M(Ṡ u + σ̇)): there are no routes to compare"
             }
+            (Some(Output::Momenta), true) => {
+                "the momenta conjugate to cyclic coordinates (§5.5) are derived from the constrained Lagrangian of coordinates r, s and `constraints`; a system in generalized speeds has its kinematics instead"
+            }
             (Some(Output::ContactPoints), _)
                 if def.rolling.is_empty() && def.rejected.rolling_lines == 0 =>
             {
@@ -285,6 +288,68 @@ pub fn forms(def: &SystemDef, m: &Scene<'_>, cx: &mut Ctxt) -> bool {
     }
     let _ = kw;
     cx.is_empty()
+}
+
+/// `outputs { momenta }` can be derived (§5.5): the constraints are
+/// homogeneous, time-independent velocity rows solved in closed form, and
+/// some independent coordinate is cyclic. False after an error, at the
+/// output's name.
+pub fn momenta(def: &SystemDef, m: &mut Scene<'_>, cx: &mut Ctxt) -> bool {
+    let Some(o) = def
+        .outputs
+        .iter()
+        .flat_map(|(_, list)| list)
+        .find(|o| o.word == Some(Output::Momenta))
+    else {
+        return false;
+    };
+    let why = if !m.model.homogeneous {
+        "the rates (5.36) are for homogeneous, time-independent velocity constraints (no affine or time-dependent part, no holonomic rows); this system has other constraints".to_string()
+    } else if m.block.is_some() {
+        "the rates (5.36) need the constraints solved for the dependent velocities in closed form, and this system's are solved numerically (a block of implicit rows)".to_string()
+    } else if m.cyclic().is_empty() {
+        not_cyclic(m)
+    } else {
+        return true;
+    };
+    cx.error_at(
+        o.ident.span(),
+        format!("output `momenta` is not available here: {why}; remove it from `outputs`"),
+    );
+    false
+}
+
+/// Why no independent coordinate of `m` is cyclic: where each appears.
+fn not_cyclic(m: &mut Scene<'_>) -> String {
+    let map = m.constrained_velocities();
+    let model = m.model;
+    let mut memo = rustc_hash::FxHashMap::default();
+    let lc = m.engine.subst(model.lagrangian, &map, &mut memo);
+    let forces: Vec<_> = (model.coordinates.iter())
+        .map(|c| (&c.name, m.engine.subst(c.force, &map, &mut memo)))
+        .collect();
+    let places: Vec<String> = model
+        .independent()
+        .iter()
+        .map(|&i| {
+            let c = &model.coordinates[i];
+            let force = forces
+                .iter()
+                .find(|(_, f)| m.engine.depends_on(*f, c.position));
+            let place = match force {
+                _ if m.engine.depends_on(lc, c.position) => {
+                    "the constrained Lagrangian".to_string()
+                }
+                Some((name, _)) => format!("the force on `{name}`"),
+                None => "nothing".to_string(),
+            };
+            format!("`{}` appears in {place}", c.name)
+        })
+        .collect();
+    format!(
+        "no independent coordinate is cyclic (§5.5: the constrained Lagrangian Lc and the forces free of it): {}",
+        places.join(", ")
+    )
 }
 
 /// The reduced mass matrix is regular: no pivot of its factorisation, by

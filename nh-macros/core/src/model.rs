@@ -46,6 +46,7 @@ impl Outputs {
                         | Output::Routes
                         | Output::ReactionForces
                         | Output::ContactPoints
+                        | Output::Momenta
                 )
         })
     }

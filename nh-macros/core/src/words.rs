@@ -178,6 +178,9 @@ words! {
         /// `sensitivities` (or `sensitivities(p, ..)`): ∂f/∂p and the variational
         /// equations, for forward sensitivities; implies `jacobian`
         Sensitivities = "sensitivities",
+        /// `momenta`: the momenta conjugate to the cyclic coordinates and
+        /// their rates (§5.5), with a verdict on each
+        Momenta = "momenta",
     }
 
     /// A function of the expressions: the scalar functions, `dot` (the

@@ -24,7 +24,7 @@ use cache::{Cache, new_fn};
 pub use table::{Arguments, GeneratedMethod, METHODS, Returns};
 
 use crate::model::{Output, Outputs};
-use proc_macro2::{Ident, Literal, TokenStream};
+use proc_macro2::{Ident, Literal, Span, TokenStream};
 use quote::{format_ident, quote};
 use syn::Visibility;
 
@@ -72,6 +72,20 @@ pub struct Shape<'a> {
     /// The charts of the atlas (DESIGN §9.3), the system's own first;
     /// empty for a system with one chart.
     pub atlas: Vec<ChartShape>,
+    /// The cyclic coordinates and the verdicts on their momenta, with
+    /// `outputs { momenta }` (§5.5); empty otherwise.
+    pub momenta: Vec<MomentumShape>,
+}
+
+/// A cyclic coordinate and the verdict on its momentum (§5.5).
+pub struct MomentumShape {
+    /// The coordinate's index in q.
+    pub coordinate: usize,
+    /// The runtime's `Conservation` variant: `Conserved`, `NotConserved`
+    /// or `Undecided`.
+    pub verdict: &'static str,
+    /// The verdict in words, for the documentation.
+    pub doc: String,
 }
 
 impl Shape<'_> {
@@ -159,6 +173,8 @@ struct Dims {
     contacts: usize,
     /// Number of parameters of the sensitivities.
     sens: usize,
+    /// Number of cyclic coordinates (`outputs { momenta }`).
+    cyclic: usize,
 }
 
 impl Dims {
@@ -178,6 +194,7 @@ impl Dims {
             speeds: shape.in_speeds(),
             contacts: shape.contacts,
             sens: shape.sensitivity_params.len(),
+            cyclic: shape.momenta.len(),
         }
     }
 
@@ -239,6 +256,7 @@ impl Dims {
                 quote!([#kk; #p])
             }
             Returns::Scalar => quote!(T),
+            Returns::Cyclic => svector(self.cyclic),
             Returns::ConstraintMatrix => smatrix(p, k),
             Returns::ContactPoints => smatrix(3, self.contacts),
             Returns::MassMatrix if self.speeds => smatrix(k, k),
@@ -587,6 +605,7 @@ fn constants(shape: &Shape, dims: Dims) -> TokenStream {
     let indep = &shape.independent;
     let dep = &shape.dependent;
     let integrable = shape.integrable;
+    let momenta = momentum_constants(shape);
     let integrable_doc = if p == 0 {
         "No constraints: trivially `true`.".to_string()
     } else if shape.affine {
@@ -621,6 +640,32 @@ fn constants(shape: &Shape, dims: Dims) -> TokenStream {
         pub const STATE_DIM: ::core::primitive::usize = #dim;
         #[doc = #integrable_doc]
         pub const INTEGRABLE: ::core::primitive::bool = #integrable;
+        #momenta
+    }
+}
+
+/// `CYCLIC` and `CONSERVED`, with `outputs { momenta }` (§5.5).
+fn momentum_constants(shape: &Shape) -> TokenStream {
+    if !shape.outputs.contains(Output::Momenta) {
+        return TokenStream::new();
+    }
+    let m = shape.momenta.len();
+    let cyclic = shape.momenta.iter().map(|c| c.coordinate);
+    let verdicts = shape.momenta.iter().map(|c| {
+        let v = Ident::new(c.verdict, Span::call_site());
+        quote!(__nh_private::nh_runtime::Conservation::#v)
+    });
+    let mut doc = String::from(
+        "Whether the momentum p_k = ∂Lc/∂ṙ_k of each cyclic coordinate (in the order of `CYCLIC`) is conserved: its rate (5.36), `momentum_rates`, vanishes identically (`Conserved`, proved by the engine), is nonzero somewhere (`NotConserved`), or vanishes at every sampled point without being proved zero (`Undecided`).\n",
+    );
+    for c in &shape.momenta {
+        doc.push_str(&format!("\n- `{}`: {}", shape.coords[c.coordinate], c.doc));
+    }
+    quote! {
+        /// Indices in `q` of the cyclic coordinates (§5.5): independent coordinates of which the Lagrangian, the forces and the constraints are free. `momenta` and `momentum_rates` follow this order.
+        pub const CYCLIC: [::core::primitive::usize; #m] = [#(#cyclic),*];
+        #[doc = #doc]
+        pub const CONSERVED: [__nh_private::nh_runtime::Conservation; #m] = [#(#verdicts),*];
     }
 }
 

@@ -29,6 +29,10 @@ pub enum GeneratedMethod {
     Curvature,
     /// `energy`
     Energy,
+    /// `momenta`: p_k = ∂Lc/∂ṙ_k of the cyclic coordinates
+    Momenta,
+    /// `momentum_rates`: ṗ_k of (5.36)
+    MomentumRates,
     /// `constraint_matrix`
     ConstraintMatrix,
     /// `contact_points`
@@ -96,6 +100,8 @@ pub enum Returns {
     Curvature,
     /// One value.
     Scalar,
+    /// A vector of one value per cyclic coordinate.
+    Cyclic,
     /// A p × k matrix.
     ConstraintMatrix,
     /// A 3 × c matrix: one column per rolling contact.
@@ -141,7 +147,7 @@ pub struct MethodSpec {
 
 /// Every generated method, in the order they are emitted and derived in
 /// (`rhs` last: the runtime trait calls the others).
-pub const METHODS: [MethodSpec; 20] = [
+pub const METHODS: [MethodSpec; 22] = [
     MethodSpec {
         method: GeneratedMethod::DependentVelocities,
         name: "dependent_velocities",
@@ -231,6 +237,24 @@ pub const METHODS: [MethodSpec; 20] = [
         returns: Returns::Scalar,
         requested_by: Some(Output::Energy),
         form: Form::Any,
+    },
+    MethodSpec {
+        method: GeneratedMethod::Momenta,
+        name: "momenta",
+        doc: "The momenta p_k = ∂Lc/∂ṙ_k conjugate to the cyclic coordinates (5.35), in the order of [`Self::CYCLIC`], at the constrained velocities.",
+        takes: Arguments::Motion,
+        returns: Returns::Cyclic,
+        requested_by: Some(Output::Momenta),
+        form: Form::Coordinates,
+    },
+    MethodSpec {
+        method: GeneratedMethod::MomentumRates,
+        name: "momentum_rates",
+        doc: "The rates ṗ_k of the momenta of the cyclic coordinates along the motion, by (5.36): ṗ_k = ∂Lc/∂r_k + Q_k − Σ_b Σ_β B^b_{kβ} ṙ_β ∂L/∂ṡ_b − Σ_a A^a_k (∂Lc/∂s_a + Q_{s_a}), in the order of [`Self::CYCLIC`]; [`Self::CONSERVED`] says which vanish identically. Without the accelerations: the rate follows from the state.",
+        takes: Arguments::Motion,
+        returns: Returns::Cyclic,
+        requested_by: Some(Output::Momenta),
+        form: Form::Coordinates,
     },
     MethodSpec {
         method: GeneratedMethod::ConstraintMatrix,

@@ -143,6 +143,22 @@ impl Derived<'_, '_> {
         quote! { let _ = (q, #vel); #stmts #v }
     }
 
+    /// `momenta` (p_k = ∂Lc/∂ṙ_k, 5.35) or, with `rates`,
+    /// `momentum_rates` (ṗ_k, 5.36) of the cyclic coordinates.
+    pub(crate) fn momenta_body(&mut self, rates: bool) -> TokenStream {
+        let exprs_of = |m: &crate::mechanics::Momenta| match rates {
+            true => m.rates.clone(),
+            false => m.momenta.clone(),
+        };
+        let values = self.dv.momenta.as_ref().map(exprs_of).unwrap_or_default();
+        let args = Args::vectors(self.m);
+        let mut d = bound_dag(self.m, &args);
+        let outs = exprs(&mut d, self.m, &values);
+        let (stmts, o) = self.emit_hoisted(&d, &outs);
+        let ret = vector_expr(values.len(), &o);
+        quote! { let _ = (t, q, rdot); #stmts #ret }
+    }
+
     /// `constraint_matrix`: A of (5.3).
     pub(crate) fn constraint_matrix_body(&mut self) -> TokenStream {
         let (k, p) = (self.m.k(), self.m.p());

@@ -235,6 +235,8 @@ impl Bodies for Derived<'_, '_> {
             GeneratedMethod::Multipliers => (static_doc(), self.multipliers_body()),
             GeneratedMethod::Curvature => (static_doc(), self.curvature_body()),
             GeneratedMethod::Energy => (static_doc(), self.energy_body()),
+            GeneratedMethod::Momenta => (static_doc(), self.momenta_body(false)),
+            GeneratedMethod::MomentumRates => (static_doc(), self.momenta_body(true)),
             GeneratedMethod::ConstraintMatrix => (static_doc(), self.constraint_matrix_body()),
             GeneratedMethod::ContactPoints => (static_doc(), self.contact_points_body()),
             GeneratedMethod::MassMatrix => (static_doc(), self.mass_matrix_body()),

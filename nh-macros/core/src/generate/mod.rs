@@ -102,6 +102,7 @@ pub fn generate(
     shape.affine = m.affine;
     shape.rheonomic = m.rheonomic();
     shape.atlas = atlas;
+    shape.momenta = momentum_shapes(&m, dv.momenta.as_ref());
     let mut bodies = Derived {
         m: &mut m,
         dv,
@@ -140,6 +141,10 @@ fn derivation_checked(
     }
     if m.outputs.contains(Output::Energy) {
         dv.energy = Some(m.energy());
+    }
+    if m.outputs.contains(Output::Momenta) && check::momenta(def, m, cx) {
+        let cyclic = m.cyclic();
+        dv.momenta = Some(m.momenta(cyclic));
     }
     check::derivation(def, m, dv, cx) && check::forms(def, m, cx)
 }
@@ -274,4 +279,45 @@ pub fn count_lines(tokens: &TokenStream) -> usize {
         }
     }
     lines
+}
+
+/// The cyclic coordinates and the verdicts on their momenta, for the API.
+fn momentum_shapes(
+    m: &Scene<'_>,
+    momenta: Option<&crate::mechanics::Momenta>,
+) -> Vec<crate::api::MomentumShape> {
+    use crate::mechanics::Verdict;
+    let Some(momenta) = momenta else {
+        return Vec::new();
+    };
+    let model = m.model;
+    let position = |at: &[f64], c: &crate::model::Coordinate| {
+        format!("{} = {:.4}", c.name, at[c.position.index()])
+    };
+    let velocity = |at: &[f64], i: &usize| {
+        let c = &model.coordinates[*i];
+        format!("dot({}) = {:.4}", c.name, at[c.velocity.index()])
+    };
+    let shapes = momenta.cyclic.iter().zip(&momenta.verdicts);
+    shapes
+        .map(|(&(al, strict), verdict)| {
+            let coordinate = model.independent()[al];
+            let (verdict, doc) = match verdict {
+                Verdict::Conserved => ("Conserved", "conserved: its rate (5.36) is identically zero".to_string()),
+                Verdict::Undecided => ("Undecided", "undecided: its rate vanishes at 16 random points (double-double arithmetic) but the engine does not reduce it to zero".to_string()),
+                Verdict::NotConserved { at, rate } => {
+                    let mut state: Vec<String> = model.coordinates.iter().map(|c| position(at, c)).collect();
+                    state.extend(model.independent().iter().map(|i| velocity(at, i)));
+                    let params: Vec<String> = model.parameters.iter().map(|p| format!("{} = {:.4}", p.name, at[p.sym.index()])).collect();
+                    ("NotConserved", format!("not conserved: its rate is {rate:.4e} at {} (parameters {})", state.join(", "), params.join(", ")))
+                }
+            };
+            let kind = match strict {
+                true => "cyclic (the Lagrangian, the forces and the constraints are free of it)",
+                false => "cyclic in the constrained Lagrangian and the forces (the Lagrangian or the constraints as written are not free of it)",
+            };
+            let doc = format!("{kind}; {doc}");
+            crate::api::MomentumShape { coordinate, verdict, doc }
+        })
+        .collect()
 }

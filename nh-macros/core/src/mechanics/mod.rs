@@ -16,6 +16,7 @@ mod frames;
 mod integrability;
 mod kane;
 mod maggi;
+mod momenta;
 mod multipliers;
 mod reduced;
 mod scene;
@@ -25,6 +26,7 @@ pub use chains::{Chain, Frame, FrameStep, Link};
 pub use composite::Wheel;
 pub use kane::{BodyRotation, BodyTerms, Inertia};
 pub use maggi::MaggiTerms;
+pub use momenta::{Momenta, Verdict};
 pub use multipliers::MultiplierRoute;
 pub use reduced::Reduced;
 pub use scene::Scene;
@@ -66,6 +68,9 @@ pub struct Derivation {
     /// The energy, when `outputs { energy }` asks for it (derived once the
     /// rest is known to be within the engine's limits).
     pub energy: Option<ExprId>,
+    /// The momenta of the cyclic coordinates and their rates, when
+    /// `outputs { momenta }` asks for them (derived with the energy).
+    pub momenta: Option<Momenta>,
     /// Whether every curvature entry is identically zero.
     pub integrable: bool,
     /// Whether that was proved symbolically (otherwise numerically).
@@ -114,6 +119,7 @@ pub fn derive(m: &mut Scene<'_>, both_routes: bool) -> Derivation {
         curvature,
         reduced,
         energy: None,
+        momenta: None,
         integrable,
         integrable_proved,
     }
@@ -133,6 +139,7 @@ pub fn derive_maggi(m: &mut Scene<'_>) -> (Derivation, MaggiTerms) {
         curvature: Vec::new(),
         reduced,
         energy: None,
+        momenta: None,
         integrable: false,
         integrable_proved: false,
     };
