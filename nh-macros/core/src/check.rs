@@ -319,6 +319,61 @@ pub fn momenta(def: &SystemDef, m: &mut Scene<'_>, cx: &mut Ctxt) -> bool {
     false
 }
 
+/// The declared symmetries are symmetries (§4.1 of DESIGN): the
+/// Lagrangian, the forces and the constraint distribution invariant under
+/// each group's flow, the constraints homogeneous, time-independent rows
+/// solved in closed form, and some direction of the groups' generators
+/// allowed by the constraints. False after an error, each at the name of
+/// the symmetry (or of the block) it concerns.
+pub fn symmetries(def: &SystemDef, m: &mut Scene<'_>, cx: &mut Ctxt) -> bool {
+    let Some((kw, _)) = &def.symmetries else {
+        return false;
+    };
+    let why = if m.model.speeds.is_some() {
+        Some(
+            "a system in generalized speeds has its kinematics instead of constraints; declare symmetries of a system with `constraints`",
+        )
+    } else if !m.model.homogeneous {
+        Some(
+            "the momentum equation is derived for homogeneous, time-independent velocity constraints (no affine or time-dependent part, no holonomic rows)",
+        )
+    } else if m.block.is_some() {
+        Some(
+            "the momentum equation needs the constraints solved for the dependent velocities in closed form, and this system's are solved numerically (a block of implicit rows)",
+        )
+    } else {
+        None
+    };
+    if let Some(why) = why {
+        cx.error_at(
+            kw.span(),
+            format!("`symmetries` is not available here: {why}"),
+        );
+        return false;
+    }
+    let mut ok = true;
+    for i in 0..m.model.symmetries.len() {
+        let Some(broken) = m.broken(i) else { continue };
+        let name = &m.model.symmetries[i].name;
+        let what = match broken {
+            crate::mechanics::Broken::Lagrangian => {
+                "the Lagrangian: δL = ⟨∂L/∂q, ξ⟩ + ⟨∂L/∂q̇, ξ̇⟩ does not vanish".to_string()
+            }
+            crate::mechanics::Broken::Force(j) => format!(
+                "the force on `{}` (its Lie derivative along the generator does not vanish)",
+                m.model.coordinates[j].name
+            ),
+            crate::mechanics::Broken::Constraint(a) => format!(
+                "the constraint `{}` (the Lie derivative of its row along the generator does not vanish on the constrained velocities)",
+                m.model.constraints[a].source
+            ),
+        };
+        cx.error_at(name.span(), format!("`{name}` is not a symmetry of this system: its flow changes {what}; check the generator's rates, or remove `{name}`"));
+        ok = false;
+    }
+    ok
+}
+
 /// Why no independent coordinate of `m` is cyclic: where each appears.
 fn not_cyclic(m: &mut Scene<'_>) -> String {
     let map = m.constrained_velocities();

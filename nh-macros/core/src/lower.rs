@@ -163,6 +163,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<(Model, Engine)> {
     lw.lower_lets(def, &let_ok);
     let lagrangian = lw.lower_lagrangian(def);
     lw.lower_forces(def);
+    let symmetries = lw.lower_symmetries(def);
     let mut lowered = lw.lower_constraints(def);
     let dependent: Vec<usize> = lowered.constraints.iter().map(|c| c.dependent).collect();
     let constraint_atlas = !lowered.atlas.is_empty();
@@ -209,6 +210,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<(Model, Engine)> {
         None => Partition::of(lw.coords.len(), &mut constraints),
     };
     let model = Model {
+        symmetries,
         parameters: lw.params,
         coordinates: lw.coords,
         inputs: lw.inputs,
@@ -413,6 +415,42 @@ impl<'a> Lowerer<'a> {
                 }
             }
         }
+    }
+
+    /// The declared symmetries: each generator's rates in coordinate
+    /// order, functions of the coordinates and parameters only.
+    fn lower_symmetries(&mut self, def: &SystemDef) -> Vec<crate::model::Symmetry> {
+        let Some((_, list)) = &def.symmetries else {
+            return Vec::new();
+        };
+        let mut out = Vec::new();
+        for sym in list {
+            let mut generator = vec![crate::sym::ZERO; self.coords.len()];
+            for (q, expr) in &sym.generator {
+                self.place = Place::Force;
+                let v = self.lower(expr, 0);
+                let Some(Binding::Coord(i)) = self.scope.get(&q.to_string()).cloned() else {
+                    let hint = self.coordinate_hint(q);
+                    let all = list_names(self.coords.iter().map(|c| &c.name));
+                    self.cx.error_at(q.span(), format!("`{q}` is not a coordinate{hint}: a symmetry gives the rate of each coordinate it moves, `NAME(q: rate, ..)`, for some of {all}"));
+                    continue;
+                };
+                let Some(v) = v else { continue };
+                let moving = (self.coords.iter().map(|c| c.velocity))
+                    .chain(self.inputs.iter().map(|u| u.sym))
+                    .chain([self.t_sym])
+                    .any(|s| self.e.depends_on(v, s));
+                if moving {
+                    self.cx.error(expr.range(), format!("the rate of `{q}` along `{}` depends on a velocity, an input or `t`: a symmetry group acts on the configuration, so its generator is a function of the coordinates and parameters", sym.name));
+                }
+                generator[i] = v;
+            }
+            out.push(crate::model::Symmetry {
+                name: sym.name.clone(),
+                generator,
+            });
+        }
+        out
     }
 
     /// " (did you mean ..?)" for a name that should be a coordinate.

@@ -57,6 +57,15 @@ impl Outputs {
     }
 }
 
+/// A declared one-parameter symmetry group (§5.5, DESIGN §4.1).
+pub struct Symmetry {
+    /// Its name as declared.
+    pub name: Ident,
+    /// Its generator ξ_Q: the rate of each coordinate along the group, in
+    /// coordinate order (zero for the coordinates it does not move).
+    pub generator: Vec<ExprId>,
+}
+
 /// A constant of the system, a field of the generated struct.
 pub struct Parameter {
     /// The name as declared.
@@ -187,6 +196,8 @@ impl Partition {
 /// A system after lowering: everything the mechanics needs, as symbols and
 /// expressions of one engine.
 pub struct Model {
+    /// The declared one-parameter symmetry groups (`symmetries { .. }`).
+    pub symmetries: Vec<Symmetry>,
     /// Parameters in declared order.
     pub parameters: Vec<Parameter>,
     /// Coordinates in declared order (THE coordinate order).

@@ -120,6 +120,7 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         rolling: Vec::new(),
         lagrangians: Vec::new(),
         forces: None,
+        symmetries: None,
         constraints: None,
         outputs: None,
         output_arguments: Vec::new(),

@@ -137,6 +137,9 @@ words! {
         Kinematics = "kinematics",
         /// `outputs { energy }`: the opt-in outputs
         Outputs = "outputs",
+        /// `symmetries { turn(x: -y, y: x, phi: 1); }`: one-parameter
+        /// groups, each by its generator
+        Symmetries = "symmetries",
     }
 
     /// The words that start an item (`let`, `lagrangian`, `body`) other
@@ -657,7 +660,7 @@ mod tests {
         assert_eq!(and_list([]), "");
         assert_eq!(
             and_list(Block::ALL.map(Block::name)),
-            "`parameters`, `coordinates`, `inputs`, `forces`, `constraints`, `dependent`, `speeds`, `kinematics` and `outputs`"
+            "`parameters`, `coordinates`, `inputs`, `forces`, `constraints`, `dependent`, `speeds`, `kinematics`, `outputs` and `symmetries`"
         );
         assert_eq!(
             Function::listed(),

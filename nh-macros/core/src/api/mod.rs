@@ -75,6 +75,11 @@ pub struct Shape<'a> {
     /// The cyclic coordinates and the verdicts on their momenta, with
     /// `outputs { momenta }` (§5.5); empty otherwise.
     pub momenta: Vec<MomentumShape>,
+    /// The names of the declared symmetries (`symmetries { .. }`).
+    pub symmetries: Vec<String>,
+    /// The momenta along the directions of the declared symmetries the
+    /// constraints allow: the verdict on each and its direction in words.
+    pub symmetry_momenta: Vec<(&'static str, String)>,
 }
 
 /// A cyclic coordinate and the verdict on its momentum (§5.5).
@@ -175,6 +180,8 @@ struct Dims {
     sens: usize,
     /// Number of cyclic coordinates (`outputs { momenta }`).
     cyclic: usize,
+    /// Number of momenta of the declared symmetries.
+    symmetric: usize,
 }
 
 impl Dims {
@@ -195,6 +202,7 @@ impl Dims {
             contacts: shape.contacts,
             sens: shape.sensitivity_params.len(),
             cyclic: shape.momenta.len(),
+            symmetric: shape.symmetry_momenta.len(),
         }
     }
 
@@ -257,6 +265,7 @@ impl Dims {
             }
             Returns::Scalar => quote!(T),
             Returns::Cyclic => svector(self.cyclic),
+            Returns::Symmetric => svector(self.symmetric),
             Returns::ConstraintMatrix => smatrix(p, k),
             Returns::ContactPoints => smatrix(3, self.contacts),
             Returns::MassMatrix if self.speeds => smatrix(k, k),
@@ -606,6 +615,7 @@ fn constants(shape: &Shape, dims: Dims) -> TokenStream {
     let dep = &shape.dependent;
     let integrable = shape.integrable;
     let momenta = momentum_constants(shape);
+    let symmetries = symmetry_constants(shape);
     let integrable_doc = if p == 0 {
         "No constraints: trivially `true`.".to_string()
     } else if shape.affine {
@@ -641,6 +651,33 @@ fn constants(shape: &Shape, dims: Dims) -> TokenStream {
         #[doc = #integrable_doc]
         pub const INTEGRABLE: ::core::primitive::bool = #integrable;
         #momenta
+        #symmetries
+    }
+}
+
+/// `SYMMETRIES` and `SYMMETRY_CONSERVED`, for declared symmetries.
+fn symmetry_constants(shape: &Shape) -> TokenStream {
+    if shape.symmetries.is_empty() {
+        return TokenStream::new();
+    }
+    let g = shape.symmetries.len();
+    let s = shape.symmetry_momenta.len();
+    let names = shape.symmetries.iter().map(|n| Literal::string(n));
+    let verdicts = shape.symmetry_momenta.iter().map(|(v, _)| {
+        let v = Ident::new(v, Span::call_site());
+        quote!(__nh_private::nh_runtime::Conservation::#v)
+    });
+    let mut doc = String::from(
+        "Whether each momentum of `symmetry_momenta` is conserved along the motion: the momentum J = ⟨∂L/∂q̇, ξ(q)⟩ along a direction ξ(q) = Σ_i c_i(q) ξ_i of the declared symmetries' generators that the constraints allow, whose rate is dJ/dt = ⟨∂L/∂q̇, Σ_i ċ_i ξ_i⟩ + ⟨Q, ξ(q)⟩ (the nonholonomic momentum equation).\n",
+    );
+    for (i, (_, d)) in shape.symmetry_momenta.iter().enumerate() {
+        doc.push_str(&format!("\n{i}. {d}"));
+    }
+    quote! {
+        /// The declared symmetries in declared order: one-parameter groups whose flows leave the Lagrangian, the forces and the constraints invariant (checked at compile time).
+        pub const SYMMETRIES: [&'static ::core::primitive::str; #g] = [#(#names),*];
+        #[doc = #doc]
+        pub const SYMMETRY_CONSERVED: [__nh_private::nh_runtime::Conservation; #s] = [#(#verdicts),*];
     }
 }
 

@@ -33,6 +33,10 @@ pub enum GeneratedMethod {
     Momenta,
     /// `momentum_rates`: ṗ_k of (5.36)
     MomentumRates,
+    /// `symmetry_momenta`: the momenta of the declared symmetries
+    SymmetryMomenta,
+    /// `symmetry_momentum_rates`: their rates
+    SymmetryMomentumRates,
     /// `constraint_matrix`
     ConstraintMatrix,
     /// `contact_points`
@@ -85,6 +89,8 @@ pub enum Form {
     Coordinates,
     /// Systems in generalized speeds.
     Speeds,
+    /// Systems with `symmetries` (in coordinates r, s).
+    Symmetries,
 }
 
 /// What a generated method returns.
@@ -102,6 +108,8 @@ pub enum Returns {
     Scalar,
     /// A vector of one value per cyclic coordinate.
     Cyclic,
+    /// A vector of one value per momentum of the declared symmetries.
+    Symmetric,
     /// A p × k matrix.
     ConstraintMatrix,
     /// A 3 × c matrix: one column per rolling contact.
@@ -147,7 +155,7 @@ pub struct MethodSpec {
 
 /// Every generated method, in the order they are emitted and derived in
 /// (`rhs` last: the runtime trait calls the others).
-pub const METHODS: [MethodSpec; 22] = [
+pub const METHODS: [MethodSpec; 24] = [
     MethodSpec {
         method: GeneratedMethod::DependentVelocities,
         name: "dependent_velocities",
@@ -257,6 +265,24 @@ pub const METHODS: [MethodSpec; 22] = [
         form: Form::Coordinates,
     },
     MethodSpec {
+        method: GeneratedMethod::SymmetryMomenta,
+        name: "symmetry_momenta",
+        doc: "The momenta J = ⟨∂L/∂q̇, ξ(q)⟩ along the directions ξ(q) of the declared symmetries that the constraints allow, at the constrained velocities, in the order of [`Self::SYMMETRY_CONSERVED`] (whose documentation gives each direction).",
+        takes: Arguments::Motion,
+        returns: Returns::Symmetric,
+        requested_by: None,
+        form: Form::Symmetries,
+    },
+    MethodSpec {
+        method: GeneratedMethod::SymmetryMomentumRates,
+        name: "symmetry_momentum_rates",
+        doc: "The rates of [`Self::symmetry_momenta`] along the motion by the nonholonomic momentum equation, dJ/dt = ⟨∂L/∂q̇, Σ_i ċ_i ξ_i⟩ + ⟨Q, ξ(q)⟩, without the accelerations.",
+        takes: Arguments::Motion,
+        returns: Returns::Symmetric,
+        requested_by: None,
+        form: Form::Symmetries,
+    },
+    MethodSpec {
         method: GeneratedMethod::ConstraintMatrix,
         name: "constraint_matrix",
         doc: "The constraint matrix A^a_α of ṡ_a = −Σ_α A^a_α ṙ_α (5.3): rows follow [`Self::DEPENDENT`], columns [`Self::INDEPENDENT`].",
@@ -362,6 +388,7 @@ impl MethodSpec {
             Form::Any => true,
             Form::Coordinates => !shape.in_speeds(),
             Form::Speeds => shape.in_speeds(),
+            Form::Symmetries => !shape.in_speeds() && !shape.symmetries.is_empty(),
         };
         form && self.requested_by.is_none_or(|o| shape.outputs.contains(o))
     }

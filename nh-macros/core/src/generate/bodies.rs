@@ -151,9 +151,23 @@ impl Derived<'_, '_> {
             false => m.momenta.clone(),
         };
         let values = self.dv.momenta.as_ref().map(exprs_of).unwrap_or_default();
+        self.vector_of_motion(&values)
+    }
+
+    /// `symmetry_momenta` or, with `rates`, `symmetry_momentum_rates`.
+    pub(crate) fn symmetry_momenta_body(&mut self, rates: bool) -> TokenStream {
+        let values: Vec<ExprId> = (self.dv.symmetries.iter())
+            .map(|s| if rates { s.rate } else { s.momentum })
+            .collect();
+        self.vector_of_motion(&values)
+    }
+
+    /// The body of a method of the motion (`t, q, rdot`) returning the
+    /// vector of `values`.
+    fn vector_of_motion(&mut self, values: &[ExprId]) -> TokenStream {
         let args = Args::vectors(self.m);
         let mut d = bound_dag(self.m, &args);
-        let outs = exprs(&mut d, self.m, &values);
+        let outs = exprs(&mut d, self.m, values);
         let (stmts, o) = self.emit_hoisted(&d, &outs);
         let ret = vector_expr(values.len(), &o);
         quote! { let _ = (t, q, rdot); #stmts #ret }

@@ -237,6 +237,10 @@ impl Bodies for Derived<'_, '_> {
             GeneratedMethod::Energy => (static_doc(), self.energy_body()),
             GeneratedMethod::Momenta => (static_doc(), self.momenta_body(false)),
             GeneratedMethod::MomentumRates => (static_doc(), self.momenta_body(true)),
+            GeneratedMethod::SymmetryMomenta => (static_doc(), self.symmetry_momenta_body(false)),
+            GeneratedMethod::SymmetryMomentumRates => {
+                (static_doc(), self.symmetry_momenta_body(true))
+            }
             GeneratedMethod::ConstraintMatrix => (static_doc(), self.constraint_matrix_body()),
             GeneratedMethod::ContactPoints => (static_doc(), self.contact_points_body()),
             GeneratedMethod::MassMatrix => (static_doc(), self.mass_matrix_body()),

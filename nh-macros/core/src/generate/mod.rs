@@ -103,6 +103,7 @@ pub fn generate(
     shape.rheonomic = m.rheonomic();
     shape.atlas = atlas;
     shape.momenta = momentum_shapes(&m, dv.momenta.as_ref());
+    shape.symmetry_momenta = symmetry_shapes(&m, &dv.symmetries);
     let mut bodies = Derived {
         m: &mut m,
         dv,
@@ -145,6 +146,9 @@ fn derivation_checked(
     if m.outputs.contains(Output::Momenta) && check::momenta(def, m, cx) {
         let cyclic = m.cyclic();
         dv.momenta = Some(m.momenta(cyclic));
+    }
+    if check::symmetries(def, m, cx) {
+        dv.symmetries = m.symmetry_momenta();
     }
     check::derivation(def, m, dv, cx) && check::forms(def, m, cx)
 }
@@ -286,32 +290,15 @@ fn momentum_shapes(
     m: &Scene<'_>,
     momenta: Option<&crate::mechanics::Momenta>,
 ) -> Vec<crate::api::MomentumShape> {
-    use crate::mechanics::Verdict;
     let Some(momenta) = momenta else {
         return Vec::new();
     };
     let model = m.model;
-    let position = |at: &[f64], c: &crate::model::Coordinate| {
-        format!("{} = {:.4}", c.name, at[c.position.index()])
-    };
-    let velocity = |at: &[f64], i: &usize| {
-        let c = &model.coordinates[*i];
-        format!("dot({}) = {:.4}", c.name, at[c.velocity.index()])
-    };
     let shapes = momenta.cyclic.iter().zip(&momenta.verdicts);
     shapes
         .map(|(&(al, strict), verdict)| {
             let coordinate = model.independent()[al];
-            let (verdict, doc) = match verdict {
-                Verdict::Conserved => ("Conserved", "conserved: its rate (5.36) is identically zero".to_string()),
-                Verdict::Undecided => ("Undecided", "undecided: its rate vanishes at 16 random points (double-double arithmetic) but the engine does not reduce it to zero".to_string()),
-                Verdict::NotConserved { at, rate } => {
-                    let mut state: Vec<String> = model.coordinates.iter().map(|c| position(at, c)).collect();
-                    state.extend(model.independent().iter().map(|i| velocity(at, i)));
-                    let params: Vec<String> = model.parameters.iter().map(|p| format!("{} = {:.4}", p.name, at[p.sym.index()])).collect();
-                    ("NotConserved", format!("not conserved: its rate is {rate:.4e} at {} (parameters {})", state.join(", "), params.join(", ")))
-                }
-            };
+            let (verdict, doc) = verdict_words(m, verdict);
             let kind = match strict {
                 true => "cyclic (the Lagrangian, the forces and the constraints are free of it)",
                 false => "cyclic in the constrained Lagrangian and the forces (the Lagrangian or the constraints as written are not free of it)",
@@ -320,4 +307,51 @@ fn momentum_shapes(
             crate::api::MomentumShape { coordinate, verdict, doc }
         })
         .collect()
+}
+
+/// The momenta of the declared symmetries for the API: the verdict on
+/// each and its direction Σ_i c_i ξ_i in words.
+fn symmetry_shapes(
+    m: &Scene<'_>,
+    momenta: &[crate::mechanics::SymmetryMomentum],
+) -> Vec<(&'static str, String)> {
+    let names = &m.model.symmetries;
+    momenta
+        .iter()
+        .map(|s| {
+            let along: Vec<String> = (s.coefficients.iter().zip(names))
+                .filter(|(c, _)| **c != crate::sym::ZERO)
+                .map(|(&c, sym)| match m.engine.as_constant(c) {
+                    Some(one) if one == crate::sym::Rational::ONE => format!("`{}`", sym.name),
+                    _ => format!("({})·`{}`", m.engine.display_capped(c, 200), sym.name),
+                })
+                .collect();
+            let (verdict, doc) = verdict_words(m, &s.verdict);
+            (verdict, format!("along {}: {doc}", along.join(" + ")))
+        })
+        .collect()
+}
+
+/// A verdict as the runtime's variant and in words (with the state where a
+/// rate is not zero).
+fn verdict_words(m: &Scene<'_>, verdict: &crate::mechanics::Verdict) -> (&'static str, String) {
+    use crate::mechanics::Verdict;
+    let model = m.model;
+    match verdict {
+        Verdict::Conserved => ("Conserved", "conserved: its rate is identically zero".to_string()),
+        Verdict::Undecided => ("Undecided", "undecided: its rate vanishes at 16 random points (double-double arithmetic) but the engine does not reduce it to zero".to_string()),
+        Verdict::NotConserved { at, rate } => {
+            let mut state: Vec<String> = (model.coordinates.iter())
+                .map(|c| format!("{} = {:.4}", c.name, at[c.position.index()]))
+                .collect();
+            state.extend(model.independent().iter().map(|&i| {
+                let c = &model.coordinates[i];
+                format!("dot({}) = {:.4}", c.name, at[c.velocity.index()])
+            }));
+            let params: Vec<String> = (model.parameters.iter())
+                .map(|p| format!("{} = {:.4}", p.name, at[p.sym.index()]))
+                .collect();
+            ("NotConserved", format!("not conserved: its rate is {rate:.4e} at {} (parameters {})", state.join(", "), params.join(", ")))
+        }
+    }
 }

@@ -47,6 +47,8 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
         atlas: Vec::new(),
         // the verdicts need the derivation: none in a stand-in
         momenta: Vec::new(),
+        symmetries: symmetry_names(def),
+        symmetry_momenta: Vec::new(),
     }
 }
 
@@ -63,6 +65,13 @@ pub fn stand_in_shape(def: &SystemDef, rows: Option<usize>) -> Shape<'_> {
             .collect();
     }
     shape
+}
+
+/// The names of the declared symmetries.
+fn symmetry_names(def: &SystemDef) -> Vec<String> {
+    (def.symmetries.iter())
+        .flat_map(|(_, list)| list.iter().map(|s| s.name.to_string()))
+        .collect()
 }
 
 /// The parameters `sensitivities` differentiates by: those listed,

@@ -20,6 +20,7 @@ mod momenta;
 mod multipliers;
 mod reduced;
 mod scene;
+mod symmetries;
 
 pub use block::{BlockTerms, ContactTerms, RowTerms};
 pub use chains::{Chain, Frame, FrameStep, Link};
@@ -30,6 +31,7 @@ pub use momenta::{Momenta, Verdict};
 pub use multipliers::MultiplierRoute;
 pub use reduced::Reduced;
 pub use scene::Scene;
+pub use symmetries::{Broken, SymmetryMomentum};
 
 use crate::model::Output;
 use crate::sym::{ExprId, ZERO};
@@ -71,6 +73,9 @@ pub struct Derivation {
     /// The momenta of the cyclic coordinates and their rates, when
     /// `outputs { momenta }` asks for them (derived with the energy).
     pub momenta: Option<Momenta>,
+    /// The momenta along the directions the constraints allow of the
+    /// declared symmetries (`symmetries { .. }`), once they are checked.
+    pub symmetries: Vec<SymmetryMomentum>,
     /// Whether every curvature entry is identically zero.
     pub integrable: bool,
     /// Whether that was proved symbolically (otherwise numerically).
@@ -120,6 +125,7 @@ pub fn derive(m: &mut Scene<'_>, both_routes: bool) -> Derivation {
         reduced,
         energy: None,
         momenta: None,
+        symmetries: Vec::new(),
         integrable,
         integrable_proved,
     }
@@ -140,6 +146,7 @@ pub fn derive_maggi(m: &mut Scene<'_>) -> (Derivation, MaggiTerms) {
         reduced,
         energy: None,
         momenta: None,
+        symmetries: Vec::new(),
         integrable: false,
         integrable_proved: false,
     };

@@ -148,7 +148,7 @@ impl Scene<'_> {
     /// The verdict on a rate: zero in canonical form, or the first of 16
     /// random points (double-double, as [`crate::sym::vanish_at_random_points`])
     /// where it exceeds 1e-24 of the sum of its terms' sizes.
-    fn verdict(&self, rate: ExprId) -> Verdict {
+    pub(super) fn verdict(&self, rate: ExprId) -> Verdict {
         if rate == ZERO {
             return Verdict::Conserved;
         }

@@ -259,6 +259,17 @@ pub struct Force {
     pub value: Expr,
 }
 
+/// A declared one-parameter symmetry group, `NAME(q: ξ_q, ..)`: its
+/// generator, the rate at which each coordinate it moves changes along the
+/// group (the others stay).
+#[derive(Clone, Debug)]
+pub struct Symmetry {
+    /// the group's name
+    pub name: Ident,
+    /// the coordinates it moves and their rates ξ_q
+    pub generator: Vec<(Ident, Expr)>,
+}
+
 /// A parsed system definition.
 #[derive(Clone, Debug)]
 pub struct SystemDef {
@@ -285,6 +296,8 @@ pub struct SystemDef {
     pub lagrangians: Vec<(Ident, Expr)>,
     /// `forces { .. }`
     pub forces: Option<(Ident, Vec<Force>)>,
+    /// `symmetries { .. }`
+    pub symmetries: Option<(Ident, Vec<Symmetry>)>,
     /// `constraints { .. }`
     pub constraints: Option<(Ident, Vec<Constraint>)>,
     /// `outputs { .. }`
@@ -333,7 +346,11 @@ impl SystemDef {
             Block::Inputs => &mut self.inputs,
             Block::Speeds => &mut self.speeds,
             Block::Dependent => &mut self.dependent,
-            Block::Forces | Block::Constraints | Block::Kinematics | Block::Outputs => return None,
+            Block::Forces
+            | Block::Constraints
+            | Block::Kinematics
+            | Block::Outputs
+            | Block::Symmetries => return None,
         })
     }
 }

@@ -3,7 +3,7 @@
 //! that one error does not hide the others.
 
 use super::expr::{parse_expr, parse_expr_all};
-use super::{Constraint, Field, Force, RollingDef, SystemDef};
+use super::{Constraint, Field, Force, RollingDef, Symmetry, SystemDef};
 use crate::ctxt::{Ctxt, SpanRange};
 use crate::names;
 use crate::words::{Block, Keyword, Output, Spelled, and_list};
@@ -74,6 +74,12 @@ pub(super) fn parse_block(kw: Ident, group: &Group, def: &mut SystemDef, cx: &mu
             });
         }
         Block::Outputs => parse_outputs_block(kw, group, def, cx),
+        Block::Symmetries => {
+            let list = parse_each(group, parse_symmetry, headless_force, cx);
+            set_once(&mut def.symmetries, kw, list, cx, |_| {
+                "duplicate `symmetries` block: write all symmetries in one block".to_string()
+            });
+        }
         Block::Parameters
         | Block::Coordinates
         | Block::Inputs
@@ -597,6 +603,38 @@ fn parse_kinematics_line(input: ParseStream) -> syn::Result<Constraint> {
         input,
         "expected `=`: a line of `kinematics` is written `dot(q) = s1(q)*u1 + s2(q)*u2 + ..;`",
     )
+}
+
+/// `NAME(q: ξ_q, ..)`: a one-parameter symmetry group by its generator.
+fn parse_symmetry(input: ParseStream) -> syn::Result<Symmetry> {
+    const FORM: &str = "a symmetry is written `NAME(q: rate, ..);`, the rate at which each coordinate it moves changes along the group (`turn(x: -y, y: x, phi: 1);`)";
+    let name: Ident = input
+        .call(IdentExt::parse_any)
+        .map_err(|e| syn::Error::new(e.span(), format!("expected the symmetry's name: {FORM}")))?;
+    let content;
+    syn::parenthesized!(content in input);
+    let mut generator = Vec::new();
+    while !content.is_empty() {
+        let q: Ident = content.call(IdentExt::parse_any).map_err(|e| {
+            syn::Error::new(e.span(), format!("expected a coordinate name: {FORM}"))
+        })?;
+        let _: Token![:] = content
+            .parse()
+            .map_err(|e| syn::Error::new(e.span(), format!("expected `:` after `{q}`: {FORM}")))?;
+        let value = parse_expr(&content, 0)?;
+        generator.push((names::canonical(q), value));
+        if content.is_empty() {
+            break;
+        }
+        let _: Token![,] = content.parse()?;
+    }
+    let _: Token![;] = input.parse().map_err(|e| {
+        syn::Error::new(e.span(), format!("expected `;` after the symmetry: {FORM}"))
+    })?;
+    Ok(Symmetry {
+        name: names::canonical(name),
+        generator,
+    })
 }
 
 fn parse_force(input: ParseStream) -> syn::Result<Force> {
