@@ -8,7 +8,11 @@
 //! * the thesis's disc on a nutating motion: energy;
 //! * a homogeneous ball rolling on the plane in yaw, pitch and roll:
 //!   energy and the yaw momentum (the vertical angular momentum about the
-//!   contact point).
+//!   contact point);
+//! * Modin and Verdier's non-reversible contact oscillator: energy. Its
+//!   perturbation is a null Lagrangian in the velocities (the generated
+//!   equations are the reversible oscillator's, `tests/momenta.rs`), so in
+//!   this form it is reversible.
 //!
 //! ```text
 //! cargo run --release -p nh-lab --example long_time
@@ -81,6 +85,21 @@ nonholonomic_system! {
             dot(y) = -R*w.x;
         }
         outputs { energy, momenta }
+    }
+}
+
+nonholonomic_system! {
+    /// Modin and Verdier's non-reversible member of the contact-oscillator
+    /// family (McLachlan and Perlmutter's §5.2 with the Hamiltonian
+    /// ½(|q|² + |p + ∇S|²), S = cos z): in the velocities its perturbation
+    /// is the null Lagrangian −dS/dt.
+    pub struct ShiftedOscillator {
+        parameters { eps }
+        coordinates { x, y, z }
+        lagrangian = (dot(x)^2 + dot(y)^2 + dot(z)^2)/2 - (x^2 + y^2 + z^2 + eps*x^2*z^2)/2
+                   + sin(z)*dot(z);
+        constraints { dot(x) = -y*dot(z); }
+        outputs { energy }
     }
 }
 
@@ -278,9 +297,9 @@ fn table(name: &str, period: f64, quantities: &[&str], records: &[Record]) {
 fn svg(panels: &[(&str, Vec<Record>)]) -> String {
     let mut out = String::new();
     {
-        let root = SVGBackend::with_string(&mut out, (960, 720)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut out, (960, 1080)).into_drawing_area();
         let _ = root.fill(&WHITE);
-        let areas = root.split_evenly((2, 2));
+        let areas = root.split_evenly((3, 2));
         let colours = [RED, BLUE, GREEN];
         for ((name, records), area) in panels.iter().zip(&areas) {
             let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
@@ -440,11 +459,32 @@ fn main() {
     table(thesis.name, thesis.period, &thesis.names(), &r3);
     let r4 = ball.runs();
     table(ball.name, ball.period, &ball.names(), &r4);
+    let oscillator = Scene {
+        name: "Modin-Verdier oscillator",
+        sys: ShiftedOscillator::new(0.1),
+        // y(t) = cos t on the level H = 1.5 (as odelab's initial_cos, z0 = 0.3)
+        x0: {
+            let z0 = 0.3f64;
+            let x = ((3.0 - z0 * z0 - 1.0) / (1.0 + 0.1 * z0 * z0)).sqrt();
+            SVector::<f64, 5>::from([x, 1.0, z0, 0.0, 0.0])
+        },
+        period: 2.0 * std::f64::consts::PI,
+        quantities: vec![(
+            "energy",
+            Box::new(|s: &ShiftedOscillator<f64>, x: &SVector<f64, 5>| {
+                let q = SVector::<f64, 3>::from([x[0], x[1], x[2]]);
+                s.energy(&q, &SVector::<f64, 2>::from([x[3], x[4]]))
+            }),
+        )],
+    };
+    let r5 = oscillator.runs();
+    table(oscillator.name, oscillator.period, &oscillator.names(), &r5);
     let panels = [
         (sleigh.name, r1),
         (vertical.name, r2),
         (thesis.name, r3),
         (ball.name, r4),
+        (oscillator.name, r5),
     ];
     let dir = std::path::Path::new("target/reports");
     let _ = std::fs::create_dir_all(dir);
