@@ -9,6 +9,7 @@
 //! * a homogeneous ball rolling on the plane in yaw, pitch and roll:
 //!   energy and the yaw momentum (the vertical angular momentum about the
 //!   contact point);
+//! * the Suslov problem in speeds: energy;
 //! * Modin and Verdier's non-reversible contact oscillator: energy. Its
 //!   perturbation is a null Lagrangian in the velocities (the generated
 //!   equations are the reversible oscillator's, `tests/momenta.rs`), so in
@@ -99,6 +100,25 @@ nonholonomic_system! {
         lagrangian = (dot(x)^2 + dot(y)^2 + dot(z)^2)/2 - (x^2 + y^2 + z^2 + eps*x^2*z^2)/2
                    + sin(z)*dot(z);
         constraints { dot(x) = -y*dot(z); }
+        outputs { energy }
+    }
+}
+
+nonholonomic_system! {
+    /// The Suslov problem in the speeds ω₁, ω₂ (ω₃ = 0 by construction),
+    /// its orientation in yaw, pitch and roll.
+    pub struct SuslovSpeeds {
+        parameters { A, B, C, D, E }
+        coordinates { psi, theta, phi }
+        let Q = rot_z(psi) * rot_y(theta) * rot_x(phi);
+        let w = omega_body(Q);
+        lagrangian = (A*w.x^2 + B*w.y^2 + C*w.z^2)/2 + D*w.x*w.z + E*w.y*w.z;
+        speeds { w1, w2 }
+        kinematics {
+            dot(psi) = w2*sin(phi)/cos(theta);
+            dot(theta) = w2*cos(phi);
+            dot(phi) = w1 + w2*sin(phi)*tan(theta);
+        }
         outputs { energy }
     }
 }
@@ -300,6 +320,7 @@ fn svg(panels: &[(&str, Vec<Record>)]) -> String {
         let root = SVGBackend::with_string(&mut out, (960, 1080)).into_drawing_area();
         let _ = root.fill(&WHITE);
         let areas = root.split_evenly((3, 2));
+        // six panels for at most six systems
         let colours = [RED, BLUE, GREEN];
         for ((name, records), area) in panels.iter().zip(&areas) {
             let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
@@ -477,6 +498,21 @@ fn main() {
             }),
         )],
     };
+    let suslov = Scene {
+        name: "Suslov (speeds)",
+        sys: SuslovSpeeds::new(1.0, 2.0, 3.0, 0.4, 0.3),
+        x0: SVector::<f64, 5>::from([0.0, 0.1, 0.3, 0.5, 0.2]),
+        period: 2.0 * std::f64::consts::PI / 0.54,
+        quantities: vec![(
+            "energy",
+            Box::new(|s: &SuslovSpeeds<f64>, x: &SVector<f64, 5>| {
+                let q = SVector::<f64, 3>::from([x[0], x[1], x[2]]);
+                s.energy(&q, &SVector::<f64, 2>::from([x[3], x[4]]))
+            }),
+        )],
+    };
+    let r6 = suslov.runs();
+    table(suslov.name, suslov.period, &suslov.names(), &r6);
     let r5 = oscillator.runs();
     table(oscillator.name, oscillator.period, &oscillator.names(), &r5);
     let panels = [
@@ -485,6 +521,7 @@ fn main() {
         (thesis.name, r3),
         (ball.name, r4),
         (oscillator.name, r5),
+        (suslov.name, r6),
     ];
     let dir = std::path::Path::new("target/reports");
     let _ = std::fs::create_dir_all(dir);
