@@ -79,6 +79,9 @@ const STIFF_COUNT: usize = 15;
 const NONSTIFF_RESET: usize = 6;
 /// Consecutive singular iteration matrices tolerated (step halved each time).
 const MAX_SINGULAR: usize = 5;
+/// Iterations of the symmetric projection's shift before the step fails
+/// (each contracts the constraint residual by a factor of order h).
+const SYMMETRIC_ITERATIONS: usize = 20;
 /// Bisections locating a pole inside a step (the bracket reaches adjacent
 /// numbers long before).
 const MAX_BISECTIONS: usize = 128;
@@ -458,6 +461,51 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
         Ok(moved)
     }
 
+    /// The end of a symmetric method's step from the accepted point under
+    /// Hairer's symmetric projection (Geometric Numerical Integration,
+    /// §V.4.1): the step starts from x + σ and its end is shifted by the
+    /// same σ, σ ← σ + d/2 with d the projection's correction of that end,
+    /// until the end lies on the holonomic constraints. The map x ↦ end is
+    /// then as symmetric as the method (the projection of a generated system
+    /// moves the dependent coordinates alone, a fixed direction: the step
+    /// back from the end with −σ lands on x). `None` when the projection does
+    /// not move the plain step's end (no holonomic constraints).
+    fn symmetric_end<M: Method<T, D>>(
+        &mut self,
+        m: &mut M,
+        h: T,
+        t_new: T,
+        tol: &Tolerance<T, D>,
+    ) -> Result<Option<SVector<T, D>>, SimError<T, D>> {
+        let (t, x, eps) = (self.t, self.x, self.eps);
+        let fail = |f: Failure| f.at(t, x, h);
+        let stats = &mut self.rec.stats;
+        m.attempt(t, &x, h, t_new, tol, stats).map_err(fail)?;
+        let mut shift = SVector::<T, D>::zeros();
+        for _ in 0..SYMMETRIC_ITERATIONS {
+            let mut end = *m.x_new() + shift;
+            let before = end;
+            let moved =
+                (self.sys.project(t_new, &mut end)).map_err(|f| SimError::ProjectionFailed {
+                    t,
+                    x,
+                    residual: f.residual,
+                })?;
+            if !moved {
+                return Ok((shift != SVector::<T, D>::zeros()).then_some(end));
+            }
+            let d = end - before;
+            if d.amax() <= c::<T>(4.0) * eps * (T::one() + end.amax()) {
+                return Ok(Some(end));
+            }
+            shift += d * c::<T>(0.5);
+            let start = x + shift;
+            m.start(t, &start, stats).map_err(fail)?;
+            m.attempt(t, &start, h, t_new, tol, stats).map_err(fail)?;
+        }
+        Err(fail(Failure::NoConvergence))
+    }
+
     /// A span below the resolution of `t`: one explicit Euler step to `t1`.
     fn tiny_span<M, K>(&mut self, m: &mut M, sink: &mut K) -> Result<Outcome<T, D>, SimError<T, D>>
     where
@@ -509,7 +557,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
         &mut self,
         m: &mut M,
         sink: &mut K,
-        t_new: T,
+        (t_new, end): (T, Option<SVector<T, D>>),
         dense: bool,
         last: bool,
     ) -> Result<bool, SimError<T, D>>
@@ -517,9 +565,9 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
         M: Method<T, D>,
         K: Sink<T, D> + ?Sized,
     {
-        let mut x_new = *m.x_new();
+        let mut x_new = end.unwrap_or(*m.x_new());
         let moved = match self.settle(t_new, &mut x_new) {
-            Ok(moved) => moved,
+            Ok(moved) => moved || end.is_some(),
             Err(e) if dense => {
                 let step = Step::new(self.t, &self.x, t_new, m.x_new(), Some(m.dense()));
                 let stop = if let SimError::Singular {
@@ -602,12 +650,17 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             }
             self.h_try = hk;
             let fail = |f: Failure, r: &Self| f.at(r.t, r.x, hk);
-            m.attempt(self.t, &self.x, hk, t_new, &s.tol, stats)
-                .map_err(|f| fail(f, self))?;
+            let end = if M::SYMMETRIC && self.project {
+                self.symmetric_end(m, hk, t_new, &s.tol)?
+            } else {
+                m.attempt(self.t, &self.x, hk, t_new, &s.tol, stats)
+                    .map_err(|f| fail(f, self))?;
+                None
+            };
             let dense = self.finish(m, sink, hk, t_new).map_err(|f| fail(f, self))?;
             self.rec.stats.steps += 1;
             self.rec.last_step = Some(h_abs);
-            if self.accept(m, sink, t_new, dense, last)? || last {
+            if self.accept(m, sink, (t_new, end), dense, last)? || last {
                 return Ok(self.outcome());
             }
         }
@@ -741,7 +794,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             let h_accepted = h.abs();
             h = ctl.accepted(err, h, h_new, hmax, self.dir);
             self.rec.last_step = Some(h.abs());
-            if self.accept(m, sink, t_new, dense, last)? || last {
+            if self.accept(m, sink, (t_new, None), dense, last)? || last {
                 return Ok(self.outcome());
             }
             if let Some(proposed) = m.proposed_step() {

@@ -312,6 +312,7 @@ where
     J: JacobianSource<T, D>,
 {
     const ORDER: u32 = 4;
+    const SYMMETRIC: bool = true;
 
     fn rhs(&self, t: T, x: &SVector<T, D>) -> SVector<T, D> {
         self.src.rhs(t, x)

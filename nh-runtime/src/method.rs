@@ -42,6 +42,10 @@ impl Failure {
 pub(crate) trait Method<T: RealField + Copy, const D: usize> {
     /// The order of the method, for the initial step heuristic.
     const ORDER: u32;
+    /// Whether the method is symmetric (its step with −h inverts its step
+    /// with h): the fixed-step loop then projects onto holonomic
+    /// constraints symmetrically (`driver::Run::symmetric_end`).
+    const SYMMETRIC: bool = false;
     /// `h·λ` above which Hairer's stiffness test counts a step as being at
     /// the stability boundary; `None` for methods without the test.
     const STIFF_LIMIT: Option<f64> = None;
