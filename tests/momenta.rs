@@ -322,6 +322,32 @@ fn the_ball_keeps_its_vertical_angular_momentum_about_the_contact_point() {
     );
     assert!(drift < 1e-12, "{drift:e}");
     assert!(roll_change > 1e-3);
+    // the whole angular momentum about the contact point, K = I ω + m R e_z × v,
+    // is conserved (the contact force acts through it); the macro's p_yaw is
+    // its vertical component
+    let contact_momentum = |x: &SVector<f64, 8>| {
+        let seq = EulerSequence::ZYX;
+        let (a, rates) = ([x[2], x[3], x[4]], [x[5], x[6], x[7]]);
+        let w = seq.matrix(&a) * seq.body_rates(&a, &rates);
+        let (q, v) = split(x);
+        let vel = ball.dependent_velocities(&q, &v);
+        let inertia = 0.4 * m * r * r;
+        Vector3::new(
+            inertia * w.x - m * r * vel[1],
+            inertia * w.y + m * r * vel[0],
+            inertia * w.z,
+        )
+    };
+    let k0 = contact_momentum(&x0);
+    assert!((k0.z - p0[0]).abs() < 1e-15);
+    let mut k_drift = 0.0f64;
+    Dop853::new(1e-12, 1e-14)
+        .integrate_with_outputs(&ball, 0.0, x0, 10.0, &times, |_, x| {
+            k_drift = k_drift.max((contact_momentum(x) - k0).amax());
+        })
+        .unwrap();
+    println!("rolling ball: K about the contact point {k0:?}, drift {k_drift:.1e}");
+    assert!(k_drift < 1e-11, "{k_drift:e}");
 }
 
 nonholonomic_system! {

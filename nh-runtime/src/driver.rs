@@ -461,49 +461,49 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
         Ok(moved)
     }
 
-    /// The end of a symmetric method's step from the accepted point under
-    /// Hairer's symmetric projection (Geometric Numerical Integration,
-    /// §V.4.1): the step starts from x + σ and its end is shifted by the
-    /// same σ, σ ← σ + d/2 with d the projection's correction of that end,
-    /// until the end lies on the holonomic constraints. The map x ↦ end is
-    /// then as symmetric as the method (the projection of a generated system
-    /// moves the dependent coordinates alone, a fixed direction: the step
-    /// back from the end with −σ lands on x). `None` when the projection does
-    /// not move the plain step's end (no holonomic constraints).
+    /// Whether the end of a symmetric method's step (just attempted) from
+    /// the accepted point was moved by Hairer's symmetric projection
+    /// (Geometric Numerical Integration, §V.4.1), which replaces the
+    /// method's end ([`Method::replace_end`]): the step starts from x + σ
+    /// and its end is shifted by the same σ, σ ← σ + d/2 with d the
+    /// projection's correction of that end, until the end lies on the
+    /// holonomic constraints. The map x ↦ end is then as symmetric as the
+    /// method (the projection of a generated system moves the dependent
+    /// coordinates alone, a fixed direction: the step back from the end with
+    /// −σ lands on x). `false`, and nothing more done, when the projection
+    /// does not move the plain step's end (no holonomic constraints). A
+    /// projection that fails within the iteration ends the step as
+    /// `NoConvergence`.
+    #[inline(never)]
     fn symmetric_end<M: Method<T, D>>(
         &mut self,
         m: &mut M,
         h: T,
         t_new: T,
         tol: &Tolerance<T, D>,
-    ) -> Result<Option<SVector<T, D>>, SimError<T, D>> {
+    ) -> Result<bool, Failure> {
         let (t, x, eps) = (self.t, self.x, self.eps);
-        let fail = |f: Failure| f.at(t, x, h);
         let stats = &mut self.rec.stats;
-        m.attempt(t, &x, h, t_new, tol, stats).map_err(fail)?;
         let mut shift = SVector::<T, D>::zeros();
         for _ in 0..SYMMETRIC_ITERATIONS {
             let mut end = *m.x_new() + shift;
             let before = end;
-            let moved =
-                (self.sys.project(t_new, &mut end)).map_err(|f| SimError::ProjectionFailed {
-                    t,
-                    x,
-                    residual: f.residual,
-                })?;
-            if !moved {
-                return Ok((shift != SVector::<T, D>::zeros()).then_some(end));
-            }
+            let project = self.sys.project(t_new, &mut end);
+            let moved = project.map_err(|_| Failure::NoConvergence)?;
             let d = end - before;
-            if d.amax() <= c::<T>(4.0) * eps * (T::one() + end.amax()) {
-                return Ok(Some(end));
+            if !moved || d.amax() <= c::<T>(4.0) * eps * (T::one() + end.amax()) {
+                let shifted = shift != SVector::<T, D>::zeros();
+                if shifted {
+                    m.replace_end(&end);
+                }
+                return Ok(shifted);
             }
             shift += d * c::<T>(0.5);
             let start = x + shift;
-            m.start(t, &start, stats).map_err(fail)?;
-            m.attempt(t, &start, h, t_new, tol, stats).map_err(fail)?;
+            m.start(t, &start, stats)?;
+            m.attempt(t, &start, h, t_new, tol, stats)?;
         }
-        Err(fail(Failure::NoConvergence))
+        Err(Failure::NoConvergence)
     }
 
     /// A span below the resolution of `t`: one explicit Euler step to `t1`.
@@ -548,8 +548,9 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
         Ok(dense && m.build_dense(self.t, &self.x, h, stats))
     }
 
-    /// Settles the end of the accepted step (projection, chart, residual),
-    /// hands the step to the sink and moves to its end; the method restarts
+    /// Settles the end of the accepted step (projection, symmetric for a
+    /// symmetric method's fixed step `symmetric` = (h, tolerance); chart;
+    /// residual), hands the step to the sink and moves to its end; the method restarts
     /// there if the projection moved the state. `true` when a terminal
     /// event inside the step ended the run (at the event), also one found
     /// before an end that could not be settled.
@@ -557,7 +558,7 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
         &mut self,
         m: &mut M,
         sink: &mut K,
-        (t_new, end): (T, Option<SVector<T, D>>),
+        (t_new, symmetric): (T, Option<(T, &Tolerance<T, D>)>),
         dense: bool,
         last: bool,
     ) -> Result<bool, SimError<T, D>>
@@ -565,9 +566,16 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
         M: Method<T, D>,
         K: Sink<T, D> + ?Sized,
     {
-        let mut x_new = end.unwrap_or(*m.x_new());
+        // a symmetric method's fixed step: its end projected symmetrically
+        let shifted = match symmetric {
+            Some((h, tol)) if self.project => self
+                .symmetric_end(m, h, t_new, tol)
+                .map_err(|f| f.at(self.t, self.x, h))?,
+            _ => false,
+        };
+        let mut x_new = *m.x_new();
         let moved = match self.settle(t_new, &mut x_new) {
-            Ok(moved) => moved || end.is_some(),
+            Ok(moved) => moved || shifted,
             Err(e) if dense => {
                 let step = Step::new(self.t, &self.x, t_new, m.x_new(), Some(m.dense()));
                 let stop = if let SimError::Singular {
@@ -650,17 +658,13 @@ impl<T: RealField + Copy, H: OdeSystem<T, D> + ?Sized, const D: usize> Run<'_, T
             }
             self.h_try = hk;
             let fail = |f: Failure, r: &Self| f.at(r.t, r.x, hk);
-            let end = if M::SYMMETRIC && self.project {
-                self.symmetric_end(m, hk, t_new, &s.tol)?
-            } else {
-                m.attempt(self.t, &self.x, hk, t_new, &s.tol, stats)
-                    .map_err(|f| fail(f, self))?;
-                None
-            };
+            m.attempt(self.t, &self.x, hk, t_new, &s.tol, stats)
+                .map_err(|f| fail(f, self))?;
             let dense = self.finish(m, sink, hk, t_new).map_err(|f| fail(f, self))?;
             self.rec.stats.steps += 1;
             self.rec.last_step = Some(h_abs);
-            if self.accept(m, sink, (t_new, end), dense, last)? || last {
+            let symmetric = M::SYMMETRIC.then_some((hk, &s.tol));
+            if self.accept(m, sink, (t_new, symmetric), dense, last)? || last {
                 return Ok(self.outcome());
             }
         }

@@ -374,6 +374,10 @@ where
         &self.x_new
     }
 
+    fn replace_end(&mut self, x: &SVector<T, D>) {
+        self.x_new = *x;
+    }
+
     fn build_dense(&mut self, _t: T, _x: &SVector<T, D>, _h: T, _stats: &mut Stats) -> bool {
         self.dense.is_finite()
     }

@@ -100,6 +100,13 @@ pub(crate) trait Method<T: RealField + Copy, const D: usize> {
     }
 
     /// The new state of the last trial.
+    /// Replaces the end of the last attempted step by `x` (the symmetric
+    /// projection's end, `driver::Run::symmetric_end`); only symmetric
+    /// methods are asked, and the default ignores it.
+    fn replace_end(&mut self, x: &SVector<T, D>) {
+        let _ = x;
+    }
+
     fn x_new(&self) -> &SVector<T, D>;
 
     /// Builds the dense output of the last completed trial, which started
