@@ -113,13 +113,16 @@ struct Record {
     seconds: f64,
 }
 
+/// A quantity watched along a run, of the system and its state.
+type Quantity<S, const D: usize> = Box<dyn Fn(&S, &SVector<f64, D>) -> f64>;
+
 /// A scene: a system, its state, its period, and the quantities watched.
 struct Scene<S, const D: usize> {
     name: &'static str,
     sys: S,
     x0: SVector<f64, D>,
     period: f64,
-    quantities: Vec<(&'static str, Box<dyn Fn(&S, &SVector<f64, D>) -> f64>)>,
+    quantities: Vec<(&'static str, Quantity<S, D>)>,
 }
 
 /// The sample times: PER_DECADE per decade from one period to the end.
