@@ -290,33 +290,33 @@ pub fn forms(def: &SystemDef, m: &Scene<'_>, cx: &mut Ctxt) -> bool {
     cx.is_empty()
 }
 
-/// `outputs { momenta }` can be derived (§5.5): the constraints are
-/// homogeneous, time-independent velocity rows solved in closed form, and
-/// some independent coordinate is cyclic. False after an error, at the
-/// output's name.
-pub fn momenta(def: &SystemDef, m: &mut Scene<'_>, cx: &mut Ctxt) -> bool {
-    let Some(o) = def
+/// The cyclic coordinates, when `outputs { momenta }` can be derived
+/// (§5.5): the constraints are homogeneous, time-independent velocity rows
+/// solved in closed form, and some independent coordinate is cyclic
+/// ([`Scene::cyclic`]). `None` after an error, at the output's name, or
+/// when `momenta` is not asked for.
+pub fn momenta(def: &SystemDef, m: &mut Scene<'_>, cx: &mut Ctxt) -> Option<Vec<(usize, bool)>> {
+    let o = def
         .outputs
         .iter()
         .flat_map(|(_, list)| list)
-        .find(|o| o.word == Some(Output::Momenta))
-    else {
-        return false;
-    };
+        .find(|o| o.word == Some(Output::Momenta))?;
     let why = if !m.model.homogeneous {
         "the rates (5.36) are for homogeneous, time-independent velocity constraints (no affine or time-dependent part, no holonomic rows); this system has other constraints".to_string()
     } else if m.block.is_some() {
         "the rates (5.36) need the constraints solved for the dependent velocities in closed form, and this system's are solved numerically (a block of implicit rows)".to_string()
-    } else if m.cyclic().is_empty() {
-        not_cyclic(m)
     } else {
-        return true;
+        let cyclic = m.cyclic();
+        if !cyclic.is_empty() {
+            return Some(cyclic);
+        }
+        not_cyclic(m)
     };
     cx.error_at(
         o.ident.span(),
         format!("output `momenta` is not available here: {why}; remove it from `outputs`"),
     );
-    false
+    None
 }
 
 /// The declared symmetries are symmetries (§4.1 of DESIGN): the

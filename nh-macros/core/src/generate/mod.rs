@@ -143,8 +143,7 @@ fn derivation_checked(
     if m.outputs.contains(Output::Energy) {
         dv.energy = Some(m.energy());
     }
-    if m.outputs.contains(Output::Momenta) && check::momenta(def, m, cx) {
-        let cyclic = m.cyclic();
+    if let Some(cyclic) = check::momenta(def, m, cx) {
         dv.momenta = Some(m.momenta(cyclic));
     }
     if check::symmetries(def, m, cx) {
