@@ -2,6 +2,10 @@
 //! the generated methods in `f64` (what a user's code computes) and compare
 //! them with the plain derivation in double-double at random states.
 
+mod momenta;
+
+pub use momenta::Cyclic;
+
 use crate::Scalar;
 use crate::generate::{self, Rng};
 use crate::interp::{Arg, Expansion};
@@ -42,6 +46,9 @@ pub struct Report {
     pub finding: Finding,
     /// The family and route facts the engine reported (its `Stats`).
     pub route: String,
+    /// The momenta's check, for a system with coordinates the plain
+    /// derivation finds cyclic (`check/momenta.rs`).
+    pub cyclic: Option<Cyclic>,
 }
 
 /// Relative tolerance between the generated code in `f64` and the plain
@@ -105,7 +112,17 @@ fn check_one(sys: &System, seed: u64, charts: bool) -> Report {
             }
         }
     }
-    report(seed, text, finding, route)
+    let mut cyclic = None;
+    if charts && matches!(finding, Finding::Agree { .. }) {
+        match momenta::check(sys, seed, &exp) {
+            Ok(c) => cyclic = c,
+            Err(f) => finding = f,
+        }
+    }
+    Report {
+        cyclic,
+        ..report(seed, text, finding, route)
+    }
 }
 
 /// The charts of `sys`'s atlas other than its own, read off the struct's
@@ -164,6 +181,7 @@ fn report(seed: u64, text: String, finding: Finding, route: String) -> Report {
         text,
         finding,
         route,
+        cyclic: None,
     }
 }
 
@@ -306,6 +324,17 @@ fn expected(exp: &Expansion, exact: &Motion<Dd>, speeds: bool) -> Vec<(&'static 
         if exp.has_method(name) {
             checks.push((name, want));
         }
+    }
+    if exp.has_method("momenta") {
+        // `CYCLIC` names coordinates; the plain values are by independent ones
+        let pick = |v: &[Dd]| -> Vec<Dd> {
+            (exp.cyclic().iter())
+                .filter_map(|c| exp.independent().iter().position(|r| r == c))
+                .map(|j| v[j])
+                .collect()
+        };
+        checks.push(("momenta", pick(&exact.momenta)));
+        checks.push(("momentum_rates", pick(&exact.momentum_rates)));
     }
     checks
 }

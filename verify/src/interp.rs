@@ -47,7 +47,7 @@ mod parse;
 use crate::Scalar;
 use ast::Ty;
 use compile::{Program, Table};
-use items::{FnSrc, Items, const_ints, const_strs};
+use items::{FnSrc, Items, const_ints, const_strs, const_variants};
 use lex::Tok;
 use proc_macro2::TokenStream;
 use std::sync::Arc;
@@ -81,6 +81,8 @@ pub struct Expansion {
     dependent: Vec<usize>,
     inputs: Vec<String>,
     speeds: Vec<String>,
+    cyclic: Vec<usize>,
+    conserved: Vec<String>,
     methods: Vec<(String, Result<Arc<Program>, String>)>,
     cache: Option<Arc<Program>>,
 }
@@ -118,6 +120,8 @@ impl Expansion {
             dependent: consts.ints("DEPENDENT")?.unwrap_or_default(),
             inputs: consts.strs("INPUTS")?.unwrap_or_default(),
             speeds: consts.strs("SPEEDS")?.unwrap_or_default(),
+            cyclic: consts.ints("CYCLIC")?.unwrap_or_default(),
+            conserved: consts.variants("CONSERVED")?.unwrap_or_default(),
             name: name.clone(),
             parameters: parameters.clone(),
             methods: Vec::new(),
@@ -170,6 +174,17 @@ impl Expansion {
     /// `SPEEDS` (empty unless the system is written in generalized speeds).
     pub fn speeds(&self) -> &[String] {
         &self.speeds
+    }
+
+    /// `CYCLIC`: the cyclic coordinates, with `outputs { momenta }`.
+    pub fn cyclic(&self) -> &[usize] {
+        &self.cyclic
+    }
+
+    /// The verdicts of `CONSERVED` by their variants' names (`Conserved`,
+    /// `NotConserved`, `Undecided`), in the order of [`Self::cyclic`].
+    pub fn conserved(&self) -> &[String] {
+        &self.conserved
     }
 
     /// Whether the expansion defines a method `name` (of the system or of
@@ -329,6 +344,12 @@ impl Consts<'_, '_> {
     fn strs(&self, name: &str) -> Result<Option<Vec<String>>, String> {
         self.value(name)
             .map(|v| const_strs(v).ok_or_else(|| format!("cannot read {name}")))
+            .transpose()
+    }
+
+    fn variants(&self, name: &str) -> Result<Option<Vec<String>>, String> {
+        self.value(name)
+            .map(|v| const_variants(v).ok_or_else(|| format!("cannot read {name}")))
             .transpose()
     }
 

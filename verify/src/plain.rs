@@ -10,6 +10,8 @@
 //! system. Nothing here knows the engine's routes, Kane's form, frames,
 //! pivots or chosen rows.
 
+mod momenta;
+
 use crate::Scalar;
 use crate::jet::{Eps, Jet};
 use crate::linalg::{self, Matrix};
@@ -59,6 +61,15 @@ pub struct Motion<S> {
     /// The condition number of the reduced mass matrix Cᵀ M C (Sᵀ M S in
     /// speeds), which every route solves.
     pub reduced_condition: f64,
+    /// The momentum ∂Lc/∂ṙ_k of every independent coordinate (5.35), in
+    /// `INDEPENDENT` order (empty in speeds).
+    pub momenta: Vec<S>,
+    /// Their rates along the motion, for homogeneous, time-independent
+    /// constraints (see `plain/momenta.rs`).
+    pub momentum_rates: Vec<S>,
+    /// For each independent coordinate, the larger of |∂Lc/∂r_k| and
+    /// |∂Q_i/∂r_k|: zero where it is cyclic.
+    pub cyclic_slopes: Vec<f64>,
 }
 
 /// Why the plain derivation has no answer at a state.
@@ -533,7 +544,7 @@ impl<'a, S: Scalar> Plain<'a, S> {
             );
         }
         let (sol, _) = linalg::solve(&cs, &rhs).ok_or(Unsolvable::Singular("c_s"))?;
-        let chart = linalg::hadamard_ratio(&cs);
+        let hadamard = linalg::hadamard_ratio(&cs);
         let mut qd = vec![S::zero(); n];
         for (j, &r) in independent.iter().enumerate() {
             qd[r] = p.v[j];
@@ -566,6 +577,16 @@ impl<'a, S: Scalar> Plain<'a, S> {
         let e: Vec<S> = (0..n)
             .map(|j| (0..n).fold(bias[j], |s, i| s + mass[j][i] * qdd[i]))
             .collect();
+        let chart = momenta::Chart {
+            dependent,
+            independent: &independent,
+            kept: &kept,
+            cs: &cs,
+            a: &a_matrix,
+        };
+        let (momenta, momentum_rates) =
+            (self.momenta(&p.q, &qd, p.t, &chart)).ok_or(Unsolvable::Singular("c_s"))?;
+        let cyclic_slopes = self.cyclic_slopes(&p.q, &qd, p.t, &p.v, &chart);
         Ok(Motion {
             sdot: dependent.iter().map(|&s| qd[s]).collect(),
             accelerations: independent.iter().map(|&r| qdd[r]).collect(),
@@ -575,8 +596,11 @@ impl<'a, S: Scalar> Plain<'a, S> {
             mass,
             constraint_matrix: a_matrix,
             condition,
-            chart,
+            chart: hadamard,
             reduced_condition,
+            momenta,
+            momentum_rates,
+            cyclic_slopes,
         })
     }
 
@@ -641,6 +665,9 @@ impl<'a, S: Scalar> Plain<'a, S> {
             constraint_matrix: Vec::new(),
             condition,
             chart: 1.0,
+            momenta: Vec::new(),
+            momentum_rates: Vec::new(),
+            cyclic_slopes: Vec::new(),
         })
     }
 }

@@ -32,8 +32,26 @@ pub struct Summary {
     pub features: BTreeMap<&'static str, usize>,
     /// How many of the failures had each feature.
     pub failure_features: BTreeMap<&'static str, usize>,
+    /// The momenta's check: systems with coordinates the plain derivation
+    /// finds cyclic, expanded again with `outputs { momenta }`.
+    pub momenta: MomentaTally,
     /// Wall time.
     pub elapsed: Duration,
+}
+
+/// What the momenta's checks of a run found.
+#[derive(Default, Debug)]
+pub struct MomentaTally {
+    /// Systems with coordinates found cyclic by the plain derivation.
+    pub systems: usize,
+    /// Of them, those whose momenta and rates were compared.
+    pub compared: usize,
+    /// Coordinates found cyclic in the systems compared.
+    pub found: usize,
+    /// Coordinates the engine listed in `CYCLIC`.
+    pub listed: usize,
+    /// The engine's refusals, by reason.
+    pub refused: BTreeMap<String, usize>,
 }
 
 /// The features of a system, for the coverage figures.
@@ -144,6 +162,17 @@ pub fn run(seeds: Range<u64>, threads: usize) -> Summary {
                 *s.failure_features.entry(f).or_default() += 1;
             }
         }
+        if let Some(c) = &r.cyclic {
+            s.momenta.systems += 1;
+            match &c.refused {
+                Some(why) => *s.momenta.refused.entry(why.clone()).or_default() += 1,
+                None => {
+                    s.momenta.compared += 1;
+                    s.momenta.found += c.found;
+                    s.momenta.listed += c.listed;
+                }
+            }
+        }
         match &r.finding {
             Finding::Agree {
                 worst,
@@ -189,6 +218,18 @@ impl Summary {
             self.no_state.values().map(Vec::len).sum::<usize>(),
             self.failures.len()
         );
+        let m = &self.momenta;
+        out.push_str(&format!(
+            "momenta: {} systems with coordinates cyclic by the plain derivation; {} expanded with `outputs {{ momenta }}` and compared ({} coordinates cyclic, {} listed in CYCLIC), {} refused\n",
+            m.systems,
+            m.compared,
+            m.found,
+            m.listed,
+            m.refused.values().sum::<usize>()
+        ));
+        for (why, n) in &m.refused {
+            out.push_str(&format!("  momenta refused: {n} × {why}\n"));
+        }
         out.push_str("features (systems, of them failing):\n");
         for (f, n) in &self.features {
             let failing = self.failure_features.get(f).copied().unwrap_or(0);

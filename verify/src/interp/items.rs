@@ -169,6 +169,22 @@ pub(super) fn const_ints(value: &[Tok]) -> Option<Vec<usize>> {
     })
 }
 
+/// The last name of each path of a constant `[a::B, a::C]` (`CONSERVED`'s
+/// variants).
+pub(super) fn const_variants(value: &[Tok]) -> Option<Vec<String>> {
+    let [Tok::Group(Delim::Bracket, inner)] = value else {
+        return None;
+    };
+    inner
+        .split(|t| matches!(t, Tok::Punct(p) if p == ","))
+        .filter(|path| !path.is_empty())
+        .map(|path| match path.last() {
+            Some(Tok::Ident(name)) => Some(name.clone()),
+            _ => None,
+        })
+        .collect()
+}
+
 fn const_list<X>(value: &[Tok], f: impl Fn(&str) -> Option<X>) -> Option<Vec<X>> {
     let [Tok::Group(Delim::Bracket, inner)] = value else {
         return None;
