@@ -236,3 +236,29 @@ fn error_display_and_std_error() {
     assert_eq!(e.time(), None);
     assert_eq!(e.state(), None);
 }
+
+/// A pendulum whose angle has turned `turns` times before the start.
+fn turned_pendulum(turns: f64, steps: usize) -> Result<Vector2<f64>, SimError<f64, 2>> {
+    let pendulum = |_t: f64, x: &Vector2<f64>| Vector2::new(x[1], -x[0].sin());
+    let x0 = Vector2::new(0.5 + turns * std::f64::consts::TAU, 0.3);
+    let h = 0.1;
+    nh_runtime::GaussLegendre4::new(h)
+        .integrate(&pendulum, 0.0, x0, steps as f64 * h)
+        .map(|o| o.x - Vector2::new(turns * std::f64::consts::TAU, 0.0))
+}
+
+#[test]
+fn gauss_legendre_runs_on_an_angle_that_has_turned_many_times() {
+    // x + Z rounds the angle to ε|θ| ≈ 7e-12 at 10⁴ turns, more than the
+    // stage iteration's round-off floor at order-one states: the iteration
+    // stalls there, which is convergence, not failure (the Suslov problem
+    // stopped after 6.3·10³ periods for this reason)
+    let near = turned_pendulum(0.0, 2000).expect("θ ≈ 0.5");
+    for turns in [1e3, 1e4, 1e5] {
+        let far = turned_pendulum(turns, 2000).unwrap_or_else(|e| panic!("{turns} turns: {e}"));
+        let diff = (far - near).amax();
+        println!("pendulum after {turns:e} turns: differs by {diff:.1e} from the one at 0.5 rad");
+        // the angle's rounding, ε·θ per step, accumulated over 2000 steps
+        assert!(diff < 2e3 * f64::EPSILON * turns * 7.0, "{diff:e}");
+    }
+}
