@@ -6,6 +6,7 @@
 pub(crate) mod atlas;
 mod bodies;
 pub(crate) mod constraints;
+mod contacts;
 pub(crate) mod euler_charts;
 mod expressions;
 mod functions;

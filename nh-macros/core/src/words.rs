@@ -280,6 +280,9 @@ words! {
         /// `centre: G`, the geometric centre if not the centre of mass
         /// (also spelled `center`)
         Centre = "centre" | "center",
+        /// `semi_axes: [a, b, c]`, an ellipsoid's semi-axes along the body
+        /// axes
+        SemiAxes = "semi_axes",
     }
 
     /// A component of a vector, `v.x`.
@@ -498,7 +501,7 @@ mod tests {
         );
         assert_eq!(
             RollingField::ALL.map(RollingField::name),
-            ["radius", "axle", "tube", "centre"]
+            ["radius", "axle", "tube", "centre", "semi_axes"]
         );
         // `center` is read as `centre`, which is the name written back
         assert_eq!(BodyField::parse("center"), Some(BodyField::Centre));

@@ -1,16 +1,15 @@
 //! Rigid bodies (DESIGN §10): the functions of vectors and rotations, the
-//! angular velocity of a rotation from Ṙ Rᵀ, the kinetic energy of a body,
-//! and the rolling contact of a round body on the plane z = 0.
+//! angular velocity of a rotation from Ṙ Rᵀ, the kinetic energy of a body.
 
 use super::values::{
-    Mat3, Rotation, Value, Vec3, add3, chain_omega, cross3, dot3, elementary, inverse, mat_mat,
-    mat_vec, scale3, sub3, transpose, unit,
+    Mat3, Rotation, Value, Vec3, chain_omega, cross3, dot3, elementary, inverse, mat_mat, mat_vec,
+    transpose,
 };
 use super::{Binding, Lowerer, Place};
 use crate::ctxt::SpanRange;
-use crate::parse::{BodyDef, Expr, Field, RollingDef};
+use crate::parse::{BodyDef, Expr, Field};
 use crate::sym::{ExprId, Rational, SymId, ZERO};
-use crate::words::{BodyField, Function, RollingField, Word};
+use crate::words::{BodyField, Function, Word};
 use proc_macro2::Ident;
 use std::rc::Rc;
 
@@ -25,22 +24,6 @@ pub(crate) struct Body {
     pub(crate) rotation: Option<(Rc<Rotation>, Mat3)>,
     /// The body components of its angular velocity (zero for a point mass).
     pub(crate) omega_body: Vec3,
-}
-
-/// What a `rolls(..)` line gives: its velocity rows and its contact.
-pub(crate) struct Contact {
-    /// The no-slip rows: the x and y components of the contact point's
-    /// material velocity.
-    pub(crate) velocity: [ExprId; 2],
-    /// The contact point's height, if not identically zero (a holonomic
-    /// constraint).
-    pub(crate) height: Option<ExprId>,
-    /// The contact point, world components.
-    pub(crate) point: Vec3,
-    /// |e_z × n| of a wheel (zero when it lies flat), for the chart check.
-    pub(crate) chart: Option<ExprId>,
-    /// Its kinematics, for the rows' derivatives.
-    pub(crate) kinematics: crate::model::ContactKinematics,
 }
 
 /// The state of a body's lowering (bodies are lowered on first use).
@@ -278,7 +261,7 @@ impl Lowerer<'_> {
     }
 
     /// Components as text for the docs, shortened past 240 characters.
-    fn show3(&self, v: Vec3) -> String {
+    pub(super) fn show3(&self, v: Vec3) -> String {
         let parts: Vec<String> = v.iter().map(|&c| self.e.display_capped(c, 240)).collect();
         let text = format!("({})", parts.join(", "));
         if text.chars().count() <= 240 {
@@ -390,7 +373,7 @@ impl Lowerer<'_> {
     }
 
     /// A vector field that must be free of velocities and inputs.
-    fn lower_position_vector(&mut self, x: &Expr, what: &str) -> Option<Vec3> {
+    pub(super) fn lower_position_vector(&mut self, x: &Expr, what: &str) -> Option<Vec3> {
         let v = self.lower_value(x, 0)?;
         let v = self.vector_of(v, x, &format!("{what} must be a vector"))?;
         v.iter()
@@ -432,7 +415,7 @@ impl Lowerer<'_> {
     /// Named fields checked against the words of kind `W` (`center` is
     /// `centre`): unknown and repeated ones reported; the known ones
     /// returned.
-    fn fields<'f, W: Word>(
+    pub(super) fn fields<'f, W: Word>(
         &mut self,
         fields: &'f [Field],
         what: &str,
@@ -557,327 +540,6 @@ impl Lowerer<'_> {
             bodies: kinetic.into_iter().map(|(b, _)| b).collect(),
             rest,
         })
-    }
-
-    /// The contact of a `rolls(..)` line: the lowest point of a round body
-    /// on the plane z = 0 and its material velocity.
-    pub(super) fn rolling_contact(&mut self, def: &RollingDef) -> Option<Contact> {
-        let fields = self.fields::<RollingField>(&def.fields, "`rolls`", &def.body)?;
-        let get = |n: RollingField| fields.iter().find(|f| f.0 == n).map(|f| f.1);
-        let b = self.body(&def.body);
-        let radius = match get(RollingField::Radius) {
-            Some(x) => self.rolling_length(x, RollingField::Radius),
-            None => {
-                self.cx.error(def.range, format!("`rolls({}, ..)` needs the wheel's `radius: r` (and `axle: [..]` for a disc or torus; none for a sphere)", def.body));
-                None
-            }
-        };
-        let tube = get(RollingField::Tube).map(|x| self.rolling_length(x, RollingField::Tube));
-        let axle = get(RollingField::Axle).map(|x| self.constant_axle(x));
-        let centre =
-            get(RollingField::Centre).map(|x| self.lower_position_vector(x, "the wheel's centre"));
-        let b = b?;
-        let radius = radius?;
-        // an optional field: absent, or given and lowered without error
-        fn given<T>(x: Option<Option<T>>) -> Option<Option<T>> {
-            x.map_or(Some(None), |v| v.map(Some))
-        }
-        let tube = given(tube)?;
-        let axle = given(axle)?;
-        let centre = given(centre)?.unwrap_or(b.centre);
-        let Some((rot, _)) = &b.rotation else {
-            self.cx.error(def.range, format!("body `{}` is a point mass: a rolling body needs an `orientation` and an `inertia`", def.body));
-            return None;
-        };
-        if tube.is_some() && axle.is_none() {
-            self.cx
-                .error(def.range, "a torus (`tube: ..`) needs its `axle: [..]`");
-            return None;
-        }
-        if let (Some(a), Some(x)) = (axle, get(RollingField::Axle))
-            && self.always_vertical(rot, a)
-        {
-            self.cx.error(x.range(), format!("the axle `{}` is vertical in every configuration (the body's orientation only turns it about the vertical): a wheel on it lies flat and touches the plane z = 0 along its whole rim, with no single contact point; give the wheel's axis of symmetry in body axes (for an upright wheel that turns about its body y axis, `[0, 1, 0]`), or leave `axle` out for a sphere", super::short(x.to_source())));
-            return None;
-        }
-        let contact = self.contact(rot, centre, radius, axle, tube);
-        if let Some(h) = contact.height
-            && self.misplaced_centre(def, get(RollingField::Centre), &contact, h, radius, tube)
-        {
-            return None;
-        }
-        let height = match contact.height {
-            Some(h) => format!(
-                "; its height `{}` = 0 is a holonomic constraint",
-                self.e.display_capped(h, 240)
-            ),
-            None => String::new(),
-        };
-        let line = format!(
-            "- `rolls({}, ..)`: contact point P = {}; no slip: the x and y components of its material velocity, `{}` and `{}`, vanish{height}",
-            def.body,
-            self.show3(contact.point),
-            self.e.display_capped(contact.velocity[0], 240),
-            self.e.display_capped(contact.velocity[1], 240),
-        );
-        self.description.push(line);
-        Some(contact)
-    }
-
-    /// A radius or tube radius of a rolling contact: a constant of the
-    /// parameters (no coordinate, velocity, input or `t`), neither zero
-    /// nor a negative constant; else an error at its field. (Parameters
-    /// are not assumed positive: `R` or `-R` is taken as given.)
-    fn rolling_length(&mut self, x: &Expr, which: RollingField) -> Option<ExprId> {
-        let what = if which == RollingField::Tube {
-            "the tube radius of a torus"
-        } else {
-            "the radius of a rolling body"
-        };
-        let v = self.lower(x, 0)?;
-        let src = super::short(x.to_source());
-        let fs = self.e.free_symbols(v).to_vec();
-        let moving = fs.iter().find_map(|s| {
-            if *s == self.t_sym {
-                return Some("the time `t`".to_string());
-            }
-            self.coords.iter().find_map(|c| {
-                if c.position == *s {
-                    Some(format!("the coordinate `{}`", c.name))
-                } else if c.velocity == *s {
-                    Some(format!("the velocity `dot({})`", c.name))
-                } else {
-                    None
-                }
-            })
-        });
-        if let Some(m) = moving {
-            self.cx.error(x.range(), format!("{what} is a constant of the parameters (a wheel keeps its size), but `{src}` depends on {m}; write the {which} with parameters and numbers only"));
-            return None;
-        }
-        let note = self.value_note(x, v);
-        if v == ZERO
-            || crate::sym::random_points::vanish_at_random_points(&self.e, self.pi_sym, &[v])
-        {
-            let fix = if which == RollingField::Tube {
-                "leave `tube` out for a thin wheel"
-            } else {
-                "a body rolls on a rim of positive radius"
-            };
-            self.cx
-                .error(x.range(), format!("{what} is zero{note}: {fix}"));
-            return None;
-        }
-        if fs.iter().all(|&s| s == self.pi_sym) {
-            let mut vals = vec![0.0f64; self.e.num_symbols()];
-            vals[self.pi_sym.index()] = std::f64::consts::PI;
-            let value = self.e.eval(v, &vals);
-            if value < 0.0 {
-                let note = if note.is_empty() && self.e.as_constant(v).is_none() {
-                    format!(": `{src}` is {value:.6}")
-                } else {
-                    note
-                };
-                self.cx.error(
-                    x.range(),
-                    format!("{what} is negative{note}: give its length, a positive {which}"),
-                );
-                return None;
-            }
-        }
-        Some(v)
-    }
-
-    /// Whether the world axle R a is vertical in every configuration:
-    /// 1 − n_z² vanishes identically (then |e_z × n| = 0 and the wheel has
-    /// no lowest point).
-    fn always_vertical(&mut self, rot: &Rotation, a: Vec3) -> bool {
-        let n = mat_vec(&mut self.e, &rot.matrix, a);
-        let nz2 = self.e.mul(n[2], n[2]);
-        let one = self.e.int(1);
-        let s2 = self.e.sub(one, nz2);
-        s2 == ZERO
-            || crate::sym::random_points::vanish_at_random_points(&self.e, self.pi_sym, &[s2])
-    }
-
-    /// Whether the contact's height P_z = G_z − r w_z − ρ cannot vanish
-    /// whatever the coordinates: it is free of them (a nonzero constant),
-    /// or, for a wheel, a constant multiple of |e_z × n| (it would vanish
-    /// only with the wheel flat). Then the centre is not at the height a
-    /// body of this radius rolling on z = 0 has it, and the error, at the
-    /// centre, says the height found and the height expected.
-    fn misplaced_centre(
-        &mut self,
-        def: &RollingDef,
-        centre_field: Option<&Expr>,
-        contact: &Contact,
-        h: ExprId,
-        radius: ExprId,
-        tube: Option<ExprId>,
-    ) -> bool {
-        let coords: Vec<_> = self.coords.iter().map(|c| c.position).collect();
-        let free_of_coordinates =
-            |e: &crate::sym::Engine, x: ExprId| !coords.iter().any(|&q| e.depends_on(x, q));
-        let inconsistent = free_of_coordinates(&self.e, h)
-            || contact.chart.is_some_and(|s| {
-                let inv = self.e.pow(s, Rational::MINUS_ONE);
-                let ratio = self.e.mul(h, inv);
-                free_of_coordinates(&self.e, ratio)
-            });
-        if !inconsistent {
-            return false;
-        }
-        let g = contact.kinematics.centre[2];
-        let rim = match contact.chart {
-            Some(s) => self.e.mul(radius, s),
-            None => radius,
-        };
-        let expected = match tube {
-            Some(rho) => self.e.add(rim, rho),
-            None => rim,
-        };
-        let body_centre = self
-            .body_defs
-            .iter()
-            .find(|b| b.name == def.body)
-            .and_then(|b| {
-                b.fields
-                    .iter()
-                    .find(|f| BodyField::of(&f.name) == Some(BodyField::Centre))
-            })
-            .map(|f| f.value.clone());
-        let (at, which) = match (centre_field, &body_centre) {
-            (Some(c), _) => (
-                c.range(),
-                format!("the centre `{}`", super::short(c.to_source())),
-            ),
-            (None, Some(c)) => (
-                c.range(),
-                format!(
-                    "the centre of body `{}`, `{}`,",
-                    def.body,
-                    super::short(c.to_source())
-                ),
-            ),
-            (None, None) => (def.range, format!("the centre of body `{}`", def.body)),
-        };
-        let shape = match (contact.chart.is_some(), tube.is_some()) {
-            (false, _) => "a sphere of this radius",
-            (true, false) => "a wheel of this radius on this axle",
-            (true, true) => "a torus of these radii on this axle",
-        };
-        let show = |e: &crate::sym::Engine, x: ExprId| super::short(e.display_capped(x, 60));
-        let (found, wanted) = (show(&self.e, g), show(&self.e, expected));
-        let lift = if tube.is_some() {
-            " (the radius times |e_z × n| for the world axle n, plus the tube)"
-        } else if contact.chart.is_some() {
-            " (the radius times |e_z × n| for the world axle n)"
-        } else {
-            ""
-        };
-        self.cx.error(at, format!("the rolling contact of `{}` is not on the plane z = 0 in any configuration: {which} is at height `{found}`, but {shape} touches the plane z = 0 with its centre at height `{wanted}`{lift}; put the centre at that height, or give the radius that matches it", def.body));
-        true
-    }
-
-    /// A wheel's axle: a constant nonzero vector in body axes, made unit.
-    fn constant_axle(&mut self, x: &Expr) -> Option<Vec3> {
-        let v = self.lower_value(x, 0)?;
-        let a = self.vector_of(v, x, "the axle must be a vector")?;
-        if a.iter().any(|&c| self.e.as_constant(c).is_none()) {
-            self.cx.error(x.range(), format!("the axle is fixed in the body: give constant components in body axes, e.g. `[0, 1, 0]`, not `{}`", super::short(x.to_source())));
-            return None;
-        }
-        if a.iter().all(|&c| c == ZERO) {
-            self.cx.error(x.range(), "the axle is the zero vector: give the wheel's axis of symmetry in body axes, e.g. `[0, 1, 0]`");
-            return None;
-        }
-        let n2 = dot3(&mut self.e, a, a);
-        let inv = self.e.pow(n2, Rational::new(-1, 2)?);
-        Some(scale3(&mut self.e, inv, a))
-    }
-
-    /// The contact point P of a body turned by `rot`, with geometric centre
-    /// G: P − G = −r w − ρ e_z, where w = (e_z − n_z n)/|e_z × n| is the
-    /// direction to the lowest point of the rim (n the world axle; a sphere
-    /// has w = e_z). Its material velocity is Ġ + ω × (P − G).
-    fn contact(
-        &mut self,
-        rot: &Rotation,
-        centre: Vec3,
-        radius: ExprId,
-        axle: Option<Vec3>,
-        tube: Option<ExprId>,
-    ) -> Contact {
-        let ez = unit(2);
-        let (w, chart, world_axle) = match axle {
-            None => (ez, None, None),
-            Some(a) => {
-                let n = mat_vec(&mut self.e, &rot.matrix, a);
-                let nz_n = scale3(&mut self.e, n[2], n);
-                let towards = sub3(&mut self.e, ez, nz_n);
-                let s = self.rim_scale(n[2]);
-                let inv = self.e.pow(s, Rational::MINUS_ONE);
-                (scale3(&mut self.e, inv, towards), Some(s), Some((n, s)))
-            }
-        };
-        let mut offset = scale3(&mut self.e, radius, w);
-        if let Some(rho) = tube {
-            let down = scale3(&mut self.e, rho, ez);
-            offset = add3(&mut self.e, offset, down);
-        }
-        let offset = offset.map(|c| self.e.neg(c));
-        let point = add3(&mut self.e, centre, offset);
-        let omega = self.angular_velocity(rot, true);
-        let gdot = centre.map(|c| self.time_derivative(c));
-        let spin = cross3(&mut self.e, omega, offset);
-        let v = add3(&mut self.e, gdot, spin);
-        let height = (point[2] != ZERO
-            && !crate::sym::random_points::vanish_at_random_points(
-                &self.e,
-                self.pi_sym,
-                &[point[2]],
-            ))
-        .then_some(point[2]);
-        Contact {
-            velocity: [v[0], v[1]],
-            height,
-            point,
-            chart,
-            kinematics: crate::model::ContactKinematics {
-                centre,
-                omega,
-                axle: world_axle,
-                radius,
-                tube: tube.unwrap_or(ZERO),
-                factors: rot.factors.clone(),
-            },
-        }
-    }
-
-    /// |e_z × n| = √(1 − n_z²) for a unit axle n: cos u when 1 − n_z² is
-    /// cos²u and u vanishes at the reference configuration (all coordinates
-    /// and t zero: an upright wheel), valid until the wheel lies flat; the
-    /// square root otherwise.
-    fn rim_scale(&mut self, nz: ExprId) -> ExprId {
-        let nz2 = self.e.mul(nz, nz);
-        let one = self.e.int(1);
-        let s2 = self.e.sub(one, nz2);
-        if let Some((c, u)) = self.e.as_scaled_cos_square(s2) {
-            let mut at_rest = rustc_hash::FxHashMap::default();
-            for c in &self.coords {
-                at_rest.insert(c.position, ZERO);
-            }
-            at_rest.insert(self.t_sym, ZERO);
-            if self.e.subst(u, &at_rest, &mut Default::default()) == ZERO && c > Rational::ZERO {
-                let root = self.e.constant(c);
-                let root = self
-                    .e
-                    .pow(root, Rational::new(1, 2).unwrap_or(Rational::ONE));
-                let cos = self.e.func(crate::sym::Fun::Cos, u);
-                return self.e.mul(root, cos);
-            }
-        }
-        self.e.pow(s2, Rational::new(1, 2).unwrap_or(Rational::ONE))
     }
 }
 

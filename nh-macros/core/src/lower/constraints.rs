@@ -158,7 +158,8 @@ impl Lowerer<'_> {
                 if let Some((point, kin)) = self.rolling_rows(r, &mut sides, &mut wheels) {
                     contacts.push(point);
                     let line = def.rolling.iter().position(|x| std::ptr::eq(x, r));
-                    kinematics.push((line, kin));
+                    // a body without closed-form kinematics: written rows
+                    kinematics.extend(kin.map(|k| (line, k)));
                 } else {
                     complete = false;
                 }
@@ -220,7 +221,7 @@ impl Lowerer<'_> {
         r: &'d RollingDef,
         sides: &mut Vec<(Source<'d>, ExprId, ExprId)>,
         wheels: &mut Vec<ExprId>,
-    ) -> Option<([ExprId; 3], crate::model::ContactKinematics)> {
+    ) -> Option<([ExprId; 3], Option<crate::model::ContactKinematics>)> {
         let contact = self.rolling_contact(r)?;
         if let Some(h) = contact.height {
             sides.push((Source::Rolling(r, "contact with the plane z = 0"), h, ZERO));
