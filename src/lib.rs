@@ -498,7 +498,8 @@
 //! constraint that repeats others stays an error). |e_z × n| vanishes when the wheel lies
 //! flat; it enters the chart check, so a run that reaches that ends with
 //! `SimError::Singular` instead of dividing by zero. Sliding is not
-//! modelled, and the ground is the plane z = 0.
+//! modelled; the ground is the plane z = 0 unless a support is given
+//! (below).
 //!
 //! The physically correct rolling disc in ten lines: the frame F of its
 //! plane (heading φ, lean ψ), the centre above the contact point (x, y), the
@@ -559,6 +560,72 @@
 //!     }
 //! }
 //! # let _ = Ball::new(1.0, 0.2, 9.81, 0.0, 0.0, -0.05, 0.02, 0.02, 0.03, 0.001, 0.0, 0.0);
+//! ```
+//!
+//! **Ellipsoids.** `rolls(NAME, semi_axes: [a, b, c])` is an ellipsoid with
+//! those semi-axes along the body axes, centred at `centre: G` (by default
+//! the centre of mass): its lowest point P = G − R D² γ / √(γᵀ D² γ), with
+//! D = diag(a, b, c) and γ = Rᵀ e_z the vertical in body axes, is found in
+//! closed form. The rattleback, its inertia turned by δ against the
+//! ellipsoid's axes and its centre's height left to the contact:
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     pub struct Rattleback {
+//!         parameters { a1, a2, a3, h, m, A, B, C, delta, g }
+//!         coordinates { psi, theta, phi, x, y, z }
+//!         let R = rot_z(psi)*rot_y(theta)*rot_x(phi);
+//!         let Cg = [x, y, z];                    // the ellipsoid's centre
+//!         let G = Cg + R*[0, 0, -h];             // the centre of mass, below it
+//!         body shell {
+//!             mass: m, centre: G, orientation: R,
+//!             inertia: rot_z(delta)*diag(A, B, C)*transpose(rot_z(delta)),
+//!         }
+//!         lagrangian = kinetic_energy(shell) - m*g*G.z;
+//!         constraints { rolls(shell, semi_axes: [a1, a2, a3], centre: Cg); }
+//!     }
+//! }
+//!
+//! // the height row z = √(γᵀ D² γ) makes z dependent, with x and y
+//! assert_eq!(Rattleback::<f64>::DEPENDENT, [3, 4, 5]);
+//! # let _ = Rattleback::new(0.2, 0.03, 0.02, 0.01, 1.0, 2e-4, 1.6e-3, 1.7e-3, 0.1, 9.81);
+//! ```
+//!
+//! **Supports that tilt or move.** `on: F` puts the plane the body rolls on
+//! in the frame F: its plane z = 0 through `origin: O` (by default the
+//! origin). F is a rotation — constant (an incline), of `t` (a turntable, a
+//! tilting plate driven by a motion you prescribe) or of the coordinates —
+//! or a body of the system, whose plane z = 0 through its centre carries
+//! the contact (a platform the system drives); `origin: O` alone moves the
+//! plane z = 0 (a conveyor: `origin: [v*t, 0, 0]`). Rolling means that the
+//! material velocities of the two surfaces agree at the contact point:
+//! Ġ + ω × (P − G) − (Ȯ + ω_F × (P − O)) has no component along the plane,
+//! and the height (P − O)·N above it, N = F e_z, is a holonomic row. Every
+//! shape takes a support. A ball on a turntable, whose centre circles at
+//! 2/7 of the table's rate:
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     pub struct TurntableBall {
+//!         parameters { m, r, Omega }
+//!         coordinates { x, y, yaw, pitch, roll }
+//!         let table = rot_z(Omega*t);
+//!         let R = rot_z(yaw)*rot_y(pitch)*rot_x(roll);
+//!         body ball { mass: m, centre: [x, y, r], orientation: R, inertia: diag(2*m*r^2/5, 2*m*r^2/5, 2*m*r^2/5) }
+//!         lagrangian = kinetic_energy(ball);
+//!         constraints { rolls(ball, radius: r, on: table); }
+//!     }
+//! }
+//!
+//! let ball = TurntableBall::new(0.2, 0.05, 2.0);
+//! // at rest on the table at (0.3, 0): the table carries the contact point
+//! let (q, rdot) = (SVector::from([0.3, 0.0, 0.0, 0.0, 0.0]), SVector::from([0.0, 0.0, 0.0]));
+//! let v: SVector<f64, 2> = ball.dependent_velocities(&q, &rdot);
+//! assert!((v[1] - 2.0 * 0.3).abs() < 1e-15); // ẏ = Ω x
 //! ```
 //!
 //! `outputs { contact_points }` adds `contact_points(&self, q)`, the

@@ -283,6 +283,12 @@ words! {
         /// `semi_axes: [a, b, c]`, an ellipsoid's semi-axes along the body
         /// axes
         SemiAxes = "semi_axes",
+        /// `on: F`, the support: a rotation or a body, whose plane z = 0
+        /// the body rolls on
+        On = "on",
+        /// `origin: O`, a point of the support's plane (by default the
+        /// origin, or the supporting body's centre)
+        Origin = "origin",
     }
 
     /// A component of a vector, `v.x`.
@@ -501,7 +507,15 @@ mod tests {
         );
         assert_eq!(
             RollingField::ALL.map(RollingField::name),
-            ["radius", "axle", "tube", "centre", "semi_axes"]
+            [
+                "radius",
+                "axle",
+                "tube",
+                "centre",
+                "semi_axes",
+                "on",
+                "origin"
+            ]
         );
         // `center` is read as `centre`, which is the name written back
         assert_eq!(BodyField::parse("center"), Some(BodyField::Centre));

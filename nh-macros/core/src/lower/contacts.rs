@@ -4,6 +4,7 @@
 //! the checks of the line's fields.
 
 mod ellipsoid;
+mod support;
 
 use super::Lowerer;
 use super::values::{Rotation, Vec3, add3, cross3, dot3, mat_vec, scale3, sub3, unit};
@@ -36,8 +37,13 @@ impl Lowerer<'_> {
     pub(super) fn rolling_contact(&mut self, def: &RollingDef) -> Option<Contact> {
         let fields = self.fields::<RollingField>(&def.fields, "`rolls`", &def.body)?;
         let get = |n: RollingField| fields.iter().find(|f| f.0 == n).map(|f| f.1);
+        let (on, origin) = (get(RollingField::On), get(RollingField::Origin));
+        let support = match Self::moved(on, origin) {
+            true => Some(self.support(on, origin)?),
+            false => None,
+        };
         if let Some(axes) = get(RollingField::SemiAxes) {
-            return self.ellipsoid_contact(def, &fields, axes);
+            return self.ellipsoid_contact(def, &fields, axes, support.as_ref());
         }
         let b = self.body(&def.body);
         let radius = match get(RollingField::Radius) {
@@ -68,6 +74,9 @@ impl Lowerer<'_> {
             self.cx
                 .error(def.range, "a torus (`tube: ..`) needs its `axle: [..]`");
             return None;
+        }
+        if let Some(sp) = &support {
+            return self.round_on_support(def, rot, centre, (radius, axle, tube), sp);
         }
         if let (Some(a), Some(x)) = (axle, get(RollingField::Axle))
             && self.always_vertical(rot, a)
@@ -298,24 +307,7 @@ impl Lowerer<'_> {
         axle: Option<Vec3>,
         tube: Option<ExprId>,
     ) -> Contact {
-        let ez = unit(2);
-        let (w, chart, world_axle) = match axle {
-            None => (ez, None, None),
-            Some(a) => {
-                let n = mat_vec(&mut self.e, &rot.matrix, a);
-                let nz_n = scale3(&mut self.e, n[2], n);
-                let towards = sub3(&mut self.e, ez, nz_n);
-                let s = self.rim_scale(n[2]);
-                let inv = self.e.pow(s, Rational::MINUS_ONE);
-                (scale3(&mut self.e, inv, towards), Some(s), Some((n, s)))
-            }
-        };
-        let mut offset = scale3(&mut self.e, radius, w);
-        if let Some(rho) = tube {
-            let down = scale3(&mut self.e, rho, ez);
-            offset = add3(&mut self.e, offset, down);
-        }
-        let offset = offset.map(|c| self.e.neg(c));
+        let (offset, chart, world_axle) = self.round_offset(rot, radius, axle, tube, unit(2));
         let (contact, omega) = self.contact_at(rot, centre, offset);
         Contact {
             chart,
@@ -329,6 +321,71 @@ impl Lowerer<'_> {
             }),
             ..contact
         }
+    }
+
+    /// o = P − G of a round body turned by `rot` on a plane of unit normal
+    /// N: −r w − ρ N with w = (N − (N·n) n)/|N × n| the direction to the
+    /// rim's lowest point (n the world axle; a sphere has w = N); the
+    /// rim's |N × n| and the world axle with it, for a wheel.
+    fn round_offset(
+        &mut self,
+        rot: &Rotation,
+        radius: ExprId,
+        axle: Option<Vec3>,
+        tube: Option<ExprId>,
+        normal: Vec3,
+    ) -> (Vec3, Option<ExprId>, Option<(Vec3, ExprId)>) {
+        let (w, chart, world_axle) = match axle {
+            None => (normal, None, None),
+            Some(a) => {
+                let n = mat_vec(&mut self.e, &rot.matrix, a);
+                let nz = dot3(&mut self.e, normal, n);
+                let nz_n = scale3(&mut self.e, nz, n);
+                let towards = sub3(&mut self.e, normal, nz_n);
+                let s = self.rim_scale(nz);
+                let inv = self.e.pow(s, Rational::MINUS_ONE);
+                (scale3(&mut self.e, inv, towards), Some(s), Some((n, s)))
+            }
+        };
+        let mut offset = scale3(&mut self.e, radius, w);
+        if let Some(rho) = tube {
+            let down = scale3(&mut self.e, rho, normal);
+            offset = add3(&mut self.e, offset, down);
+        }
+        let offset = offset.map(|c| self.e.neg(c));
+        (offset, chart, world_axle)
+    }
+
+    /// The contact of a sphere, disc or torus (`shape`: radius, axle,
+    /// tube) on a support.
+    fn round_on_support(
+        &mut self,
+        def: &RollingDef,
+        rot: &Rotation,
+        centre: Vec3,
+        shape: (ExprId, Option<Vec3>, Option<ExprId>),
+        sp: &support::Support,
+    ) -> Option<Contact> {
+        let (radius, axle, tube) = shape;
+        let (offset, chart, _) = self.round_offset(rot, radius, axle, tube, sp.normal);
+        if chart.is_some_and(|s| {
+            s == ZERO
+                || crate::sym::random_points::vanish_at_random_points(&self.e, self.pi_sym, &[s])
+        }) {
+            self.cx.error(def.range, format!("the axle of `{}` is normal to the support's plane in every configuration: the wheel lies flat on it, touching it along its whole rim; give the wheel's axis of symmetry in body axes", def.body));
+            return None;
+        }
+        let contact = Contact {
+            chart,
+            ..self.on_support(rot, centre, offset, sp)
+        };
+        let what = match (axle, tube) {
+            (None, _) => "a sphere",
+            (Some(_), None) => "a wheel",
+            (Some(_), Some(_)) => "a torus",
+        };
+        self.describe_supported(def, what, &contact, sp);
+        Some(contact)
     }
 
     /// The contact point P = G + o of a body turned by `rot` with centre

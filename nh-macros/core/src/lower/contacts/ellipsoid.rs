@@ -6,7 +6,8 @@
 
 use super::super::Lowerer;
 use super::Contact;
-use crate::lower::values::{Rotation, Vec3};
+use super::support::Support;
+use crate::lower::values::{Rotation, Vec3, dot3, unit};
 use crate::parse::{Expr, RollingDef};
 use crate::sym::{ExprId, Rational};
 use crate::words::RollingField;
@@ -18,6 +19,7 @@ impl Lowerer<'_> {
         def: &RollingDef,
         fields: &[(RollingField, &Expr)],
         axes: &Expr,
+        support: Option<&Support>,
     ) -> Option<Contact> {
         let mut fine = true;
         for (f, x) in fields {
@@ -41,7 +43,14 @@ impl Lowerer<'_> {
         if !fine {
             return None;
         }
-        let (offset, s) = self.ellipsoid_offset(rot, semi);
+        let normal = support.map_or(unit(2), |sp| sp.normal);
+        let (offset, s) = self.ellipsoid_offset(rot, semi, normal);
+        if let Some(sp) = support {
+            let contact = self.on_support(rot, centre, offset, sp);
+            let shape = format!("an ellipsoid of semi-axes {}", self.show3(semi));
+            self.describe_supported(def, &shape, &contact, sp);
+            return Some(contact);
+        }
         let (contact, _) = self.contact_at(rot, centre, offset);
         let line = format!(
             "- `rolls({}, ..)`: an ellipsoid of semi-axes {} (body axes); its lowest point P = G − R D² γ / s with γ = Rᵀ e_z and s = `{}`; no slip: the x and y components of its material velocity vanish; its height `{}` = 0 is a holonomic constraint",
@@ -69,25 +78,31 @@ impl Lowerer<'_> {
         Some([lengths[0]?, lengths[1]?, lengths[2]?])
     }
 
-    /// o = P − G = −R D² γ / s and s = √(γᵀ D² γ) (o_z = −s).
-    fn ellipsoid_offset(&mut self, rot: &Rotation, semi: Vec3) -> (Vec3, ExprId) {
+    /// o = P − G = −R D² γ / s and s = √(γᵀ D² γ), γ = Rᵀ N the plane's
+    /// normal in body axes (o_z = −s on the plane z = 0).
+    fn ellipsoid_offset(&mut self, rot: &Rotation, semi: Vec3, normal: Vec3) -> (Vec3, ExprId) {
         let r = rot.matrix;
-        // D² γ, γ the third row of R
+        let gamma: Vec3 = [0, 1, 2].map(|i| {
+            let column = [r[0][i], r[1][i], r[2][i]];
+            dot3(&mut self.e, column, normal)
+        });
+        // D² γ
         let scaled: Vec3 = [0, 1, 2].map(|i| {
             let a2 = self.e.mul(semi[i], semi[i]);
-            self.e.mul(a2, r[2][i])
+            self.e.mul(a2, gamma[i])
         });
-        let terms: Vec<ExprId> = (0..3).map(|i| self.e.mul(r[2][i], scaled[i])).collect();
-        let s2 = self.e.sum(&terms);
+        let s2 = dot3(&mut self.e, gamma, scaled);
         let s = self.e.pow(s2, Rational::new(1, 2).unwrap_or(Rational::ONE));
         let inv = self.e.pow(s, Rational::MINUS_ONE);
-        let offset = [0, 1].map(|row| {
-            let terms: Vec<ExprId> = (0..3).map(|i| self.e.mul(r[row][i], scaled[i])).collect();
-            let sum = self.e.sum(&terms);
+        let level = normal == unit(2);
+        let offset = [0, 1, 2].map(|row| {
+            if level && row == 2 {
+                return self.e.neg(s);
+            }
+            let sum = dot3(&mut self.e, r[row], scaled);
             let o = self.e.mul(sum, inv);
             self.e.neg(o)
         });
-        let down = self.e.neg(s);
-        ([offset[0], offset[1], down], s)
+        (offset, s)
     }
 }

@@ -1,0 +1,99 @@
+//! Rolling on a support that tilts or moves, `rolls(BODY, .., on: F[,
+//! origin: O])` (DESIGN §10): a ball on an incline (its centre accelerates
+//! at 5/7 g sin α down the slope) and on a turntable (its centre's velocity
+//! turns at 2Ω/7, so the centre circles), against the closed forms.
+use nalgebra::SVector;
+use nonholonomic::prelude::*;
+
+nonholonomic_system! {
+    /// A homogeneous ball on a plane tilted by α about x.
+    pub struct InclineBall {
+        parameters { m, r, g, alpha }
+        coordinates { x, y, z, yaw, pitch, roll }
+        let slope = rot_x(alpha);
+        let R = rot_z(yaw)*rot_y(pitch)*rot_x(roll);
+        body ball { mass: m, centre: [x, y, z], orientation: R, inertia: diag(2*m*r^2/5, 2*m*r^2/5, 2*m*r^2/5) }
+        lagrangian = kinetic_energy(ball) - m*g*z;
+        constraints { rolls(ball, radius: r, on: slope); }
+    }
+}
+
+nonholonomic_system! {
+    /// A homogeneous ball on a table turning at Ω about the vertical.
+    pub struct TurntableBall {
+        parameters { m, r, Omega }
+        coordinates { x, y, yaw, pitch, roll }
+        let table = rot_z(Omega*t);
+        let R = rot_z(yaw)*rot_y(pitch)*rot_x(roll);
+        body ball { mass: m, centre: [x, y, r], orientation: R, inertia: diag(2*m*r^2/5, 2*m*r^2/5, 2*m*r^2/5) }
+        lagrangian = kinetic_energy(ball);
+        constraints { rolls(ball, radius: r, on: table); }
+    }
+}
+
+#[test]
+fn a_ball_rolls_down_an_incline_at_five_sevenths_of_g_sin_alpha() {
+    let (m, r, g, alpha): (f64, f64, f64, f64) = (0.7, 0.1, 9.81, 0.3);
+    let sys = InclineBall::new(m, r, g, alpha);
+    println!("DEPENDENT {:?}", InclineBall::<f64>::DEPENDENT);
+    // at rest on the plane through the origin: (G·N) = r, N = (0, −sin α, cos α)
+    let mut x0 = SVector::<f64, 9>::zeros();
+    x0[2] = r / alpha.cos();
+    let t1 = 1.0;
+    let out = Dop853::new(1e-12, 1e-14)
+        .integrate(&sys, 0.0, x0, t1)
+        .expect("runs");
+    // down the slope: along −(0, cos α, sin α)
+    let s = 0.5 * 5.0 / 7.0 * g * alpha.sin() * t1 * t1;
+    let want = [0.0, -s * alpha.cos(), r / alpha.cos() - s * alpha.sin()];
+    let err = (0..3)
+        .map(|i| (out.x[i] - want[i]).abs())
+        .fold(0.0, f64::max);
+    println!(
+        "incline: centre after 1 s {:?}, closed form {want:?}: {err:.1e}",
+        &out.x.as_slice()[..3]
+    );
+    assert!(err < 1e-10, "{err:e}");
+}
+
+#[test]
+fn a_ball_on_a_turntable_circles_at_two_sevenths_of_its_rate() {
+    let (m, r, omega) = (0.2, 0.05, 2.0);
+    let sys = TurntableBall::new(m, r, omega);
+    println!("DEPENDENT {:?}", TurntableBall::<f64>::DEPENDENT);
+    // the centre at (x0, y0) with velocity v0: ω horizontal with
+    // v0 = Ω e_z × P + r ω × e_z, world ω = (roll', pitch', yaw') at zero angles
+    let (p0, v0) = ([0.3, -0.1], [0.05, 0.08]);
+    let table = [-omega * p0[1], omega * p0[0]];
+    let (wy, wx) = ((v0[0] - table[0]) / r, -(v0[1] - table[1]) / r);
+    let mut x0 = SVector::<f64, 8>::zeros();
+    x0[0] = p0[0];
+    x0[1] = p0[1];
+    let ind = TurntableBall::<f64>::INDEPENDENT;
+    let rates = [v0[0], v0[1], 0.3, wy, wx];
+    for (k, &i) in ind.iter().enumerate() {
+        x0[5 + k] = rates[i];
+    }
+    let turns = 100.0;
+    let t1 = turns * std::f64::consts::TAU / omega;
+    let out = Dop853::new(1e-13, 1e-15)
+        .with_max_steps(10_000_000)
+        .integrate(&sys, 0.0, x0, t1)
+        .expect("runs");
+    // v(t) = Rot(wt) v0 with w = 2Ω/7
+    let w = 2.0 * omega / 7.0;
+    let (s, c) = (w * t1).sin_cos();
+    let want = [
+        p0[0] + (s * v0[0] - (1.0 - c) * v0[1]) / w,
+        p0[1] + ((1.0 - c) * v0[0] + s * v0[1]) / w,
+    ];
+    let err = (0..2)
+        .map(|i| (out.x[i] - want[i]).abs())
+        .fold(0.0, f64::max);
+    println!(
+        "turntable: centre after {turns} table turns {:?}, closed form {want:?}: {err:.1e} ({} steps)",
+        &out.x.as_slice()[..2],
+        out.stats.steps
+    );
+    assert!(err < 1e-9, "{err:e}");
+}

@@ -1,0 +1,15 @@
+use nonholonomic::prelude::*;
+
+nonholonomic_system! {
+    pub struct Ball {
+        parameters { m, r }
+        coordinates { x, y, yaw, pitch, roll }
+        let R = rot_z(yaw)*rot_y(pitch)*rot_x(roll);
+        body ball { mass: m, centre: [x, y, r], orientation: R, inertia: diag(m, m, m) }
+        body cart { mass: m, centre: [0, 0, 0] }
+        lagrangian = kinetic_energy(ball);
+        constraints { rolls(ball, radius: r, on: cart); }
+    }
+}
+
+fn main() {}
