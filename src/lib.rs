@@ -628,6 +628,14 @@
 //! assert!((v[1] - 2.0 * 0.3).abs() < 1e-15); // ẏ = Ω x
 //! ```
 //!
+//! **Curved surfaces.** A ball rolls inside or outside a fixed sphere or
+//! cylinder: `rolls(ball, radius: r, inside: sphere(R0, O))` (a bowl of
+//! radius R0 centred at O; `sphere(R0)` centred at the origin),
+//! `outside: cylinder(R0, axis, O)` (a log whose axis has the direction
+//! `axis` through O). The contact point is P = G − r N with N the
+//! surface's normal towards the ball, and the height row keeps the centre
+//! at R0 ∓ r from the centre or the axis.
+//!
 //! `outputs { contact_points }` adds `contact_points(&self, q)`, the
 //! contact points of the rolling contacts as the columns of a 3 × c matrix.
 //! The struct's documentation lists the vector and rotation `let`s by name,

@@ -181,6 +181,7 @@ def make_rhs(par, md):
     """Reduced equations for s = (psi, theta, phi, x, y, psi', theta', phi'):
     q' = S u, q'' = S u' + b (b from C' q'), S^T (M q'' - F) = 0."""
     fcm, fdyn = F_CM[md], F_DYN[md]
+    sin = math.sin if md == 'math' else mpmath.sin
 
     def rhs(t, s):
         q = s[:5]
@@ -196,7 +197,10 @@ def make_rhs(par, md):
         A3 = [[sum(Sm[k][i] * MS[k][j] for k in range(5)) for j in range(3)] for i in range(3)]
         r3 = [sum(Sm[k][i] * rv[k] for k in range(5)) for i in range(3)]
         ud = solve_lin(A3, r3)
-        return [u[0], u[1], u[2], xd, yd, ud[0], ud[1], ud[2]]
+        out = [u[0], u[1], u[2], xd, yd, ud[0], ud[1], ud[2]]
+        if len(s) > 8:                 # Omega' = omega_z (integral of the vertical spin)
+            out.append(u[0] - u[2] * sin(q[1]))
+        return out
     return rhs
 
 
@@ -466,10 +470,15 @@ def hermite(y0, f0, y1, f1, H, th_):
     return [h00 * y0[i] + h10 * H * f0[i] + h01 * y1[i] + h11 * H * f1[i] for i in range(len(y0))]
 
 
-def run_reversal(par, s0, t_end, integ, hmax, grid_dt=0.05, t_stop_after_first=None, want_extreme=True):
-    """Integrate, sample omega_z on a grid, locate every sign change of omega_z and
-    the extreme of omega_z (sign opposite to the initial spin) between the first
-    and the second sign change; energy drift.  float or mpf state (from s0)."""
+def run_reversal(par, s0, t_end, integ, hmax, grid_dt=0.05, mean_window=0.2, thresh=0.5, full=True):
+    """Integrate s = (q, u, Omega) with Omega' = omega_z; afterwards locate
+      * every sign change of omega_z in [0, t_end]: sign changes between samples (8 per step,
+        cubic Hermite) and dips towards zero (local minima of |omega_z| below `thresh`,
+        golden-section refined on exact re-integration), roots by Illinois regula falsi;
+      * (full) sign changes of the centred moving average
+        wbar(t) = (Omega(t + w/2) - Omega(t - w/2)) / w, w = mean_window;
+      * (full) the extreme of omega_z with sign opposite to the initial spin between the
+        first and second sign change of wbar (or the end of the run)."""
     md = 'math' if isinstance(s0[0], float) else 'mpmath'
     sin = math.sin if md == 'math' else mpmath.sin
     fE, fcm, f = F_E[md], F_CM[md], integ.f
@@ -482,70 +491,24 @@ def run_reversal(par, s0, t_end, integ, hmax, grid_dt=0.05, t_stop_after_first=N
         xd, yd = dep_speeds(fcm(*s[:5], *par), s[5:8])
         return fE(*s[:5], s[5], s[6], s[7], xd, yd, *par)[0]
 
-    t = 0.0 if md == 'math' else mpmath.mpf(0)
-    yv = list(s0)
+    t_cpu = time.time()
+    zero = 0.0 if md == 'math' else mpmath.mpf(0)
+    t, yv = zero, list(s0) + [zero]
     fv = f(t, yv)
     sign0 = 1 if wz(yv) > 0 else -1
     E0 = energy(yv)
     dEmax = 0
     hcur = hmax / 10
     steps_t, steps_y, steps_f = [t], [yv], [fv]
+    amp = []                                  # per step end: (t, |theta|, |phi|)
+    smp_t, smp_w = [t], [wz(yv)]              # omega_z samples
     grid = [(0.0, float(wz(yv)), float(yv[1]), float(yv[2]))]
-    ngrid = int(round(t_end * gsteps))
-    crossings = []
-    best = None             # (value * (-sign0), sample time) of the extreme in phase 1
-    phase_amp = [[0.0, 0.0]]
+    targets = [ig / gsteps if md == 'math' else mpmath.mpf(ig) / gsteps
+               for ig in range(1, int(math.floor(float(t_end) * gsteps + 1e-9)) + 1)]
+    if not targets or targets[-1] < t_end - 1e-12:
+        targets.append(t_end)
     nsteps = nrej = 0
-
-    def wz_t(tau):
-        """omega_z at time tau (exact re-integration from the accepted step start)."""
-        k = min(bisect.bisect_right(steps_t, tau) - 1, len(steps_t) - 2)
-        if tau == steps_t[k]:
-            return wz(steps_y[k])
-        return wz(advance(integ, steps_t[k], steps_y[k], steps_f[k], tau, steps_t[k + 1] - steps_t[k]))
-
-    def refine_root(ta, tb, wa, wb_):
-        side = 0                           # Illinois (modified regula falsi)
-        eps = 1e-13 if md == 'math' else mpmath.mpf(10) ** -24
-        for _ in range(300):
-            tc = (ta * wb_ - tb * wa) / (wb_ - wa)
-            wc = wz_t(tc)
-            if wc == 0:
-                return tc
-            if (wc > 0) == (wb_ > 0):
-                tb, wb_ = tc, wc
-                if side == -1:
-                    wa /= 2
-                side = -1
-            else:
-                ta, wa = tc, wc
-                if side == 1:
-                    wb_ /= 2
-                side = 1
-            if abs(tb - ta) < eps:
-                break
-        return (ta + tb) / 2
-
-    def refine_max(lo, hi):
-        s = -sign0                         # golden-section maximisation of -sign0 * omega_z
-        gr = (math.sqrt(5) - 1) / 2
-        x1, x2 = hi - gr * (hi - lo), lo + gr * (hi - lo)
-        f1, f2 = s * wz_t(x1), s * wz_t(x2)
-        while hi - lo > 1e-11:
-            if f1 < f2:
-                lo, x1, f1 = x1, x2, f2
-                x2 = lo + gr * (hi - lo)
-                f2 = s * wz_t(x2)
-            else:
-                hi, x2, f2 = x2, x1, f1
-                x1 = hi - gr * (hi - lo)
-                f1 = s * wz_t(x1)
-        tm = (lo + hi) / 2
-        return tm, wz_t(tm)
-
-    stop = False
-    for ig in range(1, ngrid + 1):
-        tg = ig / gsteps if md == 'math' else mpmath.mpf(ig) / gsteps
+    for tg in targets:
         while t < tg:
             H = min(hcur, hmax, tg - t)
             if t + H >= tg - 1e-12:
@@ -558,38 +521,147 @@ def run_reversal(par, s0, t_end, integ, hmax, grid_dt=0.05, t_stop_after_first=N
             nsteps += 1
             tn = tg if H == tg - t else t + H
             fn = f(tn, yn)
+            for i in range(1, 8):
+                smp_t.append(t + H * i / 8)
+                smp_w.append(wz(hermite(yv, fv, yn, fn, H, i / 8)))
+            smp_t.append(tn)
+            smp_w.append(wz(yn))
             steps_t.append(tn)
             steps_y.append(yn)
             steps_f.append(fn)
-            ts = [t + H * i / 8 for i in range(8)] + [tn]
-            ws = [wz(yv)] + [wz(hermite(yv, fv, yn, fn, H, i / 8)) for i in range(1, 8)] + [wz(yn)]
-            if any((ws[i] > 0) != (ws[i + 1] > 0) for i in range(8)):
-                ws = [ws[0]] + [wz_t(ts[i]) for i in range(1, 8)] + [ws[8]]   # exact samples
-            for i in range(8):
-                if (ws[i] > 0) != (ws[i + 1] > 0):
-                    crossings.append(refine_root(ts[i], ts[i + 1], ws[i], ws[i + 1]))
-                    phase_amp.append([0.0, 0.0])
-                if len(crossings) == 1:
-                    v = -sign0 * ws[i + 1]
-                    if best is None or v > best[0]:
-                        best = (v, ts[i + 1], H)
-            phase_amp[-1][0] = max(phase_amp[-1][0], abs(float(yn[1])))
-            phase_amp[-1][1] = max(phase_amp[-1][1], abs(float(yn[2])))
+            amp.append((float(tn), abs(float(yn[1])), abs(float(yn[2]))))
             dEmax = max(dEmax, abs(energy(yn) - E0))
             t, yv, fv = tn, yn, fn
-            if t_stop_after_first is not None and crossings and t > crossings[0] + t_stop_after_first:
-                stop = True
+        if abs(float(tg) * gsteps - round(float(tg) * gsteps)) < 1e-9:
+            grid.append((float(tg), float(wz(yv)), float(yv[1]), float(yv[2])))
+    t_int = time.time() - t_cpu
+
+    def state_at(tau):
+        k = min(bisect.bisect_right(steps_t, tau) - 1, len(steps_t) - 2)
+        if tau == steps_t[k]:
+            return steps_y[k]
+        return advance(integ, steps_t[k], steps_y[k], steps_f[k], tau, steps_t[k + 1] - steps_t[k])
+
+    def wz_t(tau):
+        return wz(state_at(tau))
+
+    eps_t = 1e-13 if md == 'math' else mpmath.mpf(10) ** -22
+
+    def root(fun, ta, tb, fa, fb):
+        side = 0                              # Illinois (modified regula falsi)
+        for _ in range(200):
+            tc = (ta * fb - tb * fa) / (fb - fa)
+            fc = fun(tc)
+            if fc == 0:
+                return tc
+            if (fc > 0) == (fb > 0):
+                tb, fb = tc, fc
+                if side == -1:
+                    fa /= 2
+                side = -1
+            else:
+                ta, fa = tc, fc
+                if side == 1:
+                    fb /= 2
+                side = 1
+            if abs(tb - ta) < eps_t:
                 break
-        if stop:
-            break
-        grid.append((float(tg), float(wz(yv)), float(yv[1]), float(yv[2])))
+        return (ta + tb) / 2
+
+    def golden_min(fun, lo, hi, tolx):
+        gr = (math.sqrt(5) - 1) / 2
+        x1, x2 = hi - gr * (hi - lo), lo + gr * (hi - lo)
+        f1, f2 = fun(x1), fun(x2)
+        while hi - lo > tolx:
+            if f1 > f2:
+                lo, x1, f1 = x1, x2, f2
+                x2 = lo + gr * (hi - lo)
+                f2 = fun(x2)
+            else:
+                hi, x2, f2 = x2, x1, f1
+                x1 = hi - gr * (hi - lo)
+                f1 = fun(x1)
+        tm = (lo + hi) / 2
+        return tm, fun(tm)
+
+    tol_min = 1e-10 if md == 'math' else mpmath.mpf(10) ** -16
+    # ---- sign changes of omega_z
+    roots, dips = [], []
+    N = len(smp_t)
+    for i in range(1, N):
+        if (smp_w[i - 1] > 0) != (smp_w[i] > 0):
+            wa, wb_ = wz_t(smp_t[i - 1]), wz_t(smp_t[i])
+            if (wa > 0) != (wb_ > 0):
+                roots.append(root(wz_t, smp_t[i - 1], smp_t[i], wa, wb_))
+            else:                             # Hermite sample was wrong: examine as a dip
+                dips.append((max(i - 2, 0), min(i + 1, N - 1)))
+    for i in range(1, N - 1):
+        a_, b_, c_ = smp_w[i - 1], smp_w[i], smp_w[i + 1]
+        if ((a_ > 0) == (b_ > 0) == (c_ > 0) and abs(b_) < thresh
+                and abs(b_) <= abs(a_) and abs(b_) <= abs(c_)):
+            dips.append((i - 1, i + 1))
+    for i0, i1 in dips:
+        sg = 1 if wz_t(smp_t[i0]) > 0 else -1
+        tm, vm = golden_min(lambda tau: sg * wz_t(tau), smp_t[i0], smp_t[i1], tol_min)
+        if vm < 0:
+            for ta, tb in ((smp_t[i0], tm), (tm, smp_t[i1])):
+                fa, fb = wz_t(ta), wz_t(tb)
+                if (fa > 0) != (fb > 0):
+                    roots.append(root(wz_t, ta, tb, fa, fb))
+    roots.sort()
+    crossings = []
+    for r_ in roots:
+        if not crossings or abs(r_ - crossings[-1]) > 1e-9:
+            crossings.append(r_)
     res = {'t_end': float(t), 'sign0': sign0, 'crossings': crossings, 'E0': E0, 'dEmax': dEmax,
            'grid': grid, 'steps': nsteps, 'rejected': nrej, 'nfev': integ.nfev,
-           'phase_amplitudes': phase_amp}
-    if want_extreme and best is not None:
-        v, tc, Hc = best
-        dt = 1.5 * Hc / 8             # samples are Hc/8 apart: the maximum is within +-Hc/8 of tc
-        res['extreme'] = refine_max(max(tc - dt, crossings[0]), min(tc + dt, t))
+           'cpu_integration': t_int}
+    if len(crossings) >= 2 and crossings[1] - crossings[0] < 0.01:
+        sg = -sign0
+        tm, vm = golden_min(lambda tau: -sg * wz_t(tau), crossings[0], crossings[1], tol_min)
+        res['first_excursion'] = {'duration': crossings[1] - crossings[0], 'extreme_time': tm, 'extreme': vm}
+    if not full:
+        return res
+    # ---- centred moving average of omega_z
+    w2 = mean_window / 2
+
+    def omega_h(tau):                         # Hermite interpolation of Omega (for bracketing)
+        k = min(bisect.bisect_right(steps_t, tau) - 1, len(steps_t) - 2)
+        Hk = steps_t[k + 1] - steps_t[k]
+        th_ = (tau - steps_t[k]) / Hk
+        h00, h10 = 2 * th_**3 - 3 * th_**2 + 1, th_**3 - 2 * th_**2 + th_
+        h01, h11 = -2 * th_**3 + 3 * th_**2, th_**3 - th_**2
+        return (h00 * steps_y[k][8] + h10 * Hk * steps_f[k][8]
+                + h01 * steps_y[k + 1][8] + h11 * Hk * steps_f[k + 1][8])
+
+    def wbar(tau):
+        return (state_at(tau + w2)[8] - state_at(tau - w2)[8]) / mean_window
+
+    mt = [tk for tk in steps_t if w2 <= tk <= t - w2]
+    mv = [(omega_h(tk + w2) - omega_h(tk - w2)) / mean_window for tk in mt]
+    mean_cross = []
+    for i in range(1, len(mt)):
+        if (mv[i - 1] > 0) != (mv[i] > 0):
+            fa, fb = wbar(mt[i - 1]), wbar(mt[i])
+            if (fa > 0) != (fb > 0):
+                mean_cross.append(root(wbar, mt[i - 1], mt[i], fa, fb))
+    res['mean_crossings'] = mean_cross
+    # ---- extreme of omega_z in the first reversed phase
+    if mean_cross:
+        lo_t = mean_cross[0] - w2
+        hi_t = mean_cross[1] + w2 if len(mean_cross) > 1 else t
+        cand = [i for i in range(1, N - 1) if lo_t <= smp_t[i] <= hi_t]
+        ib = max(cand, key=lambda i: -sign0 * smp_w[i])
+        tm, vm = golden_min(lambda tau: sign0 * wz_t(tau), smp_t[ib - 1], smp_t[ib + 1], tol_min)
+        res['extreme'] = (tm, sign0 * vm)
+        res['extreme_window'] = (lo_t, hi_t)
+    # ---- rocking amplitudes per phase of the mean spin
+    edges = [0.0] + [float(c) for c in mean_cross] + [float(t)]
+    res['phase_amplitudes'] = [
+        [edges[k], edges[k + 1],
+         max([a[1] for a in amp if edges[k] < a[0] <= edges[k + 1]] or [0.0]),
+         max([a[2] for a in amp if edges[k] < a[0] <= edges[k + 1]] or [0.0])]
+        for k in range(len(edges) - 1)]
     return res
 
 
@@ -617,16 +689,32 @@ def ic_autolev_mp():
     return [ps_, th_, ph_, mpmath.mpf(0), mpmath.mpf(0), ud[0], ud[1], ud[2]]
 
 
+def fl(v):
+    return repr(float(v))
+
+
 def summarize(r):
     out = {'t_end': r['t_end'], 'steps': r['steps'], 'rejected_steps': r['rejected'], 'rhs_evaluations': r['nfev'],
-           'energy_initial': repr(float(r['E0'])), 'energy_max_abs_drift': float(r['dEmax']),
+           'energy_initial': fl(r['E0']), 'energy_max_abs_drift': float(r['dEmax']),
            'energy_max_rel_drift': float(r['dEmax'] / abs(r['E0'])),
-           'omega_z_sign_changes': [repr(float(c)) for c in r['crossings']]}
-    if r['crossings']:
-        out['t_first_sign_change'] = repr(float(r['crossings'][0]))
+           't_first_sign_change': fl(r['crossings'][0]) if r['crossings'] else None,
+           'omega_z_sign_changes': [fl(c) for c in r['crossings']]}
+    if 'first_excursion' in r:
+        fe = r['first_excursion']
+        out['first_excursion'] = {'duration': fl(fe['duration']), 'extreme_omega_z': fl(fe['extreme']),
+                                  'extreme_time': fl(fe['extreme_time'])}
+    if 'mean_crossings' in r:
+        out['mean_spin_sign_changes'] = [fl(c) for c in r['mean_crossings']]
+        out['t_first_mean_spin_sign_change'] = fl(r['mean_crossings'][0]) if r['mean_crossings'] else None
     if 'extreme' in r:
-        out['reversed_extreme_omega_z'] = repr(float(r['extreme'][1]))
-        out['reversed_extreme_time'] = repr(float(r['extreme'][0]))
+        out['reversed_extreme_omega_z'] = fl(r['extreme'][1])
+        out['reversed_extreme_time'] = fl(r['extreme'][0])
+        out['reversed_extreme_search_window'] = [fl(v) for v in r['extreme_window']]
+    if 'phase_amplitudes' in r:
+        out['rocking_amplitude_per_mean_spin_phase'] = [
+            {'from': round(a, 6), 'to': round(b, 6), 'max_abs_theta': round(c, 6), 'max_abs_phi': round(d, 6)}
+            for a, b, c, d in r['phase_amplitudes']]
+    out['cpu_seconds'] = round(r['cpu_total'], 1)
     return out
 
 
@@ -640,33 +728,38 @@ def reversal_case(setname, s0, t_end, label):
         integ = mk(make_rhs(PARS_F[setname], 'math'))
         t1 = time.time()
         r = run_reversal(PARS_F[setname], s0, t_end, integ, hmax)
-        r['cpu_s'] = time.time() - t1
+        r['cpu_total'] = time.time() - t1
         runs[key] = r
-        log('  ', key, 'first sign change', r['crossings'][:3], 'extreme', r.get('extreme'),
-            'dE', float(r['dEmax']), 'steps', r['steps'], '%.1fs' % r['cpu_s'])
-    ref, lo = runs['BS_tol1e-13'], runs['BS_tol1e-11']
-    dp = runs['DP54_tol1e-12']
-    grid_diff = max(abs(a[1] - b[1]) for a, b in zip(ref['grid'], lo['grid']))
-    grid_diff_dp = max(abs(a[1] - b[1]) for a, b in zip(ref['grid'], dp['grid']))
-    ncommon = min(len(ref['crossings']), len(lo['crossings']))
+        log('  ', key, 'crossings', [round(c, 9) for c in r['crossings'][:4]], 'mean', [round(c, 7) for c in r['mean_crossings'][:3]],
+            'extreme', r.get('extreme'), 'dE %.2e' % float(r['dEmax']), 'steps', r['steps'],
+            'nfev', r['nfev'], '%.1fs (int %.1fs)' % (r['cpu_total'], r['cpu_integration']))
+    ref, lo, dp = runs['BS_tol1e-13'], runs['BS_tol1e-11'], runs['DP54_tol1e-12']
+
+    def pairdiff(a, b):
+        n = min(len(a), len(b))
+        return {'count_equal': len(a) == len(b), 'max_abs_diff': max([abs(float(a[i] - b[i])) for i in range(n)] or [0.0])}
+
+    conv = {}
+    for nm, other in (('BS11', lo), ('DP12', dp)):
+        conv['first_sign_change_BS13_minus_' + nm] = float(ref['crossings'][0] - other['crossings'][0])
+        conv['first_mean_sign_change_BS13_minus_' + nm] = float(ref['mean_crossings'][0] - other['mean_crossings'][0])
+        conv['extreme_omega_z_BS13_minus_' + nm] = float(ref['extreme'][1] - other['extreme'][1])
+        conv['extreme_time_BS13_minus_' + nm] = float(ref['extreme'][0] - other['extreme'][0])
+        conv['all_sign_changes_BS13_vs_' + nm] = pairdiff(ref['crossings'], other['crossings'])
+        conv['all_mean_sign_changes_BS13_vs_' + nm] = pairdiff(ref['mean_crossings'], other['mean_crossings'])
+        conv['grid_omega_z_max_abs_diff_BS13_vs_' + nm] = max(abs(a[1] - b[1]) for a, b in zip(ref['grid'], other['grid']))
     out = {
         'reference_run': 'BS_tol1e-13',
+        't_end': t_end,
+        't_first_sign_change': fl(ref['crossings'][0]),
+        't_first_mean_spin_sign_change': fl(ref['mean_crossings'][0]),
+        'reversed_extreme_omega_z': fl(ref['extreme'][1]),
+        'reversed_extreme_time': fl(ref['extreme'][0]),
+        'energy_max_abs_drift': float(ref['dEmax']),
         'runs': {k: dict(summarize(v), integrator=('Bulirsch-Stoer' if k.startswith('BS') else 'Dormand-Prince 5(4)'),
-                         rtol=float(k.split('tol')[1]), atol=float(k.split('tol')[1]), hmax=hmax,
-                         cpu_seconds=round(v['cpu_s'], 1))
+                         rtol=float(k.split('tol')[1]), atol=float(k.split('tol')[1]), hmax=hmax)
                  for k, v in runs.items()},
-        'convergence': {
-            'first_sign_change_BS13_minus_BS11': float(ref['crossings'][0] - lo['crossings'][0]),
-            'first_sign_change_BS13_minus_DP12': float(ref['crossings'][0] - dp['crossings'][0]),
-            'extreme_omega_z_BS13_minus_BS11': float(ref['extreme'][1] - lo['extreme'][1]),
-            'extreme_time_BS13_minus_BS11': float(ref['extreme'][0] - lo['extreme'][0]),
-            'extreme_omega_z_BS13_minus_DP12': float(ref['extreme'][1] - dp['extreme'][1]),
-            'sign_change_times_max_abs_diff_BS13_vs_BS11':
-                [abs(float(a - b)) for a, b in zip(ref['crossings'][:ncommon], lo['crossings'][:ncommon])],
-            'grid_omega_z_max_abs_diff_BS13_vs_BS11': grid_diff,
-            'grid_omega_z_max_abs_diff_BS13_vs_DP12': grid_diff_dp,
-        },
-        'phase_amplitudes_max_abs_theta_phi': [[round(a, 6), round(b, 6)] for a, b in ref['phase_amplitudes']],
+        'convergence': conv,
         'trajectory': {
             'dt': 0.05,
             't': [round(gr[0], 10) for gr in ref['grid']],
@@ -678,8 +771,8 @@ def reversal_case(setname, s0, t_end, label):
     return out, runs
 
 
-def mp_first_reversal(setname, s0, margin, dps=32, tol=1e-20):
-    """32-digit Bulirsch-Stoer run until `margin` s past the first sign change."""
+def mp_first_reversal(setname, s0, t_end, dps=32, tol=1e-20):
+    """32-digit Bulirsch-Stoer run (same code, mpmath arithmetic) over [0, t_end]."""
     save = mpmath.mp.dps
     mpmath.mp.dps = dps
     try:
@@ -687,11 +780,30 @@ def mp_first_reversal(setname, s0, margin, dps=32, tol=1e-20):
         integ = BS(make_rhs(par, 'mpmath'), tol, kmax=12, jtarget=8)
         s0m = [mpmath.mpf(v) for v in s0]
         t1 = time.time()
-        r = run_reversal(par, s0m, 10.0, integ, hmax=0.004, t_stop_after_first=margin, want_extreme=False)
-        r['cpu_s'] = time.time() - t1
+        r = run_reversal(par, s0m, mpmath.mpf(t_end), integ, hmax=0.004, full=False)
+        r['cpu_total'] = time.time() - t1
         return r
     finally:
         mpmath.mp.dps = save
+
+
+def mp_check(setname, s0, float_runs, label):
+    t_stop = math.ceil((float_runs['BS_tol1e-13']['crossings'][0] + 0.01) * 100) / 100
+    log('mpmath run', label, 'to', t_stop)
+    mpr = mp_first_reversal(setname, s0, t_stop)
+    c0 = mpr['crossings'][0]
+    out = {'dps': 32, 'integrator': 'Bulirsch-Stoer (same code, mpmath arithmetic)', 'tol': 1e-20,
+           'kmax': 12, 'hmax': 0.004, 'integrated_until': mpr['t_end'], 'rhs_evaluations': mpr['nfev'],
+           'cpu_seconds': round(mpr['cpu_total'], 1),
+           't_first_sign_change': mpmath.nstr(c0, 20),
+           'sign_changes_until_end': [mpmath.nstr(c, 20) for c in mpr['crossings']],
+           'energy_max_abs_drift': mpmath.nstr(mpr['dEmax'], 5)}
+    for k, nm in (('BS_tol1e-13', 'BS13'), ('BS_tol1e-11', 'BS11'), ('DP54_tol1e-12', 'DP12')):
+        out[nm + '_minus_mpmath'] = float(float_runs[k]['crossings'][0] - c0)
+    if 'first_excursion' in mpr:
+        out['first_excursion_extreme_omega_z'] = mpmath.nstr(mpr['first_excursion']['extreme'], 15)
+    log('   ', out)
+    return out
 
 
 reversal = {}
@@ -700,9 +812,9 @@ reversal = {}
 dircheck = {}
 for spin in (-5, 5):
     integ = BS(make_rhs(PARS_F['main'], 'math'), 1e-10)
-    r = run_reversal(PARS_F['main'], ic_main(spin), 4.0, integ, 0.005, want_extreme=False)
-    dircheck['psi_d0=%+d' % spin] = {'t_first_sign_change': repr(float(r['crossings'][0])) if r['crossings'] else None,
-                                     'tol': 1e-10}
+    r = run_reversal(PARS_F['main'], ic_main(spin), 2.5, integ, 0.005, full=False)
+    dircheck['psi_d0=%+d' % spin] = {'t_first_sign_change': fl(r['crossings'][0]) if r['crossings'] else None,
+                                     'tol': 1e-10, 'integrated_until': 2.5}
 log('direction check', dircheck)
 reversal['direction_check_main'] = dircheck
 
@@ -711,20 +823,8 @@ main_out, main_runs = reversal_case('main', S0_MAIN, 10.0, 'main')
 S0_KL_MP = ic_autolev_mp()
 S0_KL = [float(v) for v in S0_KL_MP]
 kl_out, kl_runs = reversal_case('kane_levinson_1982', S0_KL, 20.0, 'kane_levinson_1982')
-
-# --- 32-digit confirmation of the first reversal
-log('mpmath run (main)')
-mpr = mp_first_reversal('main', S0_MAIN, margin=0.05)
-main_out['mpmath_check'] = {
-    'dps': 32, 'integrator': 'Bulirsch-Stoer (same code, mpmath arithmetic)', 'tol': 1e-20,
-    'integrated_until': mpr['t_end'], 'rhs_evaluations': mpr['nfev'], 'cpu_seconds': round(mpr['cpu_s'], 1),
-    't_first_sign_change': mpmath.nstr(mpr['crossings'][0], 22),
-    'BS13_minus_mpmath': float(main_runs['BS_tol1e-13']['crossings'][0] - mpr['crossings'][0]),
-    'BS11_minus_mpmath': float(main_runs['BS_tol1e-11']['crossings'][0] - mpr['crossings'][0]),
-    'DP12_minus_mpmath': float(main_runs['DP54_tol1e-12']['crossings'][0] - mpr['crossings'][0]),
-    'energy_max_abs_drift': mpmath.nstr(mpr['dEmax'], 5),
-}
-log('mpmath first sign change', main_out['mpmath_check'])
+main_out['mpmath_check'] = mp_check('main', S0_MAIN, main_runs, 'main')
+kl_out['mpmath_check'] = mp_check('kane_levinson_1982', S0_KL, kl_runs, 'kane_levinson_1982')
 
 main_out['initial_state'] = {'psi': '0', 'theta': '0.01', 'phi': '0.01', 'x': '0', 'y': '0',
                              'psi_d': '-5', 'theta_d': '0', 'phi_d': '0',

@@ -289,6 +289,12 @@ words! {
         /// `origin: O`, a point of the support's plane (by default the
         /// origin, or the supporting body's centre)
         Origin = "origin",
+        /// `inside: sphere(..)` or `cylinder(..)`, a fixed surface a ball
+        /// rolls in
+        Inside = "inside",
+        /// `outside: sphere(..)` or `cylinder(..)`, a fixed surface a ball
+        /// rolls on
+        Outside = "outside",
     }
 
     /// A component of a vector, `v.x`.

@@ -5,6 +5,7 @@
 
 mod ellipsoid;
 mod support;
+mod surfaces;
 
 use super::Lowerer;
 use super::values::{Rotation, Vec3, add3, cross3, dot3, mat_vec, scale3, sub3, unit};
@@ -44,6 +45,12 @@ impl Lowerer<'_> {
         };
         if let Some(axes) = get(RollingField::SemiAxes) {
             return self.ellipsoid_contact(def, &fields, axes, support.as_ref());
+        }
+        let curved = [RollingField::Inside, RollingField::Outside]
+            .into_iter()
+            .find_map(|f| get(f).map(|x| (f, x)));
+        if let Some((which, x)) = curved {
+            return self.ball_on(def, &fields, which, x);
         }
         let b = self.body(&def.body);
         let radius = match get(RollingField::Radius) {
@@ -323,6 +330,65 @@ impl Lowerer<'_> {
         }
     }
 
+    /// The contact of `rolls(BALL, radius: r, inside: S)` (or `outside`):
+    /// a sphere on a fixed curved surface S.
+    fn ball_on(
+        &mut self,
+        def: &RollingDef,
+        fields: &[(RollingField, &Expr)],
+        which: RollingField,
+        x: &Expr,
+    ) -> Option<Contact> {
+        let mut fine = true;
+        for (f, y) in fields {
+            let other = match f {
+                RollingField::Axle | RollingField::Tube => {
+                    "only a ball rolls on a curved surface (a wheel or torus on one is not modelled)"
+                }
+                RollingField::On | RollingField::Origin => {
+                    "a curved surface is fixed: it takes no `on` or `origin`"
+                }
+                RollingField::Inside | RollingField::Outside if *f != which => {
+                    "a ball rolls on one surface"
+                }
+                _ => continue,
+            };
+            self.cx.error(
+                y.range(),
+                format!("`{f}` with `{which}`: {other}; remove `{f}`"),
+            );
+            fine = false;
+        }
+        let get = |n: RollingField| fields.iter().find(|f| f.0 == n).map(|f| f.1);
+        let surface = self.surface(which, x);
+        let radius = match get(RollingField::Radius) {
+            Some(r) => self.rolling_length(r, RollingField::Radius),
+            None => {
+                self.cx.error(
+                    def.range,
+                    format!(
+                        "`rolls({}, ..)` on a curved surface needs the ball's `radius: r`",
+                        def.body
+                    ),
+                );
+                None
+            }
+        };
+        let centre =
+            get(RollingField::Centre).map(|c| self.lower_position_vector(c, "the ball's centre"));
+        let b = self.body(&def.body)?;
+        let (surface, radius) = (surface?, radius?);
+        let centre = match centre {
+            Some(c) => c?,
+            None => b.centre,
+        };
+        let Some((rot, _)) = &b.rotation else {
+            self.cx.error(def.range, format!("body `{}` is a point mass: a rolling body needs an `orientation` and an `inertia`", def.body));
+            return None;
+        };
+        fine.then(|| self.ball_on_surface(def, rot, centre, radius, &surface))
+    }
+
     /// o = P − G of a round body turned by `rot` on a plane of unit normal
     /// N: −r w − ρ N with w = (N − (N·n) n)/|N × n| the direction to the
     /// rim's lowest point (n the world axle; a sphere has w = N); the
@@ -397,18 +463,8 @@ impl Lowerer<'_> {
         centre: Vec3,
         offset: Vec3,
     ) -> (Contact, Vec3) {
-        let point = add3(&mut self.e, centre, offset);
-        let omega = self.angular_velocity(rot, true);
-        let gdot = centre.map(|c| self.time_derivative(c));
-        let spin = cross3(&mut self.e, omega, offset);
-        let v = add3(&mut self.e, gdot, spin);
-        let height = (point[2] != ZERO
-            && !crate::sym::random_points::vanish_at_random_points(
-                &self.e,
-                self.pi_sym,
-                &[point[2]],
-            ))
-        .then_some(point[2]);
+        let (point, omega, v) = self.material_velocity(rot, centre, offset);
+        let height = self.height_row(point[2]);
         let contact = Contact {
             velocity: [v[0], v[1]],
             height,
@@ -418,6 +474,30 @@ impl Lowerer<'_> {
             kinematics: None,
         };
         (contact, omega)
+    }
+
+    /// The point P = G + o of a body turned by `rot` with centre G, ω, and
+    /// the velocity of the body's material point at P, Ġ + ω × o.
+    pub(super) fn material_velocity(
+        &mut self,
+        rot: &Rotation,
+        centre: Vec3,
+        offset: Vec3,
+    ) -> (Vec3, Vec3, Vec3) {
+        let point = add3(&mut self.e, centre, offset);
+        let omega = self.angular_velocity(rot, true);
+        let gdot = centre.map(|c| self.time_derivative(c));
+        let spin = cross3(&mut self.e, omega, offset);
+        let v = add3(&mut self.e, gdot, spin);
+        (point, omega, v)
+    }
+
+    /// A contact's height h as its holonomic row, unless h vanishes
+    /// identically.
+    pub(super) fn height_row(&mut self, h: ExprId) -> Option<ExprId> {
+        (h != ZERO
+            && !crate::sym::random_points::vanish_at_random_points(&self.e, self.pi_sym, &[h]))
+        .then_some(h)
     }
 
     /// |e_z × n| = √(1 − n_z²) for a unit axle n: cos u when 1 − n_z² is

@@ -91,11 +91,7 @@ impl Lowerer<'_> {
         offset: Vec3,
         sp: &Support,
     ) -> Contact {
-        let point = add3(&mut self.e, centre, offset);
-        let omega = self.angular_velocity(rot, true);
-        let gdot = centre.map(|c| self.time_derivative(c));
-        let spin = cross3(&mut self.e, omega, offset);
-        let body = add3(&mut self.e, gdot, spin);
+        let (point, _, body) = self.material_velocity(rot, centre, offset);
         // the support's material velocity at P: Ȯ + ω_F × (P − O)
         let odot = sp.origin.map(|c| self.time_derivative(c));
         let arm = sub3(&mut self.e, point, sp.origin);
@@ -107,9 +103,7 @@ impl Lowerer<'_> {
             Some(t) => t.map(|t| dot3(&mut self.e, slip, t)),
         };
         let h = dot3(&mut self.e, arm, sp.normal);
-        let height = (h != ZERO
-            && !crate::sym::random_points::vanish_at_random_points(&self.e, self.pi_sym, &[h]))
-        .then_some(h);
+        let height = self.height_row(h);
         Contact {
             velocity,
             height,
