@@ -520,7 +520,9 @@ mod tests {
                 "centre",
                 "semi_axes",
                 "on",
-                "origin"
+                "origin",
+                "inside",
+                "outside"
             ]
         );
         // `center` is read as `centre`, which is the name written back
