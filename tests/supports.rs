@@ -97,3 +97,19 @@ fn a_ball_on_a_turntable_circles_at_two_sevenths_of_its_rate() {
     );
     assert!(err < 1e-9, "{err:e}");
 }
+
+nonholonomic_system! {
+    /// A ball on a plate that a joint tilts about x: the plate is a body of
+    /// the system, driven by the torque u.
+    pub struct TiltingPlate {
+        parameters { m, r, Jx, g }
+        coordinates { beta, x, y, z, a, b, c }
+        inputs { u }
+        let R = rot_z(a)*rot_y(b)*rot_x(c);
+        body plate { mass: 1, centre: [0, 0, 0], orientation: rot_x(beta), inertia: diag(Jx, 1, 1) }
+        body ball { mass: m, centre: [x, y, z], orientation: R, inertia: diag(2*m*r^2/5, 2*m*r^2/5, 2*m*r^2/5) }
+        lagrangian = Jx/2*dot(beta)^2 + kinetic_energy(ball) - m*g*z;
+        forces { beta: u; }
+        constraints { rolls(ball, radius: r, on: plate); }
+    }
+}
