@@ -636,6 +636,32 @@
 //! surface's normal towards the ball, and the height row keeps the centre
 //! at R0 ∓ r from the centre or the axis.
 //!
+//! **Skates.** `skates(NAME, across: d, at: p)` is a knife edge: the body's
+//! point p (body axes, from the centre of mass) has no velocity along the
+//! body-fixed direction d. The Chaplygin sleigh, its blade a behind the
+//! centre of mass:
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     pub struct Sleigh {
+//!         parameters { m, J, a }
+//!         coordinates { x, y, theta }
+//!         let R = rot_z(theta);
+//!         body sled { mass: m, centre: [x, y, 0] + R*[a, 0, 0], orientation: R, inertia: diag(J, J, J) }
+//!         lagrangian = kinetic_energy(sled);
+//!         constraints { skates(sled, across: [0, 1, 0], at: [-a, 0, 0]); }
+//!     }
+//! }
+//!
+//! let sleigh = Sleigh::new(1.3, 0.4, 0.25);
+//! let (q, rdot) = (SVector::from([0.0, 0.0, 0.5]), SVector::from([1.0, 0.0]));
+//! // the blade's point (x, y) moves along the blade: ẏ = tan θ ẋ
+//! let sdot = sleigh.dependent_velocities(&q, &rdot);
+//! assert!((sdot[0] - 0.5_f64.tan()).abs() < 1e-15);
+//! ```
+//!
 //! `outputs { contact_points }` adds `contact_points(&self, q)`, the
 //! contact points of the rolling contacts as the columns of a 3 × c matrix.
 //! The struct's documentation lists the vector and rotation `let`s by name,

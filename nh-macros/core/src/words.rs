@@ -154,6 +154,8 @@ words! {
         Body = "body",
         /// `rolls(BODY, radius: .., ..);`
         Rolls = "rolls",
+        /// `skates(BODY, across: d[, at: p]);`
+        Skates = "skates",
     }
 
     /// An opt-in output (DESIGN §3), or `routes`.
@@ -295,6 +297,14 @@ words! {
         /// `outside: sphere(..)` or `cylinder(..)`, a fixed surface a ball
         /// rolls on
         Outside = "outside",
+    }
+
+    /// A named argument of a skate or knife edge, `skates(BODY, across: ..)`.
+    pub enum SkateField {
+        /// `across: d`, the body-fixed direction the point does not move along
+        Across = "across",
+        /// `at: p`, the body point (body axes, from the centre of mass)
+        At = "at",
     }
 
     /// A component of a vector, `v.x`.
@@ -498,6 +508,7 @@ mod tests {
         round_trip_as_word::<Function>();
         round_trip_as_word::<BodyField>();
         round_trip_as_word::<RollingField>();
+        round_trip_as_word::<SkateField>();
         assert_eq!(<BodyField as Word>::all(), BodyField::ALL);
         assert_eq!(
             <RollingField as Word>::suggest("radus"),

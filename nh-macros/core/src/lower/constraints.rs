@@ -53,6 +53,8 @@ pub struct Lowered {
 const NO_SLIP_X: &str = "no slip along x";
 /// See [`NO_SLIP_X`].
 const NO_SLIP_Y: &str = "no slip along y";
+/// What the row of a `skates(..)` line says.
+const NO_SKID: &str = "no velocity across the blade";
 
 /// Where a constraint row comes from.
 #[derive(Clone, Copy)]
@@ -68,7 +70,10 @@ impl Source<'_> {
     fn text(&self) -> String {
         match self {
             Source::Written(c) => source_of(c),
-            Source::Rolling(r, what) => format!("rolls({}, ..): {what}", r.body),
+            Source::Rolling(r, what) => {
+                let kw = if r.skates { "skates" } else { "rolls" };
+                format!("{kw}({}, ..): {what}", r.body)
+            }
         }
     }
 
@@ -155,6 +160,13 @@ impl Lowerer<'_> {
         let mut complete = true;
         for i in 0..=list.len() {
             for r in def.rolling.iter().filter(|r| r.position == i) {
+                if r.skates {
+                    match self.skate_row(r) {
+                        Some(row) => sides.push((Source::Rolling(r, NO_SKID), row, ZERO)),
+                        None => complete = false,
+                    }
+                    continue;
+                }
                 if let Some((point, kin)) = self.rolling_rows(r, &mut sides, &mut wheels) {
                     contacts.push(point);
                     let line = def.rolling.iter().position(|x| std::ptr::eq(x, r));

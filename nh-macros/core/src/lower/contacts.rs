@@ -4,6 +4,7 @@
 //! the checks of the line's fields.
 
 mod ellipsoid;
+mod skates;
 mod support;
 mod surfaces;
 
@@ -287,14 +288,29 @@ impl Lowerer<'_> {
 
     /// A wheel's axle: a constant nonzero vector in body axes, made unit.
     fn constant_axle(&mut self, x: &Expr) -> Option<Vec3> {
+        let zero = "give the wheel's axis of symmetry in body axes, e.g. `[0, 1, 0]`";
+        self.fixed_direction(x, ("the axle", "the body", "body axes"), zero)
+    }
+
+    /// A direction fixed in a frame: a constant nonzero vector, made unit;
+    /// `what` names it, the frame and its axes for the messages, `zero`
+    /// says what to give instead of the zero vector.
+    pub(super) fn fixed_direction(
+        &mut self,
+        x: &Expr,
+        what: (&str, &str, &str),
+        zero: &str,
+    ) -> Option<Vec3> {
+        let (name, frame, axes) = what;
         let v = self.lower_value(x, 0)?;
-        let a = self.vector_of(v, x, "the axle must be a vector")?;
+        let a = self.vector_of(v, x, &format!("{name} must be a vector"))?;
         if a.iter().any(|&c| self.e.as_constant(c).is_none()) {
-            self.cx.error(x.range(), format!("the axle is fixed in the body: give constant components in body axes, e.g. `[0, 1, 0]`, not `{}`", super::short(x.to_source())));
+            self.cx.error(x.range(), format!("{name} is fixed in {frame}: give constant components in {axes}, e.g. `[0, 1, 0]`, not `{}`", super::short(x.to_source())));
             return None;
         }
         if a.iter().all(|&c| c == ZERO) {
-            self.cx.error(x.range(), "the axle is the zero vector: give the wheel's axis of symmetry in body axes, e.g. `[0, 1, 0]`");
+            self.cx
+                .error(x.range(), format!("{name} is the zero vector: {zero}"));
             return None;
         }
         let n2 = dot3(&mut self.e, a, a);

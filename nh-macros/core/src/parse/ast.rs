@@ -219,9 +219,12 @@ pub struct BodyDef {
     pub rejected_fields: bool,
 }
 
-/// A `rolls(BODY, radius: .., axle: ..);` line of `constraints`.
+/// A `rolls(BODY, radius: .., axle: ..);` line of `constraints`, or a
+/// `skates(BODY, across: ..);` line.
 #[derive(Clone, Debug)]
 pub struct RollingDef {
+    /// whether the line is `skates(..)` (one row) rather than `rolls(..)`
+    pub skates: bool,
     /// the rolling body
     pub body: Ident,
     /// the named arguments as written

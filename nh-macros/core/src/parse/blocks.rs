@@ -448,7 +448,7 @@ fn parse_constraint_line(input: ParseStream) -> syn::Result<Line> {
     let fork = input.fork();
     let is_rolling = fork
         .call(Ident::parse_any)
-        .is_ok_and(|id| id == Keyword::Rolls)
+        .is_ok_and(|id| id == Keyword::Rolls || id == Keyword::Skates)
         && fork.peek(syn::token::Paren);
     if is_rolling {
         return parse_rolling(input).map(Line::Rolling);
@@ -456,21 +456,28 @@ fn parse_constraint_line(input: ParseStream) -> syn::Result<Line> {
     parse_constraint(input).map(Line::Equation)
 }
 
-/// `rolls(BODY, name: expr, ..);`
+/// `rolls(BODY, name: expr, ..);` or `skates(BODY, name: expr, ..);`
 fn parse_rolling(input: ParseStream) -> syn::Result<RollingDef> {
     let kw: Ident = input.call(IdentExt::parse_any)?;
+    let skates = kw == Keyword::Skates;
     let content;
     let paren = syn::parenthesized!(content in input);
     let body: Ident = content.call(IdentExt::parse_any).map_err(|e| {
-        syn::Error::new(
-            e.span(),
-            "expected the rolling body's name: `rolls(wheel, radius: r, axle: [0, 1, 0]);`",
-        )
+        let example = match skates {
+            true => "expected the skating body's name: `skates(sled, across: [0, 1, 0]);`",
+            false => {
+                "expected the rolling body's name: `rolls(wheel, radius: r, axle: [0, 1, 0]);`"
+            }
+        };
+        syn::Error::new(e.span(), example)
     })?;
     let mut fields = Vec::new();
     while !content.is_empty() {
         let _: Token![,] = content.parse().map_err(|e| {
-            syn::Error::new(e.span(), "expected `,` between the arguments of `rolls`")
+            syn::Error::new(
+                e.span(),
+                format!("expected `,` between the arguments of `{kw}`"),
+            )
         })?;
         if content.is_empty() {
             break;
@@ -481,9 +488,12 @@ fn parse_rolling(input: ParseStream) -> syn::Result<RollingDef> {
         let _: Token![;] = input.parse()?;
     }
     if !input.is_empty() {
-        return Err(input.error("unexpected tokens after `rolls(..)`: end the line with `;`"));
+        return Err(input.error(format!(
+            "unexpected tokens after `{kw}(..)`: end the line with `;`"
+        )));
     }
     Ok(RollingDef {
+        skates,
         range: SpanRange {
             first: kw.span(),
             last: paren.span.close(),

@@ -56,7 +56,11 @@ impl Lowerer<'_> {
             }
         };
         let radius = self.rolling_length(&args[0], RollingField::Radius);
-        let axis = (!sphere).then(|| self.constant_axle(&args[1]));
+        let axis = (!sphere).then(|| {
+            let what = ("the cylinder's axis", "the world", "world axes");
+            let zero = "give the direction of the cylinder's axis, e.g. `[1, 0, 0]`";
+            self.fixed_direction(&args[1], what, zero)
+        });
         let centre = match args.get(if sphere { 1 } else { 2 }) {
             Some(o) => self.lower_position_vector(o, "the surface's centre"),
             None => Some([ZERO; 3]),
