@@ -375,6 +375,8 @@ class BS:
 
     def attempt(self, t, y, f0, H):
         f, tol, n = self.f, self.tol, len(y)
+        if not isinstance(y[0], float):
+            H = mpmath.mpf(H)          # H / n_j must not be rounded to a double
         Tab = []
         err = float('inf')
         for j in range(self.kmax):
@@ -389,9 +391,11 @@ class BS:
             self.nfev += nj
             row = [[(z1[i] + z0[i] + hh * fe[i]) / 2 for i in range(n)]]
             for k in range(1, j + 1):
-                fac = (NSEQ[j] / NSEQ[j - k]) ** 2 - 1
+                # (cur - prev) / ((n_j / n_{j-k})^2 - 1) with exact integer factors (no float
+                # rounding of the ratio: matters for the mpmath run)
+                num, den = NSEQ[j - k] ** 2, NSEQ[j] ** 2 - NSEQ[j - k] ** 2
                 prev, cur = Tab[j - 1][k - 1], row[k - 1]
-                row.append([cur[i] + (cur[i] - prev[i]) / fac for i in range(n)])
+                row.append([cur[i] + (cur[i] - prev[i]) * num / den for i in range(n)])
             Tab.append(row)
             if j >= 2:
                 a, b = row[j], row[j - 1]
@@ -771,8 +775,8 @@ def reversal_case(setname, s0, t_end, label):
     return out, runs
 
 
-def mp_first_reversal(setname, s0, t_end, dps=32, tol=1e-20):
-    """32-digit Bulirsch-Stoer run (same code, mpmath arithmetic) over [0, t_end]."""
+def mp_first_reversal(setname, s0, t_end, dps=30, tol=1e-18):
+    """30-digit Bulirsch-Stoer run (same code, mpmath arithmetic) over [0, t_end]."""
     save = mpmath.mp.dps
     mpmath.mp.dps = dps
     try:
@@ -792,7 +796,7 @@ def mp_check(setname, s0, float_runs, label):
     log('mpmath run', label, 'to', t_stop)
     mpr = mp_first_reversal(setname, s0, t_stop)
     c0 = mpr['crossings'][0]
-    out = {'dps': 32, 'integrator': 'Bulirsch-Stoer (same code, mpmath arithmetic)', 'tol': 1e-20,
+    out = {'dps': 30, 'integrator': 'Bulirsch-Stoer (same code, mpmath arithmetic)', 'tol': 1e-18,
            'kmax': 12, 'hmax': 0.004, 'integrated_until': mpr['t_end'], 'rhs_evaluations': mpr['nfev'],
            'cpu_seconds': round(mpr['cpu_total'], 1),
            't_first_sign_change': mpmath.nstr(c0, 20),

@@ -297,6 +297,9 @@ words! {
         /// `outside: sphere(..)` or `cylinder(..)`, a fixed surface a ball
         /// rolls on
         Outside = "outside",
+        /// `rail: d`, the line (direction d in the plane's axes, through its
+        /// origin) the contact point keeps to
+        Rail = "rail",
     }
 
     /// A named argument of a skate or knife edge, `skates(BODY, across: ..)`.
@@ -533,7 +536,8 @@ mod tests {
                 "on",
                 "origin",
                 "inside",
-                "outside"
+                "outside",
+                "rail"
             ]
         );
         // `center` is read as `centre`, which is the name written back

@@ -53,6 +53,10 @@ pub struct Lowered {
 const NO_SLIP_X: &str = "no slip along x";
 /// See [`NO_SLIP_X`].
 const NO_SLIP_Y: &str = "no slip along y";
+/// What the rail's row of a `rolls(.., rail: d)` line says.
+const ON_RAIL: &str = "on the rail";
+/// What the velocity row of a `rolls(.., rail: d)` line says.
+const NO_SLIP_RAIL: &str = "no slip along the rail";
 /// What the row of a `skates(..)` line says.
 const NO_SKID: &str = "no velocity across the blade";
 
@@ -238,9 +242,14 @@ impl Lowerer<'_> {
         if let Some(h) = contact.height {
             sides.push((Source::Rolling(r, "contact with the plane z = 0"), h, ZERO));
         }
-        let [vx, vy] = contact.velocity;
-        sides.push((Source::Rolling(r, NO_SLIP_X), vx, ZERO));
-        sides.push((Source::Rolling(r, NO_SLIP_Y), vy, ZERO));
+        if let Some([row, along]) = contact.rail {
+            sides.push((Source::Rolling(r, ON_RAIL), row, ZERO));
+            sides.push((Source::Rolling(r, NO_SLIP_RAIL), along, ZERO));
+        } else {
+            let [vx, vy] = contact.velocity;
+            sides.push((Source::Rolling(r, NO_SLIP_X), vx, ZERO));
+            sides.push((Source::Rolling(r, NO_SLIP_Y), vy, ZERO));
+        }
         wheels.extend(contact.chart);
         Some((contact.point, contact.kinematics))
     }

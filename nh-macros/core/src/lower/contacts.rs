@@ -4,6 +4,7 @@
 //! the checks of the line's fields.
 
 mod ellipsoid;
+mod rail;
 mod skates;
 mod support;
 mod surfaces;
@@ -26,6 +27,9 @@ pub(crate) struct Contact {
     pub(crate) point: Vec3,
     /// The body's geometric centre G, world components.
     pub(crate) centre: Vec3,
+    /// For a contact kept to a rail: the rail's row (holonomic) and the
+    /// velocity row along the rail, which replace the two no-slip rows.
+    pub(crate) rail: Option<[ExprId; 2]>,
     /// |e_z × n| of a wheel (zero when it lies flat), for the chart check.
     pub(crate) chart: Option<ExprId>,
     /// Its kinematics, for the rows' derivatives in closed form (a round
@@ -44,14 +48,30 @@ impl Lowerer<'_> {
             true => Some(self.support(on, origin)?),
             false => None,
         };
+        let contact = self.shaped_contact(def, &fields, support.as_ref())?;
+        match get(RollingField::Rail) {
+            Some(d) => self.on_rail(def, &fields, contact, d, support.as_ref()),
+            None => Some(contact),
+        }
+    }
+
+    /// The contact of the body's shape (its fields) on the plane z = 0,
+    /// a support or a curved surface.
+    fn shaped_contact(
+        &mut self,
+        def: &RollingDef,
+        fields: &[(RollingField, &Expr)],
+        support: Option<&support::Support>,
+    ) -> Option<Contact> {
+        let get = |n: RollingField| fields.iter().find(|f| f.0 == n).map(|f| f.1);
         if let Some(axes) = get(RollingField::SemiAxes) {
-            return self.ellipsoid_contact(def, &fields, axes, support.as_ref());
+            return self.ellipsoid_contact(def, fields, axes, support);
         }
         let curved = [RollingField::Inside, RollingField::Outside]
             .into_iter()
             .find_map(|f| get(f).map(|x| (f, x)));
         if let Some((which, x)) = curved {
-            return self.ball_on(def, &fields, which, x);
+            return self.ball_on(def, fields, which, x);
         }
         let b = self.body(&def.body);
         let radius = match get(RollingField::Radius) {
@@ -83,7 +103,7 @@ impl Lowerer<'_> {
                 .error(def.range, "a torus (`tube: ..`) needs its `axle: [..]`");
             return None;
         }
-        if let Some(sp) = &support {
+        if let Some(sp) = support {
             return self.round_on_support(def, rot, centre, (radius, axle, tube), sp);
         }
         if let (Some(a), Some(x)) = (axle, get(RollingField::Axle))
@@ -486,6 +506,7 @@ impl Lowerer<'_> {
             height,
             point,
             centre,
+            rail: None,
             chart: None,
             kinematics: None,
         };

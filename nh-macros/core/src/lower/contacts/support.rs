@@ -10,9 +10,9 @@
 
 use super::super::{Binding, Lowerer};
 use super::Contact;
-use crate::lower::values::{Rotation, Vec3, add3, cross3, dot3, mat_vec, sub3, unit};
+use crate::lower::values::{Mat3, Rotation, Vec3, add3, cross3, dot3, mat_vec, sub3, unit};
 use crate::parse::{Expr, RollingDef};
-use crate::sym::{ONE, ZERO};
+use crate::sym::{ExprId, ONE, ZERO};
 use std::rc::Rc;
 
 /// The plane a body rolls on, and how it moves.
@@ -23,7 +23,9 @@ pub(crate) struct Support {
     /// (a support turning about the vertical: the rows along world x, y).
     tangents: Option<[Vec3; 2]>,
     /// The point O of the plane.
-    origin: Vec3,
+    pub(crate) origin: Vec3,
+    /// F's matrix, `None` for the world's plane moved by `origin` alone.
+    pub(crate) frame: Option<Mat3>,
     /// ω_F, world components.
     omega: Vec3,
     /// What the support is, for the docs.
@@ -76,6 +78,7 @@ impl Lowerer<'_> {
         Some(Support {
             normal,
             tangents,
+            frame: rot.as_ref().map(|r| r.matrix),
             origin,
             omega,
             name,
@@ -109,11 +112,25 @@ impl Lowerer<'_> {
             height,
             point,
             centre,
+            rail: None,
             chart: None,
             kinematics: None,
         }
     }
+}
 
+impl Support {
+    /// The components in the plane's axes (those of the no-slip rows) of
+    /// a world vector d of the plane.
+    pub(crate) fn plane_components(&self, e: &mut crate::sym::Engine, d: Vec3) -> [ExprId; 2] {
+        match &self.tangents {
+            Some(t) => t.map(|t| dot3(e, d, t)),
+            None => [d[0], d[1]],
+        }
+    }
+}
+
+impl Lowerer<'_> {
     /// Whether the support's fields make a contact on other than the fixed
     /// plane z = 0.
     pub(super) fn moved(on: Option<&Expr>, origin: Option<&Expr>) -> bool {

@@ -153,6 +153,7 @@ impl Lowerer<'_> {
             height,
             point,
             centre,
+            rail: None,
             chart,
             kinematics: None,
         }
