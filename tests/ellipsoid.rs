@@ -1,5 +1,5 @@
 //! An ellipsoid rolling on the plane z = 0, `rolls(BODY, semi_axes: [a, b,
-//! c])` (DESIGN §10): the rattleback (Garcia and Hubbard's ellipsoid, its
+//! c])` (DESIGN §10): the rattleback (Kane and Levinson's ellipsoid, its
 //! inertia turned by δ about the vertical body axis) against the same body
 //! with its contact written by hand as implicit rows, and with the centre's
 //! height left to the contact's holonomic row.
@@ -60,7 +60,8 @@ nonholonomic_system! {
     }
 }
 
-/// Garcia and Hubbard's rattleback as commonly quoted (SI units), δ = 0.1.
+/// Kane and Levinson's (1982) ellipsoid and moments (SI units), its inertia
+/// turned by δ = 0.1.
 const P: [f64; 10] = [
     0.2, 0.03, 0.02, 0.01, 1.0, 2.0e-4, 1.6e-3, 1.7e-3, 0.1, 9.81,
 ];

@@ -111,7 +111,62 @@ nonholonomic_system! {
         lagrangian = Jx/2*dot(beta)^2 + kinetic_energy(ball) - m*g*z;
         forces { beta: u; }
         constraints { rolls(ball, radius: r, on: plate); }
+        outputs { energy }
     }
+}
+
+/// The tilting plate's state at rest at tilt β with the ball at rest at
+/// the plate's centre (G = r N), in the order of `INDEPENDENT`.
+fn plate_at_rest(beta: f64, r: f64) -> SVector<f64, 11> {
+    let mut x0 = SVector::<f64, 11>::zeros();
+    x0[0] = beta;
+    x0[2] = -r * beta.sin();
+    x0[3] = r * beta.cos();
+    x0
+}
+
+#[test]
+fn a_ball_on_a_heavy_plate_rolls_as_on_an_incline_and_a_light_one_keeps_the_energy() {
+    let (m, r, g, beta) = (0.5, 0.1, 9.81, 0.3f64);
+    println!("plate: DEPENDENT {:?}", TiltingPlate::<f64>::DEPENDENT);
+    // a plate too heavy to turn in half a second: the incline's 5/7 g sin β
+    let heavy = TiltingPlate::new(m, r, 1e9, g);
+    let free = SVector::<f64, 1>::zeros();
+    let t1 = 0.5;
+    let out = Dop853::new(1e-12, 1e-14)
+        .integrate(&Driven::new(&heavy, free), 0.0, plate_at_rest(beta, r), t1)
+        .unwrap_or_else(|e| panic!("{e:?}"));
+    let s = 0.5 * 5.0 / 7.0 * g * beta.sin() * t1 * t1;
+    let want = [
+        0.0,
+        -r * beta.sin() - s * beta.cos(),
+        r * beta.cos() - s * beta.sin(),
+    ];
+    let err = (0..3)
+        .map(|i| (out.x[1 + i] - want[i]).abs())
+        .fold(0.0, f64::max);
+    println!(
+        "heavy plate: the ball's centre after {t1} s is {err:.1e} from the incline's closed form, the plate turned {:.1e}",
+        out.x[0] - beta
+    );
+    assert!(err < 1e-8, "{err:e}");
+    // a light plate, free (u = 0): the energy is a constant of the motion
+    let light = TiltingPlate::new(m, r, 0.3, g);
+    let x0 = plate_at_rest(beta, r);
+    let split = |x: &SVector<f64, 11>| {
+        let q = SVector::<f64, 7>::from_column_slice(&x.as_slice()[..7]);
+        let v = SVector::<f64, 4>::from_column_slice(&x.as_slice()[7..]);
+        light.energy(&q, &v)
+    };
+    let out = Dop853::new(1e-12, 1e-14)
+        .integrate(&Driven::new(&light, free), 0.0, x0, 2.0)
+        .unwrap_or_else(|e| panic!("{e:?}"));
+    let drift = (split(&out.x) - split(&x0)).abs();
+    println!(
+        "light plate: energy drift over 2 s {drift:.1e}; the plate turned to {:.4}",
+        out.x[0]
+    );
+    assert!(drift < 1e-10, "{drift:e}");
 }
 
 nonholonomic_system! {

@@ -28,10 +28,13 @@ Output 1 (states): 12 seeded random states, each evaluated at 40 digits for the
 Output 2 (spin reversal): own Bulirsch-Stoer (Gragg midpoint + Richardson
 extrapolation) and own Dormand-Prince 5(4) integrators on the reduced equations
 (independent speeds psi', theta', phi'), lambdified with the math module; tol
-1e-11 and 1e-13 (100x tighter), plus Dormand-Prince at 1e-12 and a 32-digit
-mpmath Bulirsch-Stoer run over the first reversal of the main case.  Also the
-Kane & Levinson (1982) parameter set with the initial conditions of the
+1e-11 and 1e-13 (100x tighter), plus Dormand-Prince at 1e-12 and a 30-digit
+mpmath Bulirsch-Stoer run up to just past the first reversal.  Two cases: the
+brief's delta = 0.1 set (spin -5 rad/s, theta = phi = 0.01), and the Kane &
+Levinson (1982) parameter set with the initial conditions of the
 Autolev/MotionGenesis sample problem.
+Parameters enter the 40-digit evaluation as mpf of their decimal strings
+(relative error < 1e-40), so the 30 digits written are exact for the decimals.
 
 usage (from the repository root): python3 tests/data/rattleback_sympy.py
         writes tests/data/rattleback.json (a few minutes)."""
@@ -474,11 +477,13 @@ def hermite(y0, f0, y1, f1, H, th_):
     return [h00 * y0[i] + h10 * H * f0[i] + h01 * y1[i] + h11 * H * f1[i] for i in range(len(y0))]
 
 
-def run_reversal(par, s0, t_end, integ, hmax, grid_dt=0.05, mean_window=0.2, thresh=0.5, full=True):
+def run_reversal(par, s0, t_end, integ, hmax, grid_dt=0.05, mean_window=0.2, band=0.2, full=True):
     """Integrate s = (q, u, Omega) with Omega' = omega_z; afterwards locate
-      * every sign change of omega_z in [0, t_end]: sign changes between samples (8 per step,
-        cubic Hermite) and dips towards zero (local minima of |omega_z| below `thresh`,
-        golden-section refined on exact re-integration), roots by Illinois regula falsi;
+      * every sign change of omega_z in [0, t_end]: omega_z is sampled 8 times per step (cubic
+        Hermite), samples with |omega_z| < `band` are replaced by exact values (re-integration
+        from the step start); sign changes between samples, and dips towards zero between
+        samples (local minima of |omega_z|, golden-section refined), are then solved by
+        Illinois regula falsi on exact re-integration;
       * (full) sign changes of the centred moving average
         wbar(t) = (Omega(t + w/2) - Omega(t - w/2)) / w, w = mean_window;
       * (full) the extreme of omega_z with sign opposite to the initial spin between the
@@ -590,28 +595,30 @@ def run_reversal(par, s0, t_end, integ, hmax, grid_dt=0.05, mean_window=0.2, thr
 
     tol_min = 1e-10 if md == 'math' else mpmath.mpf(10) ** -16
     # ---- sign changes of omega_z
-    roots, dips = [], []
+    # samples close to zero are replaced by exact values, so that every sign decision is exact
     N = len(smp_t)
+    herr = 0.0
+    for i in range(N):
+        if abs(smp_w[i]) < band:
+            we = wz_t(smp_t[i])
+            herr = max(herr, abs(float(we - smp_w[i])))
+            smp_w[i] = we
+    assert herr < band / 4, ('Hermite sampling error too large for the exact band', herr)
+    roots, dips = [], []
     for i in range(1, N):
         if (smp_w[i - 1] > 0) != (smp_w[i] > 0):
-            wa, wb_ = wz_t(smp_t[i - 1]), wz_t(smp_t[i])
-            if (wa > 0) != (wb_ > 0):
-                roots.append(root(wz_t, smp_t[i - 1], smp_t[i], wa, wb_))
-            else:                             # Hermite sample was wrong: examine as a dip
-                dips.append((max(i - 2, 0), min(i + 1, N - 1)))
-    for i in range(1, N - 1):
+            roots.append(root(wz_t, smp_t[i - 1], smp_t[i], smp_w[i - 1], smp_w[i]))
+    for i in range(1, N - 1):                 # dips towards zero that no sample reaches
         a_, b_, c_ = smp_w[i - 1], smp_w[i], smp_w[i + 1]
-        if ((a_ > 0) == (b_ > 0) == (c_ > 0) and abs(b_) < thresh
+        if ((a_ > 0) == (b_ > 0) == (c_ > 0) and abs(b_) < band
                 and abs(b_) <= abs(a_) and abs(b_) <= abs(c_)):
-            dips.append((i - 1, i + 1))
-    for i0, i1 in dips:
-        sg = 1 if wz_t(smp_t[i0]) > 0 else -1
+            dips.append((i - 1, i + 1, 1 if b_ > 0 else -1))
+    for i0, i1, sg in dips:
         tm, vm = golden_min(lambda tau: sg * wz_t(tau), smp_t[i0], smp_t[i1], tol_min)
-        if vm < 0:
+        if vm < 0:                            # the dip crosses zero between the samples
             for ta, tb in ((smp_t[i0], tm), (tm, smp_t[i1])):
                 fa, fb = wz_t(ta), wz_t(tb)
-                if (fa > 0) != (fb > 0):
-                    roots.append(root(wz_t, ta, tb, fa, fb))
+                roots.append(root(wz_t, ta, tb, fa, fb))
     roots.sort()
     crossings = []
     for r_ in roots:
@@ -619,7 +626,7 @@ def run_reversal(par, s0, t_end, integ, hmax, grid_dt=0.05, mean_window=0.2, thr
             crossings.append(r_)
     res = {'t_end': float(t), 'sign0': sign0, 'crossings': crossings, 'E0': E0, 'dEmax': dEmax,
            'grid': grid, 'steps': nsteps, 'rejected': nrej, 'nfev': integ.nfev,
-           'cpu_integration': t_int}
+           'cpu_integration': t_int, 'hermite_max_err_in_band': herr}
     if len(crossings) >= 2 and crossings[1] - crossings[0] < 0.01:
         sg = -sign0
         tm, vm = golden_min(lambda tau: -sg * wz_t(tau), crossings[0], crossings[1], tol_min)
@@ -674,7 +681,7 @@ def ic_main(spin):
     return [0.0, 0.01, 0.01, 0.0, 0.0, float(spin), 0.0, 0.0]
 
 
-def ic_autolev_mp():
+def ic_autolev_mp(w1=5):
     """Autolev/MotionGenesis sample: BodyXYZ q1 = 0 (about b1 = z), q2 = +0.5 deg
     (about b2 = x), q3 = -0.5 deg (about b3 = y); w = 5 rad/s about b1 (body z),
     w2 = w3 = 0.  Converted exactly to (psi, theta, phi, psi', theta', phi')."""
@@ -689,7 +696,7 @@ def ic_autolev_mp():
     st, ct, sp_, cp_ = mpmath.sin(th_), mpmath.cos(th_), mpmath.sin(ph_), mpmath.cos(ph_)
     # w_body = (phi' - psi' st, psi' sp ct + theta' cp, psi' cp ct - theta' sp)
     Amat = mpmath.matrix([[-st, 0, 1], [sp_ * ct, cp_, 0], [cp_ * ct, -sp_, 0]])
-    ud = mpmath.lu_solve(Amat, mpmath.matrix([0, 0, 5]))
+    ud = mpmath.lu_solve(Amat, mpmath.matrix([0, 0, w1]))
     return [ps_, th_, ph_, mpmath.mpf(0), mpmath.mpf(0), ud[0], ud[1], ud[2]]
 
 
@@ -702,7 +709,8 @@ def summarize(r):
            'energy_initial': fl(r['E0']), 'energy_max_abs_drift': float(r['dEmax']),
            'energy_max_rel_drift': float(r['dEmax'] / abs(r['E0'])),
            't_first_sign_change': fl(r['crossings'][0]) if r['crossings'] else None,
-           'omega_z_sign_changes': [fl(c) for c in r['crossings']]}
+           'omega_z_sign_changes': [fl(c) for c in r['crossings']],
+           'hermite_sample_max_error_near_zero': float(r['hermite_max_err_in_band'])}
     if 'first_excursion' in r:
         fe = r['first_excursion']
         out['first_excursion'] = {'duration': fl(fe['duration']), 'extreme_omega_z': fl(fe['extreme']),
@@ -752,6 +760,9 @@ def reversal_case(setname, s0, t_end, label):
         conv['all_sign_changes_BS13_vs_' + nm] = pairdiff(ref['crossings'], other['crossings'])
         conv['all_mean_sign_changes_BS13_vs_' + nm] = pairdiff(ref['mean_crossings'], other['mean_crossings'])
         conv['grid_omega_z_max_abs_diff_BS13_vs_' + nm] = max(abs(a[1] - b[1]) for a, b in zip(ref['grid'], other['grid']))
+        conv['grid_omega_z_max_abs_diff_BS13_vs_%s_up_to' % nm] = {
+            '%g' % tw: max(abs(a[1] - b[1]) for a, b in zip(ref['grid'], other['grid']) if a[0] <= tw + 1e-9)
+            for tw in (0.5, 1, 2, 5, 10, 20) if tw <= t_end}
     out = {
         'reference_run': 'BS_tol1e-13',
         't_end': t_end,
@@ -770,6 +781,10 @@ def reversal_case(setname, s0, t_end, label):
             'omega_z': [float('%.12g' % gr[1]) for gr in ref['grid']],
             'theta': [float('%.12g' % gr[2]) for gr in ref['grid']],
             'phi': [float('%.12g' % gr[3]) for gr in ref['grid']],
+            'omega_z_abs_diff_BS13_vs_DP12': [float('%.3g' % abs(a[1] - b[1])) for a, b in zip(ref['grid'], dp['grid'])],
+            'omega_z_abs_diff_BS13_vs_BS11': [float('%.3g' % abs(a[1] - b[1])) for a, b in zip(ref['grid'], lo['grid'])],
+            'note': 'grid values are the states reached exactly at t = k dt (steps end on the grid); '
+                    'the two difference arrays indicate the attainable accuracy as a function of time',
         },
     }
     return out, runs
@@ -820,7 +835,19 @@ for spin in (-5, 5):
     dircheck['psi_d0=%+d' % spin] = {'t_first_sign_change': fl(r['crossings'][0]) if r['crossings'] else None,
                                      'tol': 1e-10, 'integrated_until': 2.5}
 log('direction check', dircheck)
-reversal['direction_check_main'] = dircheck
+reversal['direction_check_main'] = dict(dircheck, note=(
+    'initial state of the main run with psi_d0 = -5 and +5, BS tol 1e-10: both directions reverse in this '
+    'conservative model; -5 reverses first, so -5 is taken as the non-preferred (reversing) direction'))
+dircheck_kl = {}
+for w1 in (5, -5):
+    integ = BS(make_rhs(PARS_F['kane_levinson_1982'], 'math'), 1e-10)
+    r = run_reversal(PARS_F['kane_levinson_1982'], [float(v) for v in ic_autolev_mp(w1)], 20.0, integ, 0.005,
+                     full=False)
+    dircheck_kl['w1=%+d' % w1] = {'t_first_sign_change': fl(r['crossings'][0]) if r['crossings'] else None,
+                                  'tol': 1e-10, 'integrated_until': 20.0}
+log('direction check KL', dircheck_kl)
+reversal['direction_check_kane_levinson_1982'] = dict(dircheck_kl, note=(
+    'Autolev initial state with the body spin w1 = +5 (as published) and w1 = -5 about the upward body axis'))
 
 S0_MAIN = ic_main(-5)
 main_out, main_runs = reversal_case('main', S0_MAIN, 10.0, 'main')
@@ -839,6 +866,10 @@ main_out['parameter_set'] = 'main'
 kl_out['initial_state'] = {
     'psi': S(S0_KL_MP[0], 25), 'theta': S(S0_KL_MP[1], 25), 'phi': S(S0_KL_MP[2], 25), 'x': '0', 'y': '0',
     'psi_d': S(S0_KL_MP[5], 25), 'theta_d': S(S0_KL_MP[6], 25), 'phi_d': S(S0_KL_MP[7], 25),
+    'as_integrated_f64': {'order': ['psi', 'theta', 'phi', 'x', 'y', 'psi_d', 'theta_d', 'phi_d'],
+                          'values': [fl(v) for v in S0_KL],
+                          'note': 'the exact values above rounded to IEEE doubles; all runs (float and '
+                                  'mpmath) start from these doubles'},
     'source': 'Autolev/MotionGenesis rattleback sample problem (Kane & Levinson 1982 parameters): '
               'BodyXYZ angles q1 = 0, q2 = 0.5 deg, q3 = -0.5 deg, body angular velocity '
               'w1 = 5 rad/s about the (upward) body axis b1, w2 = w3 = 0; converted exactly to these '
@@ -878,8 +909,11 @@ published = {
                                  'relabelling), so I23 -> Ixy = +2.0e-5 kg m^2 as an inertia-tensor entry (Kane/'
                                  'Autolev products of inertia are tensor entries). The z-down sources give '
                                  'Ixy = -2e-5 with spin -5 about their down axis, i.e. the same body and the same '
-                                 'spin (+5 about up) in these axes. Our simulation confirms that with Ixy = +2e-5 '
-                                 'the spin omega_z = +5 rad/s is the one that reverses.',
+                                 'spin (+5 about up) in these axes. Simulation (direction_check_kane_levinson_1982): '
+                                 'w1 = +5 first reverses at t = %s s, w1 = -5 %s.' % (
+                                     dircheck_kl['w1=+5']['t_first_sign_change'],
+                                     ('first reverses at t = %s s' % dircheck_kl['w1=-5']['t_first_sign_change'])
+                                     if dircheck_kl['w1=-5']['t_first_sign_change'] else 'does not reverse within 20 s'),
         'equivalent_delta': 'Ixy = +2e-5 corresponds to principal axes turned by about -0.0143 rad about z '
                             '(0.5 atan(2 Ixy / (Ixx - Iyy))); the brief\'s delta = 0.1 has the opposite sign and '
                             'a 7x larger product of inertia (Ixy = (A - B) sin(delta) cos(delta) = -1.39e-4).',
@@ -960,14 +994,25 @@ doc = {
                    'the solution; |v_P| (all three components); P_z; world normal at P + e_z; P on the ellipsoid. '
                    'Symbolically (sympy.simplify): v_P,z == 0, P_z == 0, P on the ellipsoid, normal = -e_z.',
     'spin_reversal': dict(reversal, notes=(
-        'omega_z is the world-z angular velocity. t_first_sign_change: first time omega_z changes sign '
-        '(refined by regula falsi on exact re-integration, samples every 1/8 step with cubic Hermite '
-        'interpolation to catch close double crossings). reversed_extreme_omega_z: extreme of omega_z with '
-        'sign opposite to the initial spin between the first and second sign change (golden-section refined). '
-        'The model is conservative (no slip, no dissipation), so the spin keeps reversing back and forth; all '
-        'sign changes in the window are listed (later ones are increasingly sensitive). '
-        'phase_amplitudes_max_abs_theta_phi: max |theta| (pitch about y) and max |phi| (roll about x) at step '
-        'ends in each interval between sign changes. Trajectory from the BS tol 1e-13 run.')),
+        'omega_z is the world-z angular velocity psi_d - phi_d sin(theta) (rad/s); times in s. '
+        't_first_sign_change: first zero of omega_z. Detection: omega_z sampled 8 times per accepted step '
+        '(cubic Hermite), samples with |omega_z| < 0.2 rad/s replaced by exact values (re-integration from the '
+        'step start), sign changes between samples and dips towards zero between samples (golden-section '
+        'minimum of |omega_z|) solved by regula falsi on exact re-integration. Near a reversal omega_z '
+        'oscillates at the rocking frequencies around a slowly moving mean, so the first zero can be a '
+        'shallow, sub-millisecond excursion (first_excursion gives its duration and depth when < 10 ms). '
+        't_first_mean_spin_sign_change: first zero of the centred 0.2 s moving average '
+        '(Omega(t + 0.1) - Omega(t - 0.1)) / 0.2 with Omega = integral of omega_z from 0 (a robust indicator). '
+        'reversed_extreme_omega_z / _time: extreme of omega_z with the sign opposite to the initial spin in '
+        'the window [first mean sign change - 0.1, second mean sign change + 0.1] (golden-section refined). '
+        'The model is conservative (no slip, no dissipation), so the spin keeps reversing back and forth; '
+        'all sign changes in the window are listed, later ones are increasingly sensitive (see convergence). '
+        'rocking_amplitude_per_mean_spin_phase: max |theta| (pitch, about body y ~ long-axis rocking) and '
+        'max |phi| (roll about body x) at step ends between successive mean-spin sign changes. '
+        'Trajectory and headline numbers from the BS tol 1e-13 run; BS tol 1e-11, Dormand-Prince 5(4) tol '
+        '1e-12 and a 30-digit mpmath Bulirsch-Stoer run (to just past the first sign change) are the '
+        'convergence evidence. Integrators: own code in the script (rtol = atol = tol, RMS error norm, '
+        'max step 5 ms).')),
     'published': published,
     'runtime_seconds': None,
 }
