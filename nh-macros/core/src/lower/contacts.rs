@@ -37,6 +37,27 @@ pub(crate) struct Contact {
     pub(crate) kinematics: Option<crate::model::ContactKinematics>,
 }
 
+impl Contact {
+    /// A contact whose rows are derived as written rows: no rail, no chart
+    /// factor, no closed-form kinematics.
+    pub(super) fn written(
+        velocity: [ExprId; 2],
+        height: Option<ExprId>,
+        point: Vec3,
+        centre: Vec3,
+    ) -> Contact {
+        Contact {
+            velocity,
+            height,
+            point,
+            centre,
+            rail: None,
+            chart: None,
+            kinematics: None,
+        }
+    }
+}
+
 impl Lowerer<'_> {
     /// The contact of a `rolls(..)` line: the lowest point of a round body
     /// on the plane z = 0 and its material velocity.
@@ -501,16 +522,7 @@ impl Lowerer<'_> {
     ) -> (Contact, Vec3) {
         let (point, omega, v) = self.material_velocity(rot, centre, offset);
         let height = self.height_row(point[2]);
-        let contact = Contact {
-            velocity: [v[0], v[1]],
-            height,
-            point,
-            centre,
-            rail: None,
-            chart: None,
-            kinematics: None,
-        };
-        (contact, omega)
+        (Contact::written([v[0], v[1]], height, point, centre), omega)
     }
 
     /// The point P = G + o of a body turned by `rot` with centre G, ω, and

@@ -107,15 +107,7 @@ impl Lowerer<'_> {
         };
         let h = dot3(&mut self.e, arm, sp.normal);
         let height = self.height_row(h);
-        Contact {
-            velocity,
-            height,
-            point,
-            centre,
-            rail: None,
-            chart: None,
-            kinematics: None,
-        }
+        Contact::written(velocity, height, point, centre)
     }
 }
 

@@ -149,13 +149,8 @@ impl Lowerer<'_> {
         );
         self.description.push(line);
         Contact {
-            velocity,
-            height,
-            point,
-            centre,
-            rail: None,
             chart,
-            kinematics: None,
+            ..Contact::written(velocity, height, point, centre)
         }
     }
 }
