@@ -55,18 +55,7 @@ fn projection(
 ) -> TokenStream {
     let p = holonomic.len();
     let f: Vec<ExprId> = holonomic.iter().map(|&(_, f)| f).collect();
-    // Newton's step on the dependent coordinates: Δs = −J⁻¹ f, J = ∂f/∂s
-    let jac: Vec<Vec<ExprId>> = f
-        .iter()
-        .map(|&fa| {
-            holonomic
-                .iter()
-                .map(|&(s, _)| m.engine.diff(fa, m.coordinates[s].position))
-                .collect()
-        })
-        .collect();
-    let minus_f: Vec<ExprId> = f.iter().map(|&x| m.engine.neg(x)).collect();
-    let step = linear::solve(m.engine, &jac, &[minus_f]).x.remove(0);
+    let (residual, step) = newton_step(m, holonomic);
     // the scale of f: the sum of the sizes of its terms, so that a
     // constraint with constant terms (a wheel's radius) has a scale at q = 0
     let mut scale_terms = Vec::new();
@@ -77,12 +66,14 @@ fn projection(
         }
     }
     let mut d = bound_dag(m, args);
-    let outs: Vec<Node> = f
-        .iter()
-        .chain(&step)
-        .chain(&scale_terms)
-        .map(|&e| d.expr(m.engine, e))
-        .collect();
+    let f_nodes: Vec<Node> = f.iter().map(|&e| d.expr(m.engine, e)).collect();
+    for (&s, &n) in residual.iter().zip(&f_nodes) {
+        d.bind(s, n);
+    }
+    let mut outs = f_nodes;
+    for e in step.iter().chain(&scale_terms) {
+        outs.push(d.expr(m.engine, *e));
+    }
     let (stmts, o) = d.emit(&outs);
     let (fo, rest) = o.split_at(p);
     let (so, scale) = rest.split_at(p);
@@ -115,7 +106,8 @@ fn projection(
 
         /// Newton's method on the dependent coordinates of the holonomic
         /// constraints, at most 8 iterations, to 4 ε of the size of f's
-        /// terms, Σ|term|, and on while each step still halves the residual.
+        /// terms, Σ|term| (finite), and on while each step still halves the
+        /// residual.
         #[inline]
         fn project(
             &self,
@@ -136,7 +128,12 @@ fn projection(
                 for v in [#(#scale),*] {
                     scale += v.abs();
                 }
-                let tol = T::default_epsilon() * Self::__nh_c(4.0) * scale;
+                // a state that overflowed (a step through a singular
+                // Jacobian) has no finite tolerance and never converges
+                let mut tol = T::default_epsilon() * Self::__nh_c(4.0) * scale;
+                if !tol.is_finite() {
+                    tol = -T::one();
+                }
                 (res, tol, [#(#so),*])
             };
             // converged once within the tolerance and no longer halving
@@ -160,4 +157,36 @@ fn projection(
             }
         }
     }
+}
+
+/// Newton's step on the dependent coordinates s of the holonomic rows f,
+/// Δs = −J⁻¹ φ with J = ∂f/∂s, in symbols φ for the values of f (bound to
+/// them where the step is evaluated): solved for f's terms instead, the
+/// step distributes them over det J and cancels to their round-off over
+/// it, which stalls Newton above its tolerance where J is nearly singular
+/// (a ball where a surface curves almost as much as it).
+fn newton_step(
+    m: &mut Scene<'_>,
+    holonomic: &[(usize, ExprId)],
+) -> (Vec<crate::sym::SymId>, Vec<ExprId>) {
+    let jac: Vec<Vec<ExprId>> = holonomic
+        .iter()
+        .map(|&(_, fa)| {
+            holonomic
+                .iter()
+                .map(|&(s, _)| m.engine.diff(fa, m.coordinates[s].position))
+                .collect()
+        })
+        .collect();
+    let residual: Vec<crate::sym::SymId> = (0..holonomic.len())
+        .map(|a| m.engine.symbol(&format!("__nh_residual_{a}")))
+        .collect();
+    let minus_f: Vec<ExprId> = (residual.iter())
+        .map(|&s| {
+            let x = m.engine.sym(s);
+            m.engine.neg(x)
+        })
+        .collect();
+    let step = linear::solve(m.engine, &jac, &[minus_f]).x.remove(0);
+    (residual, step)
 }
