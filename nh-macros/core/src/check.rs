@@ -170,7 +170,11 @@ pub fn outputs_for_form(def: &SystemDef, cx: &mut Ctxt) {
                 "the momenta conjugate to cyclic coordinates (§5.5) are derived from the constrained Lagrangian of coordinates r, s and `constraints`; a system in generalized speeds has its kinematics instead"
             }
             (Some(Output::ContactPoints), _)
-                if def.rolling.iter().all(|r| r.skates) && def.rejected.rolling_lines == 0 =>
+                if def
+                    .rolling
+                    .iter()
+                    .all(|r| r.kind != crate::parse::ContactKind::Rolls)
+                    && def.rejected.rolling_lines == 0 =>
             {
                 "`contact_points` gives the points of the rolling contacts, and this system has none (`rolls(BODY, radius: .., ..);` in `constraints`)"
             }

@@ -40,6 +40,9 @@ enum Binding {
     Let(usize),
     Speed(usize),
     Body(usize),
+    /// A name bound within one expression: a support function's
+    /// direction, `x`, `y`, `z` in `support_function: ..`.
+    Bound(SymId),
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]

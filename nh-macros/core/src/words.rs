@@ -156,6 +156,8 @@ words! {
         Rolls = "rolls",
         /// `skates(BODY, across: d[, at: p]);`
         Skates = "skates",
+        /// `slides(BODY[, at: p][, on: ..]);`
+        Slides = "slides",
     }
 
     /// An opt-in output (DESIGN §3), or `routes`.
@@ -286,7 +288,7 @@ words! {
         /// axes
         SemiAxes = "semi_axes",
         /// `on: F`, the support: a rotation or a body, whose plane z = 0
-        /// the body rolls on
+        /// the body rolls on; or `on: z = h(x, y)`, a fixed surface
         On = "on",
         /// `origin: O`, a point of the support's plane (by default the
         /// origin, or the supporting body's centre)
@@ -300,6 +302,12 @@ words! {
         /// `rail: d`, the line (direction d in the plane's axes, through its
         /// origin) the contact point keeps to
         Rail = "rail",
+        /// `contact: [u, v]`, the coordinates that are the contact point's
+        /// x and y on a surface `on: z = h(x, y)`
+        Contact = "contact",
+        /// `support_function: h(x, y, z)`, a strictly convex body's
+        /// support function in body axes
+        SupportFunction = "support_function",
     }
 
     /// A named argument of a skate or knife edge, `skates(BODY, across: ..)`.
@@ -308,6 +316,17 @@ words! {
         Across = "across",
         /// `at: p`, the body point (body axes, from the centre of mass)
         At = "at",
+    }
+
+    /// A named argument of a point kept on a surface, `slides(BODY, ..)`.
+    pub enum SlideField {
+        /// `at: p`, the body point (body axes, from the centre of mass)
+        At = "at",
+        /// `on: z = h(x, y)`, the surface; or `on: F`, a support whose
+        /// plane z = 0 the point keeps to
+        On = "on",
+        /// `origin: O`, a point of the support's plane
+        Origin = "origin",
     }
 
     /// A component of a vector, `v.x`.
@@ -512,6 +531,7 @@ mod tests {
         round_trip_as_word::<BodyField>();
         round_trip_as_word::<RollingField>();
         round_trip_as_word::<SkateField>();
+        round_trip_as_word::<SlideField>();
         assert_eq!(<BodyField as Word>::all(), BodyField::ALL);
         assert_eq!(
             <RollingField as Word>::suggest("radus"),
@@ -537,7 +557,9 @@ mod tests {
                 "origin",
                 "inside",
                 "outside",
-                "rail"
+                "rail",
+                "contact",
+                "support_function"
             ]
         );
         // `center` is read as `centre`, which is the name written back

@@ -42,7 +42,10 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
         dependent_doc: None,
         affine: false,
         rheonomic: constraints_mention_time(def),
-        contacts: def.rolling.iter().filter(|r| !r.skates).count() + def.rejected.rolling_lines,
+        contacts: (def.rolling.iter())
+            .filter(|r| r.kind == crate::parse::ContactKind::Rolls)
+            .count()
+            + def.rejected.rolling_lines,
         sensitivity_params: sensitivity_parameters(def),
         atlas: Vec::new(),
         // the verdicts need the derivation: none in a stand-in
@@ -113,11 +116,12 @@ fn as_written(names: &[Ident]) -> Vec<String> {
 fn rows_meant(def: &SystemDef) -> usize {
     let lines = def.constraints.as_ref().map_or(0, |(_, l)| l.len());
     // a rejected `rolls(..)` line: two rows (one counted with the lines)
-    // a `rolls(..)` line has two rows, a `skates(..)` line one
-    let contact_rows: usize = def
-        .rolling
-        .iter()
-        .map(|r| if r.skates { 1 } else { 2 })
+    // a `rolls(..)` line has two rows, a `skates(..)` or `slides(..)` one
+    let contact_rows: usize = (def.rolling.iter())
+        .map(|r| match r.kind {
+            crate::parse::ContactKind::Rolls => 2,
+            _ => 1,
+        })
         .sum();
     let written = lines + def.rejected.constraint_lines + def.rejected.rolling_lines + contact_rows;
     match &def.dependent {

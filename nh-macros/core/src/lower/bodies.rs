@@ -286,7 +286,7 @@ impl Lowerer<'_> {
     /// The fields of a body, checked and lowered.
     fn lower_body(&mut self, def: &BodyDef) -> Option<Body> {
         let saved = std::mem::replace(&mut self.place, Place::Body);
-        let Some(fields) = self.fields::<BodyField>(&def.fields, "a body", &def.name) else {
+        let Some(fields) = self.fields::<BodyField>(&def.fields, "a body", &def.name, None) else {
             self.place = saved;
             return None;
         };
@@ -414,12 +414,14 @@ impl Lowerer<'_> {
 
     /// Named fields checked against the words of kind `W` (`center` is
     /// `centre`): unknown and repeated ones reported; the known ones
-    /// returned.
+    /// returned. `equation` is the one field that may be written as an
+    /// equation (`on: z = h(x, y)`), if any.
     pub(super) fn fields<'f, W: Word>(
         &mut self,
         fields: &'f [Field],
         what: &str,
         owner: &Ident,
+        equation: Option<W>,
     ) -> Option<Vec<(W, &'f Expr)>> {
         let mut out: Vec<(W, &Expr)> = Vec::new();
         let mut unknown = false;
@@ -439,6 +441,20 @@ impl Lowerer<'_> {
                 unknown = true;
                 continue;
             };
+            if let Some(rhs) = &f.equals
+                && equation != Some(field)
+            {
+                let allowed = match equation {
+                    Some(w) => format!(" (only `{w}` takes one, a surface `{w}: z = h(x, y)`)"),
+                    None => String::new(),
+                };
+                self.cx.error(
+                    rhs.range(),
+                    format!("`{field}` of {what} `{owner}` takes a value, not an equation{allowed}: write `{field}: value`"),
+                );
+                unknown = true;
+                continue;
+            }
             if out.iter().any(|o| o.0 == field) {
                 self.cx.error_at(
                     f.name.span(),

@@ -9,7 +9,7 @@ use super::linear;
 use super::{Binding, Lowerer, Place};
 use crate::ctxt::SpanRange;
 use crate::model::{Constraint, ConstraintKind};
-use crate::parse::{self, Expr, RollingDef, SystemDef};
+use crate::parse::{self, ContactKind, Expr, RollingDef, SystemDef};
 use crate::sym::random_points::vanish_at_random_points;
 use crate::sym::{ExprId, Rational, SymId, ZERO};
 use crate::words::Function;
@@ -57,6 +57,13 @@ const NO_SLIP_Y: &str = "no slip along y";
 const ON_RAIL: &str = "on the rail";
 /// What the velocity row of a `rolls(.., rail: d)` line says.
 const NO_SLIP_RAIL: &str = "no slip along the rail";
+/// What the rows of a `rolls(.., on: z = h(x, y), contact: [u, v])` line
+/// that place the contact point say.
+const AT_CONTACT_X: &str = "the contact point's x is the first coordinate of `contact`";
+/// See [`AT_CONTACT_X`].
+const AT_CONTACT_Y: &str = "the contact point's y is the second coordinate of `contact`";
+/// What the row of a `slides(..)` line says.
+const ON_THE_SURFACE: &str = "the point on the surface";
 /// What the row of a `skates(..)` line says.
 const NO_SKID: &str = "no velocity across the blade";
 
@@ -75,7 +82,11 @@ impl Source<'_> {
         match self {
             Source::Written(c) => source_of(c),
             Source::Rolling(r, what) => {
-                let kw = if r.skates { "skates" } else { "rolls" };
+                let kw = match r.kind {
+                    ContactKind::Rolls => "rolls",
+                    ContactKind::Skates => "skates",
+                    ContactKind::Slides => "slides",
+                };
                 format!("{kw}({}, ..): {what}", r.body)
             }
         }
@@ -164,9 +175,14 @@ impl Lowerer<'_> {
         let mut complete = true;
         for i in 0..=list.len() {
             for r in def.rolling.iter().filter(|r| r.position == i) {
-                if r.skates {
-                    match self.skate_row(r) {
-                        Some(row) => sides.push((Source::Rolling(r, NO_SKID), row, ZERO)),
+                let one_row = match r.kind {
+                    ContactKind::Skates => Some((self.skate_row(r), NO_SKID)),
+                    ContactKind::Slides => Some((self.slide_row(r), ON_THE_SURFACE)),
+                    ContactKind::Rolls => None,
+                };
+                if let Some((row, what)) = one_row {
+                    match row {
+                        Some(row) => sides.push((Source::Rolling(r, what), row, ZERO)),
                         None => complete = false,
                     }
                     continue;
@@ -239,6 +255,22 @@ impl Lowerer<'_> {
         wheels: &mut Vec<ExprId>,
     ) -> Option<([ExprId; 3], Option<crate::model::ContactKinematics>)> {
         let contact = self.rolling_contact(r)?;
+        if let Some([x, y]) = contact.located {
+            // on a surface z = h(x, y) no slip comes first: its rows take
+            // the centre's x and y, the height z, and the rows that place
+            // the contact the contact coordinates, so that the chart ends
+            // where the body no longer fits the surface
+            let [vx, vy] = contact.velocity;
+            sides.push((Source::Rolling(r, NO_SLIP_X), vx, ZERO));
+            sides.push((Source::Rolling(r, NO_SLIP_Y), vy, ZERO));
+            let h = contact.height.unwrap_or(ZERO);
+            let what = "contact with the surface z = h(x, y)";
+            sides.push((Source::Rolling(r, what), h, ZERO));
+            sides.push((Source::Rolling(r, AT_CONTACT_X), x, ZERO));
+            sides.push((Source::Rolling(r, AT_CONTACT_Y), y, ZERO));
+            wheels.extend(contact.chart);
+            return Some((contact.point, contact.kinematics));
+        }
         if let Some(h) = contact.height {
             sides.push((Source::Rolling(r, "contact with the plane z = 0"), h, ZERO));
         }

@@ -3,16 +3,19 @@
 //! its height (a holonomic row where it does not vanish identically), with
 //! the checks of the line's fields.
 
+mod convex;
 mod ellipsoid;
 mod rail;
 mod skates;
+mod slides;
 mod support;
 mod surfaces;
+mod terrain;
 
 use super::Lowerer;
 use super::values::{Rotation, Vec3, add3, cross3, dot3, mat_vec, scale3, sub3, unit};
 use crate::parse::{Expr, RollingDef};
-use crate::sym::{ExprId, Rational, ZERO};
+use crate::sym::{ExprId, ONE, Rational, ZERO};
 use crate::words::{BodyField, RollingField};
 
 /// What a `rolls(..)` line gives: its velocity rows and its contact.
@@ -30,6 +33,10 @@ pub(crate) struct Contact {
     /// For a contact kept to a rail: the rail's row (holonomic) and the
     /// velocity row along the rail, which replace the two no-slip rows.
     pub(crate) rail: Option<[ExprId; 2]>,
+    /// On a surface z = h(x, y): the rows P_x − u and P_y − v that make the
+    /// coordinates of `contact: [u, v]` the contact point's x and y
+    /// (holonomic).
+    pub(crate) located: Option<[ExprId; 2]>,
     /// |e_z × n| of a wheel (zero when it lies flat), for the chart check.
     pub(crate) chart: Option<ExprId>,
     /// Its kinematics, for the rows' derivatives in closed form (a round
@@ -52,8 +59,29 @@ impl Contact {
             point,
             centre,
             rail: None,
+            located: None,
             chart: None,
             kinematics: None,
+        }
+    }
+}
+
+/// What a body rolls on other than the fixed plane z = 0.
+pub(crate) enum Ground {
+    /// A plane that tilts or moves, `on: F`, `origin: O`.
+    Support(support::Support),
+    /// A fixed surface `on: z = h(x, y)`.
+    Terrain(terrain::Terrain),
+}
+
+impl Ground {
+    /// The unit normal N at the contact, towards the body, and a positive
+    /// multiple M of it with |M|², for a shape whose contact depends on
+    /// N's direction alone (see [`Lowerer::round_offset`]).
+    fn normals(&self) -> (Vec3, (Vec3, ExprId)) {
+        match self {
+            Ground::Support(sp) => (sp.normal, (sp.normal, ONE)),
+            Ground::Terrain(tr) => (tr.normal, tr.direction),
         }
     }
 }
@@ -62,18 +90,47 @@ impl Lowerer<'_> {
     /// The contact of a `rolls(..)` line: the lowest point of a round body
     /// on the plane z = 0 and its material velocity.
     pub(super) fn rolling_contact(&mut self, def: &RollingDef) -> Option<Contact> {
-        let fields = self.fields::<RollingField>(&def.fields, "`rolls`", &def.body)?;
+        let fields = self.fields(&def.fields, "`rolls`", &def.body, Some(RollingField::On))?;
         let get = |n: RollingField| fields.iter().find(|f| f.0 == n).map(|f| f.1);
-        let (on, origin) = (get(RollingField::On), get(RollingField::Origin));
-        let support = match Self::moved(on, origin) {
-            true => Some(self.support(on, origin)?),
-            false => None,
-        };
-        let contact = self.shaped_contact(def, &fields, support.as_ref())?;
-        match get(RollingField::Rail) {
-            Some(d) => self.on_rail(def, &fields, contact, d, support.as_ref()),
-            None => Some(contact),
+        let ground = self.ground(def, &fields)?;
+        let contact = self.shaped_contact(def, &fields, ground.as_ref())?;
+        match (get(RollingField::Rail), &ground) {
+            (None, _) => Some(contact),
+            (Some(d), Some(Ground::Terrain(_))) => {
+                self.cx.error(d.range(), "`rail` on a surface `z = h(x, y)`: a rail is a line of a plane the body rolls on; remove `rail`, or roll on a plane (`on: F` for a tilted one)");
+                None
+            }
+            (Some(d), Some(Ground::Support(sp))) => {
+                self.on_rail(def, &fields, contact, d, Some(sp))
+            }
+            (Some(d), None) => self.on_rail(def, &fields, contact, d, None),
         }
+    }
+
+    /// What the line's body rolls on: a surface `on: z = h(x, y)`, a
+    /// support `on: F` or `origin: O`, or (`None`) the plane z = 0.
+    fn ground(
+        &mut self,
+        def: &RollingDef,
+        fields: &[(RollingField, &Expr)],
+    ) -> Option<Option<Ground>> {
+        let get = |n: RollingField| fields.iter().find(|f| f.0 == n).map(|f| f.1);
+        let surface = def.fields.iter().find_map(|f| {
+            let on = RollingField::parse(&f.name.to_string()) == Some(RollingField::On);
+            f.equals.as_ref().filter(|_| on).map(|rhs| (&f.value, rhs))
+        });
+        if let Some((lhs, rhs)) = surface {
+            return Some(Some(Ground::Terrain(self.terrain(def, fields, lhs, rhs)?)));
+        }
+        if let Some(c) = get(RollingField::Contact) {
+            self.cx.error(c.range(), "`contact: [u, v]` names the coordinates of the contact point on a surface `on: z = h(x, y)`, and this line rolls on a plane: remove `contact`, or give the surface");
+            return None;
+        }
+        let (on, origin) = (get(RollingField::On), get(RollingField::Origin));
+        Some(match Self::moved(on, origin) {
+            true => Some(Ground::Support(self.support(on, origin)?)),
+            false => None,
+        })
     }
 
     /// The contact of the body's shape (its fields) on the plane z = 0,
@@ -82,11 +139,14 @@ impl Lowerer<'_> {
         &mut self,
         def: &RollingDef,
         fields: &[(RollingField, &Expr)],
-        support: Option<&support::Support>,
+        ground: Option<&Ground>,
     ) -> Option<Contact> {
         let get = |n: RollingField| fields.iter().find(|f| f.0 == n).map(|f| f.1);
+        if let Some(h) = get(RollingField::SupportFunction) {
+            return self.convex_contact(def, fields, h, ground);
+        }
         if let Some(axes) = get(RollingField::SemiAxes) {
-            return self.ellipsoid_contact(def, fields, axes, support);
+            return self.ellipsoid_contact(def, fields, axes, ground);
         }
         let curved = [RollingField::Inside, RollingField::Outside]
             .into_iter()
@@ -124,8 +184,8 @@ impl Lowerer<'_> {
                 .error(def.range, "a torus (`tube: ..`) needs its `axle: [..]`");
             return None;
         }
-        if let Some(sp) = support {
-            return self.round_on_support(def, rot, centre, (radius, axle, tube), sp);
+        if let Some(g) = ground {
+            return self.round_on_ground(def, rot, centre, (radius, axle, tube), g);
         }
         if let (Some(a), Some(x)) = (axle, get(RollingField::Axle))
             && self.always_vertical(rot, a)
@@ -371,7 +431,8 @@ impl Lowerer<'_> {
         axle: Option<Vec3>,
         tube: Option<ExprId>,
     ) -> Contact {
-        let (offset, chart, world_axle) = self.round_offset(rot, radius, axle, tube, unit(2));
+        let (offset, chart, world_axle) =
+            self.round_offset(rot, radius, axle, tube, (unit(2), (unit(2), ONE)));
         let (contact, omega) = self.contact_at(rot, centre, offset);
         Contact {
             chart,
@@ -449,23 +510,27 @@ impl Lowerer<'_> {
     /// o = P − G of a round body turned by `rot` on a plane of unit normal
     /// N: −r w − ρ N with w = (N − (N·n) n)/|N × n| the direction to the
     /// rim's lowest point (n the world axle; a sphere has w = N); the
-    /// rim's |N × n| and the world axle with it, for a wheel.
+    /// rim's |N × n| and the world axle with it, for a wheel. `rim` is the
+    /// normal w is formed from, (M, |M|²) for any positive multiple M of N
+    /// (w does not change; a surface's unnormalised normal keeps its root
+    /// out of w), (N, 1) on a plane.
     fn round_offset(
         &mut self,
         rot: &Rotation,
         radius: ExprId,
         axle: Option<Vec3>,
         tube: Option<ExprId>,
-        normal: Vec3,
+        (normal, rim): (Vec3, (Vec3, ExprId)),
     ) -> (Vec3, Option<ExprId>, Option<(Vec3, ExprId)>) {
         let (w, chart, world_axle) = match axle {
             None => (normal, None, None),
             Some(a) => {
+                let (m, m2) = rim;
                 let n = mat_vec(&mut self.e, &rot.matrix, a);
-                let nz = dot3(&mut self.e, normal, n);
+                let nz = dot3(&mut self.e, m, n);
                 let nz_n = scale3(&mut self.e, nz, n);
-                let towards = sub3(&mut self.e, normal, nz_n);
-                let s = self.rim_scale(nz);
+                let towards = sub3(&mut self.e, m, nz_n);
+                let s = self.rim_scale(nz, m2);
                 let inv = self.e.pow(s, Rational::MINUS_ONE);
                 (scale3(&mut self.e, inv, towards), Some(s), Some((n, s)))
             }
@@ -480,35 +545,60 @@ impl Lowerer<'_> {
     }
 
     /// The contact of a sphere, disc or torus (`shape`: radius, axle,
-    /// tube) on a support.
-    fn round_on_support(
+    /// tube) on a support or a surface.
+    fn round_on_ground(
         &mut self,
         def: &RollingDef,
         rot: &Rotation,
         centre: Vec3,
         shape: (ExprId, Option<Vec3>, Option<ExprId>),
-        sp: &support::Support,
+        ground: &Ground,
     ) -> Option<Contact> {
         let (radius, axle, tube) = shape;
-        let (offset, chart, _) = self.round_offset(rot, radius, axle, tube, sp.normal);
+        let (offset, chart, _) = self.round_offset(rot, radius, axle, tube, ground.normals());
         if chart.is_some_and(|s| {
             s == ZERO
                 || crate::sym::random_points::vanish_at_random_points(&self.e, self.pi_sym, &[s])
         }) {
-            self.cx.error(def.range, format!("the axle of `{}` is normal to the support's plane in every configuration: the wheel lies flat on it, touching it along its whole rim; give the wheel's axis of symmetry in body axes", def.body));
+            self.cx.error(def.range, format!("the axle of `{}` is normal to the {} in every configuration: the wheel lies flat on it, touching it along its whole rim; give the wheel's axis of symmetry in body axes", def.body, match ground { Ground::Support(_) => "support's plane", Ground::Terrain(_) => "surface" }));
             return None;
         }
-        let contact = Contact {
-            chart,
-            ..self.on_support(rot, centre, offset, sp)
-        };
         let what = match (axle, tube) {
             (None, _) => "a sphere",
             (Some(_), None) => "a wheel",
             (Some(_), Some(_)) => "a torus",
         };
-        self.describe_supported(def, what, &contact, sp);
-        Some(contact)
+        let contact = self.on_ground(def, what, rot, centre, offset, ground);
+        let chart = match (chart, contact.chart) {
+            (Some(a), Some(b)) => Some(self.e.mul(a, b)),
+            (a, b) => a.or(b),
+        };
+        Some(Contact { chart, ..contact })
+    }
+
+    /// The contact of a body (`shape` for the docs) turned by `rot`, centre
+    /// G, whose point P = G + `offset` touches `ground`.
+    fn on_ground(
+        &mut self,
+        def: &RollingDef,
+        shape: &str,
+        rot: &Rotation,
+        centre: Vec3,
+        offset: Vec3,
+        ground: &Ground,
+    ) -> Contact {
+        match ground {
+            Ground::Support(sp) => {
+                let contact = self.on_support(rot, centre, offset, sp);
+                self.describe_supported(def, shape, &contact, sp);
+                contact
+            }
+            Ground::Terrain(tr) => {
+                let contact = self.on_terrain(rot, centre, offset, tr);
+                self.describe_terrain(def, shape, &contact, tr);
+                contact
+            }
+        }
     }
 
     /// The contact point P = G + o of a body turned by `rot` with centre
@@ -552,11 +642,11 @@ impl Lowerer<'_> {
     /// |e_z × n| = √(1 − n_z²) for a unit axle n: cos u when 1 − n_z² is
     /// cos²u and u vanishes at the reference configuration (all coordinates
     /// and t zero: an upright wheel), valid until the wheel lies flat; the
-    /// square root otherwise.
-    fn rim_scale(&mut self, nz: ExprId) -> ExprId {
+    /// square root otherwise. Along a normal M of squared length `m2`
+    /// (n_z = M·n), |M × n| = √(m2 − n_z²).
+    fn rim_scale(&mut self, nz: ExprId, m2: ExprId) -> ExprId {
         let nz2 = self.e.mul(nz, nz);
-        let one = self.e.int(1);
-        let s2 = self.e.sub(one, nz2);
+        let s2 = self.e.sub(m2, nz2);
         if let Some((c, u)) = self.e.as_scaled_cos_square(s2) {
             let mut at_rest = rustc_hash::FxHashMap::default();
             for c in &self.coords {

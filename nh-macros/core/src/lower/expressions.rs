@@ -257,6 +257,7 @@ impl Lowerer<'_> {
                 Some(self.e.sym(self.inputs[i].sym))
             }
             Some(Binding::Let(_) | Binding::Body(_)) => None,
+            Some(Binding::Bound(b)) => Some(self.e.sym(b)),
             Some(Binding::Speed(i)) => {
                 if self.place != Place::Kinematics {
                     self.cx.error_at(id.span(), format!("speed `{s}` can appear only on the right sides of `kinematics`: write the Lagrangian, forces and `let`s with the velocities `dot(q)` of the coordinates (they are substituted by q̇ = S u + σ)"));

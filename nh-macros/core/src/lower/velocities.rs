@@ -61,6 +61,10 @@ impl Lowerer<'_> {
                 self.cx.error(range, format!("`dot({s})`: `{s}` is a body; the velocity of its centre is `dot(C)` of a `let C` for the centre, its angular velocity `omega(R)` of its orientation"));
                 None
             }
+            Some(Binding::Bound(_)) => {
+                self.cx.error(range, format!("`dot({s})`: here `{s}` is a component of the direction the support function takes, not a coordinate; it has no rate"));
+                None
+            }
             Some(Binding::Speed(_)) => {
                 self.cx.error(range, format!("`dot({s})`: `{s}` is a speed; its derivative is what the equations of motion compute, it cannot be written"));
                 None

@@ -203,8 +203,11 @@ fn list_source(items: &[Expr]) -> String {
 pub struct Field {
     /// the field's name
     pub name: Ident,
-    /// its value
+    /// its value; for a field written as an equation, `on: z = h(x, y)`,
+    /// its left side
     pub value: Expr,
+    /// the right side of a field written as an equation
+    pub equals: Option<Expr>,
 }
 
 /// A `body NAME { mass: .., centre: .., orientation: .., inertia: .. }` item.
@@ -219,12 +222,24 @@ pub struct BodyDef {
     pub rejected_fields: bool,
 }
 
-/// A `rolls(BODY, radius: .., axle: ..);` line of `constraints`, or a
-/// `skates(BODY, across: ..);` line.
+/// What a contact line of `constraints` says.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContactKind {
+    /// `rolls(..)`: rolling without slipping (a contact point, two rows
+    /// of no slip, and its height where that is not identically zero)
+    Rolls,
+    /// `skates(..)`: no velocity of a body point across a direction (one row)
+    Skates,
+    /// `slides(..)`: a body point kept on a surface (one holonomic row)
+    Slides,
+}
+
+/// A `rolls(BODY, radius: .., axle: ..);` line of `constraints`, a
+/// `skates(BODY, across: ..);` line or a `slides(BODY, at: ..);` line.
 #[derive(Clone, Debug)]
 pub struct RollingDef {
-    /// whether the line is `skates(..)` (one row) rather than `rolls(..)`
-    pub skates: bool,
+    /// which contact the line is
+    pub kind: ContactKind,
     /// the rolling body
     pub body: Ident,
     /// the named arguments as written

@@ -3,7 +3,7 @@
 //! that one error does not hide the others.
 
 use super::expr::{parse_expr, parse_expr_all};
-use super::{Constraint, Field, Force, RollingDef, Symmetry, SystemDef};
+use super::{Constraint, ContactKind, Field, Force, RollingDef, Symmetry, SystemDef};
 use crate::ctxt::{Ctxt, SpanRange};
 use crate::names;
 use crate::words::{Block, Keyword, Output, Spelled, and_list};
@@ -448,7 +448,7 @@ fn parse_constraint_line(input: ParseStream) -> syn::Result<Line> {
     let fork = input.fork();
     let is_rolling = fork
         .call(Ident::parse_any)
-        .is_ok_and(|id| id == Keyword::Rolls || id == Keyword::Skates)
+        .is_ok_and(|id| id == Keyword::Rolls || id == Keyword::Skates || id == Keyword::Slides)
         && fork.peek(syn::token::Paren);
     if is_rolling {
         return parse_rolling(input).map(Line::Rolling);
@@ -456,16 +456,28 @@ fn parse_constraint_line(input: ParseStream) -> syn::Result<Line> {
     parse_constraint(input).map(Line::Equation)
 }
 
-/// `rolls(BODY, name: expr, ..);` or `skates(BODY, name: expr, ..);`
+/// `rolls(BODY, name: expr, ..);`, `skates(BODY, name: expr, ..);` or
+/// `slides(BODY, name: expr, ..);`
 fn parse_rolling(input: ParseStream) -> syn::Result<RollingDef> {
     let kw: Ident = input.call(IdentExt::parse_any)?;
-    let skates = kw == Keyword::Skates;
+    let kind = if kw == Keyword::Skates {
+        ContactKind::Skates
+    } else if kw == Keyword::Slides {
+        ContactKind::Slides
+    } else {
+        ContactKind::Rolls
+    };
     let content;
     let paren = syn::parenthesized!(content in input);
     let body: Ident = content.call(IdentExt::parse_any).map_err(|e| {
-        let example = match skates {
-            true => "expected the skating body's name: `skates(sled, across: [0, 1, 0]);`",
-            false => {
+        let example = match kind {
+            ContactKind::Skates => {
+                "expected the skating body's name: `skates(sled, across: [0, 1, 0]);`"
+            }
+            ContactKind::Slides => {
+                "expected the sliding body's name: `slides(top, at: [0, 0, -l]);`"
+            }
+            ContactKind::Rolls => {
                 "expected the rolling body's name: `rolls(wheel, radius: r, axle: [0, 1, 0]);`"
             }
         };
@@ -493,7 +505,7 @@ fn parse_rolling(input: ParseStream) -> syn::Result<RollingDef> {
         )));
     }
     Ok(RollingDef {
-        skates,
+        kind,
         range: SpanRange {
             first: kw.span(),
             last: paren.span.close(),
@@ -504,7 +516,7 @@ fn parse_rolling(input: ParseStream) -> syn::Result<RollingDef> {
     })
 }
 
-/// `name: expr`
+/// `name: expr`, or `name: lhs = rhs` (a surface's equation)
 fn parse_field(input: ParseStream) -> syn::Result<Field> {
     let name: Ident = input
         .call(IdentExt::parse_any)
@@ -516,7 +528,17 @@ fn parse_field(input: ParseStream) -> syn::Result<Field> {
         )
     })?;
     let value = parse_expr(input, 0)?;
-    Ok(Field { name, value })
+    let equals = if input.peek(Token![=]) && !input.peek(Token![==]) {
+        let _: Token![=] = input.parse()?;
+        Some(parse_expr(input, 0)?)
+    } else {
+        None
+    };
+    Ok(Field {
+        name,
+        value,
+        equals,
+    })
 }
 
 /// The comma-separated `name: expr` fields of a `body` item, each parsed on

@@ -5,8 +5,7 @@
 //! support function in the direction −e_z), and P_z = G_z − s.
 
 use super::super::Lowerer;
-use super::Contact;
-use super::support::Support;
+use super::{Contact, Ground};
 use crate::lower::values::{Rotation, Vec3, dot3, unit};
 use crate::parse::{Expr, RollingDef};
 use crate::sym::{ExprId, Rational};
@@ -19,7 +18,7 @@ impl Lowerer<'_> {
         def: &RollingDef,
         fields: &[(RollingField, &Expr)],
         axes: &Expr,
-        support: Option<&Support>,
+        ground: Option<&Ground>,
     ) -> Option<Contact> {
         let mut fine = true;
         for (f, x) in fields {
@@ -43,13 +42,12 @@ impl Lowerer<'_> {
         if !fine {
             return None;
         }
-        let normal = support.map_or(unit(2), |sp| sp.normal);
+        // the lowest point depends on the normal's direction alone
+        let normal = ground.map_or(unit(2), |g| g.normals().1.0);
         let (offset, s) = self.ellipsoid_offset(rot, semi, normal);
-        if let Some(sp) = support {
-            let contact = self.on_support(rot, centre, offset, sp);
+        if let Some(g) = ground {
             let shape = format!("an ellipsoid of semi-axes {}", self.show3(semi));
-            self.describe_supported(def, &shape, &contact, sp);
-            return Some(contact);
+            return Some(self.on_ground(def, &shape, rot, centre, offset, g));
         }
         let (contact, _) = self.contact_at(rot, centre, offset);
         let line = format!(

@@ -14,7 +14,7 @@ use crate::words::SkateField;
 impl Lowerer<'_> {
     /// The row of a `skates(..)` line.
     pub(in crate::lower) fn skate_row(&mut self, def: &RollingDef) -> Option<ExprId> {
-        let fields = self.fields::<SkateField>(&def.fields, "`skates`", &def.body)?;
+        let fields = self.fields::<SkateField>(&def.fields, "`skates`", &def.body, None)?;
         let get = |n: SkateField| fields.iter().find(|f| f.0 == n).map(|f| f.1);
         let across = match get(SkateField::Across) {
             Some(x) => {
