@@ -636,6 +636,94 @@
 //! surface's normal towards the ball, and the height row keeps the centre
 //! at R0 ∓ r from the centre or the axis.
 //!
+//! **Convex bodies.** `support_function: h(x, y, z)` gives any strictly
+//! convex body by its support function in body axes: h(d) is the largest
+//! p·d over the body's points p (from its centre), for every direction
+//! d = (x, y, z) — the ellipsoid's is `sqrt(a^2*x^2 + b^2*y^2 + c^2*z^2)`,
+//! a body rounded by ρ adds `rho*sqrt(x^2 + y^2 + z^2)`. The contact is
+//! the point ∇h(−RᵀN), in closed form; the macro checks that h is of
+//! degree 1 and strictly convex. A rounded box-like pebble:
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     pub struct Pebble {
+//!         parameters { m, a, b, c, rho, g }
+//!         coordinates { psi, theta, phi, x, y, z }
+//!         let R = rot_z(psi)*rot_y(theta)*rot_x(phi);
+//!         body stone { mass: m, centre: [x, y, z], orientation: R, inertia: diag(m*(b^2 + c^2)/5, m*(a^2 + c^2)/5, m*(a^2 + b^2)/5) }
+//!         lagrangian = kinetic_energy(stone) - m*g*z;
+//!         constraints { rolls(stone, support_function: sqrt(a^2*x^2 + b^2*y^2 + c^2*z^2) + rho*sqrt(x^2 + y^2 + z^2)); }
+//!     }
+//! }
+//!
+//! // resting level, the pebble's centre is c + ρ above the plane
+//! let pebble = Pebble::new(0.1, 0.05, 0.03, 0.02, 0.005, 9.81);
+//! let mut x0 = SVector::<f64, 9>::zeros(); // ψ, θ, φ, x, y, z, three angle rates
+//! x0[5] = 0.025;
+//! assert!(pebble.constraint_residual(0.0, &x0).unwrap() < 1e-17);
+//! ```
+//!
+//! **Surfaces z = h(x, y).** `on: z = h(x, y)` rolls the body on a fixed
+//! surface written as the graph of its height (terrain, a trough, a banked
+//! track); in h, `x` and `y` are the surface's point. Its contact point has
+//! no closed form, so you declare two coordinates for its x and y and name
+//! them, `contact: [u, v]`: three holonomic rows hold the body's point
+//! whose normal is the surface's at (u, v) on the surface there, and the
+//! integrators' projection onto them finds the contact by Newton's method.
+//! A ball in the paraboloid z = (x² + y²)/2, placed by its centre:
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     pub struct BallInABowl {
+//!         parameters { m, r, g }
+//!         coordinates { x, y, z, yaw, pitch, roll, u, v }
+//!         let R = rot_z(yaw)*rot_y(pitch)*rot_x(roll);
+//!         body ball { mass: m, centre: [x, y, z], orientation: R, inertia: diag(2*m*r^2/5, 2*m*r^2/5, 2*m*r^2/5) }
+//!         lagrangian = kinetic_energy(ball) - m*g*z;
+//!         constraints { rolls(ball, radius: r, on: z = (x^2 + y^2)/2, contact: [u, v]); }
+//!     }
+//! }
+//!
+//! let ball = BallInABowl::new(0.2, 0.1, 9.81);
+//! assert_eq!(BallInABowl::DEPENDENT, [0, 1, 2, 6, 7]); // x, y, z and the contact
+//! // the centre at (0.3, 0.2), its height and the contact point guessed
+//! let mut x0 = SVector::<f64, 11>::zeros();
+//! (x0[0], x0[1], x0[2], x0[6], x0[7]) = (0.3, 0.2, 0.2, 0.3, 0.2);
+//! ball.project(0.0, &mut x0).expect("the contact is found");
+//! let (u, v) = (x0[6], x0[7]);
+//! let gap = [x0[0] - u, x0[1] - v, x0[2] - (u * u + v * v) / 2.0];
+//! let distance = gap.iter().map(|g| g * g).sum::<f64>().sqrt();
+//! assert!((distance - 0.1).abs() < 1e-15); // the centre is r above the contact
+//! assert!((gap[0] + u * gap[2]).abs() < 1e-15); // along the surface's normal
+//! ```
+//!
+//! **Sliding points.** `slides(NAME, at: p)` keeps the body's point p
+//! (body axes, from the centre of mass; by default the centre of mass) on
+//! the plane z = 0 without friction, or on `on: z = h(x, y)` (which may
+//! move with `t`) or the plane of a support `on: F`: one holonomic row,
+//! whose multiplier is the normal force. A top spinning on a smooth table:
+//!
+//! ```
+//! use nonholonomic::prelude::*;
+//!
+//! nonholonomic_system! {
+//!     pub struct SlidingTop {
+//!         parameters { m, I1, I3, l, g }
+//!         coordinates { x, y, z, phi, theta, psi }
+//!         let R = rot_z(phi)*rot_x(theta)*rot_z(psi);
+//!         body top { mass: m, centre: [x, y, z], orientation: R, inertia: diag(I1, I1, I3) }
+//!         lagrangian = kinetic_energy(top) - m*g*z;
+//!         constraints { slides(top, at: [0, 0, -l]); }
+//!     }
+//! }
+//!
+//! assert_eq!(SlidingTop::DEPENDENT, [2]); // the height z = l cos θ
+//! ```
+//!
 //! **Skates.** `skates(NAME, across: d, at: p)` is a knife edge: the body's
 //! point p (body axes, from the centre of mass) has no velocity along the
 //! body-fixed direction d. The Chaplygin sleigh, its blade a behind the
