@@ -217,6 +217,26 @@ impl Lowerer<'_> {
         Some(contact)
     }
 
+    /// The orientation of a `rolls(..)` line's body and its geometric
+    /// centre (`centre:`, described as `what`, or the centre of mass); an
+    /// error for a point mass.
+    fn rolling_body(
+        &mut self,
+        def: &RollingDef,
+        fields: &[(RollingField, &Expr)],
+        what: &str,
+    ) -> Option<(std::rc::Rc<Rotation>, Vec3)> {
+        let centre = (fields.iter().find(|f| f.0 == RollingField::Centre))
+            .map(|f| self.lower_position_vector(f.1, what));
+        let b = self.body(&def.body)?;
+        let centre = centre.unwrap_or(Some(b.centre))?;
+        let Some((rot, _)) = &b.rotation else {
+            self.cx.error(def.range, format!("body `{}` is a point mass: a rolling body needs an `orientation` and an `inertia`", def.body));
+            return None;
+        };
+        Some((rot.clone(), centre))
+    }
+
     /// A radius or tube radius of a rolling contact: a constant of the
     /// parameters (no coordinate, velocity, input or `t`), neither zero
     /// nor a negative constant; else an error at its field. (Parameters

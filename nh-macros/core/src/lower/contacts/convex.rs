@@ -56,14 +56,8 @@ impl Lowerer<'_> {
             fine = false;
         }
         let gradient = self.support_gradient(x);
-        let centre = (fields.iter().find(|f| f.0 == RollingField::Centre))
-            .map(|f| self.lower_position_vector(f.1, "the body's centre"));
-        let b = self.body(&def.body)?;
-        let (gradient, centre) = (gradient?, centre.unwrap_or(Some(b.centre))?);
-        let Some((rot, _)) = &b.rotation else {
-            self.cx.error(def.range, format!("body `{}` is a point mass: a rolling body needs an `orientation` and an `inertia`", def.body));
-            return None;
-        };
+        let (rot, centre) = self.rolling_body(def, fields, "the body's centre")?;
+        let (rot, gradient) = (&*rot, gradient?);
         if !fine {
             return None;
         }

@@ -31,14 +31,8 @@ impl Lowerer<'_> {
             }
         }
         let semi = self.semi_axes(axes);
-        let centre = (fields.iter().find(|f| f.0 == RollingField::Centre))
-            .map(|f| self.lower_position_vector(f.1, "the ellipsoid's centre"));
-        let b = self.body(&def.body)?;
-        let (semi, centre) = (semi?, centre.unwrap_or(Some(b.centre))?);
-        let Some((rot, _)) = &b.rotation else {
-            self.cx.error(def.range, format!("body `{}` is a point mass: a rolling body needs an `orientation` and an `inertia`", def.body));
-            return None;
-        };
+        let (rot, centre) = self.rolling_body(def, fields, "the ellipsoid's centre")?;
+        let (rot, semi) = (&*rot, semi?);
         if !fine {
             return None;
         }
