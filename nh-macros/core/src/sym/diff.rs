@@ -59,6 +59,10 @@ impl Engine {
     /// functions) grow additively: d/dx of a_(n+1) = a_n + sin(a_n)/2 is then
     /// a_n' + cos(a_n)/2 · [a_n'] with [a_n'] one atom, not 2ⁿ terms.
     fn chain_rule_product(&mut self, outer: ExprId, inner: ExprId) -> ExprId {
+        if self.overflow {
+            // the derivation is abandoned: no more work on its pieces
+            return ZERO;
+        }
         if self.exprs[inner.index()].len() <= self.atom_min || self.as_constant(outer).is_some() {
             return self.mul(outer, inner);
         }

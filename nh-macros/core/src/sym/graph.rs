@@ -154,6 +154,13 @@ impl Engine {
     }
 
     pub(super) fn intern_mono(&mut self, f: Factors) -> MonoId {
+        // hashing and comparing a monomial is work in its length (nested
+        // functions of long `let` chains make monomials of hundreds of
+        // factors)
+        self.work = self.work.saturating_add(f.len());
+        if self.work > super::MAX_WORK {
+            self.overflow = true;
+        }
         if let Some(&id) = self.mono_ix.get(&f) {
             return id;
         }
