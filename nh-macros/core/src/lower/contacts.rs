@@ -250,21 +250,7 @@ impl Lowerer<'_> {
         let v = self.lower(x, 0)?;
         let src = super::short(x.to_source());
         let fs = self.e.free_symbols(v).to_vec();
-        let moving = fs.iter().find_map(|s| {
-            if *s == self.t_sym {
-                return Some("the time `t`".to_string());
-            }
-            self.coords.iter().find_map(|c| {
-                if c.position == *s {
-                    Some(format!("the coordinate `{}`", c.name))
-                } else if c.velocity == *s {
-                    Some(format!("the velocity `dot({})`", c.name))
-                } else {
-                    None
-                }
-            })
-        });
-        if let Some(m) = moving {
+        if let Some((m, _)) = self.moving_symbol(v, &[], false) {
             let (keeps, noun) = match which {
                 RollingField::SemiAxes => {
                     ("a rolling body keeps its shape", "semi-axis".to_string())
@@ -314,6 +300,36 @@ impl Lowerer<'_> {
             }
         }
         Some(v)
+    }
+
+    /// What `e` depends on besides the symbols `allowed`, the parameters
+    /// and (if `timed`) the time: the first such symbol named for a
+    /// message ("the coordinate `x`"), with the coordinate's name if it is
+    /// one; `None` if nothing.
+    pub(super) fn moving_symbol(
+        &self,
+        e: ExprId,
+        allowed: &[crate::sym::SymId],
+        timed: bool,
+    ) -> Option<(String, Option<String>)> {
+        self.e.free_symbols(e).iter().find_map(|&s| {
+            if allowed.contains(&s) {
+                return None;
+            }
+            if s == self.t_sym {
+                return (!timed).then(|| ("the time `t`".to_string(), None));
+            }
+            self.coords.iter().find_map(|c| {
+                let name = c.name.to_string();
+                if c.position == s {
+                    Some((format!("the coordinate `{name}`"), Some(name)))
+                } else if c.velocity == s {
+                    Some((format!("the velocity `dot({name})`"), None))
+                } else {
+                    None
+                }
+            })
+        })
     }
 
     /// Whether the world axle R a is vertical in every configuration:

@@ -103,7 +103,7 @@ impl Lowerer<'_> {
         }
         let h = h?;
         let src = super::super::short(x.to_source());
-        if let Some(m) = self.moving_symbol(h, &d) {
+        if let Some((m, _)) = self.moving_symbol(h, &d, false) {
             self.cx.error(x.range(), format!("a support function is fixed in the body: it may depend on the direction `x`, `y`, `z` (body axes) and the parameters only, but `{src}` depends on {m}"));
             return None;
         }
@@ -120,27 +120,6 @@ impl Lowerer<'_> {
             direction: d,
             value: h,
             gradient,
-        })
-    }
-
-    /// What h depends on beyond the direction and the parameters, named.
-    fn moving_symbol(&self, h: ExprId, d: &[SymId; 3]) -> Option<String> {
-        self.e.free_symbols(h).iter().find_map(|&s| {
-            if d.contains(&s) {
-                return None;
-            }
-            if s == self.t_sym {
-                return Some("the time `t`".to_string());
-            }
-            self.coords.iter().find_map(|c| {
-                if c.position == s {
-                    Some(format!("the coordinate `{}`", c.name))
-                } else if c.velocity == s {
-                    Some(format!("the velocity `dot({})`", c.name))
-                } else {
-                    None
-                }
-            })
         })
     }
 

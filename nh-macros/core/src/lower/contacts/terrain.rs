@@ -134,27 +134,11 @@ impl Lowerer<'_> {
             };
         }
         let h = h?;
-        let moving = self.e.free_symbols(h).iter().find_map(|&s| {
-            if s == self.t_sym && !timed {
-                return Some("the time `t`".to_string());
+        let moving = self.moving_symbol(h, &plane, timed).map(|(m, name)| {
+            match name.as_deref() {
+                Some("z") => format!("{m} (a surface that is not the graph of a height over the plane, such as a sphere or a cylinder, is `inside: ..` or `outside: ..`)"),
+                _ => m,
             }
-            if plane.contains(&s) {
-                return None;
-            }
-            self.coords.iter().find_map(|c| {
-                if c.position == s {
-                    let graph = if c.name == "z" {
-                        " (a surface that is not the graph of a height over the plane, such as a sphere or a cylinder, is `inside: ..` or `outside: ..`)"
-                    } else {
-                        ""
-                    };
-                    Some(format!("the coordinate `{}`{graph}", c.name))
-                } else if c.velocity == s {
-                    Some(format!("the velocity `dot({})`", c.name))
-                } else {
-                    None
-                }
-            })
         });
         if let Some(m) = moving {
             let (fixed, and_t) = match timed {
