@@ -12,8 +12,8 @@ mod support;
 mod surfaces;
 mod terrain;
 
-use super::Lowerer;
 use super::values::{Rotation, Vec3, add3, cross3, dot3, mat_vec, scale3, sub3, unit};
+use super::{Binding, Lowerer};
 use crate::parse::{Expr, RollingDef};
 use crate::sym::{ExprId, ONE, Rational, ZERO};
 use crate::words::{BodyField, RollingField};
@@ -300,6 +300,27 @@ impl Lowerer<'_> {
             }
         }
         Some(v)
+    }
+
+    /// The scalar `x` lowered with the names of `bound` bound as given
+    /// (a surface's point, a support function's direction), the scope as
+    /// it was afterwards.
+    pub(super) fn lower_bound(&mut self, x: &Expr, bound: &[(&str, Binding)]) -> Option<ExprId> {
+        let saved: Vec<_> = bound
+            .iter()
+            .map(|(n, _)| self.scope.get(*n).copied())
+            .collect();
+        for &(n, b) in bound {
+            self.scope.insert(n.to_string(), b);
+        }
+        let v = self.lower(x, 0);
+        for (&(n, _), old) in bound.iter().zip(saved) {
+            match old {
+                Some(b) => self.scope.insert(n.to_string(), b),
+                None => self.scope.remove(n),
+            };
+        }
+        v
     }
 
     /// What `e` depends on besides the symbols `allowed`, the parameters

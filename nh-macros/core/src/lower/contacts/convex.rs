@@ -90,18 +90,8 @@ impl Lowerer<'_> {
     fn support_gradient(&mut self, x: &Expr) -> Option<Support> {
         let names = ["x", "y", "z"];
         let d = names.map(|n| self.e.symbol(&format!("__nh_direction_{n}")));
-        let saved = names.map(|n| self.scope.get(n).copied());
-        for (n, &s) in names.iter().zip(&d) {
-            self.scope.insert((*n).to_string(), Binding::Bound(s));
-        }
-        let h = self.lower(x, 0);
-        for (n, old) in names.iter().zip(saved) {
-            match old {
-                Some(b) => self.scope.insert((*n).to_string(), b),
-                None => self.scope.remove(*n),
-            };
-        }
-        let h = h?;
+        let bound = [0, 1, 2].map(|i| (names[i], Binding::Bound(d[i])));
+        let h = self.lower_bound(x, &bound)?;
         let src = super::super::short(x.to_source());
         if let Some((m, _)) = self.moving_symbol(h, &d, false) {
             self.cx.error(x.range(), format!("a support function is fixed in the body: it may depend on the direction `x`, `y`, `z` (body axes) and the parameters only, but `{src}` depends on {m}"));

@@ -122,18 +122,7 @@ impl Lowerer<'_> {
         plane: [crate::sym::SymId; 2],
         timed: bool,
     ) -> Option<ExprId> {
-        let saved = ["x", "y"].map(|n| self.scope.get(n).copied());
-        for (n, b) in ["x", "y"].iter().zip(bind) {
-            self.scope.insert((*n).to_string(), b);
-        }
-        let h = self.lower(rhs, 0);
-        for (n, old) in ["x", "y"].iter().zip(saved) {
-            match old {
-                Some(b) => self.scope.insert((*n).to_string(), b),
-                None => self.scope.remove(*n),
-            };
-        }
-        let h = h?;
+        let h = self.lower_bound(rhs, &[("x", bind[0]), ("y", bind[1])])?;
         let moving = self.moving_symbol(h, &plane, timed).map(|(m, name)| {
             match name.as_deref() {
                 Some("z") => format!("{m} (a surface that is not the graph of a height over the plane, such as a sphere or a cylinder, is `inside: ..` or `outside: ..`)"),
