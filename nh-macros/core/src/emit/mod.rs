@@ -74,6 +74,7 @@ pub enum Op {
 }
 
 /// The dataflow graph under construction.
+#[derive(Clone)]
 pub struct Dag {
     ops: Vec<Op>,
     ix: HashMap<Op, Node>,

@@ -15,6 +15,40 @@ use crate::sym::{ExprId, SymId, ZERO};
 use proc_macro2::TokenStream;
 use quote::quote;
 
+/// The form the residual R = f − (Cᵀ M C) r̈ of (5.9) is differentiated in.
+#[derive(Clone, Copy)]
+pub(crate) enum Residual {
+    /// −Cᵀ (M q̈ + h) at q̈ = C r̈ + acc_bias: Kane's equations at given
+    /// accelerations, each body's rate O(k) per column.
+    Regrouped,
+    /// The rates of Cᵀ M C and f, then ∂f − (∂Cᵀ M C) r̈: cheaper when k is
+    /// small and the bodies' sums are long (the bicycle).
+    Projected,
+}
+
+/// ∂f − (∂A) r̈ from the rates of A's upper triangle `(a, b)` pairs
+/// followed by f's.
+fn projected_rates(
+    d: &mut Dag,
+    rates: &[Node],
+    upper: &[(usize, usize)],
+    rdd: &[Node],
+) -> Vec<Node> {
+    let k = rdd.len();
+    let (dm_upper, df) = rates.split_at(upper.len());
+    let mut dm = vec![vec![ZERO_NODE; k]; k];
+    for (&(a, b), &x) in upper.iter().zip(dm_upper) {
+        dm[a][b] = x;
+        dm[b][a] = x;
+    }
+    (0..k)
+        .map(|a| {
+            let moved = algebra::dot(d, (0..k).map(|b| (dm[a][b], rdd[b])));
+            d.sub(df[a], moved)
+        })
+        .collect()
+}
+
 impl Derived<'_, '_> {
     /// Is the chosen route's r̈ large enough that methods needing it call
     /// [`accelerations`] instead of repeating its code? (Small systems keep
@@ -108,12 +142,92 @@ impl Derived<'_, '_> {
         out
     }
 
-    /// ∂f/∂z through the multiplier route (5.9): r̈ solves R(z, r̈) = Cᵀ E = 0
+    /// ∂f/∂z through the multiplier route: forward through the
+    /// accelerations' graph, with R = f − (Cᵀ M C) r̈ in the cheaper (in
+    /// operations) of its two forms ([`Residual`]); where every term comes
+    /// from the expanded Lagrangian (no bodies' sums, no contacts' block),
+    /// the expanded terms differentiated symbolically when that is cheaper
+    /// still (a small dense system's symbolic derivatives share more).
+    pub(crate) fn multiplier_columns(&mut self, d: &mut Dag, vars: &[SymId]) -> Vec<Vec<Node>> {
+        let flat = |c: &[Vec<Node>]| -> Vec<Node> { c.iter().flatten().copied().collect() };
+        let mut regrouped_dag = d.clone();
+        let regrouped = self.forward_columns(&mut regrouped_dag, vars, Residual::Regrouped);
+        let mut projected_dag = d.clone();
+        let projected = self.forward_columns(&mut projected_dag, vars, Residual::Projected);
+        let (mut best_dag, mut best) = (regrouped_dag, regrouped);
+        if projected_dag.op_count(&flat(&projected)) < best_dag.op_count(&flat(&best)) {
+            (best_dag, best) = (projected_dag, projected);
+        }
+        if self.dv.kane.is_none() && self.m.block.is_none() {
+            let expanded = self.expanded_columns(d, vars);
+            if d.op_count(&flat(&expanded)) <= best_dag.op_count(&flat(&best)) {
+                return expanded;
+            }
+        }
+        *d = best_dag;
+        best
+    }
+
+    /// ∂f/∂z through the multiplier route (5.9) by forward differentiation
+    /// of its graph. A r̈ = f (A = Cᵀ M C) holds along the motion, so
+    /// ∂r̈/∂z = A⁻¹ ∂R/∂z for R = f − A r̈ at the solved r̈ held; ∂R/∂z is
+    /// built from the nodes' operands (`Dag::rates`, the dependent velocities
+    /// differentiated through the constraints as the nodes they are) in the
+    /// `form` given, and the factorisation of r̈'s own solve serves every
+    /// column. Nothing of the expanded derivation is differentiated.
+    pub(crate) fn forward_columns(
+        &mut self,
+        d: &mut Dag,
+        vars: &[SymId],
+        form: Residual,
+    ) -> Vec<Vec<Node>> {
+        let (n, k) = (self.m.n(), self.m.k());
+        let kane = self.dv.kane.as_ref();
+        let mn = multiplier_nodes(d, self.m, &self.dv.multiplier_route, kane);
+        let upper: Vec<(usize, usize)> = (0..k).flat_map(|a| (a..k).map(move |b| (a, b))).collect();
+        let mut roots = match form {
+            Residual::Regrouped => mn.residual(d, self.m, kane),
+            Residual::Projected => {
+                let mut r: Vec<Node> = upper
+                    .iter()
+                    .map(|&(a, b)| mn.projected_mass[a][b])
+                    .collect();
+                r.extend(&mn.projected_rhs);
+                r
+            }
+        };
+        let width = roots.len();
+        // q̇: the independent velocities' leaves and the dependent ones'
+        // nodes (C ṙ, sharing C with the accelerations)
+        roots.extend((self.m.coordinates.iter()).map(|c| d.bound(c.velocity).unwrap_or(ZERO_NODE)));
+        let mut out = vec![vec![ZERO_NODE; vars.len()]; n + k];
+        for (col, &z) in vars.iter().enumerate() {
+            let Some(seed) = d.bound(z) else { continue };
+            let seeds = [(seed, ONE_NODE)].into_iter().collect();
+            let rates = d.rates(&roots, &seeds, &mn.rdd);
+            let (dr, dq) = rates.split_at(width);
+            let dr = match form {
+                Residual::Regrouped => dr.to_vec(),
+                Residual::Projected => projected_rates(d, dr, &upper, &mn.rdd),
+            };
+            let x = ldlt::solve(d, &mn.fac, &dr);
+            for (i, &v) in dq.iter().enumerate() {
+                out[i][col] = v;
+            }
+            for al in 0..k {
+                out[n + al][col] = x[al];
+            }
+        }
+        out
+    }
+
+    /// ∂f/∂z through the multiplier route (5.9) from the expanded
+    /// derivation's terms, differentiated symbolically: r̈ solves R(z, r̈) = Cᵀ E = 0
     /// with E = M q̈ + h and q̈ = C r̈ + b (b = −Ȧ ṙ), so ∂r̈/∂z =
     /// −(Cᵀ M C)⁻¹ ∂R/∂z at fixed r̈, with the factorisation of r̈'s own solve.
     /// Each ∂/∂z is a total derivative: the dependent velocities ṡ(q, ṙ) in
     /// M, h and b are differentiated through the constraints (5.3).
-    pub(crate) fn multiplier_columns(&mut self, d: &mut Dag, vars: &[SymId]) -> Vec<Vec<Node>> {
+    pub(crate) fn expanded_columns(&mut self, d: &mut Dag, vars: &[SymId]) -> Vec<Vec<Node>> {
         let (n, k) = (self.m.n(), self.m.k());
         let mn = multiplier_nodes(d, self.m, &self.dv.multiplier_route, self.dv.kane.as_ref());
         let qdd = mn.qdd(d);

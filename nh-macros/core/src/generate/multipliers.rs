@@ -19,8 +19,25 @@ pub(crate) struct MultiplierNodes {
     pub(crate) c: Vec<Vec<Node>>,
     pub(crate) acc_bias: Vec<Node>,
     pub(crate) pivots: Vec<Node>,
+    /// Cᵀ M C of (5.9), k × k (symmetric).
+    pub(crate) projected_mass: Vec<Vec<Node>>,
+    /// The right side of (5.9), −Cᵀ (M acc_bias + h).
+    pub(crate) projected_rhs: Vec<Node>,
     /// The LDLᵀ factorisation of Cᵀ M C, reused for derivatives.
     pub(crate) fac: ldlt::Ldlt<Node>,
+    /// The form the projection was built in, for [`MultiplierNodes::residual`].
+    pub(crate) form: Projected,
+}
+
+/// The form (5.9)'s projection was built in: the expanded Lagrangian's M
+/// and h, or Kane's sums body by body with C and acc_bias as they took
+/// them (in the heading's frame for a planar pair).
+pub(crate) enum Projected {
+    Lagrange,
+    Kane {
+        c: Vec<Vec<Node>>,
+        acc_bias: Vec<Node>,
+    },
 }
 
 pub(crate) fn multiplier_nodes(
@@ -74,7 +91,7 @@ pub(crate) fn multiplier_nodes(
     // Kane's form where it is cheaper than the expanded Lagrangian's terms
     // (without the expanded terms, Kane's form alone: LAGRANGIAN_TERMS_COMPARED)
     let lagrange = (!r.mass.is_empty()).then(|| projection(d, &mass, &bias, &c, &acc_bias));
-    let (mr, f) = match kane {
+    let ((mr, f), form) = match kane {
         Some(bt) => {
             let ops = |d: &Dag, (mr, f): &(Vec<Vec<Node>>, Vec<Node>)| {
                 let all: Vec<Node> = mr.iter().flatten().chain(f).copied().collect();
@@ -83,12 +100,14 @@ pub(crate) fn multiplier_nodes(
             let (c, acc_bias) = in_heading(d, m, bt, (&c, &acc_bias));
             let kane = body_projection(d, m, bt, &c, &acc_bias);
             match lagrange {
-                Some(lagrange) if ops(d, &lagrange) <= ops(d, &kane) => lagrange,
-                _ => kane,
+                Some(lagrange) if ops(d, &lagrange) <= ops(d, &kane) => {
+                    (lagrange, Projected::Lagrange)
+                }
+                _ => (kane, Projected::Kane { c, acc_bias }),
             }
         }
         // without Kane's form the expanded terms are always derived
-        None => lagrange.unwrap_or_default(),
+        None => (lagrange.unwrap_or_default(), Projected::Lagrange),
     };
     for (a, row) in mr.iter().enumerate() {
         for (b, &x) in row.iter().enumerate().skip(a) {
@@ -110,7 +129,10 @@ pub(crate) fn multiplier_nodes(
         c,
         acc_bias,
         pivots: fac.d.clone(),
+        projected_mass: mr,
+        projected_rhs: f,
         fac,
+        form,
     }
 }
 
@@ -147,6 +169,35 @@ impl MultiplierNodes {
                 algebra::dot_from(d, self.acc_bias[i], pairs)
             })
             .collect()
+    }
+
+    /// The residual of (5.9) at these nodes' r̈, f − (Cᵀ M C) r̈ regrouped
+    /// as −Cᵀ (M q̈ + h) with q̈ = C r̈ + acc_bias: Kane's equations at given
+    /// accelerations (inverse dynamics), body by body where the route took
+    /// Kane's form. Zero at the solution; its rates at fixed r̈ give the
+    /// Jacobian's columns, ∂r̈/∂z = (Cᵀ M C)⁻¹ ∂R/∂z, each body's part in
+    /// O(k) operations per column where Cᵀ M C's rates would take O(k²).
+    pub(crate) fn residual(
+        &self,
+        d: &mut Dag,
+        m: &Scene<'_>,
+        kane: Option<&BodyTerms>,
+    ) -> Vec<Node> {
+        match (&self.form, kane) {
+            (Projected::Kane { c, acc_bias }, Some(bt)) => {
+                let qdd: Vec<Node> = (0..c.len())
+                    .map(|i| {
+                        let pairs = c[i].iter().copied().zip(self.rdd.iter().copied());
+                        algebra::dot_from(d, acc_bias[i], pairs)
+                    })
+                    .collect();
+                body_projection(d, m, bt, c, &qdd).1
+            }
+            _ => {
+                let qdd = self.qdd(d);
+                projection(d, &self.mass, &self.bias, &self.c, &qdd).1
+            }
+        }
     }
 
     /// The Euler–Lagrange term E_i = (M q̈ + h)_i (3.9) at accelerations `qdd`.

@@ -2,7 +2,10 @@
 
 use super::scene::Scene;
 use crate::sym::ExprId;
-use rustc_hash::FxHashMap as HashMap;
+
+/// How many times the terms E may keep its substituted parts may count
+/// before cancellation, before the substitution is abandoned.
+const SUBSTITUTION_SLACK: usize = 4;
 
 impl Scene<'_> {
     /// E = Σ q̇_i ∂L/∂q̇_i − L at the constrained velocities: substituted,
@@ -20,17 +23,17 @@ impl Scene<'_> {
         }
         parts.push(e.neg(l));
         let en = e.sum(&parts);
-        let mut memo = HashMap::default();
-        let substituted = e.subst(en, &map, &mut memo);
         // Substituting the solved velocities pays when they simplify E (the
         // closed forms of small systems). When they are large (a block of
         // implicit rows), E stays in the full q̇: the emitted code binds each
-        // velocity symbol to its solved value, computed once.
+        // velocity symbol to its solved value, computed once. The
+        // substitution is abandoned once its terms before cancellation pass
+        // SUBSTITUTION_SLACK times what E may keep.
         let solved: usize = map.values().map(|&v| e.num_terms(v)).sum();
-        if e.num_terms(substituted) <= e.num_terms(en) + solved {
-            substituted
-        } else {
-            en
+        let keep = e.num_terms(en) + solved;
+        match e.subst_within(en, &map, SUBSTITUTION_SLACK * keep) {
+            Some(substituted) if e.num_terms(substituted) <= keep => substituted,
+            _ => en,
         }
     }
 }

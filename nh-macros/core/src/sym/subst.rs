@@ -21,33 +21,67 @@ impl Engine {
             return r;
         }
         let terms = self.exprs[e.index()].clone();
-        let mut parts = Vec::with_capacity(terms.len());
-        for (m, c) in terms {
-            let mut t = self.constant(c);
-            for (a, ex) in self.monos[m.index()].clone() {
-                let base = match self.atoms[a.index()].clone() {
-                    Atom::Sym(s) => match map.get(&s) {
-                        Some(&v) => v,
-                        None => self.sym(s),
-                    },
-                    Atom::Func(f, u) => {
-                        let u2 = self.subst(u, map, memo);
-                        self.func(f, u2)
-                    }
-                    Atom::Base(b) => self.subst(b, map, memo),
-                    Atom::Atan2(y, x) => {
-                        let y2 = self.subst(y, map, memo);
-                        let x2 = self.subst(x, map, memo);
-                        self.atan2(y2, x2)
-                    }
-                };
-                let p = self.pow(base, ex);
-                t = self.mul(t, p);
-            }
-            parts.push(t);
-        }
+        let parts: Vec<ExprId> = (terms.into_iter())
+            .map(|(m, c)| self.subst_term(m, c, map, memo))
+            .collect();
         let r = self.sum(&parts);
         memo.insert(e, r);
         r
+    }
+
+    /// [`Engine::subst`] abandoned once the substituted terms of `e`'s sum
+    /// count more than `limit` terms together: `None` then. (The sum can
+    /// only have fewer terms than its parts together, after cancellation.)
+    pub fn subst_within(
+        &mut self,
+        e: ExprId,
+        map: &HashMap<SymId, ExprId>,
+        limit: usize,
+    ) -> Option<ExprId> {
+        let mut memo = HashMap::default();
+        let terms = self.exprs[e.index()].clone();
+        let mut parts = Vec::with_capacity(terms.len());
+        let mut count = 0usize;
+        for (m, c) in terms {
+            let t = self.subst_term(m, c, map, &mut memo);
+            count += self.num_terms(t);
+            if count > limit {
+                return None;
+            }
+            parts.push(t);
+        }
+        Some(self.sum(&parts))
+    }
+
+    /// One term c·m of a sum with the map substituted.
+    fn subst_term(
+        &mut self,
+        m: super::MonoId,
+        c: super::Rational,
+        map: &HashMap<SymId, ExprId>,
+        memo: &mut HashMap<ExprId, ExprId>,
+    ) -> ExprId {
+        let mut t = self.constant(c);
+        for (a, ex) in self.monos[m.index()].clone() {
+            let base = match self.atoms[a.index()].clone() {
+                Atom::Sym(s) => match map.get(&s) {
+                    Some(&v) => v,
+                    None => self.sym(s),
+                },
+                Atom::Func(f, u) => {
+                    let u2 = self.subst(u, map, memo);
+                    self.func(f, u2)
+                }
+                Atom::Base(b) => self.subst(b, map, memo),
+                Atom::Atan2(y, x) => {
+                    let y2 = self.subst(y, map, memo);
+                    let x2 = self.subst(x, map, memo);
+                    self.atan2(y2, x2)
+                }
+            };
+            let p = self.pow(base, ex);
+            t = self.mul(t, p);
+        }
+        t
     }
 }
