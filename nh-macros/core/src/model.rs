@@ -30,27 +30,6 @@ impl Outputs {
         self
     }
 
-    /// Whether an output differentiates the derivation's symbolic terms
-    /// (today `jacobian`, `linearization` and `sensitivities`; an output not listed as
-    /// free of them counts as one).
-    pub fn differentiate_derivation(&self) -> bool {
-        Output::ALL.into_iter().any(|o| {
-            self.contains(o)
-                && !matches!(
-                    o,
-                    Output::Multipliers
-                        | Output::Curvature
-                        | Output::Energy
-                        | Output::ConstraintMatrix
-                        | Output::MassMatrix
-                        | Output::Routes
-                        | Output::ReactionForces
-                        | Output::ContactPoints
-                        | Output::Momenta
-                )
-        })
-    }
-
     /// Sets the flag of `output`; whether it was set before.
     pub fn set(&mut self, output: Output) -> bool {
         std::mem::replace(&mut self.requested[output as usize], true)

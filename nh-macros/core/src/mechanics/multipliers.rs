@@ -79,16 +79,15 @@ impl Scene<'_> {
             (Vec::new(), Vec::new())
         };
         // with a block solved numerically, the accelerations take its rates
-        // on the graph; the symbolic −Ȧṙ serves only outputs that
-        // differentiate it
-        let dependent_bias =
-            if self.block.is_some() && !self.model.outputs.differentiate_derivation() {
-                Vec::new()
-            } else if self.model.velocity_rows.is_empty() {
-                self.dependent_bias_from_solutions()
-            } else {
-                self.dependent_bias_from_rows()
-            };
+        // on the graph, and their derivatives are the rates of those nodes
+        // (`generate/derivatives.rs`): the symbolic −Ȧṙ serves nothing
+        let dependent_bias = if self.block.is_some() {
+            Vec::new()
+        } else if self.model.velocity_rows.is_empty() {
+            self.dependent_bias_from_solutions()
+        } else {
+            self.dependent_bias_from_rows()
+        };
         debug_assert!(mass.len() == n || (mass.is_empty() && bodies.is_some()));
         let route = MultiplierRoute {
             mass,
@@ -100,8 +99,8 @@ impl Scene<'_> {
 
     /// Whether the expanded Lagrangian's M and h are derived. Always without
     /// Kane's form of the bodies; with it, when an output uses them (the
-    /// multipliers, the mass matrix, the reaction forces, both routes, or a
-    /// derivative of the equations), when the Lagrangian is small enough
+    /// multipliers, the mass matrix, the reaction forces, both routes; the
+    /// derivatives of the equations are taken on the graph), when the Lagrangian is small enough
     /// that its expanded form may be the cheaper
     /// ([`LAGRANGIAN_TERMS_COMPARED`]), or when it is not quadratic in the
     /// velocities ([`velocity_degree`]: the reduced mass matrix cannot be
@@ -115,7 +114,6 @@ impl Scene<'_> {
         ];
         !kane
             || used.into_iter().any(|o| self.model.outputs.contains(o))
-            || self.model.outputs.differentiate_derivation()
             || self.engine.num_terms(self.model.lagrangian) <= LAGRANGIAN_TERMS_COMPARED
             || !self.quadratic_in_velocities(self.model.lagrangian)
     }
