@@ -6,6 +6,7 @@ use super::reduced::Reduced;
 use super::scene::Scene;
 use crate::algebra::ldlt::Updates;
 use crate::sym::dd::Dd;
+use crate::sym::dual::Dual;
 use crate::sym::{ExprId, ZERO};
 use rustc_hash::FxHashMap as HashMap;
 
@@ -119,14 +120,61 @@ impl Scene<'_> {
 
     /// cᵀ M c sampled from the Lagrangian, quadratic in the velocities:
     /// L(q, c) + L(q, −c) − 2 L(q, 0), with the sum of the samples' sizes.
+    /// For a Lagrangian of bodies, Σ_b 2 T_b(q, c) from each body's
+    /// velocity and ω_b at q̇ = c (the centre's velocity J c by forward
+    /// differentiation of its position) and the rest sampled so: the
+    /// expanded kinetic energies, the largest part of L, are not evaluated.
     /// The velocities in `vals` are overwritten.
     pub(crate) fn mass_sampled_along(&self, c: &[Dd], vals: &mut [Dd]) -> (Dd, Dd) {
+        let Some(split) = &self.model.kinetic else {
+            return self.lagrangian_sampled_along(self.model.lagrangian, c, vals);
+        };
+        let (mut value, mut scale) = self.lagrangian_sampled_along(split.rest, c, vals);
+        for (coordinate, &ci) in self.model.coordinates.iter().zip(c) {
+            vals[coordinate.velocity.index()] = ci;
+        }
+        let moving: Vec<Dual> = (vals.iter().enumerate())
+            .map(|(i, &v)| {
+                let along = self.model.coordinates.iter().zip(c);
+                let mut x = Dual::constant(v);
+                for (coordinate, &ci) in along {
+                    if coordinate.position.index() == i {
+                        x.derivative = ci;
+                    }
+                }
+                x
+            })
+            .collect();
+        for body in &split.bodies {
+            let m = self.engine.eval(body.mass, vals);
+            for x in body.centre {
+                let v = self.engine.eval(x, &moving).derivative;
+                value = value + m * v * v;
+                scale = scale + (m * v * v).abs();
+            }
+            if let Some((omega, inertia)) = &body.rotation {
+                let w = omega.map(|x| self.engine.eval(x, vals));
+                for (row, &wi) in inertia.iter().zip(&w) {
+                    for (&i, &wj) in row.iter().zip(&w) {
+                        let t = wi * self.engine.eval(i, vals) * wj;
+                        value = value + t;
+                        scale = scale + t.abs();
+                    }
+                }
+            }
+        }
+        (value, scale)
+    }
+
+    /// `l`(q, c) + `l`(q, −c) − 2 `l`(q, 0) for `l` quadratic in the
+    /// velocities, with the sum of the samples' sizes.
+    fn lagrangian_sampled_along(&self, l: ExprId, c: &[Dd], vals: &mut [Dd]) -> (Dd, Dd) {
         let (mut value, mut scale) = (Dd::ZERO, Dd::ZERO);
         for (sign, weight) in [(1.0, 1.0), (-1.0, 1.0), (0.0, -2.0)] {
             for (coordinate, &ci) in self.model.coordinates.iter().zip(c) {
                 vals[coordinate.velocity.index()] = Dd::from_f64(sign) * ci;
             }
-            let (l, size) = self.engine.eval_with_scale(self.model.lagrangian, vals);
+            let (l, size) = self.engine.eval_with_scale(l, vals);
             value = value + Dd::from_f64(weight) * l;
             scale = scale + Dd::from_f64(weight.abs()) * size;
         }
