@@ -5,6 +5,7 @@
 
 use super::chains::{Chain, Link};
 use super::scene::Scene;
+use super::tree::Tree;
 use crate::lower::values::{Mat3, Vec3, mat_vec, transpose};
 use crate::sym::random_points::vanish_at_random_points;
 use crate::sym::{ExprId, ONE, SymId, ZERO};
@@ -163,10 +164,28 @@ impl Scene<'_> {
 
     /// The chain of a body's centre from a contact's centre whose own rate
     /// is computed (a root, DESIGN §10), if the body does not spin.
-    pub(super) fn anchor(&mut self, part: &Part, frame: &Option<Mat3>) -> Option<Chain> {
-        let (Some(c), Some((_, _, None))) = (part.centre, part.rotation) else {
-            return None;
-        };
+    /// Else, the chain of its centre from a fixed point through any number
+    /// of links ([`Scene::tree_chain`]).
+    /// `tree` is built on the first call that needs it, from `centres`.
+    pub(super) fn anchor(
+        &mut self,
+        part: &Part,
+        frame: &Option<Mat3>,
+        (tree, centres): (&mut Option<Tree>, &[Vec3]),
+    ) -> Option<Chain> {
+        let c = part.centre?;
+        let spins = !matches!(part.rotation, Some((_, _, None)));
+        if !spins && let Some(chain) = self.contact_anchor(c, frame) {
+            return Some(chain);
+        }
+        if tree.is_none() {
+            *tree = Some(self.tree(self.tree_frames(), centres));
+        }
+        self.tree_chain(tree.as_ref()?, c, frame)
+    }
+
+    /// The chain of a centre `c` from a contact's centre, if there is one.
+    fn contact_anchor(&mut self, c: Vec3, frame: &Option<Mat3>) -> Option<Chain> {
         let roots: Vec<Vec3> = self
             .model
             .contact_kinematics
@@ -247,6 +266,20 @@ impl Scene<'_> {
             .collect()
     }
 
+    /// The frames of every body with elementary rotations, spinning or not:
+    /// the links of a kinematic tree (a link of a chain turns about the
+    /// axis of its last factor like a wheel when its inertia is symmetric
+    /// about that axis).
+    fn tree_frames(&self) -> Vec<Body> {
+        let Some(split) = &self.model.kinetic else {
+            return Vec::new();
+        };
+        (split.bodies.iter())
+            .filter(|b| !b.factors.is_empty())
+            .filter_map(|b| Some((b.orientation?, b.rotation?.0, b.factors.clone())))
+            .collect()
+    }
+
     /// Rᵀ(p − q), if constant.
     fn offset_in(&mut self, r: &Mat3, p: Vec3, q: Vec3) -> Option<Vec3> {
         if !self.offset_may_be_fixed(r, p, q) {
@@ -262,29 +295,28 @@ impl Scene<'_> {
         Some(out)
     }
 
-    fn link(&mut self, f: &Body, offset: Vec3, frame: &Option<Mat3>) -> Link {
-        let turn = match frame {
-            Some(h) => crate::lower::values::mat_mat(self.engine, h, &f.0),
-            None => f.0,
-        };
+    /// A link of frame `f` holding the next point at `offset`. Its turn R
+    /// (in the frame of J) is formed only for a link without elementary
+    /// rotations, the only one whose acceleration takes it.
+    pub(super) fn link(&mut self, f: &Body, offset: Vec3, frame: &Option<Mat3>) -> Link {
         let (kept, tail) = self.trimmed(&f.2);
-        match (self.frame_of(&kept, frame.is_some()), tail) {
-            (Some(steps), Some(tail)) => Link {
-                omega: f.1,
-                offset: mat_vec(self.engine, &tail, offset),
-                turn,
-                frame: Some(steps),
-            },
-            _ => Link {
-                omega: f.1,
-                offset,
-                turn,
-                frame: self.frame_of(&f.2, frame.is_some()),
-            },
+        let (offset, steps) = match (self.frame_of(&kept, frame.is_some()), tail) {
+            (Some(steps), Some(tail)) => (mat_vec(self.engine, &tail, offset), Some(steps)),
+            _ => (offset, self.frame_of(&f.2, frame.is_some())),
+        };
+        let turn = match (frame, &steps) {
+            (Some(h), None) => crate::lower::values::mat_mat(self.engine, h, &f.0),
+            _ => f.0,
+        };
+        Link {
+            omega: f.1,
+            offset,
+            turn,
+            frame: steps,
         }
     }
 
-    fn chain(&mut self, root: Vec3, links: Vec<Link>, frame: &Option<Mat3>) -> Chain {
+    pub(super) fn chain(&mut self, root: Vec3, links: Vec<Link>, frame: &Option<Mat3>) -> Chain {
         let jacobian = root.map(|x| self.positional_jacobian(x));
         Chain {
             root: self.in_frame(frame, jacobian),

@@ -112,10 +112,11 @@ impl Scene<'_> {
         self.fold_wheels(&mut parts);
         let frame = self.heading_frame();
         let centres: Vec<[ExprId; 3]> = parts.iter().filter_map(|p| p.centre).collect();
+        let mut tree = None;
         let bodies = parts
             .into_iter()
             .map(|part| {
-                let anchor = self.anchor(&part, &frame);
+                let anchor = self.anchor(&part, &frame, (&mut tree, &centres));
                 // a chain of frames gives the partial velocities as screws
                 let screwed = (anchor.as_ref())
                     .is_some_and(|chain| chain.links.iter().all(|l| l.frame.is_some()));

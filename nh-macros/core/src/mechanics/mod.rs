@@ -21,6 +21,7 @@ mod multipliers;
 mod reduced;
 mod scene;
 mod symmetries;
+mod tree;
 
 pub use block::{BlockTerms, ContactTerms, RowTerms};
 pub use chains::{Chain, Frame, FrameStep, Link};
