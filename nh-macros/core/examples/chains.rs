@@ -40,7 +40,8 @@
 //! `--outputs none --outputs jacobian --outputs energy`. `--family` (repeatable)
 //! picks families, `--links` the sizes of the chains, `--arm` the manipulator's
 //! links. Prints a Markdown table (with the machine's cores and load average
-//! before and after) and `--csv PATH` also writes the rows as CSV.
+//! before and after; a compile error's message shortened to its first
+//! clause) and `--csv PATH` also writes the rows as CSV, messages in full.
 //!
 //! A separate tool from `examples/scaling.rs`, whose table is in-process
 //! medians of many runs of small synthetic systems: a chain's large sizes run
@@ -409,18 +410,26 @@ fn markdown(row: &Row, opts: &Options) -> String {
     match &row.outcome {
         Outcome::Done(m) => {
             let cpu = m.cpu_ms.map_or("—".into(), fmt_ms);
-            let note = m
-                .error
-                .as_deref()
-                .map_or(String::new(), |e| format!("compile error: {e}"));
+            // a compile error's figures are those of the error, not of a system
+            let (ops, formulation, lines, note) = match &m.error {
+                None => (
+                    thousands(m.ops),
+                    m.formulation.clone(),
+                    thousands(m.lines),
+                    String::new(),
+                ),
+                Some(e) => {
+                    let short = e.split(" (").next().unwrap_or(e);
+                    let short = short.split(": ").next().unwrap_or(short);
+                    let dash = || "—".to_string();
+                    (dash(), dash(), dash(), format!("compile error: {short}"))
+                }
+            };
             format!(
-                "{head} {} ({}) | {cpu} | {} | {} | {} | {} | {note} |",
+                "{head} {} ({}) | {cpu} | {} | {ops} | {formulation} | {lines} | {note} |",
                 fmt_ms(m.ms),
                 m.runs,
                 fmt_mib(m.hwm_kb),
-                thousands(m.ops),
-                m.formulation,
-                thousands(m.lines)
             )
         }
         Outcome::TimedOut => format!(
