@@ -2,7 +2,6 @@
 //! family whose accelerations the engine splits into chunks, see
 //! `nh-macros/core/tests/synthetic`) as a `system!` invocation that the
 //! interpreter's tests include, so that it is both compiled and interpreted.
-#[allow(dead_code)]
 #[path = "../nh-macros/core/tests/synthetic/mod.rs"]
 mod synthetic;
 

@@ -1,0 +1,156 @@
+//! The planar chain of the scaling benchmark (issue 34;
+//! `nh-macros/core/tests/synthetic/mod.rs`, `planar`) with 2 and 3 links:
+//!
+//! * the bodies expanded here are the benchmark's, token for token;
+//! * their `accelerations` agree to 1e-12 (relative to the largest
+//!   acceleration of the state) with an independent SymPy derivation at 8
+//!   states each (`tests/data/chains_sympy.py`: the Euler–Lagrange equations
+//!   in the links' absolute angles, without rotations or bodies, solved at 50
+//!   digits; for 2 links it also checks them against the closed form of the
+//!   compound double pendulum).
+use nonholonomic::prelude::*;
+
+#[path = "../nh-macros/core/tests/synthetic/mod.rs"]
+mod synthetic;
+
+/// Expands the body as a system and keeps its text as `$text`, to compare
+/// with the benchmark's generator.
+macro_rules! system_with_text {
+    ($text:ident: $($body:tt)*) => {
+        nonholonomic_system! { $($body)* }
+        /// The body as written.
+        const $text: &str = stringify!($($body)*);
+    };
+}
+
+system_with_text! { PLANAR2:
+    pub struct Planar2 {
+        parameters { m, l, J, g }
+        coordinates { th1, th2 }
+        let R1 = rot_z(th1);
+        let C1 = R1*[l/2, 0, 0];
+        let E1 = R1*[l, 0, 0];
+        body b1 { mass: m, centre: C1, orientation: R1, inertia: diag(J, J, J) }
+        let R2 = R1*rot_z(th2);
+        let C2 = E1 + R2*[l/2, 0, 0];
+        let E2 = E1 + R2*[l, 0, 0];
+        body b2 { mass: m, centre: C2, orientation: R2, inertia: diag(J, J, J) }
+        lagrangian = kinetic_energy(b1) + kinetic_energy(b2) - m*g*(C1.y + C2.y);
+    }
+}
+
+system_with_text! { PLANAR3:
+    pub struct Planar3 {
+        parameters { m, l, J, g }
+        coordinates { th1, th2, th3 }
+        let R1 = rot_z(th1);
+        let C1 = R1*[l/2, 0, 0];
+        let E1 = R1*[l, 0, 0];
+        body b1 { mass: m, centre: C1, orientation: R1, inertia: diag(J, J, J) }
+        let R2 = R1*rot_z(th2);
+        let C2 = E1 + R2*[l/2, 0, 0];
+        let E2 = E1 + R2*[l, 0, 0];
+        body b2 { mass: m, centre: C2, orientation: R2, inertia: diag(J, J, J) }
+        let R3 = R2*rot_z(th3);
+        let C3 = E2 + R3*[l/2, 0, 0];
+        let E3 = E2 + R3*[l, 0, 0];
+        body b3 { mass: m, centre: C3, orientation: R3, inertia: diag(J, J, J) }
+        lagrangian = kinetic_energy(b1) + kinetic_energy(b2) + kinetic_energy(b3)
+                   - m*g*(C1.y + C2.y + C3.y);
+    }
+}
+
+/// `s` without whitespace.
+fn squeezed(s: &str) -> String {
+    s.split_whitespace().collect()
+}
+
+#[test]
+fn the_systems_are_the_benchmarks() {
+    assert_eq!(squeezed(PLANAR2), squeezed(&synthetic::planar(2, "")));
+    assert_eq!(squeezed(PLANAR3), squeezed(&synthetic::planar(3, "")));
+}
+
+fn numbers(v: &serde_json::Value) -> Vec<f64> {
+    v.as_array()
+        .expect("an array")
+        .iter()
+        .map(|x| x.as_f64().expect("a number"))
+        .collect()
+}
+
+/// SymPy's data, its parameters (m, l, J, g) and the cases of `key`:
+/// (q, rdot, accelerations) each.
+fn reference(key: &str) -> ([f64; 4], Vec<[Vec<f64>; 3]>) {
+    let data: serde_json::Value =
+        serde_json::from_str(include_str!("data/chains.json")).expect("the reference lexes");
+    let p = &data["parameters"];
+    let get = |name: &str| p[name].as_f64().expect(name);
+    let cases = data[key]
+        .as_array()
+        .expect("the cases")
+        .iter()
+        .map(|c| {
+            [
+                numbers(&c["q"]),
+                numbers(&c["rdot"]),
+                numbers(&c["accelerations"]),
+            ]
+        })
+        .collect();
+    ([get("m"), get("l"), get("J"), get("g")], cases)
+}
+
+/// The largest difference of `a` from `reference`, relative to the largest
+/// reference acceleration.
+fn relative_error(a: &[f64], reference: &[f64]) -> f64 {
+    let scale = reference.iter().fold(0.0_f64, |s, x| s.max(x.abs()));
+    a.iter()
+        .zip(reference)
+        .map(|(x, r)| (x - r).abs() / scale)
+        .fold(0.0, f64::max)
+}
+
+#[test]
+fn double_pendulum_agrees_with_sympy() {
+    let ([m, l, j, g], cases) = reference("planar2");
+    assert_eq!(cases.len(), 8);
+    let sys = Planar2::from_parameters(Planar2Parameters { m, l, J: j, g });
+    let mut worst = 0.0_f64;
+    for [q, rdot, expected] in &cases {
+        let a = sys.accelerations(
+            0.0,
+            &SVector::from_column_slice(q),
+            &SVector::from_column_slice(rdot),
+        );
+        let err = relative_error(a.as_slice(), expected);
+        assert!(
+            err <= 1e-12,
+            "q = {q:?}, rdot = {rdot:?}: {a:?} against {expected:?} ({err:.1e})"
+        );
+        worst = worst.max(err);
+    }
+    eprintln!("largest relative error {worst:.1e}");
+}
+
+#[test]
+fn triple_pendulum_agrees_with_sympy() {
+    let ([m, l, j, g], cases) = reference("planar3");
+    assert_eq!(cases.len(), 8);
+    let sys = Planar3::from_parameters(Planar3Parameters { m, l, J: j, g });
+    let mut worst = 0.0_f64;
+    for [q, rdot, expected] in &cases {
+        let a = sys.accelerations(
+            0.0,
+            &SVector::from_column_slice(q),
+            &SVector::from_column_slice(rdot),
+        );
+        let err = relative_error(a.as_slice(), expected);
+        assert!(
+            err <= 1e-12,
+            "q = {q:?}, rdot = {rdot:?}: {a:?} against {expected:?} ({err:.1e})"
+        );
+        worst = worst.max(err);
+    }
+    eprintln!("largest relative error {worst:.1e}");
+}
