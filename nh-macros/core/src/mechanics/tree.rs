@@ -33,6 +33,9 @@ const CONFIRM: f64 = 1e-20;
 /// operations that way, 102 as screws).
 const MIN_LINKS: usize = 2;
 
+/// The most terms a component of a moving root may have.
+const ROOT_TERMS: usize = 4;
+
 /// The points' and frames' values at [`STATES`] states.
 struct Sampled {
     points: Vec<Vec<[Dd; 3]>>,
@@ -78,8 +81,11 @@ impl Scene<'_> {
         if tree.frames.is_empty() || self.fixed_point(target) {
             return None;
         }
-        let roots: Vec<bool> = (tree.points.iter()).map(|&p| self.fixed_point(p)).collect();
-        let path = search(&tree.sampled, &tree.points, start, |p| roots[p])?;
+        // a fixed root first; else a short one whose ∂p/∂q is taken
+        let fixed: Vec<bool> = (tree.points.iter()).map(|&p| self.fixed_point(p)).collect();
+        let short: Vec<bool> = (tree.points.iter()).map(|&p| self.short_point(p)).collect();
+        let path = search(&tree.sampled, &tree.points, start, |p| fixed[p])
+            .or_else(|| search(&tree.sampled, &tree.points, start, |p| fixed[p] || short[p]))?;
         if path.len() < MIN_LINKS {
             return None;
         }
@@ -91,6 +97,12 @@ impl Scene<'_> {
         }
         let root = path.last().map(|&(from, _, _)| tree.points[from])?;
         Some(self.chain(root, links, heading))
+    }
+
+    /// Whether `p` is short enough to be a root whose ∂p/∂q is taken from
+    /// its expression (a vehicle's point the arm is mounted at).
+    fn short_point(&self, p: Vec3) -> bool {
+        p.iter().all(|&x| self.engine.num_terms(x) <= ROOT_TERMS)
     }
 
     /// Whether every component of `p` is free of the state.
