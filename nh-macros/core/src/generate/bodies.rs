@@ -222,6 +222,7 @@ impl Derived<'_, '_> {
         let vars = self.state_vars();
         let jac = self.derivative_columns(&mut d, &vars);
         let flat: Vec<Node> = jac.iter().flatten().copied().collect();
+        self.stats.jacobian_ops = Some(d.op_count(&flat));
         let (stmts, o) = self.emit_hoisted(&d, &flat);
         let dd = quote!(__nh_private::nalgebra::SMatrix::<T, #dim, #dim>);
         let u = if self.m.inputs.is_empty() {

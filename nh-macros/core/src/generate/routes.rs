@@ -70,6 +70,9 @@ pub struct Stats {
     /// The other charts of the atlas (DESIGN §9.3): per chart, its name and
     /// the operations of its `accelerations`; empty with one chart.
     pub charts: Vec<(String, usize)>,
+    /// Operations of `jacobian` after CSE (its part on the parameters alone
+    /// included), when the system derives it.
+    pub jacobian_ops: Option<usize>,
 }
 
 impl Stats {
