@@ -10,6 +10,8 @@
 //!   compound double pendulum).
 use nonholonomic::prelude::*;
 
+#[path = "common/differences.rs"]
+mod central;
 #[path = "../nh-macros/core/tests/synthetic/mod.rs"]
 mod synthetic;
 
@@ -57,6 +59,7 @@ system_with_text! { PLANAR3:
         body b3 { mass: m, centre: C3, orientation: R3, inertia: diag(J, J, J) }
         lagrangian = kinetic_energy(b1) + kinetic_energy(b2) + kinetic_energy(b3)
                    - m*g*(C1.y + C2.y + C3.y);
+        outputs { jacobian }
     }
 }
 
@@ -68,7 +71,10 @@ fn squeezed(s: &str) -> String {
 #[test]
 fn the_systems_are_the_benchmarks() {
     assert_eq!(squeezed(PLANAR2), squeezed(&synthetic::planar(2, "")));
-    assert_eq!(squeezed(PLANAR3), squeezed(&synthetic::planar(3, "")));
+    assert_eq!(
+        squeezed(PLANAR3),
+        squeezed(&synthetic::planar(3, "jacobian"))
+    );
 }
 
 fn numbers(v: &serde_json::Value) -> Vec<f64> {
@@ -111,46 +117,69 @@ fn relative_error(a: &[f64], reference: &[f64]) -> f64 {
         .fold(0.0, f64::max)
 }
 
-#[test]
-fn double_pendulum_agrees_with_sympy() {
-    let ([m, l, j, g], cases) = reference("planar2");
+/// The largest relative error of `accelerations` over the cases of `key`,
+/// each required within 1e-12.
+fn agreement_with_sympy(key: &str, accelerations: impl Fn([f64; 4], &[f64], &[f64]) -> Vec<f64>) {
+    let (parameters, cases) = reference(key);
     assert_eq!(cases.len(), 8);
-    let sys = Planar2::from_parameters(Planar2Parameters { m, l, J: j, g });
     let mut worst = 0.0_f64;
     for [q, rdot, expected] in &cases {
-        let a = sys.accelerations(
-            0.0,
-            &SVector::from_column_slice(q),
-            &SVector::from_column_slice(rdot),
-        );
-        let err = relative_error(a.as_slice(), expected);
+        let a = accelerations(parameters, q, rdot);
+        let err = relative_error(&a, expected);
         assert!(
             err <= 1e-12,
             "q = {q:?}, rdot = {rdot:?}: {a:?} against {expected:?} ({err:.1e})"
         );
         worst = worst.max(err);
     }
-    eprintln!("largest relative error {worst:.1e}");
+    eprintln!("{key}: largest relative error {worst:.1e}");
+}
+
+/// `accelerations` of the system `$sys` (parameters `$params`) against the
+/// cases of `$key`.
+macro_rules! against_sympy {
+    ($key:literal, $sys:ident, $params:ident) => {
+        agreement_with_sympy($key, |[m, l, j, g], q, rdot| {
+            let sys = $sys::from_parameters($params { m, l, J: j, g });
+            let (q, rdot) = (
+                SVector::from_column_slice(q),
+                SVector::from_column_slice(rdot),
+            );
+            sys.accelerations(0.0, &q, &rdot).as_slice().to_vec()
+        })
+    };
+}
+
+#[test]
+fn double_pendulum_agrees_with_sympy() {
+    against_sympy!("planar2", Planar2, Planar2Parameters);
 }
 
 #[test]
 fn triple_pendulum_agrees_with_sympy() {
-    let ([m, l, j, g], cases) = reference("planar3");
-    assert_eq!(cases.len(), 8);
-    let sys = Planar3::from_parameters(Planar3Parameters { m, l, J: j, g });
+    against_sympy!("planar3", Planar3, Planar3Parameters);
+}
+
+/// `jacobian`, differentiated forward through the bodies' sums (Kane's
+/// equations at the solved accelerations, DESIGN §8.1), against central
+/// differences of the right side at 8 states.
+#[test]
+fn triple_pendulum_jacobian_matches_central_differences() {
+    use nonholonomic::runtime::OdeSystem;
+    let sys = Planar3::new(1.3, 0.7, 0.05, 9.81);
+    let mut seed = 0x5EED_1234_ABCD_0002_u64;
+    let mut uniform = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        -2.0 + 4.0 * (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
     let mut worst = 0.0_f64;
-    for [q, rdot, expected] in &cases {
-        let a = sys.accelerations(
-            0.0,
-            &SVector::from_column_slice(q),
-            &SVector::from_column_slice(rdot),
-        );
-        let err = relative_error(a.as_slice(), expected);
-        assert!(
-            err <= 1e-12,
-            "q = {q:?}, rdot = {rdot:?}: {a:?} against {expected:?} ({err:.1e})"
-        );
-        worst = worst.max(err);
+    for _ in 0..8 {
+        let x = SVector::<f64, 6>::from_fn(|_, _| uniform());
+        let jac = sys.jacobian(0.0, &x);
+        worst = worst.max(central::jacobian_deviation(|y| sys.rhs(0.0, y), &jac, &x));
     }
-    eprintln!("largest relative error {worst:.1e}");
+    eprintln!("jacobian against central differences: worst {worst:.1e}");
+    assert!(worst < 1e-6, "deviation {worst:.1e}");
 }

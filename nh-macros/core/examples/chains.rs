@@ -51,8 +51,11 @@ use std::io::Read;
 use std::process::{Command, Stdio};
 use std::time::{Duration, Instant};
 
+#[path = "figures/mod.rs"]
+mod figures;
 #[path = "../tests/synthetic/mod.rs"]
 mod synthetic;
+use figures::{fmt_ms, thousands};
 
 const SIZES: [usize; 10] = [2, 3, 4, 6, 8, 10, 12, 16, 20, 24];
 
@@ -365,29 +368,6 @@ struct Row {
     links: usize,
     outputs: String,
     outcome: Outcome,
-}
-
-/// 12345 as "12,345".
-fn thousands(n: usize) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i).is_multiple_of(3) {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
-}
-
-fn fmt_ms(ms: f64) -> String {
-    if ms >= 1000.0 {
-        format!("{:.2} s", ms / 1e3)
-    } else if ms >= 10.0 {
-        format!("{ms:.0} ms")
-    } else {
-        format!("{ms:.1} ms")
-    }
 }
 
 fn fmt_mib(kb: u64) -> String {

@@ -22,8 +22,11 @@ use std::time::Instant;
 
 const ALL_OUTPUTS: &str = "multipliers, curvature, energy, constraint_matrix, mass_matrix, jacobian, linearization, routes";
 
+#[path = "figures/mod.rs"]
+mod figures;
 #[path = "../tests/synthetic/mod.rs"]
 mod synthetic;
+use figures::{fmt_ms, thousands};
 use synthetic::{chain, dense};
 
 /// One row of the table.
@@ -101,29 +104,6 @@ fn measure(
         wall_s,
         stats,
         error,
-    }
-}
-
-/// 12345 as "12,345".
-fn thousands(n: usize) -> String {
-    let digits = n.to_string();
-    let mut out = String::new();
-    for (i, c) in digits.chars().enumerate() {
-        if i > 0 && (digits.len() - i).is_multiple_of(3) {
-            out.push(',');
-        }
-        out.push(c);
-    }
-    out
-}
-
-fn fmt_ms(ms: f64) -> String {
-    if ms >= 1000.0 {
-        format!("{:.2} s", ms / 1e3)
-    } else if ms >= 10.0 {
-        format!("{ms:.0} ms")
-    } else {
-        format!("{ms:.1} ms")
     }
 }
 
