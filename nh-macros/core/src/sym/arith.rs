@@ -6,14 +6,14 @@
 use super::graph::merge_factors;
 use super::normal::Normal;
 use super::{
-    Atom, AtomId, Engine, ExprId, Fun, MAX_NESTING, MAX_TERMS, MAX_WORK, MONO_ONE, MonoId, ONE,
+    Atom, AtomId, Engine, ExprId, Fun, Limit, MAX_NESTING, MAX_TERMS, MONO_ONE, MonoId, ONE,
     Rational, SymId, Terms, ZERO,
 };
 
 impl Engine {
-    /// Counts arithmetic on big coefficients as work (see [`MAX_WORK`]): a
-    /// product of two values of `a` and `b` words costs about `a·b` word
-    /// operations plus the reduction.
+    /// Counts arithmetic on big coefficients as work (see
+    /// [`MAX_WORK`](super::MAX_WORK)): a product of two values of `a` and
+    /// `b` words costs about `a·b` word operations plus the reduction.
     fn big_work(&mut self, a: Rational, b: Rational) {
         if a.to_i128_parts().is_none() || b.to_i128_parts().is_none() {
             let (wa, wb) = (a.size_words(), b.size_words());
@@ -27,14 +27,14 @@ impl Engine {
     pub(super) fn qmul(&mut self, a: Rational, b: Rational) -> Rational {
         self.big_work(a, b);
         a.checked_mul(b).unwrap_or_else(|| {
-            self.overflow = true;
+            self.exceed(Limit::Digits);
             Rational::ZERO
         })
     }
 
     pub(super) fn qpowi(&mut self, a: Rational, e: i64) -> Rational {
         a.checked_powi(e).unwrap_or_else(|| {
-            self.overflow = true;
+            self.exceed(Limit::Digits);
             Rational::ZERO
         })
     }
@@ -79,7 +79,7 @@ impl Engine {
                             .saturating_add(usize::try_from(8 * w * w).unwrap_or(usize::MAX));
                     }
                     *lc = lc.checked_add(c).unwrap_or_else(|| {
-                        self.overflow = true;
+                        self.exceed(Limit::Digits);
                         Rational::ZERO
                     })
                 }
@@ -151,7 +151,7 @@ impl Engine {
         if let Some(&r) = self.memo_mul.get(&key) {
             return r;
         }
-        if self.overflow {
+        if self.abandoned() {
             return ZERO;
         }
         let (la, lb) = (self.exprs[a.index()].len(), self.exprs[b.index()].len());
@@ -165,7 +165,7 @@ impl Engine {
         // multiplies its expansions): past MAX_NESTING the input is swell
         // beyond reason, reported as such rather than overflowing the stack
         if self.nesting >= MAX_NESTING {
-            self.overflow = true;
+            self.exceed(Limit::Nesting);
             return ZERO;
         }
         self.nesting += 1;
@@ -175,7 +175,7 @@ impl Engine {
             self.expanded_product(a, b)
         };
         self.nesting -= 1;
-        if !self.overflow {
+        if !self.abandoned() {
             self.memo_mul.insert(key, r);
         }
         r
@@ -187,8 +187,8 @@ impl Engine {
         let ta = self.exprs[a.index()].clone();
         let tb = self.exprs[b.index()].clone();
         self.work = self.work.saturating_add(ta.len().saturating_mul(tb.len()));
-        if self.work > MAX_WORK {
-            self.overflow = true;
+        if self.work > self.max_work {
+            self.exceed(Limit::Work);
             return ZERO;
         }
         let mut acc: Vec<(MonoId, Rational)> = Vec::with_capacity(ta.len() * tb.len());
@@ -208,7 +208,7 @@ impl Engine {
                     }
                 }
                 if acc.len() > MAX_TERMS {
-                    self.overflow = true;
+                    self.exceed(Limit::Terms);
                     return ZERO;
                 }
             }
