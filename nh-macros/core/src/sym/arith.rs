@@ -14,18 +14,32 @@ impl Engine {
     /// Counts arithmetic on big coefficients as work (see
     /// [`MAX_WORK`](super::MAX_WORK)): a product of two values of `a` and
     /// `b` words costs about `a·b` word operations plus the reduction.
-    fn big_work(&mut self, a: Rational, b: Rational) {
+    /// True if the derivation is abandoned (then the product is not
+    /// computed).
+    fn big_work(&mut self, a: Rational, b: Rational) -> bool {
         if a.to_i128_parts().is_none() || b.to_i128_parts().is_none() {
             let (wa, wb) = (a.size_words(), b.size_words());
-            let cost = 8u64.saturating_mul(wa + 1).saturating_mul(wb + 1);
-            self.work = self
-                .work
-                .saturating_add(usize::try_from(cost).unwrap_or(usize::MAX));
+            self.count_big_work(8u64.saturating_mul(wa + 1).saturating_mul(wb + 1));
+            return self.abandoned();
+        }
+        false
+    }
+
+    /// Adds `cost` units of arithmetic on big coefficients to the work;
+    /// past the limit, the derivation is abandoned there
+    /// ([`Limit::Constants`]).
+    fn count_big_work(&mut self, cost: u64) {
+        let cost = usize::try_from(cost).unwrap_or(usize::MAX);
+        self.work = self.work.saturating_add(cost);
+        if self.work > self.max_work {
+            self.exceed(Limit::Constants);
         }
     }
 
     pub(super) fn qmul(&mut self, a: Rational, b: Rational) -> Rational {
-        self.big_work(a, b);
+        if self.big_work(a, b) {
+            return Rational::ZERO;
+        }
         a.checked_mul(b).unwrap_or_else(|| {
             self.exceed(Limit::Digits);
             Rational::ZERO
@@ -74,9 +88,7 @@ impl Engine {
                 Some((lm, lc)) if *lm == m => {
                     if lc.to_i128_parts().is_none() || c.to_i128_parts().is_none() {
                         let w = lc.size_words() + c.size_words() + 1;
-                        self.work = self
-                            .work
-                            .saturating_add(usize::try_from(8 * w * w).unwrap_or(usize::MAX));
+                        self.count_big_work(8u64.saturating_mul(w).saturating_mul(w));
                     }
                     *lc = lc.checked_add(c).unwrap_or_else(|| {
                         self.exceed(Limit::Digits);

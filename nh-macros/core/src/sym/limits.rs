@@ -15,6 +15,9 @@ pub enum Limit {
     /// one per pair of terms multiplied, one per factor of each monomial
     /// formed, and the word operations of arithmetic on big coefficients.
     Work,
+    /// The same work, passed in arithmetic on coefficients too long for
+    /// 128 bits (about 38 digits): exact constants too large, not swell.
+    Constants,
     /// The terms of one expression, [`MAX_TERMS`].
     Terms,
     /// Products nested inside products, [`MAX_NESTING`] deep.
@@ -31,7 +34,7 @@ impl Limit {
     /// [`MAX_WORK`](super::MAX_WORK)).
     fn bound(self, max_work: usize) -> usize {
         match self {
-            Limit::Work => max_work,
+            Limit::Work | Limit::Constants => max_work,
             Limit::Terms => MAX_TERMS,
             Limit::Nesting => MAX_NESTING,
             Limit::Digits => Rational::MAX_DIGITS as usize,
@@ -79,6 +82,9 @@ impl Exceeded {
         match self.limit {
             Limit::Work => format!(
                 "{n} units of work (one per pair of terms multiplied and per factor of a term formed)"
+            ),
+            Limit::Constants => format!(
+                "{n} units of work, passed in arithmetic on exact constants of more than 38 digits"
             ),
             Limit::Terms => format!("{n} terms in one expression"),
             Limit::Nesting => format!("{n} products nested in one another"),
