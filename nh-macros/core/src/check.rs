@@ -5,14 +5,14 @@
 //! the checks of what it has just built, so every error is reported where
 //! it was found, in the order of the input.
 
-use crate::ctxt::Ctxt;
+use crate::ctxt::{Ctxt, SpanRange};
 use crate::emit::{Node, ZERO_NODE};
 use crate::mechanics::Derivation;
 use crate::mechanics::Scene;
 use crate::model::{Output, Outputs};
 use crate::names;
 use crate::parse::SystemDef;
-use crate::sym::ZERO;
+use crate::sym::{Engine, ZERO};
 use crate::words::Block;
 use proc_macro2::Span;
 
@@ -195,16 +195,33 @@ pub fn outputs_for_form(def: &SystemDef, cx: &mut Ctxt) {
     }
 }
 
-/// The derivation stayed within the engine's limits. False after an error.
-pub fn within_limits(def: &SystemDef, m: &Scene<'_>, cx: &mut Ctxt) -> bool {
-    if m.engine.overflowed() {
-        cx.error_at(
-            def.name.span(),
-            "the derivation grew beyond the engine's limits (expression swell): simplify the Lagrangian or the constraints, or split the system",
-        );
-        return false;
-    }
-    true
+/// The derivation stayed within the engine's limits. Otherwise one error,
+/// at the part of the input the engine was deriving when it first exceeded
+/// one (the site a stage named, or the system's name), saying what was
+/// being done, which measure was exceeded with its limit, and what to do.
+/// False after an error.
+pub fn within_limits(def: &SystemDef, engine: &Engine, cx: &mut Ctxt) -> bool {
+    let Some(exceeded) = engine.exceeded() else {
+        return true;
+    };
+    let (range, task) = match &exceeded.site {
+        Some(site) => (site.range, site.task.as_str()),
+        None => (SpanRange::single(def.name.span()), "deriving the system"),
+    };
+    let limit = exceeded.limit;
+    let fix = if limit.is_swell() {
+        "the expressions swell; use fewer levels of `let`s built on one another and of functions of functions, and fewer long sums multiplied together, or split the system"
+    } else {
+        "use a smaller exponent, or make the constant a parameter"
+    };
+    cx.error(
+        range,
+        format!(
+            "{task} exceeded the engine's limit of {}: {fix}",
+            exceeded.measure()
+        ),
+    );
+    false
 }
 
 /// Every independent velocity carries kinetic energy, and the outputs

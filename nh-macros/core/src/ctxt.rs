@@ -52,6 +52,30 @@ impl ToTokens for SpanRange {
     }
 }
 
+/// A part of the input a stage is deriving, and what it is doing with it:
+/// named to the engine while the stage works ([`Engine::enter`]), so that
+/// an error for a limit exceeded there points at it (DESIGN §5).
+///
+/// [`Engine::enter`]: crate::sym::Engine::enter
+#[derive(Clone, Debug)]
+pub struct Site {
+    /// The tokens of the part of the input.
+    pub range: SpanRange,
+    /// What is being done, as a message says it: "expanding `a3`",
+    /// "differentiating the Lagrangian".
+    pub task: String,
+}
+
+impl Site {
+    /// The site `range`, where the stage is doing `task`.
+    pub fn new(range: SpanRange, task: impl Into<String>) -> Site {
+        Site {
+            range,
+            task: task.into(),
+        }
+    }
+}
+
 impl Ctxt {
     /// A new, empty context.
     pub fn new() -> Ctxt {
@@ -82,6 +106,12 @@ impl Ctxt {
     #[cfg(test)]
     pub fn errors(&self) -> &[syn::Error] {
         &self.errors
+    }
+
+    /// Drops the errors recorded after the first `len`: those that follow
+    /// from a derivation abandoned at a limit, whose values are meaningless.
+    pub fn truncate(&mut self, len: usize) {
+        self.errors.truncate(len);
     }
 
     /// Whether no error has been recorded.

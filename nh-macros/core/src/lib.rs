@@ -30,6 +30,8 @@ mod parse;
 pub mod sym;
 #[cfg(test)]
 mod testing;
+#[cfg(test)]
+mod tests;
 mod words;
 
 pub use emit::with_text_parser;
@@ -54,12 +56,18 @@ pub fn expand_with_stats(input: TokenStream) -> (TokenStream, Stats) {
 }
 
 fn expand_derivation(input: TokenStream) -> (TokenStream, Stats) {
+    expand_in(input, sym::Engine::new())
+}
+
+/// The expansion, with the system derived in the fresh engine `engine`
+/// (with its limits set).
+fn expand_in(input: TokenStream, engine: sym::Engine) -> (TokenStream, Stats) {
     let mut cx = ctxt::Ctxt::new();
     let def = parse::parse_system(input, &mut cx);
     let mut out = TokenStream::new();
     let mut stats = Stats::default();
     if let Some(def) = &def
-        && let Some((model, mut engine)) = lower::lower(def, &mut cx)
+        && let Some((model, mut engine)) = lower::lower_in(def, &mut cx, engine)
     {
         let (atlas, charts, figures) = generate::atlas::charts(def, &model, &engine);
         let (tokens, s) = generate::generate(def, &model, &mut engine, &mut cx, atlas);

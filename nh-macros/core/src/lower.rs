@@ -15,8 +15,8 @@ pub(crate) mod values;
 mod velocities;
 
 use crate::check;
-use crate::ctxt::{Ctxt, SpanRange};
-use crate::model::{Coordinate, Input, Model, Parameter, Partition};
+use crate::ctxt::{Ctxt, Site, SpanRange};
+use crate::model::{Coordinate, Input, Model, Parameter, Partition, Places};
 use crate::names;
 use crate::parse::{BodyDef, Expr, SystemDef};
 use crate::sym::{Engine, ExprId, Rational, SymId, ZERO};
@@ -88,6 +88,9 @@ struct Lowerer<'a> {
     kinetic: Vec<(crate::model::KineticBody, ExprId)>,
     /// see [`Model::written`]
     written: Vec<ExprId>,
+    /// The number of errors recorded when the item whose lowering exceeded
+    /// the engine's limits began (see [`Lowerer::at`]).
+    abandoned_at: Option<usize>,
 }
 
 /// The names declared so far, each with what it was declared as.
@@ -162,16 +165,30 @@ fn declared_names(list: &Option<(Ident, Vec<Ident>)>) -> Vec<Ident> {
 /// expressions. Returns `None` when errors make a model meaningless; all
 /// errors are in `cx`.
 pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<(Model, Engine)> {
+    lower_in(def, cx, Engine::new())
+}
+
+/// [`lower`] into the fresh engine `e` (with its limits set).
+pub fn lower_in(def: &SystemDef, cx: &mut Ctxt, e: Engine) -> Option<(Model, Engine)> {
     check::coordinates_declared(def, cx);
-    let (mut lw, let_ok) = Lowerer::declare(def, cx);
+    let (mut lw, let_ok) = Lowerer::declare(def, cx, e);
     lw.lower_lets(def, &let_ok);
     let lagrangian = lw.lower_lagrangian(def);
     lw.lower_forces(def);
     let symmetries = lw.lower_symmetries(def);
-    let mut lowered = lw.lower_constraints(def);
+    let mut lowered = lw.at(
+        def.keyword_range(def.constraints.as_ref()),
+        "solving the constraints for the dependent velocities",
+        |lw| lw.lower_constraints(def),
+    );
     let dependent: Vec<usize> = lowered.constraints.iter().map(|c| c.dependent).collect();
     let constraint_atlas = !lowered.atlas.is_empty();
-    if let Some(charts) = lw.euler_charts(def, &dependent, &mut lowered.chart, constraint_atlas) {
+    let charts = lw.at(
+        SpanRange::single(def.name.span()),
+        "finding the charts of the free rotation",
+        |lw| lw.euler_charts(def, &dependent, &mut lowered.chart, constraint_atlas),
+    );
+    if let Some(charts) = charts {
         lowered.atlas = (charts.into_iter())
             .map(|(euler, singular)| atlas::Chart {
                 dependent: dependent.clone(),
@@ -185,21 +202,27 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<(Model, Engine)> {
             "- `{text}`: implied by the constraint rows before it (as for two wheels on one axle), so dropped: it has no dependent coordinate and no multiplier"
         ));
     }
-    let speeds = lw.lower_speeds(def);
+    let kinematics = def.keyword_range(def.kinematics.as_ref());
+    let speeds = lw.at(kinematics, "expanding the kinematics", |lw| {
+        lw.lower_speeds(def)
+    });
     lw.lower_unused_bodies();
+    lw.report_limits(def);
     let outputs = check::outputs(def, lw.cx);
     check::outputs_for_form(def, lw.cx);
-    if lw.e.overflowed() {
-        lw.cx.error_at(
-            def.name.span(),
-            "an expression grew beyond the engine's limits (too many terms, or a constant power of more than 10000 digits): simplify the input",
-        );
-    }
     let lagrangian = lagrangian?;
     if !lw.cx.is_empty() {
         return None;
     }
-    let kinetic = lw.kinetic_split(lagrangian);
+    let places = Places {
+        lagrangian: def.lagrangians[0].1.range(),
+        constraints: def.keyword_range(def.constraints.as_ref()),
+    };
+    let kinetic = lw.at(
+        places.lagrangian,
+        "splitting the Lagrangian into the bodies' kinetic energies",
+        |lw| lw.kinetic_split(lagrangian),
+    );
     let forces = lw.coords.iter().map(|c| c.force);
     let kinematics = speeds.iter().flat_map(|s| s.velocities.iter().copied());
     let written: Vec<ExprId> = std::iter::once(lagrangian)
@@ -238,6 +261,7 @@ pub fn lower(def: &SystemDef, cx: &mut Ctxt) -> Option<(Model, Engine)> {
         row_contacts: lowered.row_contacts,
         huge_constant: lw.huge_constant,
         kinetic,
+        places,
         written,
     };
     Some((model, lw.e))
@@ -247,8 +271,7 @@ impl<'a> Lowerer<'a> {
     /// Declares every name of the system (reporting duplicates, shadowing
     /// and reserved words) and creates their symbols; with, per `let`,
     /// whether its declaration succeeded.
-    fn declare(def: &SystemDef, cx: &'a mut Ctxt) -> (Lowerer<'a>, Vec<bool>) {
-        let mut e = Engine::new();
+    fn declare(def: &SystemDef, cx: &'a mut Ctxt, mut e: Engine) -> (Lowerer<'a>, Vec<bool>) {
         let t_sym = e.symbol(Constant::Time.name());
         let pi_sym = e.symbol(Constant::Pi.name());
         let mut names = Declarations {
@@ -325,6 +348,7 @@ impl<'a> Lowerer<'a> {
             description: Vec::new(),
             kinetic: Vec::new(),
             written: Vec::new(),
+            abandoned_at: None,
         };
         (lw, let_ok)
     }
@@ -350,11 +374,44 @@ impl<'a> Lowerer<'a> {
             .collect()
     }
 
+    /// `work`, with the engine's site at `range`, doing `task`. If the
+    /// engine's limits are first exceeded in it, the errors recorded from
+    /// its start are dropped when the limit is reported (`report_limits`):
+    /// they may follow from the meaningless values of the abandoned
+    /// derivation (a divisor that came out zero).
+    fn at<T>(
+        &mut self,
+        range: SpanRange,
+        task: impl Into<String>,
+        work: impl FnOnce(&mut Self) -> T,
+    ) -> T {
+        let errors = self.cx.len();
+        let within = !self.e.overflowed();
+        let outer = self.e.enter(Site::new(range, task));
+        let r = work(self);
+        self.e.leave(outer);
+        if within && self.e.overflowed() && self.abandoned_at.is_none() {
+            self.abandoned_at = Some(errors);
+        }
+        r
+    }
+
+    /// The error for a limit of the engine exceeded while lowering, in
+    /// place of the errors that followed it.
+    fn report_limits(&mut self, def: &SystemDef) {
+        if let Some(errors) = self.abandoned_at {
+            self.cx.truncate(errors);
+        }
+        check::within_limits(def, &self.e, self.cx);
+    }
+
     /// The `let`s, in order: later ones may use earlier ones.
     fn lower_lets(&mut self, def: &SystemDef, let_ok: &[bool]) {
         for (i, l) in def.lets.iter().enumerate() {
             self.place = Place::Let;
-            let v = self.lower_value(&l.value, 0);
+            let range = SpanRange::single(l.name.span()).to(l.value.range());
+            let task = format!("expanding `{}`", l.name);
+            let v = self.at(range, task, |lw| lw.lower_value(&l.value, 0));
             if let Some(v) = &v {
                 self.describe_let(l, v);
             }
@@ -384,7 +441,9 @@ impl<'a> Lowerer<'a> {
                     self.cx.error_at(kw.span(), "duplicate `lagrangian`: a system has exactly one Lagrangian; combine the terms into one expression");
                 }
                 self.place = Place::Lagrangian;
-                self.lower(expr, 0)
+                self.at(expr.range(), "expanding the Lagrangian", |lw| {
+                    lw.lower(expr, 0)
+                })
             }
         }
     }
@@ -397,7 +456,9 @@ impl<'a> Lowerer<'a> {
         let mut seen = vec![false; self.coords.len()];
         for f in list {
             self.place = Place::Force;
-            let v = self.lower(&f.value, 0);
+            let range = SpanRange::single(f.coordinate.span()).to(f.value.range());
+            let task = format!("expanding the force on `{}`", f.coordinate);
+            let v = self.at(range, task, |lw| lw.lower(&f.value, 0));
             match self.scope.get(&f.coordinate.to_string()) {
                 _ if self.poisoned.contains(&f.coordinate.to_string()) => {}
                 Some(Binding::Coord(i)) => {
@@ -432,7 +493,8 @@ impl<'a> Lowerer<'a> {
             let mut generator = vec![crate::sym::ZERO; self.coords.len()];
             for (q, expr) in &sym.generator {
                 self.place = Place::Force;
-                let v = self.lower(expr, 0);
+                let task = format!("expanding the rate of `{q}` along `{}`", sym.name);
+                let v = self.at(expr.range(), task, |lw| lw.lower(expr, 0));
                 let Some(Binding::Coord(i)) = self.scope.get(&q.to_string()).cloned() else {
                     let hint = self.coordinate_hint(q);
                     let all = list_names(self.coords.iter().map(|c| &c.name));

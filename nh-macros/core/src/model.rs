@@ -243,10 +243,24 @@ pub struct Model {
     /// (0: x, 1: y, 2: z) of its material velocity it is, if it comes from a
     /// `rolls(..)` line.
     pub row_contacts: Vec<Option<(usize, usize)>>,
+    /// Where in the input the stages after lowering derive from (see
+    /// [`Places`]).
+    pub places: Places,
     /// The expressions as written (the Lagrangian, the forces, each
     /// written constraint's lhs − rhs, the kinematics), whose poles and
     /// domain edges the runtime guards (`crate::poles`).
     pub written: Vec<ExprId>,
+}
+
+/// The parts of the input the stages after lowering derive from: the
+/// sites they name to the engine while they work, where an error for a
+/// limit exceeded points (DESIGN §5).
+#[derive(Clone, Copy, Debug)]
+pub struct Places {
+    /// The Lagrangian as written.
+    pub lagrangian: SpanRange,
+    /// The `constraints` keyword (the system's name without one).
+    pub constraints: SpanRange,
 }
 
 /// A rolling contact: the material velocity of the contact point is

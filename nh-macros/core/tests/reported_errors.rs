@@ -79,3 +79,35 @@ fn a_velocity_no_body_moves_is_reported_at_its_coordinate() {
     let fixed = expansion_of(&top(" + m*dot(s)^2/2"));
     assert!(nh_core::reported_errors(&fixed).is_empty());
 }
+
+/// Issue 34: a Lagrangian through 200 nested lets, each the sine times the
+/// cosine of the one before plus it times a velocity. The lets expand; the
+/// Lagrangian's derivatives swell past the engine's limit of work (in
+/// 6-7 s with the optimised engine). One error, at the Lagrangian, naming
+/// what was being done and the measure with its figure.
+#[test]
+fn a_system_beyond_the_limit_of_work_is_one_error_at_its_culprit() {
+    let mut src = String::from(
+        "pub struct Swell {\n    parameters { m, g }\n    coordinates { x, y }\n    let a0 = x + y;\n",
+    );
+    for i in 1..=200 {
+        let p = i - 1;
+        src += &format!("    let a{i} = sin(a{p})*cos(a{p}) + a{p}*dot(x);\n");
+    }
+    src += "    lagrangian = m*(dot(x)^2 + dot(y)^2)/2 - g*a200;\n}";
+    let errors = nh_core::reported_errors(&expansion_of(&src));
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    let e = &errors[0];
+    let (start, end) = (e.start.start(), e.end.end());
+    // `m*(dot(x)^2 + dot(y)^2)/2 - g*a200` on line 205 (columns 0-based)
+    assert_eq!((start.line, start.column), (205, 17), "{}", e.message);
+    assert_eq!((end.line, end.column), (205, 51), "{}", e.message);
+    assert!(
+        e.message.starts_with(
+            "differentiating the Lagrangian (its mass matrix and Euler–Lagrange terms) exceeded the engine's limit of 50,000,000 units of work"
+        ),
+        "{}",
+        e.message
+    );
+    assert!(e.message.contains("or split the system"), "{}", e.message);
+}

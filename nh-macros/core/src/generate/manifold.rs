@@ -4,7 +4,7 @@
 //! Newton's method on their dependent coordinates.
 
 use super::graph::{Args, bound_dag};
-use crate::emit::Node;
+use crate::emit::{Dag, Node};
 use crate::lower::linear;
 use crate::mechanics::Scene;
 use crate::sym::ExprId;
@@ -70,8 +70,13 @@ fn projection(
     for (&s, &n) in residual.iter().zip(&f_nodes) {
         d.bind(s, n);
     }
+    let step = match step {
+        Ok(step) => step.iter().map(|&e| d.expr(m.engine, e)).collect(),
+        Err(jac) => newton_step_on_graph(m, &mut d, &jac, &f_nodes),
+    };
     let mut outs = f_nodes;
-    for e in step.iter().chain(&scale_terms) {
+    outs.extend(step);
+    for e in &scale_terms {
         outs.push(d.expr(m.engine, *e));
     }
     let (stmts, o) = d.emit(&outs);
@@ -159,16 +164,19 @@ fn projection(
     }
 }
 
+/// Newton's step Δs as expressions of the symbols φ, or the Jacobian J of
+/// the rows for [`newton_step_on_graph`] when its symbolic solve passes the
+/// engine's limits.
+type Step = Result<Vec<ExprId>, Vec<Vec<ExprId>>>;
+
 /// Newton's step on the dependent coordinates s of the holonomic rows f,
 /// Δs = −J⁻¹ φ with J = ∂f/∂s, in symbols φ for the values of f (bound to
 /// them where the step is evaluated): solved for f's terms instead, the
 /// step distributes them over det J and cancels to their round-off over
 /// it, which stalls Newton above its tolerance where J is nearly singular
-/// (a ball where a surface curves almost as much as it).
-fn newton_step(
-    m: &mut Scene<'_>,
-    holonomic: &[(usize, ExprId)],
-) -> (Vec<crate::sym::SymId>, Vec<ExprId>) {
+/// (a ball where a surface curves almost as much as it). `Err(J)` when the
+/// symbolic solve passes the engine's limits ([`newton_step_on_graph`]).
+fn newton_step(m: &mut Scene<'_>, holonomic: &[(usize, ExprId)]) -> (Vec<crate::sym::SymId>, Step) {
     let jac: Vec<Vec<ExprId>> = holonomic
         .iter()
         .map(|&(_, fa)| {
@@ -187,6 +195,27 @@ fn newton_step(
             m.engine.neg(x)
         })
         .collect();
-    let step = linear::solve(m.engine, &jac, &[minus_f]).x.remove(0);
-    (residual, step)
+    let step = m
+        .engine
+        .attempt(|e| linear::solve(e, &jac, &[minus_f]).x.remove(0));
+    (residual, step.ok_or(jac))
+}
+
+/// Newton's step on the graph, Δs = −J⁻¹ φ by Cramer's rule over the nodes
+/// (`φ` the nodes of f): for the rows whose symbolic solve passes the
+/// engine's limits (a random system's constants grew past 10,000 digits in
+/// it), where the graph forms no product.
+fn newton_step_on_graph(
+    m: &Scene<'_>,
+    d: &mut Dag,
+    jac: &[Vec<ExprId>],
+    phi: &[Node],
+) -> Vec<Node> {
+    let jac: Vec<Vec<Node>> = (jac.iter())
+        .map(|row| row.iter().map(|&x| d.expr(m.engine, x)).collect())
+        .collect();
+    let minus_phi: Vec<Node> = phi.iter().map(|&x| d.neg(x)).collect();
+    let det = crate::algebra::lu::laplace(d, &jac);
+    let inv = d.div(crate::emit::ONE_NODE, det);
+    crate::algebra::lu::cramer(d, &jac, &minus_phi, inv)
 }

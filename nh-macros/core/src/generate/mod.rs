@@ -2,7 +2,7 @@
 //! trait implementation (DESIGN §3), from the derived mechanics.
 
 use crate::check;
-use crate::ctxt::Ctxt;
+use crate::ctxt::{Ctxt, Site, SpanRange};
 use crate::mechanics::Derivation;
 use crate::mechanics::Formulation;
 use crate::mechanics::Scene;
@@ -81,8 +81,11 @@ pub fn generate(
     if !derivation_checked(def, &mut m, &mut dv, cx) {
         return (TokenStream::new(), stats);
     }
+    // the rest of the expansion, whose symbolic work (the outputs'
+    // derivatives, a small reduced system solved) is at the outputs
+    m.engine.enter(generation_site(def));
     let compared = compare_routes(&mut m, &mut dv, both_routes);
-    if !check::regular(def, &compared.pivots, cx) {
+    if !check::within_limits(def, m.engine, cx) || !check::regular(def, &compared.pivots, cx) {
         return (TokenStream::new(), stats);
     }
     let route = compared.choose(&mut stats);
@@ -137,19 +140,46 @@ fn derivation_checked(
     dv: &mut Derivation,
     cx: &mut Ctxt,
 ) -> bool {
-    if !check::within_limits(def, m, cx) {
+    if !check::within_limits(def, m.engine, cx) {
         return false;
     }
     if m.outputs.contains(Output::Energy) {
-        dv.energy = Some(m.energy());
+        let site = output_site(def, Output::Energy);
+        dv.energy = Some(m.at(site, "deriving the energy", |m| m.energy()));
     }
     if let Some(cyclic) = check::momenta(def, m, cx) {
-        dv.momenta = Some(m.momenta(cyclic));
+        let site = output_site(def, Output::Momenta);
+        dv.momenta = Some(m.at(site, "deriving the momenta", |m| m.momenta(cyclic)));
+    }
+    if !check::within_limits(def, m.engine, cx) {
+        return false;
     }
     if check::symmetries(def, m, cx) {
-        dv.symmetries = m.symmetry_momenta();
+        let site = def.keyword_range(def.symmetries.as_ref());
+        let task = "deriving the momenta of the symmetries";
+        dv.symmetries = m.at(site, task, |m| m.symmetry_momenta());
     }
-    check::derivation(def, m, dv, cx) && check::forms(def, m, cx)
+    check::within_limits(def, m.engine, cx)
+        && check::derivation(def, m, dv, cx)
+        && check::forms(def, m, cx)
+}
+
+/// Where an output is asked for: its word in `outputs { .. }`, or the
+/// `outputs` keyword if another output implies it, or the system's name.
+fn output_site(def: &SystemDef, output: Output) -> SpanRange {
+    let Some((kw, list)) = &def.outputs else {
+        return SpanRange::single(def.name.span());
+    };
+    let word = list.iter().find(|o| o.word == Some(output));
+    SpanRange::single(word.map_or(kw.span(), |o| o.ident.span()))
+}
+
+/// The site of the methods' generation once the derivation is checked
+/// (the outputs' derivatives, the symbolic solve of a small reduced
+/// system): the `outputs` keyword, or the system's name without one.
+fn generation_site(def: &SystemDef) -> Site {
+    let site = def.keyword_range(def.outputs.as_ref());
+    Site::new(site, "generating the methods and the outputs")
 }
 
 /// The expansion once every method is emitted: empty if a constant of the
@@ -161,7 +191,7 @@ fn finish(
     tokens: TokenStream,
     mut stats: Stats,
 ) -> (TokenStream, Stats) {
-    if !check::representable(def, m, cx) {
+    if !check::within_limits(def, m.engine, cx) || !check::representable(def, m, cx) {
         return (TokenStream::new(), stats);
     }
     stats.graph_size = m.engine.num_exprs();
@@ -182,6 +212,8 @@ fn generate_speeds(
     if !derivation_checked(def, &mut m, &mut dv, cx) {
         return (TokenStream::new(), stats);
     }
+    // the rest of the expansion (see `generate`)
+    m.engine.enter(generation_site(def));
     let mut d = bound_dag(&m, &Args::vectors(&m));
     let (udot, pivots) = curvature_nodes(&mut d, &m, &dv.reduced);
     if !check::regular(def, &pivots, cx) {

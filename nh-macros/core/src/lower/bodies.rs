@@ -240,7 +240,9 @@ impl Lowerer<'_> {
             BodyState::Pending => {
                 self.body_state[i] = BodyState::Busy;
                 let def = self.body_defs[i].clone();
-                let b = self.lower_body(&def).map(Rc::new);
+                let range = SpanRange::single(def.name.span());
+                let task = format!("expanding body `{}`", def.name);
+                let b = self.at(range, task, |lw| lw.lower_body(&def)).map(Rc::new);
                 self.body_state[i] = BodyState::Done(b.clone());
                 b
             }

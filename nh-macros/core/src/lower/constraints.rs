@@ -187,7 +187,11 @@ impl Lowerer<'_> {
                     }
                     continue;
                 }
-                if let Some((point, kin)) = self.rolling_rows(r, &mut sides, &mut wheels) {
+                let task = format!("deriving the contact of `{}`", r.body);
+                let rows = self.at(r.range, task, |lw| {
+                    lw.rolling_rows(r, &mut sides, &mut wheels)
+                });
+                if let Some((point, kin)) = rows {
                     contacts.push(point);
                     let line = def.rolling.iter().position(|x| std::ptr::eq(x, r));
                     // a body without closed-form kinematics: written rows
@@ -197,8 +201,10 @@ impl Lowerer<'_> {
                 }
             }
             let Some(c) = list.get(i) else { break };
-            let lhs = self.lower(&c.lhs, 0);
-            let rhs = self.lower(&c.rhs, 0);
+            let task = format!("expanding the constraint `{}`", short(source_of(c)));
+            let (lhs, rhs) = self.at(range_of(c), task, |lw| {
+                (lw.lower(&c.lhs, 0), lw.lower(&c.rhs, 0))
+            });
             if let (Some(l), Some(r)) = (lhs, rhs) {
                 sides.push((Source::Written(c), l, r));
             } else {

@@ -92,32 +92,41 @@ pub struct Derivation {
 /// are integrable.
 pub fn derive(m: &mut Scene<'_>, both_routes: bool) -> Derivation {
     let (multiplier_route, kane) = m.multiplier_route();
+    let places = m.model.places;
     // the full curvature when a route or the output uses it; otherwise
     // only as many entries as it takes to see that one does not vanish
-    let (curvature, (integrable, integrable_proved)) =
+    let task = "deriving the curvature of the constraints";
+    let (curvature, (integrable, integrable_proved)) = m.at(places.constraints, task, |m| {
         if both_routes || m.model.outputs.contains(Output::Curvature) {
             let curvature = m.curvature();
             let integrability = m.integrability(&curvature);
             (curvature, integrability)
         } else {
             (Vec::new(), m.integrability_entry_by_entry())
-        };
-    let reduced = if both_routes {
-        m.curvature_route(&curvature)
-    } else {
-        Reduced {
-            mass: Vec::new(),
-            rhs: Vec::new(),
-            solution: None,
         }
-    };
-    let silent = if both_routes {
-        (0..m.model.k())
-            .map(|a| reduced.mass[a][a] == ZERO)
-            .collect()
-    } else {
-        m.silent_velocities(&multiplier_route.mass)
-    };
+    });
+    let task = "deriving the reduced equations (the Lagrangian with the constraints substituted)";
+    let reduced = m.at(places.lagrangian, task, |m| {
+        if both_routes {
+            m.curvature_route(&curvature)
+        } else {
+            Reduced {
+                mass: Vec::new(),
+                rhs: Vec::new(),
+                solution: None,
+            }
+        }
+    });
+    let task = "deriving the reduced mass matrix";
+    let silent = m.at(places.lagrangian, task, |m| {
+        if both_routes {
+            (0..m.model.k())
+                .map(|a| reduced.mass[a][a] == ZERO)
+                .collect()
+        } else {
+            m.silent_velocities(&multiplier_route.mass)
+        }
+    });
     Derivation {
         silent,
         multiplier_route,
@@ -136,7 +145,9 @@ pub fn derive(m: &mut Scene<'_>, both_routes: bool) -> Derivation {
 /// the reduced system (in the curvature route's slot), the multiplier
 /// route's M and h, and the terms of the reaction forces.
 pub fn derive_maggi(m: &mut Scene<'_>) -> (Derivation, MaggiTerms) {
-    let (multiplier_route, reduced, terms) = m.maggi_equations();
+    let task = "deriving Maggi's equations (the Lagrangian in the speeds)";
+    let (multiplier_route, reduced, terms) =
+        m.at(m.model.places.lagrangian, task, |m| m.maggi_equations());
     let k = reduced.mass.len();
     let silent = (0..k).map(|a| reduced.mass[a][a] == ZERO).collect();
     let derivation = Derivation {

@@ -72,22 +72,30 @@ impl Scene<'_> {
     /// uses them or they are small (`needs_lagrangian_terms`).
     pub fn multiplier_route(&mut self) -> (MultiplierRoute, Option<BodyTerms>) {
         let n = self.model.n();
-        let bodies = self.body_terms();
+        let places = self.model.places;
+        let kane = "deriving Kane's terms of the bodies (the Lagrangian's kinetic energies)";
+        let bodies = self.at(places.lagrangian, kane, |m| m.body_terms());
         let (mass, bias) = if self.needs_lagrangian_terms(bodies.is_some()) {
-            self.euler_lagrange_terms(self.model.lagrangian, true)
+            let task = "differentiating the Lagrangian (its mass matrix and Euler–Lagrange terms)";
+            self.at(places.lagrangian, task, |m| {
+                m.euler_lagrange_terms(m.model.lagrangian, true)
+            })
         } else {
             (Vec::new(), Vec::new())
         };
         // with a block solved numerically, the accelerations take its rates
         // on the graph, and their derivatives are the rates of those nodes
         // (`generate/derivatives.rs`): the symbolic −Ȧṙ serves nothing
-        let dependent_bias = if self.block.is_some() {
-            Vec::new()
-        } else if self.model.velocity_rows.is_empty() {
-            self.dependent_bias_from_solutions()
-        } else {
-            self.dependent_bias_from_rows()
-        };
+        let task = "differentiating the constraints along the motion";
+        let dependent_bias = self.at(places.constraints, task, |m| {
+            if m.block.is_some() {
+                Vec::new()
+            } else if m.model.velocity_rows.is_empty() {
+                m.dependent_bias_from_solutions()
+            } else {
+                m.dependent_bias_from_rows()
+            }
+        });
         debug_assert!(mass.len() == n || (mass.is_empty() && bodies.is_some()));
         let route = MultiplierRoute {
             mass,

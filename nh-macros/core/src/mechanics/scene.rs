@@ -5,6 +5,7 @@
 
 use super::block::BlockTerms;
 use super::chains::Chain;
+use crate::ctxt::{Site, SpanRange};
 use crate::model::Model;
 use crate::sym::{Engine, ExprId, SymId, ZERO};
 use rustc_hash::FxHashMap as HashMap;
@@ -109,11 +110,23 @@ impl<'a> Scene<'a> {
             block: None,
         };
         if model.speeds.is_none() {
-            let frame = scene.heading_frame();
-            scene.contact_chains = scene.contact_chains(&frame);
-            scene.block = scene.block_terms();
+            let task = "deriving the rolling contacts' kinematics";
+            scene.at(model.places.constraints, task, |m| {
+                let frame = m.heading_frame();
+                m.contact_chains = m.contact_chains(&frame);
+                m.block = m.block_terms();
+            });
         }
         scene
+    }
+
+    /// `work`, with the engine's site at `range` of the input, doing `task`
+    /// (where an error for a limit exceeded in it points).
+    pub fn at<T>(&mut self, range: SpanRange, task: &str, work: impl FnOnce(&mut Self) -> T) -> T {
+        let outer = self.engine.enter(Site::new(range, task));
+        let r = work(self);
+        self.engine.leave(outer);
+        r
     }
 
     /// Whether some dependent velocity depends on time explicitly.

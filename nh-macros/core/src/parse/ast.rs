@@ -354,6 +354,13 @@ pub struct SystemDef {
 }
 
 impl SystemDef {
+    /// The keyword of a block (`def.constraints.as_ref()`, ..) as a range,
+    /// or the system's name without the block: where an error about the
+    /// block as a whole points.
+    pub fn keyword_range<T>(&self, block: Option<&(Ident, T)>) -> SpanRange {
+        SpanRange::single(block.map_or(self.name.span(), |b| b.0.span()))
+    }
+
     /// The slot of a block of names other than `outputs` (`parameters`,
     /// `coordinates`, `inputs`, `speeds`, `dependent`); `None` for another
     /// block.

@@ -6,35 +6,49 @@
 use super::graph::merge_factors;
 use super::normal::Normal;
 use super::{
-    Atom, AtomId, Engine, ExprId, Fun, MAX_NESTING, MAX_TERMS, MAX_WORK, MONO_ONE, MonoId, ONE,
+    Atom, AtomId, Engine, ExprId, Fun, Limit, MAX_NESTING, MAX_TERMS, MONO_ONE, MonoId, ONE,
     Rational, SymId, Terms, ZERO,
 };
 
 impl Engine {
-    /// Counts arithmetic on big coefficients as work (see [`MAX_WORK`]): a
-    /// product of two values of `a` and `b` words costs about `a·b` word
-    /// operations plus the reduction.
-    fn big_work(&mut self, a: Rational, b: Rational) {
+    /// Counts arithmetic on big coefficients as work (see
+    /// [`MAX_WORK`](super::MAX_WORK)): a product of two values of `a` and
+    /// `b` words costs about `a·b` word operations plus the reduction.
+    /// True if the derivation is abandoned (then the product is not
+    /// computed).
+    fn big_work(&mut self, a: Rational, b: Rational) -> bool {
         if a.to_i128_parts().is_none() || b.to_i128_parts().is_none() {
             let (wa, wb) = (a.size_words(), b.size_words());
-            let cost = 8u64.saturating_mul(wa + 1).saturating_mul(wb + 1);
-            self.work = self
-                .work
-                .saturating_add(usize::try_from(cost).unwrap_or(usize::MAX));
+            self.count_big_work(8u64.saturating_mul(wa + 1).saturating_mul(wb + 1));
+            return self.abandoned();
+        }
+        false
+    }
+
+    /// Adds `cost` units of arithmetic on big coefficients to the work;
+    /// past the limit, the derivation is abandoned there
+    /// ([`Limit::Constants`]).
+    fn count_big_work(&mut self, cost: u64) {
+        let cost = usize::try_from(cost).unwrap_or(usize::MAX);
+        self.work = self.work.saturating_add(cost);
+        if self.work > self.max_work {
+            self.exceed(Limit::Constants);
         }
     }
 
     pub(super) fn qmul(&mut self, a: Rational, b: Rational) -> Rational {
-        self.big_work(a, b);
+        if self.big_work(a, b) {
+            return Rational::ZERO;
+        }
         a.checked_mul(b).unwrap_or_else(|| {
-            self.overflow = true;
+            self.exceed(Limit::Digits);
             Rational::ZERO
         })
     }
 
     pub(super) fn qpowi(&mut self, a: Rational, e: i64) -> Rational {
         a.checked_powi(e).unwrap_or_else(|| {
-            self.overflow = true;
+            self.exceed(Limit::Digits);
             Rational::ZERO
         })
     }
@@ -74,12 +88,10 @@ impl Engine {
                 Some((lm, lc)) if *lm == m => {
                     if lc.to_i128_parts().is_none() || c.to_i128_parts().is_none() {
                         let w = lc.size_words() + c.size_words() + 1;
-                        self.work = self
-                            .work
-                            .saturating_add(usize::try_from(8 * w * w).unwrap_or(usize::MAX));
+                        self.count_big_work(8u64.saturating_mul(w).saturating_mul(w));
                     }
                     *lc = lc.checked_add(c).unwrap_or_else(|| {
-                        self.overflow = true;
+                        self.exceed(Limit::Digits);
                         Rational::ZERO
                     })
                 }
@@ -151,7 +163,7 @@ impl Engine {
         if let Some(&r) = self.memo_mul.get(&key) {
             return r;
         }
-        if self.overflow {
+        if self.abandoned() {
             return ZERO;
         }
         let (la, lb) = (self.exprs[a.index()].len(), self.exprs[b.index()].len());
@@ -165,7 +177,7 @@ impl Engine {
         // multiplies its expansions): past MAX_NESTING the input is swell
         // beyond reason, reported as such rather than overflowing the stack
         if self.nesting >= MAX_NESTING {
-            self.overflow = true;
+            self.exceed(Limit::Nesting);
             return ZERO;
         }
         self.nesting += 1;
@@ -175,7 +187,7 @@ impl Engine {
             self.expanded_product(a, b)
         };
         self.nesting -= 1;
-        if !self.overflow {
+        if !self.abandoned() {
             self.memo_mul.insert(key, r);
         }
         r
@@ -187,8 +199,8 @@ impl Engine {
         let ta = self.exprs[a.index()].clone();
         let tb = self.exprs[b.index()].clone();
         self.work = self.work.saturating_add(ta.len().saturating_mul(tb.len()));
-        if self.work > MAX_WORK {
-            self.overflow = true;
+        if self.work > self.max_work {
+            self.exceed(Limit::Work);
             return ZERO;
         }
         let mut acc: Vec<(MonoId, Rational)> = Vec::with_capacity(ta.len() * tb.len());
@@ -208,7 +220,7 @@ impl Engine {
                     }
                 }
                 if acc.len() > MAX_TERMS {
-                    self.overflow = true;
+                    self.exceed(Limit::Terms);
                     return ZERO;
                 }
             }

@@ -1,7 +1,7 @@
 //! Derivatives, memoised per expression and symbol, with long inner
 //! derivatives of the chain rule kept as atoms.
 
-use super::{Atom, AtomId, Engine, ExprId, Fun, MonoId, ONE, Rational, SymId, ZERO};
+use super::{Atom, AtomId, Engine, ExprId, Fun, Limit, MonoId, ONE, Rational, SymId, ZERO};
 
 impl Engine {
     /// `∂e/∂s`, memoised.
@@ -12,7 +12,7 @@ impl Engine {
         if let Some(&r) = self.memo_diff.get(&(e, s)) {
             return r;
         }
-        if self.overflow {
+        if self.abandoned() {
             return ZERO;
         }
         self.counters.derivatives += 1;
@@ -24,7 +24,9 @@ impl Engine {
             parts.push(t);
         }
         let r = self.sum(&parts);
-        self.memo_diff.insert((e, s), r);
+        if !self.abandoned() {
+            self.memo_diff.insert((e, s), r);
+        }
         r
     }
 
@@ -41,7 +43,7 @@ impl Engine {
             }
             let mut f = factors.clone();
             let ne = e.checked_sub(Rational::ONE).unwrap_or_else(|| {
-                self.overflow = true;
+                self.exceed(Limit::Digits);
                 Rational::ZERO
             });
             f[i].1 = ne;
@@ -59,7 +61,7 @@ impl Engine {
     /// functions) grow additively: d/dx of a_(n+1) = a_n + sin(a_n)/2 is then
     /// a_n' + cos(a_n)/2 · [a_n'] with [a_n'] one atom, not 2ⁿ terms.
     fn chain_rule_product(&mut self, outer: ExprId, inner: ExprId) -> ExprId {
-        if self.overflow {
+        if self.abandoned() {
             // the derivation is abandoned: no more work on its pieces
             return ZERO;
         }

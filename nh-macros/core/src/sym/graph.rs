@@ -2,7 +2,7 @@
 //! monomials, expressions) and their hash-consing interners, which keep each
 //! distinct node once so that equal nodes have equal ids.
 
-use super::{Engine, MAX_TERMS, MONO_ONE, Rational, ZERO};
+use super::{Engine, Limit, MAX_TERMS, MONO_ONE, Rational, ZERO};
 
 /// Defines an id type: a `u32` index into one table, distinct from the ids
 /// of every other table, so that mixing them up is a type error.
@@ -158,8 +158,8 @@ impl Engine {
         // functions of long `let` chains make monomials of hundreds of
         // factors)
         self.work = self.work.saturating_add(f.len());
-        if self.work > super::MAX_WORK {
-            self.overflow = true;
+        if self.work > self.max_work {
+            self.exceed(Limit::Work);
         }
         if let Some(&id) = self.mono_ix.get(&f) {
             return id;
@@ -196,7 +196,7 @@ impl Engine {
             return id;
         }
         if t.len() > MAX_TERMS {
-            self.overflow = true;
+            self.exceed(Limit::Terms);
             return ZERO;
         }
         let syms = self.union_of_syms(t.iter().map(|(m, _)| &self.mono_syms[m.index()]));

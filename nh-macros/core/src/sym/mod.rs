@@ -25,8 +25,10 @@
 //!
 //! Coefficients are exact rationals of any size. Arithmetic never panics:
 //! expression swell or a constant power beyond [`Rational::MAX_DIGITS`] digits
-//! sets a flag ([`Engine::overflowed`]) that the caller turns into a compile
-//! error.
+//! exceeds one of the engine's limits ([`Limit`]), which abandons the
+//! derivation ([`Engine::overflowed`]) and keeps the limit with the part of
+//! the input the stages named as under way ([`Engine::exceeded`]); the
+//! caller turns it into a compile error there.
 //!
 //! # Layout
 //!
@@ -35,7 +37,8 @@
 //! products, functions, constant folding), `funcs` (the functions beyond
 //! sin, cos, tan, exp and ln, and `atan2`), `power` (integer and rational
 //! powers), `normal` (the normal form of a monomial), `kept` (products kept
-//! unexpanded), `diff` (derivatives), `subst` (substitution), `eval`
+//! unexpanded), `diff` (derivatives), `subst` (substitution), `limits`
+//! (the measures bounded and the first exceeded), `eval`
 //! (numeric evaluation in any [`Scalar`]) and `display` (text).
 
 mod arith;
@@ -47,6 +50,7 @@ mod eval;
 mod funcs;
 mod graph;
 mod kept;
+mod limits;
 mod normal;
 mod power;
 pub mod random_points;
@@ -60,6 +64,7 @@ pub use funcs::{exact_atan2, exact_value};
 pub(crate) use graph::id_type;
 pub use graph::{Atom, AtomId, ExprId, Fun, MonoId, SymId};
 use graph::{Factors, Terms};
+pub use limits::{Exceeded, Limit};
 pub use rational::Rational;
 
 /// The expression graph with its interners and memo tables.
@@ -78,8 +83,16 @@ pub struct Engine {
     expr_syms: Vec<Vec<SymId>>,
     memo_mul: HashMap<(ExprId, ExprId), ExprId>,
     memo_diff: HashMap<(ExprId, SymId), ExprId>,
-    overflow: bool,
+    /// Whether a limit was exceeded: the derivation is abandoned (read on
+    /// every product and derivative, so a flag of its own).
+    abandoned: bool,
+    /// The first limit exceeded, with the site named then.
+    exceeded: Option<Exceeded>,
+    /// The part of the input being derived (see [`Engine::enter`]).
+    site: Option<crate::ctxt::Site>,
     work: usize,
+    /// The work a derivation may do ([`MAX_WORK`]).
+    max_work: usize,
     /// Products under way, one inside another (see [`MAX_NESTING`]).
     nesting: usize,
     /// Products of sums up to this many term products are expanded
@@ -139,6 +152,7 @@ impl Engine {
         let mut e = Engine {
             expand_limit: EXPAND_LIMIT,
             atom_min: ATOM_MIN,
+            max_work: MAX_WORK,
             ..Engine::default()
         };
         let one = e.intern_mono(Vec::new());
@@ -149,11 +163,22 @@ impl Engine {
         e
     }
 
-    /// True if a constant power exceeded [`Rational::MAX_DIGITS`] digits or
-    /// the work exceeded [`MAX_TERMS`] or [`MAX_WORK`]; results are then
-    /// meaningless.
+    /// True once one of the engine's limits is exceeded ([`Limit`]: the
+    /// work, [`MAX_WORK`]; the terms of an expression, [`MAX_TERMS`]; ..):
+    /// results are then meaningless ([`Engine::exceeded`] tells which limit,
+    /// and where).
     pub fn overflowed(&self) -> bool {
-        self.overflow
+        self.abandoned()
+    }
+
+    /// A fresh engine whose derivations may do `max_work` units of work
+    /// instead of [`MAX_WORK`]: the tests of what exceeding it reports,
+    /// in a fraction of the time.
+    #[cfg(test)]
+    pub(crate) fn with_work_limit(max_work: usize) -> Engine {
+        let mut e = Engine::new();
+        e.max_work = max_work;
+        e
     }
 
     /// Sets how far products of sums are expanded: products of up to

@@ -4,14 +4,14 @@
 //! taken out first.
 
 use super::normal::is_even;
-use super::{Atom, AtomId, Engine, ExprId, Factors, Fun, MONO_ONE, ONE, Rational, ZERO};
+use super::{Atom, AtomId, Engine, ExprId, Factors, Fun, Limit, MONO_ONE, ONE, Rational, ZERO};
 
 impl Engine {
     /// An integer exponent to expand by; beyond 2³² it is expression swell
     /// (flagged, and 0 returned).
     pub(super) fn exponent_count(&mut self, k: i64) -> u32 {
         u32::try_from(k).unwrap_or_else(|_| {
-            self.overflow = true;
+            self.exceed(Limit::Exponent);
             0
         })
     }
@@ -120,7 +120,7 @@ impl Engine {
                 }
             }
             None => {
-                self.overflow = true;
+                self.exceed(Limit::Exponent);
                 Rational::ZERO
             }
         }

@@ -351,8 +351,15 @@ impl Rational {
         {
             return Some(r);
         }
+        // integers multiply as integers: the product of rationals reduces
+        // by gcds, which for a denominator of 1 take time quadratic in the
+        // length of the other number (binary gcd)
         Some(Rational::from_big(Rational::with_pair(self, o, |x, y| {
-            x * y
+            if x.is_integer() && y.is_integer() {
+                BigRational::from_integer(x.numer() * y.numer())
+            } else {
+                x * y
+            }
         })))
     }
 
