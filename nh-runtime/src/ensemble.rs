@@ -229,6 +229,66 @@ impl<P: Fn(usize, usize) + Sync> Ensemble<P> {
     }
 }
 
+impl<P: Fn(usize, usize) + Sync> Ensemble<P> {
+    /// Runs the members in groups of `W` consecutive indices, one call of
+    /// `job(group)` per group, for a job that advances `W` members together
+    /// in the lanes of a SIMD type (DESIGN §6.8; [`Rk4::integrate_lanes`](crate::Rk4::integrate_lanes)
+    /// with `W = WideF64x4::LANES`), and returns the results in index order
+    /// as [`run`](Ensemble::run) does. When the member count is not a
+    /// multiple of `W` the last group is shorter: the job fills the lanes
+    /// past its end as it likes and those results are dropped. In parallel
+    /// each group is one task; the progress callback counts members.
+    ///
+    /// # Panics
+    ///
+    /// If `W` is 0, or as [`run`](Ensemble::run) does.
+    ///
+    /// # Example
+    ///
+    /// Ten decay rates, four per call:
+    ///
+    /// ```rust
+    /// use nalgebra::Vector1;
+    /// use nh_runtime::{Ensemble, Rk4, WideF64x4};
+    ///
+    /// let rate = |i: usize| 0.1 * i as f64;
+    /// let finals = Ensemble::new(10).run_lanes(|group| {
+    ///     let k: [f64; 4] = core::array::from_fn(|l| rate(group.start + l));
+    ///     let k = WideF64x4::from(k);
+    ///     let decay = move |_t: WideF64x4, x: &Vector1<WideF64x4>| x * -k;
+    ///     let x0 = Vector1::new(WideF64x4::from([1.0; 4]));
+    ///     let out = Rk4::new(0.01).integrate_lanes(&decay, 0.0, x0, 1.0).unwrap();
+    ///     core::array::from_fn::<_, 4, _>(|l| out.lane(l).map(|(_, x)| x[0]))
+    /// });
+    /// assert_eq!(finals.len(), 10);
+    /// assert!((finals[9].unwrap() - (-0.9f64).exp()).abs() < 1e-9);
+    /// ```
+    pub fn run_lanes<R, F, const W: usize>(&self, job: F) -> Vec<R>
+    where
+        R: Send,
+        F: Fn(Range<usize>) -> [R; W] + Sync,
+    {
+        assert!(W > 0, "a group of lanes has at least one lane");
+        let (indices, total, done) = (self.indices(), self.len(), AtomicUsize::new(0));
+        let group = |g: usize| {
+            let start = indices.start + g * W;
+            let members = start..(start + W).min(indices.end);
+            let len = members.len();
+            let results = job(members);
+            let before = done.fetch_add(len, Ordering::Relaxed);
+            (1..=len).for_each(|k| (self.progress)(before + k, total));
+            results.into_iter().take(len)
+        };
+        let groups = total.div_ceil(W);
+        #[cfg(feature = "rayon")]
+        if self.parallel {
+            use rayon::iter::{IntoParallelIterator, ParallelIterator};
+            return (0..groups).into_par_iter().flat_map_iter(group).collect();
+        }
+        (0..groups).flat_map(group).collect()
+    }
+}
+
 impl<P> fmt::Debug for Ensemble<P> {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.debug_struct("Ensemble")

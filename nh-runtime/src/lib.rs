@@ -162,6 +162,7 @@ mod events;
 #[cfg(feature = "alloc")]
 mod gauss_legendre4;
 mod jacobian;
+mod lanes;
 mod lie;
 mod linalg;
 mod method;
@@ -193,6 +194,7 @@ pub use euler::{EulerSequence, FreeRotation};
 pub use events::Events;
 #[cfg(feature = "alloc")]
 pub use gauss_legendre4::GaussLegendre4;
+pub use lanes::{LaneControlledSystem, LaneOutcome, LaneSystem, Lanes, WideF64x4};
 pub use outcome::{ChartSwitch, ChartSwitches, Outcome, SimError, Singularity, Stats};
 pub use rk4::Rk4;
 pub use rodas4::Rodas4;

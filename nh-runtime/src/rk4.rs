@@ -2,12 +2,15 @@
 
 use nalgebra::{RealField, SVector};
 
+use nalgebra::SimdBool;
+
+use crate::lanes::{LaneOutcome, LaneSystem, Lanes, finite_lanes, select};
 use crate::method::{Failure, Method};
-use crate::numeric::{all_finite_in, c};
+use crate::numeric::{all_finite_in, c, machine_epsilon};
 use crate::settings::{Settings, fixed_builders, integrator_impl};
 use crate::step::Poly;
 use crate::tolerance::Tolerance;
-use crate::{OdeSystem, Stats};
+use crate::{OdeSystem, SimError, Stats};
 
 /// Classical fourth-order Runge–Kutta with a fixed step `h`.
 ///
@@ -47,6 +50,115 @@ fixed_builders!(Rk4);
 integrator_impl!(Rk4, f, |sys| Rk4Stages::new(sys));
 
 /// Rk4 is a one-step method.
+impl<E: RealField + Copy> Rk4<E> {
+    /// Integrates one state per lane from `t0` to `t1` (DESIGN §6.8): the
+    /// lanes share the steps of [`Integrator::integrate`](crate::Integrator::integrate)
+    /// (step `k` ends at `t0 + k·h`, the last lands on `t1`) and the same
+    /// stage arithmetic, so each lane follows the scalar run of its state
+    /// with projection and chart switching off (`with_projection(false)`),
+    /// to the rounding of the lane type's elementary functions.
+    ///
+    /// A lane whose state becomes NaN or infinite stops at its last good
+    /// state (the others go on); the call ends early when every lane has.
+    /// [`LaneOutcome::lane`] reads each lane's result as a scalar run's.
+    /// The budget of [`Rk4::with_max_steps`] counts steps of all lanes at
+    /// once. Allocates nothing.
+    ///
+    /// # Errors
+    ///
+    /// [`SimError::InvalidInput`] for a non-positive or non-finite `h`, or a
+    /// non-finite `t0` or `t1`: then nothing was integrated.
+    ///
+    /// # Example
+    ///
+    /// Four decay rates in one call:
+    ///
+    /// ```rust
+    /// use nalgebra::Vector1;
+    /// use nh_runtime::{Rk4, WideF64x4};
+    ///
+    /// let k = WideF64x4::from([0.5, 1.0, 2.0, 4.0]);
+    /// let decay = move |_t: WideF64x4, x: &Vector1<WideF64x4>| x * -k;
+    /// let x0 = Vector1::new(WideF64x4::from([1.0; 4]));
+    /// let out = Rk4::new(0.01).integrate_lanes(&decay, 0.0, x0, 1.0).unwrap();
+    /// for (i, k) in [0.5f64, 1.0, 2.0, 4.0].into_iter().enumerate() {
+    ///     let (t, x) = out.lane(i).unwrap();
+    ///     assert_eq!(t, 1.0);
+    ///     assert!((x[0] - (-k).exp()).abs() < 1e-8);
+    /// }
+    /// assert_eq!(out.stats.steps, 100);
+    /// ```
+    pub fn integrate_lanes<T, S, const D: usize>(
+        &self,
+        sys: &S,
+        t0: E,
+        x0: SVector<T, D>,
+        t1: E,
+    ) -> Result<LaneOutcome<T, D>, SimError<E, D>>
+    where
+        T: Lanes<Element = E>,
+        S: LaneSystem<T, D> + ?Sized,
+    {
+        let h_abs = self.step_size();
+        if !(h_abs > E::zero() && h_abs.is_finite()) {
+            return Err(SimError::InvalidInput {
+                what: "step size h (must be positive and finite)",
+            });
+        }
+        if !(t0.is_finite() && t1.is_finite()) {
+            return Err(SimError::InvalidInput {
+                what: "t0 and t1 (must be finite)",
+            });
+        }
+        let dir = if t1 >= t0 { E::one() } else { -E::one() };
+        let h = h_abs * dir;
+        let tol = (c::<E>(64.0) * machine_epsilon::<E>() * (t0.abs() + t1.abs() + h_abs))
+            .min(h_abs * c(0.5));
+        let splat = T::splat;
+        let mut out = LaneOutcome {
+            t: splat(t0),
+            x: x0,
+            non_finite: !finite_lanes(&x0),
+            out_of_steps: false,
+            stats: Stats::default(),
+        };
+        let (mut t, mut k) = (t0, 0usize);
+        while (t1 - t) * dir > E::zero() && !out.non_finite.all() {
+            if out.stats.steps >= self.f.max_steps {
+                out.out_of_steps = true;
+                break;
+            }
+            k += 1;
+            let mut t_new = t0 + h * c::<E>(k as f64);
+            if (t1 - t_new) * dir <= tol {
+                t_new = t1;
+            }
+            let hk = t_new - t;
+            if hk * dir <= E::zero() {
+                return Err(SimError::InvalidInput {
+                    what: "step size h (too small to advance t)",
+                });
+            }
+            let half = hk * c::<E>(0.5);
+            let (tl, x) = (splat(t), &out.x);
+            let k1 = sys.lane_rhs(tl, x);
+            let k2 = sys.lane_rhs(splat(t + half), &(x + k1 * splat(half)));
+            let k3 = sys.lane_rhs(splat(t + half), &(x + k2 * splat(half)));
+            let k4 = sys.lane_rhs(splat(t + hk), &(x + k3 * splat(hk)));
+            let sum = k1 + (k2 + k3) * splat(c::<E>(2.0)) + k4;
+            let x_new = x + sum * splat(hk / c::<E>(6.0));
+            out.stats.rhs_evals += 4;
+            out.stats.steps += 1;
+            out.non_finite = out.non_finite | !finite_lanes(&x_new);
+            let going = !out.non_finite;
+            out.x = select(going, &x_new, &out.x);
+            out.t = splat(t_new).select(going, out.t);
+            t = t_new;
+        }
+        Ok(out)
+    }
+}
+
 impl<T> crate::settings::OneStep for Rk4<T> {
     const ONE_STEP: bool = true;
 }
