@@ -48,33 +48,41 @@ nonholonomic_system! {
 
 /// The benchmark's parameters (the paper's Table 1), in this model's axes.
 pub fn benchmark() -> Whipple {
+    benchmark_in::<f64>()
+}
+
+#[allow(dead_code)] // used by tests/lanes.rs and the lanes benchmark
+/// [`benchmark`] in the scalar `T`: `f64`, or a lane type such as
+/// `WideF64x4` with the same parameters in every lane.
+pub fn benchmark_in<T: nonholonomic::runtime::Lanes>() -> Whipple<T> {
+    let v = |x: f64| nonholonomic::nalgebra::convert::<f64, T>(x);
     Whipple::new(
-        1.02,                        // w: wheelbase
-        0.08,                        // c: trail
-        std::f64::consts::PI / 10.0, // λ: steer axis tilt
-        9.81,                        // g
-        0.3,
-        2.0,
-        0.0603,
-        0.12, // rear wheel: rR, mR, IRxx, IRyy
-        0.3,
-        0.9,
-        85.0,
-        9.2,
-        11.0,
-        2.8,
-        -2.4, // rear frame: xB, zB (up), mB, IBxx, IByy, IBzz, IBxz
-        0.9,
-        0.7,
-        4.0,
-        0.05892,
-        0.06,
-        0.00708,
-        0.00756, // front frame: xH, zH (up), mH, IHxx, IHyy, IHzz, IHxz
-        0.35,
-        3.0,
-        0.1405,
-        0.28, // front wheel: rF, mF, IFxx, IFyy
+        v(1.02),                        // w: wheelbase
+        v(0.08),                        // c: trail
+        v(std::f64::consts::PI / 10.0), // λ: steer axis tilt
+        v(9.81),                        // g
+        v(0.3),
+        v(2.0),
+        v(0.0603),
+        v(0.12), // rear wheel: rR, mR, IRxx, IRyy
+        v(0.3),
+        v(0.9),
+        v(85.0),
+        v(9.2),
+        v(11.0),
+        v(2.8),
+        v(-2.4), // rear frame: xB, zB (up), mB, IBxx, IByy, IBzz, IBxz
+        v(0.9),
+        v(0.7),
+        v(4.0),
+        v(0.05892),
+        v(0.06),
+        v(0.00708),
+        v(0.00756), // front frame: xH, zH (up), mH, IHxx, IHyy, IHzz, IHxz
+        v(0.35),
+        v(3.0),
+        v(0.1405),
+        v(0.28), // front wheel: rF, mF, IFxx, IFyy
     )
 }
 

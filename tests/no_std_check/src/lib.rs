@@ -55,3 +55,11 @@ pub fn step_sled(
         .integrate(&Driven::new(s, u), 0.0, x, 1e-3)
         .map(|o| o.x)
 }
+
+/// Advances four discs by 10 ms at once, one per lane of a `WideF64x4`.
+pub fn step_discs_in_lanes(
+    d: &Disc<WideF64x4>,
+    x: SVector<WideF64x4, 8>,
+) -> Result<SVector<WideF64x4, 8>, SimError<f64, 8>> {
+    Rk4::new(1e-3).integrate_lanes(d, 0.0, x, 1e-2).map(|o| o.x)
+}

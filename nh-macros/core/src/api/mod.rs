@@ -16,6 +16,7 @@
 
 mod atlas;
 mod cache;
+mod lanes;
 mod named;
 mod table;
 
@@ -295,7 +296,11 @@ impl Dims {
 pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     let dims = Dims::of(shape);
     let params = field_names(&shape.params);
-    let methods = inherent_methods(shape, dims, bodies);
+    let Inherent {
+        lanes: lane_methods,
+        scalar: methods,
+        in_lanes,
+    } = inherent_methods(shape, dims, bodies);
     let route_consts = if shape.outputs.contains(Output::Routes) {
         bodies.route_consts()
     } else {
@@ -304,10 +309,24 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     let rhs = bodies.method(GeneratedMethod::Rhs);
     let mut hooks = bodies.runtime_hooks(&svector(dims.state));
     hooks.extend(atlas::atlas_methods(shape, dims));
+    let lane_impl = lane_impl(shape, dims, &rhs, &in_lanes);
     let runtime_impl = runtime_impl(shape, dims, rhs, hooks);
     let jacobian_impl = jacobian_impl(shape, dims);
     let (sensitivity_consts, sensitivity_impl) = sensitivities(shape, dims);
-    let cache = Cache::new(&params, bodies.hoisting());
+    let hoisting = bodies.hoisting();
+    // the cache's code runs in both impls: in lanes only when it can
+    let (lane_methods, methods, lane_bound, lane_impl) = if lanes::straight_line(&hoisting.1) {
+        (
+            lane_methods,
+            methods,
+            quote!(__nh_private::nh_runtime::Lanes),
+            lane_impl,
+        )
+    } else {
+        let scalar = quote!(__nh_private::nalgebra::RealField + ::core::marker::Copy);
+        (quote!(), quote!(#lane_methods #methods), scalar, quote!())
+    };
+    let cache = Cache::new(&params, hoisting);
     let constants = constants(shape, dims);
     let new_fn = new_fn(&params, &cache);
     let named::Companions {
@@ -386,10 +405,10 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
                 #sensitivity_consts
             }
 
+            // straight-line methods, for `f64` and for lanes alike (DESIGN §6.8)
             #allow
-            impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy> #name<T> {
+            impl<T: #lane_bound> #name<T> {
                 #new_fn
-                #companion_methods
                 #cache_methods
 
                 /// A constant of the generated code as `T`.
@@ -399,10 +418,17 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
                     __nh_private::nalgebra::convert::<::core::primitive::f64, T>(x)
                 }
 
+                #lane_methods
+            }
+
+            #allow
+            impl<T: __nh_private::nalgebra::RealField + ::core::marker::Copy> #name<T> {
+                #companion_methods
                 #methods
             }
 
             #runtime_impl
+            #lane_impl
             #jacobian_impl
             #sensitivity_impl
             #companion_impls
@@ -428,9 +454,23 @@ fn field_names(params: &[Ident]) -> Vec<Ident> {
         .collect()
 }
 
+/// The inherent methods of a system, in two impls.
+struct Inherent {
+    /// The straight-line methods: for every `T: Lanes`.
+    lanes: TokenStream,
+    /// The others: for `T: RealField`.
+    scalar: TokenStream,
+    /// The names of the methods in `lanes`.
+    in_lanes: Vec<String>,
+}
+
 /// The inherent methods the system has, from the table, with their bodies.
-fn inherent_methods(shape: &Shape, dims: Dims, bodies: &mut dyn Bodies) -> TokenStream {
-    let mut methods = TokenStream::new();
+fn inherent_methods(shape: &Shape, dims: Dims, bodies: &mut dyn Bodies) -> Inherent {
+    let mut methods = Inherent {
+        lanes: TokenStream::new(),
+        scalar: TokenStream::new(),
+        in_lanes: Vec::new(),
+    };
     for spec in METHODS.iter().filter(|s| s.method != GeneratedMethod::Rhs) {
         let asked = spec.requested_by.is_some_and(|o| shape.outputs.contains(o));
         if !(spec.is_requested(shape) || bodies.every_output_asked() && asked) {
@@ -443,15 +483,58 @@ fn inherent_methods(shape: &Shape, dims: Dims, bodies: &mut dyn Bodies) -> Token
             takes => takes,
         };
         let (args, ret) = (dims.arguments(takes), dims.returns(spec.returns));
-        methods.extend(quote! {
+        let method = quote! {
             #[doc = #doc]
             #[inline]
             pub fn #id(#args) -> #ret {
                 #body
             }
-        });
+        };
+        if lanes::straight_line(&body) {
+            methods.lanes.extend(method);
+            methods.in_lanes.push(spec.name.to_string());
+        } else {
+            methods.scalar.extend(method);
+        }
     }
     methods
+}
+
+/// The runtime's `LaneSystem` (`LaneControlledSystem` with inputs) for a
+/// system whose right-hand side, and every method it calls, is
+/// straight-line (DESIGN §6.8).
+fn lane_impl(shape: &Shape, dims: Dims, rhs: &Method, in_lanes: &[String]) -> TokenStream {
+    let body = &rhs.body;
+    let calls = lanes::calls_on_self(body);
+    if !lanes::straight_line(body) || !calls.iter().all(|c| in_lanes.contains(c)) {
+        return quote!();
+    }
+    let (name, dim, n_in) = (shape.name, dims.state, dims.inputs);
+    let xty = svector(dim);
+    let allow = allow_lints();
+    if n_in > 0 {
+        let uty = svector(n_in);
+        return quote! {
+            #allow
+            impl<T: __nh_private::nh_runtime::Lanes> __nh_private::nh_runtime::LaneControlledSystem<T, #dim, #n_in> for #name<T> {
+                /// The first-order system's right-hand side at one state and input per lane (see `ControlledSystem::rhs_with_input`).
+                #[inline]
+                fn lane_rhs_with_input(&self, t: T, x: &#xty, u: &#uty) -> #xty {
+                    #body
+                }
+            }
+        };
+    }
+    quote! {
+        #allow
+        impl<T: __nh_private::nh_runtime::Lanes> __nh_private::nh_runtime::LaneSystem<T, #dim> for #name<T> {
+            /// The first-order system's right-hand side at one state per lane (see `OdeSystem::rhs`).
+            #[inline]
+            fn lane_rhs(&self, t: T, x: &#xty) -> #xty {
+                #body
+            }
+        }
+    }
 }
 
 /// The runtime trait implementation: `OdeSystem`, or `ControlledSystem`
