@@ -2,8 +2,10 @@
 //! identically zero, proved symbolically or seen at random points.
 
 use super::scene::Scene;
+use crate::sym::dd::Dd;
+use crate::sym::dual::Dual;
 use crate::sym::random_points::vanish_at_random_points;
-use crate::sym::{ExprId, SymId, ZERO};
+use crate::sym::{ExprId, ZERO};
 
 impl Scene<'_> {
     /// Whether the constraints are integrable (all B^b_αβ ≡ 0), and whether that
@@ -32,73 +34,107 @@ impl Scene<'_> {
     }
 
     /// [`Model::integrability`] without the whole curvature: entry by
-    /// entry, stopping at the first that does not vanish. An entry seen not
-    /// to vanish at a random point settles it without symbolic derivatives
-    /// ([`Model::curvature_entry_seen_nonzero`]).
+    /// entry, stopping at the first that does not vanish. Every entry is
+    /// first looked at numerically, at one random point after another (at
+    /// most four): one seen not to vanish settles it without symbolic
+    /// derivatives ([`CoefficientSample::entry_seen_nonzero`]); only when
+    /// none is are the entries derived and tested symbolically.
     pub(crate) fn integrability_entry_by_entry(&mut self) -> (bool, bool) {
         let (k, p) = (self.model.k(), self.model.p());
-        let mut proved = true;
-        for bb in 0..p {
-            for al in 0..k {
-                for be in (al + 1)..k {
-                    if self.curvature_entry_seen_nonzero(bb, al, be) {
-                        return (false, false);
-                    }
-                    let v = self.curvature_entry(bb, al, be);
-                    if v == ZERO {
-                        continue;
-                    }
-                    if !vanish_at_random_points(self.engine, self.model.pi, &[v]) {
-                        return (false, false);
-                    }
-                    proved = false;
-                }
+        let entries: Vec<(usize, usize, usize)> = (0..p)
+            .flat_map(|bb| (0..k).flat_map(move |al| ((al + 1)..k).map(move |be| (bb, al, be))))
+            .collect();
+        let mut rng = crate::sym::Rng::new(0x1319_8A2E_0370_7344);
+        for _ in 0..if entries.is_empty() { 0 } else { 4 } {
+            let sample = CoefficientSample::new(self, &mut rng);
+            if entries
+                .iter()
+                .any(|&(bb, al, be)| sample.entry_seen_nonzero(bb, al, be))
+            {
+                return (false, false);
             }
+        }
+        let mut proved = true;
+        for (bb, al, be) in entries {
+            let v = self.curvature_entry(bb, al, be);
+            if v == ZERO {
+                continue;
+            }
+            if !vanish_at_random_points(self.engine, self.model.pi, &[v]) {
+                return (false, false);
+            }
+            proved = false;
         }
         (true, proved)
     }
+}
 
-    /// Whether B^b_{αβ} of (5.21) is seen not to vanish at one of four
-    /// random points, its derivatives ∂A/∂q taken by forward
-    /// differentiation in double-double arithmetic (no symbolic
-    /// derivative). Not vanishing means exceeding 1e-20 of the sum of its
-    /// parts' sizes, far above the rounding of 32 digits; an entry that does
-    /// not is left to the symbolic test.
-    pub(crate) fn curvature_entry_seen_nonzero(&self, bb: usize, al: usize, be: usize) -> bool {
-        use crate::sym::dd::Dd;
-        use crate::sym::dual::Dual;
-        let r = self.model.of_independent(|c| c.position);
-        let (e, a) = (&self.engine, |aa: usize, x: usize| {
-            self.model.constraints[aa].coefficients[x]
+/// The constraint coefficients A^a_x and their derivatives ∂A^a_x/∂q_j at
+/// a random point, in double-double arithmetic (forward differentiation,
+/// no symbolic derivative): what the numeric test of the curvature entries
+/// (5.21) reads, evaluated once for all of them.
+struct CoefficientSample {
+    /// `[a][x]`: A^a_x.
+    values: Vec<Vec<Dd>>,
+    /// `[j][a][x]`: ∂A^a_x/∂q_j, j a coordinate's index.
+    slopes: Vec<Vec<Vec<Dd>>>,
+    /// The indices of the independent coordinates, and of each
+    /// constraint's dependent one.
+    independent: Vec<usize>,
+    dependent: Vec<usize>,
+}
+
+impl CoefficientSample {
+    fn new(scene: &Scene<'_>, rng: &mut crate::sym::Rng) -> CoefficientSample {
+        let (model, e) = (scene.model, &scene.engine);
+        let coefficients: Vec<&[ExprId]> = model
+            .constraints
+            .iter()
+            .map(|c| &c.coefficients[..])
+            .collect();
+        let point = rng.point(e.num_symbols(), model.pi);
+        let mut memo = crate::sym::EvalMemo::default();
+        let mut at = |x: ExprId| e.eval_memo(x, &point, &mut memo);
+        let values = coefficients
+            .iter()
+            .map(|row| row.iter().map(|&x| at(x)).collect())
+            .collect();
+        let slopes = model.coordinates.iter().map(|c| {
+            let mut vals: Vec<Dual> = point.iter().map(|&v| Dual::constant(v)).collect();
+            vals[c.position.index()] = Dual::variable(point[c.position.index()]);
+            let mut memo = crate::sym::EvalMemo::default();
+            let mut at = |x: ExprId| e.eval_memo(x, &vals, &mut memo).derivative;
+            coefficients
+                .iter()
+                .map(|row| row.iter().map(|&x| at(x)).collect())
+                .collect()
         });
-        let mut rng = crate::sym::Rng::new(0x1319_8A2E_0370_7344);
-        for _ in 0..4 {
-            let point = rng.point(e.num_symbols(), self.model.pi);
-            // ∂A^b_x/∂(seed) at the point
-            let slope = |x: usize, seed: SymId| -> Dd {
-                let mut vals: Vec<Dual> = point.iter().map(|&v| Dual::constant(v)).collect();
-                vals[seed.index()] = Dual::variable(point[seed.index()]);
-                e.eval(a(bb, x), &vals).derivative
-            };
-            let mut parts = vec![slope(al, r[be]), Dd::ZERO - slope(be, r[al])];
-            for (aa, c) in self.model.constraints.iter().enumerate() {
-                let s = self.model.coordinates[c.dependent].position;
-                parts.push(e.eval(a(aa, al), &point) * slope(be, s));
-                parts.push(Dd::ZERO - e.eval(a(aa, be), &point) * slope(al, s));
-            }
-            let (mut value, mut scale) = (Dd::ZERO, Dd::ZERO);
-            for &x in &parts {
-                value = value + x;
-                scale = scale + x.abs();
-            }
-            if value.is_finite()
-                && scale.is_finite()
-                && value.abs().to_f64() > 1e-20 * scale.to_f64()
-            {
-                return true;
-            }
+        CoefficientSample {
+            values,
+            slopes: slopes.collect(),
+            independent: model.independent().to_vec(),
+            dependent: model.constraints.iter().map(|c| c.dependent).collect(),
         }
-        false
+    }
+
+    /// Whether B^b_{αβ} of (5.21) is seen not to vanish at this point:
+    /// exceeding 1e-20 of the sum of its parts' sizes, far above the
+    /// rounding of 32 digits (an entry that does not is left to the
+    /// symbolic test).
+    fn entry_seen_nonzero(&self, bb: usize, al: usize, be: usize) -> bool {
+        let (a, da) = (&self.values, &self.slopes);
+        let (r_al, r_be) = (self.independent[al], self.independent[be]);
+        let mut parts = vec![da[r_be][bb][al], Dd::ZERO - da[r_al][bb][be]];
+        for (aa, &s) in self.dependent.iter().enumerate() {
+            parts.push(a[aa][al] * da[s][bb][be]);
+            parts.push(Dd::ZERO - a[aa][be] * da[s][bb][al]);
+        }
+        let (mut value, mut scale) = (Dd::ZERO, Dd::ZERO);
+        for &x in &parts {
+            value = value + x;
+            scale = scale + x.abs();
+        }
+        value.is_finite() && scale.is_finite() && value.abs().to_f64() > 1e-20 * scale.to_f64()
     }
 }
 
