@@ -32,6 +32,9 @@ impl Engine {
     /// [`Engine::subst`] abandoned once the substituted terms of `e`'s sum
     /// count more than `limit` terms together: `None` then. (The sum can
     /// only have fewer terms than its parts together, after cancellation.)
+    /// A term is not multiplied out when the product of its substituted
+    /// symbols' term counts alone (what it expands to before cancelling
+    /// within itself) would pass the limit.
     pub fn subst_within(
         &mut self,
         e: ExprId,
@@ -43,6 +46,9 @@ impl Engine {
         let mut parts = Vec::with_capacity(terms.len());
         let mut count = 0usize;
         for (m, c) in terms {
+            if count.saturating_add(self.expanded_terms(m, map)) > limit {
+                return None;
+            }
             let t = self.subst_term(m, c, map, &mut memo);
             count += self.num_terms(t);
             if count > limit {
@@ -51,6 +57,24 @@ impl Engine {
             parts.push(t);
         }
         Some(self.sum(&parts))
+    }
+
+    /// The terms monomial `m` multiplies out to, before cancellation, with
+    /// the symbols of `map` substituted (other atoms count one).
+    fn expanded_terms(&self, m: super::MonoId, map: &HashMap<SymId, ExprId>) -> usize {
+        self.monos[m.index()]
+            .iter()
+            .fold(1usize, |n, &(a, ex)| match &self.atoms[a.index()] {
+                // a positive integer power multiplies out; others stay one atom
+                Atom::Sym(s) => match (map.get(s), ex.to_integer().filter(|&k| k > 0)) {
+                    (Some(&v), Some(k)) => {
+                        let k = u32::try_from(k).unwrap_or(u32::MAX);
+                        n.saturating_mul(self.num_terms(v).saturating_pow(k))
+                    }
+                    _ => n,
+                },
+                _ => n,
+            })
     }
 
     /// One term c·m of a sum with the map substituted.
