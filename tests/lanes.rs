@@ -169,14 +169,18 @@ fn a_failing_lane_stops_at_its_last_good_state_and_the_others_finish() {
 }
 
 nonholonomic_system! {
-    /// A pushed and steered sled (`tests/driven_jacobian.rs`'s): inputs in lanes.
-    pub struct PushedSled {
-        parameters { m, J, a, c }
-        coordinates { x, theta, y }
-        inputs { push, steer }
-        lagrangian = J*dot(theta)^2/2 + m/2*((dot(x) - a*sin(theta)*dot(theta))^2 + (dot(y) + a*cos(theta)*dot(theta))^2);
-        constraints { dot(y) = tan(theta)*dot(x); }
-        forces { x: push*cos(theta) - c*dot(x); y: push*sin(theta) - c*dot(y); theta: steer - c*dot(theta); }
+    /// A rolling wheel kept upright, driven about its axle and steered:
+    /// inputs in lanes.
+    pub struct DrivenWheel {
+        parameters { m, R, I, J, b }
+        coordinates { x, y, heading, spin }
+        inputs { drive, turn }
+        lagrangian = m/2*(dot(x)^2 + dot(y)^2) + I/2*dot(spin)^2 + J/2*dot(heading)^2;
+        constraints {
+            dot(x) = R*cos(heading)*dot(spin);
+            dot(y) = R*sin(heading)*dot(spin);
+        }
+        forces { spin: drive - b*dot(spin); heading: turn; }
     }
 }
 
@@ -186,22 +190,22 @@ nonholonomic_system! {
 fn rollouts_under_sampled_inputs_agree_with_scalar_runs() {
     use nonholonomic::runtime::LaneControlledSystem;
     let s = |v: f64| L::splat(v);
-    let sled = PushedSled::new(2.0, 0.3, 0.4, 0.5);
-    let lanes = PushedSled::new(s(2.0), s(0.3), s(0.4), s(0.5));
-    let pushes = [0.5, 1.0, -0.3, 2.0];
-    let steers = [0.1, -0.2, 0.3, 0.0];
-    let u = SVector::<L, 2>::new(L::from(pushes), L::from(steers));
-    let rollout = |t: L, x: &SVector<L, 5>| lanes.lane_rhs_with_input(t, x, &u);
-    let x0 = SVector::<f64, 5>::new(0.0, 0.2, 0.0, 0.3, 0.1);
+    let wheel = DrivenWheel::new(2.0, 0.3, 0.05, 0.02, 0.1);
+    let lanes = DrivenWheel::new(s(2.0), s(0.3), s(0.05), s(0.02), s(0.1));
+    let drives = [0.5, 1.0, -0.3, 2.0];
+    let turns = [0.01, -0.02, 0.03, 0.0];
+    let u = SVector::<L, 2>::new(L::from(drives), L::from(turns));
+    let rollout = |t: L, x: &SVector<L, 6>| lanes.lane_rhs_with_input(t, x, &u);
+    let x0 = SVector::<f64, 6>::new(0.0, 0.0, 0.2, 0.0, 0.3, 1.0);
     let out = Rk4::new(0.01)
         .integrate_lanes(&rollout, 0.0, x0.map(s), 2.0)
         .expect("valid settings");
     for i in 0..4 {
-        let ui = SVector::<f64, 2>::new(pushes[i], steers[i]);
+        let ui = SVector::<f64, 2>::new(drives[i], turns[i]);
         let scalar = Rk4::new(0.01)
             .with_projection(false)
             .integrate(
-                &|t: f64, x: &SVector<f64, 5>| sled.rhs_with_input(t, x, &ui),
+                &|t: f64, x: &SVector<f64, 6>| wheel.rhs_with_input(t, x, &ui),
                 0.0,
                 x0,
                 2.0,
