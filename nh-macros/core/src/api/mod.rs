@@ -314,18 +314,8 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     let jacobian_impl = jacobian_impl(shape, dims);
     let (sensitivity_consts, sensitivity_impl) = sensitivities(shape, dims);
     let hoisting = bodies.hoisting();
-    // the cache's code runs in both impls: in lanes only when it can
-    let (lane_methods, methods, lane_bound, lane_impl) = if lanes::straight_line(&hoisting.1) {
-        (
-            lane_methods,
-            methods,
-            quote!(__nh_private::nh_runtime::Lanes),
-            lane_impl,
-        )
-    } else {
-        let scalar = quote!(__nh_private::nalgebra::RealField + ::core::marker::Copy);
-        (quote!(), quote!(#lane_methods #methods), scalar, quote!())
-    };
+    let (lane_methods, methods, lane_bound, lane_impl) =
+        lanes_if_cache_allows(&hoisting.1, lane_methods, methods, lane_impl);
     let cache = Cache::new(&params, hoisting);
     let constants = constants(shape, dims);
     let new_fn = new_fn(&params, &cache);
@@ -342,31 +332,9 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
     let Shape {
         attrs, vis, name, ..
     } = shape;
-    let (phantom_field, derive) = if params.is_empty() {
-        (
-            quote!(#[doc(hidden)] pub __nh_scalar: ::core::marker::PhantomData<T>,),
-            quote!(#[derive(::core::clone::Clone, ::core::marker::Copy, ::core::fmt::Debug, ::core::cmp::PartialEq, ::core::default::Default)]),
-        )
-    } else {
-        (
-            quote!(),
-            quote!(#[derive(::core::clone::Clone, ::core::marker::Copy, ::core::fmt::Debug, ::core::cmp::PartialEq)]),
-        )
-    };
+    let (phantom_field, derive) = phantom_and_derive(params.is_empty());
     let field_docs: Vec<String> = params.iter().map(|p| format!("Parameter `{p}`.")).collect();
-    let mut description = bodies.description();
-    let charts = atlas::atlas_doc(shape);
-    if !description.is_empty() {
-        description.splice(
-            0..0,
-            [
-                String::new(),
-                "# Vectors, rotations and bodies".to_string(),
-                String::new(),
-            ],
-        );
-    }
-    description.extend(charts);
+    let description = struct_description(shape, &*bodies);
     let inherited = crate::attrs::inherited(attrs);
     let krate = shape.krate;
     let private = private();
@@ -434,6 +402,61 @@ pub fn expand(shape: &Shape, bodies: &mut dyn Bodies) -> TokenStream {
             #companion_impls
         };
     }
+}
+
+/// The impls of the methods (DESIGN §6.8): the straight-line ones for
+/// every `T: Lanes`, with the lanes' runtime trait, when the parameter
+/// cache (computed in that impl) is straight-line too; otherwise all of
+/// them for `T: RealField` and no lanes. Returns (methods in the first
+/// impl, methods in the `RealField` impl, the first impl's bound, the
+/// runtime trait's impl).
+fn lanes_if_cache_allows(
+    cache_code: &TokenStream,
+    lane_methods: TokenStream,
+    methods: TokenStream,
+    lane_impl: TokenStream,
+) -> (TokenStream, TokenStream, TokenStream, TokenStream) {
+    if lanes::straight_line(cache_code) {
+        let bound = quote!(__nh_private::nh_runtime::Lanes);
+        (lane_methods, methods, bound, lane_impl)
+    } else {
+        let scalar = quote!(__nh_private::nalgebra::RealField + ::core::marker::Copy);
+        (quote!(), quote!(#lane_methods #methods), scalar, quote!())
+    }
+}
+
+/// The struct's marker field for the scalar when it has no parameters (a
+/// field of type `T` otherwise fixes it), and its derives.
+fn phantom_and_derive(no_parameters: bool) -> (TokenStream, TokenStream) {
+    if no_parameters {
+        (
+            quote!(#[doc(hidden)] pub __nh_scalar: ::core::marker::PhantomData<T>,),
+            quote!(#[derive(::core::clone::Clone, ::core::marker::Copy, ::core::fmt::Debug, ::core::cmp::PartialEq, ::core::default::Default)]),
+        )
+    } else {
+        (
+            quote!(),
+            quote!(#[derive(::core::clone::Clone, ::core::marker::Copy, ::core::fmt::Debug, ::core::cmp::PartialEq)]),
+        )
+    }
+}
+
+/// The struct's documentation after the user's: its vectors, rotations,
+/// bodies and contacts, then its charts.
+fn struct_description(shape: &Shape, bodies: &dyn Bodies) -> Vec<String> {
+    let mut description = bodies.description();
+    if !description.is_empty() {
+        description.splice(
+            0..0,
+            [
+                String::new(),
+                "# Vectors, rotations and bodies".to_string(),
+                String::new(),
+            ],
+        );
+    }
+    description.extend(atlas::atlas_doc(shape));
+    description
 }
 
 /// The parameters as field names: a parameter that cannot be a field (a
