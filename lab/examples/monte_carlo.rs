@@ -34,6 +34,7 @@ mod model;
 
 use std::time::Instant;
 
+use indicatif::ProgressBar;
 use nh_lab::report::progress_bar;
 use nonholonomic::prelude::*;
 use nonholonomic::runtime::{Lanes, WideF64x4};
@@ -195,36 +196,26 @@ fn scalar(bike: &model::Whipple, i: usize) -> Fate {
 fn main() {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let bike_lanes = model::benchmark_in::<L>();
-    let bar = progress_bar(RUNS);
-    bar.set_message("in lanes");
-    let start = Instant::now();
-    let fates = Ensemble::new(RUNS)
-        .parallel()
-        .on_progress(|_, _| bar.inc(1))
-        .run_lanes(|group| in_lanes::<L, W>(&bike_lanes, members(group)));
-    let t_lanes = start.elapsed().as_secs_f64();
-    bar.finish_and_clear();
-
+    let (fates, t_lanes) = timed("in lanes", RUNS, |bar| {
+        Ensemble::new(RUNS)
+            .parallel()
+            .on_progress(|_, _| bar.inc(1))
+            .run_lanes(|group| in_lanes::<L, W>(&bike_lanes, members(group)))
+    });
     let bike = model::benchmark();
     let subset: Vec<usize> = (0..RUNS).step_by(SUBSET).collect();
-    let bar = progress_bar(subset.len());
-    bar.set_message("scalar");
-    let start = Instant::now();
-    let scalar_fates = Ensemble::new(subset.len())
-        .parallel()
-        .on_progress(|_, _| bar.inc(1))
-        .run(|k| scalar(&bike, subset[k]));
-    let t_scalar = start.elapsed().as_secs_f64();
-    bar.finish_and_clear();
-    let bar = progress_bar(subset.len());
-    bar.set_message("one lane");
-    let start = Instant::now();
-    let one_lane = Ensemble::new(subset.len())
-        .parallel()
-        .on_progress(|_, _| bar.inc(1))
-        .run_lanes(|k| in_lanes::<f64, 1>(&bike, [subset[k.start]]));
-    let t_one = start.elapsed().as_secs_f64();
-    bar.finish_and_clear();
+    let (scalar_fates, t_scalar) = timed("scalar", subset.len(), |bar| {
+        Ensemble::new(subset.len())
+            .parallel()
+            .on_progress(|_, _| bar.inc(1))
+            .run(|k| scalar(&bike, subset[k]))
+    });
+    let (one_lane, t_one) = timed("one lane", subset.len(), |bar| {
+        Ensemble::new(subset.len())
+            .parallel()
+            .on_progress(|_, _| bar.inc(1))
+            .run_lanes(|k| in_lanes::<f64, 1>(&bike, [subset[k.start]]))
+    });
     let differing = subset
         .iter()
         .zip(&scalar_fates)
@@ -257,12 +248,12 @@ fn main() {
     println!("|---:|---|---:|---:|---:|---:|");
     for (a, curve) in AMPLITUDES.iter().zip(&fractions) {
         let window = window(curve);
-        let upright = (0..RUNS)
-            .filter(|&i| AMPLITUDES[amplitude(i)] == *a && fates[i] == Fate::Upright)
-            .count();
-        let fell = (0..RUNS)
-            .filter(|&i| AMPLITUDES[amplitude(i)] == *a && fates[i] == Fate::Fell)
-            .count();
+        let count = |fate: Fate| {
+            (0..RUNS)
+                .filter(|&i| AMPLITUDES[amplitude(i)] == *a && fates[i] == fate)
+                .count()
+        };
+        let (upright, fell) = (count(Fate::Upright), count(Fate::Fell));
         let text = window.map_or("none".to_string(), |(lo, hi)| {
             format!("{lo:.1} … {hi:.1} m/s")
         });
@@ -283,6 +274,18 @@ fn main() {
         Ok(()) => println!("\nwrote target/whipple_monte_carlo.svg"),
         Err(e) => println!("\ncould not write the plot: {e}"),
     }
+}
+
+/// `runs` members run by `job` with a progress bar labelled `label`: the
+/// results and the seconds they took.
+fn timed<R>(label: &str, runs: usize, job: impl FnOnce(&ProgressBar) -> Vec<R>) -> (Vec<R>, f64) {
+    let bar = progress_bar(runs);
+    bar.set_message(label.to_string());
+    let start = Instant::now();
+    let results = job(&bar);
+    let seconds = start.elapsed().as_secs_f64();
+    bar.finish_and_clear();
+    (results, seconds)
 }
 
 /// Per amplitude, the fraction of runs that stay upright at each speed.

@@ -227,9 +227,7 @@ impl<P: Fn(usize, usize) + Sync> Ensemble<P> {
         }
         self.indices().map(one).collect()
     }
-}
 
-impl<P: Fn(usize, usize) + Sync> Ensemble<P> {
     /// Runs the members in groups of `W` consecutive indices, one call of
     /// `job(group)` per group, for a job that advances `W` members together
     /// in the lanes of a SIMD type (DESIGN §6.8; [`Rk4::integrate_lanes`](crate::Rk4::integrate_lanes)

@@ -139,14 +139,8 @@ impl<E: RealField + Copy> Rk4<E> {
                     what: "step size h (too small to advance t)",
                 });
             }
-            let half = hk * c::<E>(0.5);
-            let (tl, x) = (splat(t), &out.x);
-            let k1 = sys.lane_rhs(tl, x);
-            let k2 = sys.lane_rhs(splat(t + half), &(x + k1 * splat(half)));
-            let k3 = sys.lane_rhs(splat(t + half), &(x + k2 * splat(half)));
-            let k4 = sys.lane_rhs(splat(t + hk), &(x + k3 * splat(hk)));
-            let sum = k1 + (k2 + k3) * splat(c::<E>(2.0)) + k4;
-            let x_new = x + sum * splat(hk / c::<E>(6.0));
+            let rhs = |t, x: &SVector<T, D>| sys.lane_rhs(t, x);
+            let (_, x_new) = stages(rhs, splat, t, &out.x, hk);
             out.stats.rhs_evals += 4;
             out.stats.steps += 1;
             out.non_finite = out.non_finite | !finite_lanes(&x_new);
@@ -157,6 +151,32 @@ impl<E: RealField + Copy> Rk4<E> {
         }
         Ok(out)
     }
+}
+
+/// One classical Runge–Kutta step of size `h` from (t, x): the four
+/// stages and the new state. `lanes` puts a time or a weight into every
+/// lane of `T` (the identity for a scalar `T`), so that
+/// [`Rk4::integrate_lanes`] and the scalar method share one arithmetic.
+#[inline(always)]
+#[allow(clippy::type_complexity)]
+fn stages<E, T, const D: usize>(
+    rhs: impl Fn(T, &SVector<T, D>) -> SVector<T, D>,
+    lanes: impl Fn(E) -> T,
+    t: E,
+    x: &SVector<T, D>,
+    h: E,
+) -> ([SVector<T, D>; 4], SVector<T, D>)
+where
+    E: RealField + Copy,
+    T: Lanes,
+{
+    let half = h * c::<E>(0.5);
+    let k1 = rhs(lanes(t), x);
+    let k2 = rhs(lanes(t + half), &(x + k1 * lanes(half)));
+    let k3 = rhs(lanes(t + half), &(x + k2 * lanes(half)));
+    let k4 = rhs(lanes(t + h), &(x + k3 * lanes(h)));
+    let x_new = x + (k1 + (k2 + k3) * lanes(c::<E>(2.0)) + k4) * lanes(h / c::<E>(6.0));
+    ([k1, k2, k3, k4], x_new)
 }
 
 impl<T> crate::settings::OneStep for Rk4<T> {
@@ -208,14 +228,8 @@ where
         stats: &mut Stats,
     ) -> Result<T, Failure> {
         let sys = self.sys;
-        let half = h * c::<T>(0.5);
-        let k1 = sys.rhs(t, x);
-        let k2 = sys.rhs(t + half, &(x + k1 * half));
-        let k3 = sys.rhs(t + half, &(x + k2 * half));
-        let k4 = sys.rhs(t + h, &(x + k3 * h));
+        (self.k, self.x_new) = stages(|t, x| sys.rhs(t, x), |v| v, t, x, h);
         stats.rhs_evals += 4;
-        self.x_new = x + (k1 + (k2 + k3) * c::<T>(2.0) + k4) * (h / c::<T>(6.0));
-        self.k = [k1, k2, k3, k4];
         // Every stage enters `x_new` with a positive weight, so (in IEEE
         // arithmetic) `x_new` is finite only if all of them are.
         if all_finite_in(&[self.x_new]) {
