@@ -8,8 +8,9 @@
 //! * a disc rolling upright: energy, the rolling and heading momenta;
 //! * the thesis's disc on a nutating motion: energy;
 //! * a homogeneous ball rolling on the plane in yaw, pitch and roll:
-//!   energy and the yaw momentum (the vertical angular momentum about the
-//!   contact point);
+//!   energy, the yaw momentum (the vertical angular momentum about the
+//!   contact point) and the horizontal components of that angular
+//!   momentum (`momenta { K_x(..); K_y(..); }`);
 //! * the Suslov problem in speeds: energy;
 //! * Modin and Verdier's non-reversible contact oscillator: energy. Its
 //!   perturbation is a null Lagrangian in the velocities (the generated
@@ -29,6 +30,7 @@ use nh_lab::report;
 use nh_lab::systems::{ChaplyginSled, ThesisDisc};
 use nonholonomic::prelude::*;
 use plotters::prelude::*;
+use std::ops::Range;
 use std::time::Instant;
 
 nonholonomic_system! {
@@ -56,6 +58,10 @@ nonholonomic_system! {
         constraints {
             dot(x) = R*w.y;
             dot(y) = -R*w.x;
+        }
+        momenta {
+            K_x(Q: [1, 0, 0], y: -R);
+            K_y(Q: [0, 1, 0], x: R);
         }
         outputs { energy, momenta }
     }
@@ -287,60 +293,80 @@ fn table(name: &str, period: f64, quantities: &[&str], records: &[Record]) {
     }
 }
 
-/// The log–log panels: the relative energy error against time, one panel
-/// per system, one line per method.
-fn svg(panels: &[(&str, Vec<Record>)]) -> String {
+/// The log–log panels: the relative errors of the watched quantities
+/// against time, one panel per system, one colour per method; the energy
+/// solid, each momentum dashed (its own dash length, named in the legend).
+fn svg(panels: &[(&str, Vec<Record>, Vec<&str>)]) -> String {
     let mut out = String::new();
     {
         let root = SVGBackend::with_string(&mut out, (960, 1080)).into_drawing_area();
         let _ = root.fill(&WHITE);
         let areas = root.split_evenly((3, 2));
         // six panels for at most six systems
-        let colours = [RED, BLUE, GREEN];
-        for ((name, records), area) in panels.iter().zip(&areas) {
-            let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
-            for r in records {
-                for &e in r.errors[0].iter().filter(|e| **e > 0.0) {
-                    lo = lo.min(e);
-                    hi = hi.max(e);
-                }
-            }
-            let t = &records[0].times;
-            let x = t[0]..*t.last().unwrap_or(&1.0);
-            // a panel with no error at all (exact motion) gets a nominal range
-            let (lo, hi) = if lo.is_finite() {
-                (lo, hi.max(lo * 10.0))
-            } else {
-                (1e-17, 1e-15)
+        for ((name, records, names), area) in panels.iter().zip(&areas) {
+            let title = match names.len() {
+                1 => format!("{name}: energy"),
+                _ => format!("{name}: {}", names.join(", ")),
             };
-            let y = lo..hi;
-            let Ok(mut chart) =
-                report::log_log_axes(area, &format!("{name}: energy"), (x, y), "time")
-            else {
+            let Some(ranges) = panel_ranges(records) else {
                 continue;
             };
-            for (r, c) in records.iter().zip(colours) {
-                let pts = r
-                    .times
-                    .iter()
-                    .zip(&r.errors[0])
-                    .filter(|(_, e)| **e > 0.0)
-                    .map(|(&t, &e)| (t, e));
-                if let Ok(series) = chart.draw_series(LineSeries::new(pts, c.stroke_width(2))) {
-                    series
-                        .label(r.method.clone())
-                        .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+            let Ok(mut chart) = report::log_log_axes(area, &title, ranges, "time") else {
+                continue;
+            };
+            for (r, c) in records.iter().zip([RED, BLUE, GREEN]) {
+                for (k, errors) in r.errors.iter().enumerate() {
+                    let pts: Vec<(f64, f64)> = (r.times.iter().zip(errors))
+                        .filter(|(_, e)| **e > 0.0)
+                        .map(|(&t, &e)| (t, e))
+                        .collect();
+                    let label = match k {
+                        0 => r.method.clone(),
+                        _ => format!("{}: {}", r.method, names[k]),
+                    };
+                    let drawn = if k == 0 {
+                        chart.draw_series(LineSeries::new(pts, c.stroke_width(2)))
+                    } else {
+                        let dash = 2 + 4 * k as i32;
+                        chart.draw_series(DashedLineSeries::new(pts, dash, 3, c.stroke_width(1)))
+                    };
+                    if let Ok(series) = drawn {
+                        series
+                            .label(label)
+                            .legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], c));
+                    }
                 }
             }
             let _ = chart
                 .configure_series_labels()
                 .background_style(WHITE)
                 .border_style(BLACK)
+                .label_font(("sans-serif", 10))
                 .draw();
         }
         let _ = root.present();
     }
     out
+}
+
+/// A panel's ranges of time and error over every error of its records (a
+/// nominal error range where the motion is exact and no error is nonzero).
+fn panel_ranges(records: &[Record]) -> Option<(Range<f64>, Range<f64>)> {
+    let (mut lo, mut hi) = (f64::INFINITY, 0.0f64);
+    for e in records.iter().flat_map(|r| r.errors.iter().flatten()) {
+        if *e > 0.0 {
+            lo = lo.min(*e);
+            hi = hi.max(*e);
+        }
+    }
+    let t = &records.first()?.times;
+    let x = t[0]..*t.last().unwrap_or(&1.0);
+    let (lo, hi) = if lo.is_finite() {
+        (lo, hi.max(lo * 10.0))
+    } else {
+        (1e-17, 1e-15)
+    };
+    Some((x, lo..hi))
 }
 
 fn main() {
@@ -437,6 +463,20 @@ fn main() {
                         s.momenta(0.0, &q, &v)[0]
                     }),
                 ),
+                (
+                    "K_x",
+                    Box::new(move |s: &RollingBall<f64>, x: &SVector<f64, 8>| {
+                        let (q, v) = split(x);
+                        s.declared_momenta(0.0, &q, &v)[0]
+                    }),
+                ),
+                (
+                    "K_y",
+                    Box::new(move |s: &RollingBall<f64>, x: &SVector<f64, 8>| {
+                        let (q, v) = split(x);
+                        s.declared_momenta(0.0, &q, &v)[1]
+                    }),
+                ),
             ]
         },
     };
@@ -490,12 +530,12 @@ fn main() {
     let r5 = oscillator.runs();
     table(oscillator.name, oscillator.period, &oscillator.names(), &r5);
     let panels = [
-        (sleigh.name, r1),
-        (vertical.name, r2),
-        (thesis.name, r3),
-        (ball.name, r4),
-        (oscillator.name, r5),
-        (suslov.name, r6),
+        (sleigh.name, r1, sleigh.names()),
+        (vertical.name, r2, vertical.names()),
+        (thesis.name, r3, thesis.names()),
+        (ball.name, r4, ball.names()),
+        (oscillator.name, r5, oscillator.names()),
+        (suslov.name, r6, suslov.names()),
     ];
     let dir = std::path::Path::new("target/reports");
     let _ = std::fs::create_dir_all(dir);

@@ -350,26 +350,7 @@ pub fn symmetries(def: &SystemDef, m: &mut Scene<'_>, cx: &mut Ctxt) -> bool {
     let Some((kw, _)) = &def.symmetries else {
         return false;
     };
-    let why = if m.model.speeds.is_some() {
-        Some(
-            "a system in generalized speeds has its kinematics instead of constraints; declare symmetries of a system with `constraints`",
-        )
-    } else if !m.model.homogeneous {
-        Some(
-            "the momentum equation is derived for homogeneous, time-independent velocity constraints (no affine or time-dependent part, no holonomic rows)",
-        )
-    } else if m.block.is_some() {
-        Some(
-            "the momentum equation needs the constraints solved for the dependent velocities in closed form, and this system's are solved numerically (a block of implicit rows)",
-        )
-    } else {
-        None
-    };
-    if let Some(why) = why {
-        cx.error_at(
-            kw.span(),
-            format!("`symmetries` is not available here: {why}"),
-        );
+    if !momentum_equation_available(kw, m, cx) {
         return false;
     }
     let mut ok = true;
@@ -390,6 +371,57 @@ pub fn symmetries(def: &SystemDef, m: &mut Scene<'_>, cx: &mut Ctxt) -> bool {
             ),
         };
         cx.error_at(name.span(), format!("`{name}` is not a symmetry of this system: its flow changes {what}; check the generator's rates, or remove `{name}`"));
+        ok = false;
+    }
+    ok
+}
+
+/// Whether the momentum equation can be derived for `m` (homogeneous,
+/// time-independent rows solved in closed form, in coordinates), else an
+/// error at the block's keyword `kw`.
+fn momentum_equation_available(kw: &proc_macro2::Ident, m: &Scene<'_>, cx: &mut Ctxt) -> bool {
+    let why = if m.model.speeds.is_some() {
+        Some(format!(
+            "a system in generalized speeds has its kinematics instead of constraints; declare {kw} of a system with `constraints`"
+        ))
+    } else if !m.model.homogeneous {
+        Some(
+            "the momentum equation is derived for homogeneous, time-independent velocity constraints (no affine or time-dependent part, no holonomic rows)".to_string(),
+        )
+    } else if m.block.is_some() {
+        Some(
+            "the momentum equation needs the constraints solved for the dependent velocities in closed form, and this system's are solved numerically (a block of implicit rows)".to_string(),
+        )
+    } else {
+        None
+    };
+    if let Some(why) = why {
+        cx.error_at(kw.span(), format!("`{kw}` is not available here: {why}"));
+        return false;
+    }
+    true
+}
+
+/// The declared momenta's directions are motions the constraints allow
+/// (§4.1 of DESIGN), under the symmetries' conditions on the constraints.
+/// False after an error, each at the name of the momentum (or of the
+/// block) it concerns.
+pub fn declared_momenta(def: &SystemDef, m: &mut Scene<'_>, cx: &mut Ctxt) -> bool {
+    let Some((kw, list)) = &def.momenta else {
+        return false;
+    };
+    if !momentum_equation_available(kw, m, cx) {
+        return false;
+    }
+    let mut ok = true;
+    for (i, declared) in list.iter().enumerate() {
+        let x = m.model.momentum_directions[i].generator.clone();
+        let Some(a) = m.leaves_distribution(&x) else {
+            continue;
+        };
+        let name = &declared.name;
+        let row = &m.model.constraints[a].source;
+        cx.error_at(name.span(), format!("`{name}` is not along a motion the constraints allow: its direction breaks the constraint `{row}`, so the constraint forces work along it and its momentum has no equation of its own; add to its direction the rates the constraint requires of the dependent coordinates"));
         ok = false;
     }
     ok

@@ -10,6 +10,7 @@ mod contacts;
 pub(crate) mod euler_charts;
 mod expressions;
 mod functions;
+mod generators;
 pub(crate) mod linear;
 pub(crate) mod values;
 mod velocities;
@@ -175,7 +176,12 @@ pub fn lower_in(def: &SystemDef, cx: &mut Ctxt, e: Engine) -> Option<(Model, Eng
     lw.lower_lets(def, &let_ok);
     let lagrangian = lw.lower_lagrangian(def);
     lw.lower_forces(def);
-    let symmetries = lw.lower_symmetries(def);
+    let symmetries = (def.symmetries.iter())
+        .flat_map(|(_, list)| lw.lower_generators(list, generators::Declared::Symmetries))
+        .collect();
+    let momentum_directions = (def.momenta.iter())
+        .flat_map(|(_, list)| lw.lower_generators(list, generators::Declared::Momenta))
+        .collect();
     let mut lowered = lw.at(
         def.keyword_range(def.constraints.as_ref()),
         "solving the constraints for the dependent velocities",
@@ -238,6 +244,7 @@ pub fn lower_in(def: &SystemDef, cx: &mut Ctxt, e: Engine) -> Option<(Model, Eng
     };
     let model = Model {
         symmetries,
+        momentum_directions,
         parameters: lw.params,
         coordinates: lw.coords,
         inputs: lw.inputs,
@@ -480,43 +487,6 @@ impl<'a> Lowerer<'a> {
                 }
             }
         }
-    }
-
-    /// The declared symmetries: each generator's rates in coordinate
-    /// order, functions of the coordinates and parameters only.
-    fn lower_symmetries(&mut self, def: &SystemDef) -> Vec<crate::model::Symmetry> {
-        let Some((_, list)) = &def.symmetries else {
-            return Vec::new();
-        };
-        let mut out = Vec::new();
-        for sym in list {
-            let mut generator = vec![crate::sym::ZERO; self.coords.len()];
-            for (q, expr) in &sym.generator {
-                self.place = Place::Force;
-                let task = format!("expanding the rate of `{q}` along `{}`", sym.name);
-                let v = self.at(expr.range(), task, |lw| lw.lower(expr, 0));
-                let Some(Binding::Coord(i)) = self.scope.get(&q.to_string()).cloned() else {
-                    let hint = self.coordinate_hint(q);
-                    let all = list_names(self.coords.iter().map(|c| &c.name));
-                    self.cx.error_at(q.span(), format!("`{q}` is not a coordinate{hint}: a symmetry gives the rate of each coordinate it moves, `NAME(q: rate, ..)`, for some of {all}"));
-                    continue;
-                };
-                let Some(v) = v else { continue };
-                let moving = (self.coords.iter().map(|c| c.velocity))
-                    .chain(self.inputs.iter().map(|u| u.sym))
-                    .chain([self.t_sym])
-                    .any(|s| self.e.depends_on(v, s));
-                if moving {
-                    self.cx.error(expr.range(), format!("the rate of `{q}` along `{}` depends on a velocity, an input or `t`: a symmetry group acts on the configuration, so its generator is a function of the coordinates and parameters", sym.name));
-                }
-                generator[i] = v;
-            }
-            out.push(crate::model::Symmetry {
-                name: sym.name.clone(),
-                generator,
-            });
-        }
-        out
     }
 
     /// " (did you mean ..?)" for a name that should be a coordinate.

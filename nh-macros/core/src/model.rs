@@ -177,6 +177,9 @@ impl Partition {
 pub struct Model {
     /// The declared one-parameter symmetry groups (`symmetries { .. }`).
     pub symmetries: Vec<Symmetry>,
+    /// The directions X of the declared momenta (`momenta { .. }`), each
+    /// written as a generator is: J = ⟨∂L/∂q̇, X⟩ along it.
+    pub momentum_directions: Vec<Symmetry>,
     /// Parameters in declared order.
     pub parameters: Vec<Parameter>,
     /// Coordinates in declared order (THE coordinate order).

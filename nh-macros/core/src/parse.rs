@@ -121,6 +121,7 @@ pub fn parse_system(input: TokenStream, cx: &mut Ctxt) -> Option<SystemDef> {
         lagrangians: Vec::new(),
         forces: None,
         symmetries: None,
+        momenta: None,
         constraints: None,
         outputs: None,
         output_arguments: Vec::new(),

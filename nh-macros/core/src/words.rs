@@ -140,6 +140,9 @@ words! {
         /// `symmetries { turn(x: -y, y: x, phi: 1); }`: one-parameter
         /// groups, each by its generator
         Symmetries = "symmetries",
+        /// `momenta { K_x(Q: [1, 0, 0], y: -R); }`: momenta along motions
+        /// the constraints allow, each by its direction
+        Momenta = "momenta",
     }
 
     /// The words that start an item (`let`, `lagrangian`, `body`) other
@@ -722,7 +725,7 @@ mod tests {
         assert_eq!(and_list([]), "");
         assert_eq!(
             and_list(Block::ALL.map(Block::name)),
-            "`parameters`, `coordinates`, `inputs`, `forces`, `constraints`, `dependent`, `speeds`, `kinematics`, `outputs` and `symmetries`"
+            "`parameters`, `coordinates`, `inputs`, `forces`, `constraints`, `dependent`, `speeds`, `kinematics`, `outputs`, `symmetries` and `momenta`"
         );
         assert_eq!(
             Function::listed(),

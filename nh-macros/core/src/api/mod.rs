@@ -81,6 +81,11 @@ pub struct Shape<'a> {
     /// The momenta along the directions of the declared symmetries the
     /// constraints allow: the verdict on each and its direction in words.
     pub symmetry_momenta: Vec<(&'static str, String)>,
+    /// The names of the declared momenta (`momenta { .. }`).
+    pub momentum_names: Vec<String>,
+    /// The verdicts on the declared momenta, each with its words (empty in
+    /// a stand-in).
+    pub declared_momenta: Vec<(&'static str, String)>,
 }
 
 /// A cyclic coordinate and the verdict on its momentum (§5.5).
@@ -183,6 +188,8 @@ struct Dims {
     cyclic: usize,
     /// Number of momenta of the declared symmetries.
     symmetric: usize,
+    /// Number of declared momenta.
+    declared: usize,
 }
 
 impl Dims {
@@ -204,6 +211,7 @@ impl Dims {
             sens: shape.sensitivity_params.len(),
             cyclic: shape.momenta.len(),
             symmetric: shape.symmetry_momenta.len(),
+            declared: shape.momentum_names.len(),
         }
     }
 
@@ -267,6 +275,7 @@ impl Dims {
             Returns::Scalar => quote!(T),
             Returns::Cyclic => svector(self.cyclic),
             Returns::Symmetric => svector(self.symmetric),
+            Returns::Declared => svector(self.declared),
             Returns::ConstraintMatrix => smatrix(p, k),
             Returns::ContactPoints => smatrix(3, self.contacts),
             Returns::MassMatrix if self.speeds => smatrix(k, k),
@@ -722,6 +731,7 @@ fn constants(shape: &Shape, dims: Dims) -> TokenStream {
     let integrable = shape.integrable;
     let momenta = momentum_constants(shape);
     let symmetries = symmetry_constants(shape);
+    let declared = declared_momentum_constants(shape);
     let integrable_doc = if p == 0 {
         "No constraints: trivially `true`.".to_string()
     } else if shape.affine {
@@ -758,6 +768,34 @@ fn constants(shape: &Shape, dims: Dims) -> TokenStream {
         pub const INTEGRABLE: ::core::primitive::bool = #integrable;
         #momenta
         #symmetries
+        #declared
+    }
+}
+
+/// `MOMENTA` and `MOMENTUM_CONSERVED`, for declared momenta (a stand-in,
+/// whose system has errors, says `Undecided`).
+fn declared_momentum_constants(shape: &Shape) -> TokenStream {
+    if shape.momentum_names.is_empty() {
+        return TokenStream::new();
+    }
+    let d = shape.momentum_names.len();
+    let names = shape.momentum_names.iter().map(|n| Literal::string(n));
+    let verdicts = (0..d).map(|i| {
+        let v = shape.declared_momenta.get(i).map_or("Undecided", |v| v.0);
+        let v = Ident::new(v, Span::call_site());
+        quote!(__nh_private::nh_runtime::Conservation::#v)
+    });
+    let mut doc = String::from(
+        "Whether each declared momentum is conserved along the motion: J = ⟨∂L/∂q̇, X(q)⟩ along its direction X(q), a motion the constraints allow, whose rate is dJ/dt = ⟨∂L/∂q, X⟩ + ⟨∂L/∂q̇, Ẋ⟩ + ⟨Q, X⟩.\n",
+    );
+    for (name, (_, words)) in shape.momentum_names.iter().zip(&shape.declared_momenta) {
+        doc.push_str(&format!("\n- `{name}`: {words}"));
+    }
+    quote! {
+        /// The declared momenta (`momenta { .. }`) in declared order, each along a motion the constraints allow (checked at compile time).
+        pub const MOMENTA: [&'static ::core::primitive::str; #d] = [#(#names),*];
+        #[doc = #doc]
+        pub const MOMENTUM_CONSERVED: [__nh_private::nh_runtime::Conservation; #d] = [#(#verdicts),*];
     }
 }
 

@@ -37,6 +37,10 @@ pub enum GeneratedMethod {
     SymmetryMomenta,
     /// `symmetry_momentum_rates`: their rates
     SymmetryMomentumRates,
+    /// `declared_momenta`: the momenta of `momenta { .. }`
+    DeclaredMomenta,
+    /// `declared_momentum_rates`: their rates
+    DeclaredMomentumRates,
     /// `constraint_matrix`
     ConstraintMatrix,
     /// `contact_points`
@@ -91,6 +95,8 @@ pub enum Form {
     Speeds,
     /// Systems with `symmetries` (in coordinates r, s).
     Symmetries,
+    /// Systems with `momenta { .. }` (in coordinates r, s).
+    DeclaredMomenta,
 }
 
 /// What a generated method returns.
@@ -110,6 +116,8 @@ pub enum Returns {
     Cyclic,
     /// A vector of one value per momentum of the declared symmetries.
     Symmetric,
+    /// A vector of one value per declared momentum.
+    Declared,
     /// A p × k matrix.
     ConstraintMatrix,
     /// A 3 × c matrix: one column per rolling contact.
@@ -155,7 +163,7 @@ pub struct MethodSpec {
 
 /// Every generated method, in the order they are emitted and derived in
 /// (`rhs` last: the runtime trait calls the others).
-pub const METHODS: [MethodSpec; 24] = [
+pub const METHODS: [MethodSpec; 26] = [
     MethodSpec {
         method: GeneratedMethod::DependentVelocities,
         name: "dependent_velocities",
@@ -283,6 +291,24 @@ pub const METHODS: [MethodSpec; 24] = [
         form: Form::Symmetries,
     },
     MethodSpec {
+        method: GeneratedMethod::DeclaredMomenta,
+        name: "declared_momenta",
+        doc: "The declared momenta J = ⟨∂L/∂q̇, X(q)⟩ along their directions X(q) (`momenta { .. }`), at the constrained velocities, in the order of [`Self::MOMENTA`]; [`Self::MOMENTUM_CONSERVED`] says which are conserved.",
+        takes: Arguments::Motion,
+        returns: Returns::Declared,
+        requested_by: None,
+        form: Form::DeclaredMomenta,
+    },
+    MethodSpec {
+        method: GeneratedMethod::DeclaredMomentumRates,
+        name: "declared_momentum_rates",
+        doc: "The rates of [`Self::declared_momenta`] along the motion, by Lagrange–d'Alembert: the constraint forces do no work along a direction X(q) the constraints allow, so dJ/dt = ⟨∂L/∂q, X⟩ + ⟨∂L/∂q̇, Ẋ⟩ + ⟨Q, X⟩ with Ẋ = (∂X/∂q) q̇, without the accelerations.",
+        takes: Arguments::Motion,
+        returns: Returns::Declared,
+        requested_by: None,
+        form: Form::DeclaredMomenta,
+    },
+    MethodSpec {
         method: GeneratedMethod::ConstraintMatrix,
         name: "constraint_matrix",
         doc: "The constraint matrix A^a_α of ṡ_a = −Σ_α A^a_α ṙ_α (5.3): rows follow [`Self::DEPENDENT`], columns [`Self::INDEPENDENT`].",
@@ -389,6 +415,7 @@ impl MethodSpec {
             Form::Coordinates => !shape.in_speeds(),
             Form::Speeds => shape.in_speeds(),
             Form::Symmetries => !shape.in_speeds() && !shape.symmetries.is_empty(),
+            Form::DeclaredMomenta => !shape.in_speeds() && !shape.momentum_names.is_empty(),
         };
         form && self.requested_by.is_none_or(|o| shape.outputs.contains(o))
     }

@@ -162,6 +162,14 @@ impl Derived<'_, '_> {
         self.vector_of_motion(&values)
     }
 
+    /// `declared_momenta` (`rates`: `declared_momentum_rates`).
+    pub(crate) fn declared_momenta_body(&mut self, rates: bool) -> TokenStream {
+        let values: Vec<ExprId> = (self.dv.declared_momenta.iter())
+            .map(|s| if rates { s.rate } else { s.momentum })
+            .collect();
+        self.vector_of_motion(&values)
+    }
+
     /// The body of a method of the motion (`t, q, rdot`) returning the
     /// vector of `values`.
     fn vector_of_motion(&mut self, values: &[ExprId]) -> TokenStream {

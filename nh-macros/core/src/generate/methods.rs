@@ -238,6 +238,10 @@ impl Bodies for Derived<'_, '_> {
             GeneratedMethod::Momenta => (static_doc(), self.momenta_body(false)),
             GeneratedMethod::MomentumRates => (static_doc(), self.momenta_body(true)),
             GeneratedMethod::SymmetryMomenta => (static_doc(), self.symmetry_momenta_body(false)),
+            GeneratedMethod::DeclaredMomenta => (static_doc(), self.declared_momenta_body(false)),
+            GeneratedMethod::DeclaredMomentumRates => {
+                (static_doc(), self.declared_momenta_body(true))
+            }
             GeneratedMethod::SymmetryMomentumRates => {
                 (static_doc(), self.symmetry_momenta_body(true))
             }

@@ -107,6 +107,9 @@ pub fn generate(
     shape.atlas = atlas;
     shape.momenta = momentum_shapes(&m, dv.momenta.as_ref());
     shape.symmetry_momenta = symmetry_shapes(&m, &dv.symmetries);
+    shape.declared_momenta = (dv.declared_momenta.iter())
+        .map(|d| verdict_words(&m, &d.verdict))
+        .collect();
     let mut bodies = Derived {
         m: &mut m,
         dv,
@@ -158,6 +161,11 @@ fn derivation_checked(
         let site = def.keyword_range(def.symmetries.as_ref());
         let task = "deriving the momenta of the symmetries";
         dv.symmetries = m.at(site, task, |m| m.symmetry_momenta());
+    }
+    if check::declared_momenta(def, m, cx) {
+        let site = def.keyword_range(def.momenta.as_ref());
+        let task = "deriving the declared momenta";
+        dv.declared_momenta = m.at(site, task, |m| m.declared_momenta());
     }
     check::within_limits(def, m.engine, cx)
         && check::derivation(def, m, dv, cx)

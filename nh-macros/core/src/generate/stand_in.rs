@@ -52,6 +52,10 @@ pub fn shape_of(def: &SystemDef) -> Shape<'_> {
         momenta: Vec::new(),
         symmetries: symmetry_names(def),
         symmetry_momenta: Vec::new(),
+        momentum_names: (def.momenta.iter())
+            .flat_map(|(_, list)| list.iter().map(|s| s.name.to_string()))
+            .collect(),
+        declared_momenta: Vec::new(),
     }
 }
 

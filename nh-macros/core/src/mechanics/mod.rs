@@ -77,6 +77,8 @@ pub struct Derivation {
     /// The momenta along the directions the constraints allow of the
     /// declared symmetries (`symmetries { .. }`), once they are checked.
     pub symmetries: Vec<SymmetryMomentum>,
+    /// The declared momenta (`momenta { .. }`), in declared order.
+    pub declared_momenta: Vec<SymmetryMomentum>,
     /// Whether every curvature entry is identically zero.
     pub integrable: bool,
     /// Whether that was proved symbolically (otherwise numerically).
@@ -136,6 +138,7 @@ pub fn derive(m: &mut Scene<'_>, both_routes: bool) -> Derivation {
         energy: None,
         momenta: None,
         symmetries: Vec::new(),
+        declared_momenta: Vec::new(),
         integrable,
         integrable_proved,
     }
@@ -159,6 +162,7 @@ pub fn derive_maggi(m: &mut Scene<'_>) -> (Derivation, MaggiTerms) {
         energy: None,
         momenta: None,
         symmetries: Vec::new(),
+        declared_momenta: Vec::new(),
         integrable: false,
         integrable_proved: false,
     };

@@ -28,7 +28,8 @@ pub enum Broken {
 
 /// A momentum along a direction the constraints allow.
 pub struct SymmetryMomentum {
-    /// The direction's coefficients c_i(q), one per declared symmetry.
+    /// The direction's coefficients c_i(q), one per declared symmetry
+    /// (none for a declared momentum, whose direction is written out).
     pub coefficients: Vec<ExprId>,
     /// J = ⟨∂L/∂q̇, ξ(q)_Q⟩ at the constrained velocities.
     pub momentum: ExprId,
@@ -221,10 +222,8 @@ impl Scene<'_> {
 
     /// The momentum along ξ(q) = Σ_i c_i ξ_i, its rate and verdict.
     fn momentum_along(&mut self, c: Vec<ExprId>, xis: &[Vec<ExprId>]) -> SymmetryMomentum {
-        let map = self.constrained_velocities();
         let q = &self.model.coordinates;
         let n = q.len();
-        let l = self.model.lagrangian;
         let mut direction = vec![ZERO; n];
         let mut turning = vec![ZERO; n];
         for (i, xi) in xis.iter().enumerate() {
@@ -236,12 +235,25 @@ impl Scene<'_> {
                 turning[j] = self.engine.add(turning[j], t);
             }
         }
-        let (mut j_parts, mut rate_parts) = (Vec::new(), Vec::new());
+        let mut rate_parts = Vec::new();
         for (jdx, coord) in q.iter().enumerate() {
-            let p = self.engine.diff(l, coord.velocity);
-            j_parts.push(self.engine.mul(p, direction[jdx]));
+            let p = self.engine.diff(self.model.lagrangian, coord.velocity);
             rate_parts.push(self.engine.mul(p, turning[jdx]));
-            rate_parts.push(self.engine.mul(coord.force, direction[jdx]));
+        }
+        let mut out = self.momentum_with(&direction, rate_parts);
+        out.coefficients = c;
+        out
+    }
+
+    /// J = ⟨∂L/∂q̇, X⟩ and its rate, `rate_parts` + ⟨Q, X⟩, at the
+    /// constrained velocities, with the verdict on the rate.
+    fn momentum_with(&mut self, x: &[ExprId], mut rate_parts: Vec<ExprId>) -> SymmetryMomentum {
+        let map = self.constrained_velocities();
+        let mut j_parts = Vec::new();
+        for (coord, &xj) in self.model.coordinates.iter().zip(x) {
+            let p = self.engine.diff(self.model.lagrangian, coord.velocity);
+            j_parts.push(self.engine.mul(p, xj));
+            rate_parts.push(self.engine.mul(coord.force, xj));
         }
         let mut memo = HashMap::default();
         let momentum = self.engine.sum(&j_parts);
@@ -250,10 +262,42 @@ impl Scene<'_> {
         let rate = self.engine.subst(rate, &map, &mut memo);
         let verdict = self.verdict(rate);
         SymmetryMomentum {
-            coefficients: c,
+            coefficients: Vec::new(),
             momentum,
             rate,
             verdict,
         }
+    }
+
+    /// The first constraint row that the direction `x` leaves, ω^a(X) ≠ 0:
+    /// a momentum's direction must be a motion the constraints allow.
+    pub fn leaves_distribution(&mut self, x: &[ExprId]) -> Option<usize> {
+        (0..self.model.constraints.len()).find(|&a| {
+            let omega = self.row(a);
+            let parts: Vec<ExprId> = (omega.iter().zip(x))
+                .map(|(&w, &xj)| self.engine.mul(w, xj))
+                .collect();
+            let value = self.engine.sum(&parts);
+            !self.vanishes(value)
+        })
+    }
+
+    /// The declared momenta (`momenta { .. }`): along each direction X(q)
+    /// in the distribution, J = ⟨∂L/∂q̇, X⟩ and, by Lagrange–d'Alembert
+    /// (the constraint forces do no work along X), dJ/dt = ⟨∂L/∂q, X⟩ +
+    /// ⟨∂L/∂q̇, Ẋ⟩ + ⟨Q, X⟩ with Ẋ = (∂X/∂q) q̇: the derivative of L along
+    /// the motion's prolongation, zero when X's flow leaves L invariant.
+    pub fn declared_momenta(&mut self) -> Vec<SymmetryMomentum> {
+        let directions: Vec<Vec<ExprId>> = (self.model.momentum_directions.iter())
+            .map(|d| d.generator.clone())
+            .collect();
+        directions
+            .iter()
+            .map(|x| {
+                let xdot: Vec<ExprId> = x.iter().map(|&v| self.along(v)).collect();
+                let dl = self.lie_derivative(self.model.lagrangian, x, &xdot);
+                self.momentum_with(x, vec![dl])
+            })
+            .collect()
     }
 }

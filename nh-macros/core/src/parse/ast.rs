@@ -279,7 +279,9 @@ pub struct Force {
 
 /// A declared one-parameter symmetry group, `NAME(q: ξ_q, ..)`: its
 /// generator, the rate at which each coordinate it moves changes along the
-/// group (the others stay).
+/// group (the others stay); the angles of a rotation `R` may be given
+/// together as the fixed axis it turns about, `R: [a, b, c]`. A declared
+/// momentum's direction (`momenta { .. }`) is written the same way.
 #[derive(Clone, Debug)]
 pub struct Symmetry {
     /// the group's name
@@ -316,6 +318,9 @@ pub struct SystemDef {
     pub forces: Option<(Ident, Vec<Force>)>,
     /// `symmetries { .. }`
     pub symmetries: Option<(Ident, Vec<Symmetry>)>,
+    /// `momenta { .. }`: the directions of declared momenta, written as
+    /// generators are
+    pub momenta: Option<(Ident, Vec<Symmetry>)>,
     /// `constraints { .. }`
     pub constraints: Option<(Ident, Vec<Constraint>)>,
     /// `outputs { .. }`
@@ -375,7 +380,8 @@ impl SystemDef {
             | Block::Constraints
             | Block::Kinematics
             | Block::Outputs
-            | Block::Symmetries => return None,
+            | Block::Symmetries
+            | Block::Momenta => return None,
         })
     }
 }

@@ -80,6 +80,12 @@ pub(super) fn parse_block(kw: Ident, group: &Group, def: &mut SystemDef, cx: &mu
                 "duplicate `symmetries` block: write all symmetries in one block".to_string()
             });
         }
+        Block::Momenta => {
+            let list = parse_each(group, parse_momentum, headless_force, cx);
+            set_once(&mut def.momenta, kw, list, cx, |_| {
+                "duplicate `momenta` block: write all momenta in one block".to_string()
+            });
+        }
         Block::Parameters
         | Block::Coordinates
         | Block::Inputs
@@ -639,20 +645,41 @@ fn parse_kinematics_line(input: ParseStream) -> syn::Result<Constraint> {
 
 /// `NAME(q: ξ_q, ..)`: a one-parameter symmetry group by its generator.
 fn parse_symmetry(input: ParseStream) -> syn::Result<Symmetry> {
-    const FORM: &str = "a symmetry is written `NAME(q: rate, ..);`, the rate at which each coordinate it moves changes along the group (`turn(x: -y, y: x, phi: 1);`)";
+    parse_generator(
+        input,
+        (
+            "symmetry",
+            "a symmetry is written `NAME(q: rate, ..);`, the rate at which each coordinate it moves changes along the group (`turn(x: -y, y: x, phi: 1);`)",
+        ),
+    )
+}
+
+fn parse_momentum(input: ParseStream) -> syn::Result<Symmetry> {
+    parse_generator(
+        input,
+        (
+            "momentum",
+            "a momentum is written `NAME(q: rate, ..);`, the direction it is the momentum along: the rate of each coordinate the motion moves, or the fixed axis a rotation turns about (`K_x(Q: [1, 0, 0], y: -R);`)",
+        ),
+    )
+}
+
+/// `NAME(q: rate, ..);`, a symmetry's generator or a momentum's direction:
+/// `(what, form)` name it in messages.
+fn parse_generator(input: ParseStream, (what, form): (&str, &str)) -> syn::Result<Symmetry> {
     let name: Ident = input
         .call(IdentExt::parse_any)
-        .map_err(|e| syn::Error::new(e.span(), format!("expected the symmetry's name: {FORM}")))?;
+        .map_err(|e| syn::Error::new(e.span(), format!("expected the {what}'s name: {form}")))?;
     let content;
     syn::parenthesized!(content in input);
     let mut generator = Vec::new();
     while !content.is_empty() {
         let q: Ident = content.call(IdentExt::parse_any).map_err(|e| {
-            syn::Error::new(e.span(), format!("expected a coordinate name: {FORM}"))
+            syn::Error::new(e.span(), format!("expected a coordinate name: {form}"))
         })?;
         let _: Token![:] = content
             .parse()
-            .map_err(|e| syn::Error::new(e.span(), format!("expected `:` after `{q}`: {FORM}")))?;
+            .map_err(|e| syn::Error::new(e.span(), format!("expected `:` after `{q}`: {form}")))?;
         let value = parse_expr(&content, 0)?;
         generator.push((names::canonical(q), value));
         if content.is_empty() {
@@ -660,9 +687,9 @@ fn parse_symmetry(input: ParseStream) -> syn::Result<Symmetry> {
         }
         let _: Token![,] = content.parse()?;
     }
-    let _: Token![;] = input.parse().map_err(|e| {
-        syn::Error::new(e.span(), format!("expected `;` after the symmetry: {FORM}"))
-    })?;
+    let _: Token![;] = input
+        .parse()
+        .map_err(|e| syn::Error::new(e.span(), format!("expected `;` after the {what}: {form}")))?;
     Ok(Symmetry {
         name: names::canonical(name),
         generator,
