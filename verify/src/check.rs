@@ -2,6 +2,7 @@
 //! the generated methods in `f64` (what a user's code computes) and compare
 //! them with the plain derivation in double-double at random states.
 
+mod declared;
 mod momenta;
 
 pub use momenta::Cyclic;
@@ -49,6 +50,9 @@ pub struct Report {
     /// The momenta's check, for a system with coordinates the plain
     /// derivation finds cyclic (`check/momenta.rs`).
     pub cyclic: Option<Cyclic>,
+    /// The declared momenta's check (`check/declared.rs`): the number of
+    /// momenta compared, for a system in its scope.
+    pub declared: Option<usize>,
 }
 
 /// Relative tolerance between the generated code in `f64` and the plain
@@ -112,15 +116,22 @@ fn check_one(sys: &System, seed: u64, charts: bool) -> Report {
             }
         }
     }
-    let mut cyclic = None;
+    let (mut cyclic, mut declared) = (None, None);
     if charts && matches!(finding, Finding::Agree { .. }) {
         match momenta::check(sys, seed, &exp) {
             Ok(c) => cyclic = c,
             Err(f) => finding = f,
         }
     }
+    if charts && matches!(finding, Finding::Agree { .. }) {
+        match declared::check(sys, seed, &exp) {
+            Ok(d) => declared = d,
+            Err(f) => finding = f,
+        }
+    }
     Report {
         cyclic,
+        declared,
         ..report(seed, text, finding, route)
     }
 }
@@ -182,6 +193,7 @@ fn report(seed: u64, text: String, finding: Finding, route: String) -> Report {
         finding,
         route,
         cyclic: None,
+        declared: None,
     }
 }
 

@@ -83,6 +83,7 @@ pub struct Expansion {
     speeds: Vec<String>,
     cyclic: Vec<usize>,
     conserved: Vec<String>,
+    declared_conserved: Vec<String>,
     methods: Vec<(String, Result<Arc<Program>, String>)>,
     cache: Option<Arc<Program>>,
 }
@@ -122,6 +123,7 @@ impl Expansion {
             speeds: consts.strs("SPEEDS")?.unwrap_or_default(),
             cyclic: consts.ints("CYCLIC")?.unwrap_or_default(),
             conserved: consts.variants("CONSERVED")?.unwrap_or_default(),
+            declared_conserved: consts.variants("MOMENTUM_CONSERVED")?.unwrap_or_default(),
             name: name.clone(),
             parameters: parameters.clone(),
             methods: Vec::new(),
@@ -185,6 +187,12 @@ impl Expansion {
     /// `NotConserved`, `Undecided`), in the order of [`Self::cyclic`].
     pub fn conserved(&self) -> &[String] {
         &self.conserved
+    }
+
+    /// The verdicts of `MOMENTUM_CONSERVED` (`momenta { .. }`) by their
+    /// variants' names, in declared order.
+    pub fn declared_conserved(&self) -> &[String] {
+        &self.declared_conserved
     }
 
     /// Whether the expansion defines a method `name` (of the system or of

@@ -10,6 +10,7 @@
 //! system. Nothing here knows the engine's routes, Kane's form, frames,
 //! pivots or chosen rows.
 
+mod declared;
 mod momenta;
 
 use crate::Scalar;
@@ -70,6 +71,8 @@ pub struct Motion<S> {
     /// For each independent coordinate, the larger of |∂Lc/∂r_k| and
     /// |∂Q_i/∂r_k|: zero where it is cyclic.
     pub cyclic_slopes: Vec<f64>,
+    /// Every acceleration q̈ (empty for a system in speeds).
+    pub qdd: Vec<S>,
 }
 
 /// Why the plain derivation has no answer at a state.
@@ -601,6 +604,7 @@ impl<'a, S: Scalar> Plain<'a, S> {
             momenta,
             momentum_rates,
             cyclic_slopes,
+            qdd,
         })
     }
 
@@ -668,6 +672,7 @@ impl<'a, S: Scalar> Plain<'a, S> {
             momenta: Vec::new(),
             momentum_rates: Vec::new(),
             cyclic_slopes: Vec::new(),
+            qdd: Vec::new(),
         })
     }
 }

@@ -35,6 +35,9 @@ pub struct Summary {
     /// The momenta's check: systems with coordinates the plain derivation
     /// finds cyclic, expanded again with `outputs { momenta }`.
     pub momenta: MomentaTally,
+    /// The declared momenta's check (`momenta { .. }` along the directions
+    /// the rows allow): systems compared, and momenta compared in them.
+    pub declared: (usize, usize),
     /// Wall time.
     pub elapsed: Duration,
 }
@@ -162,6 +165,10 @@ pub fn run(seeds: Range<u64>, threads: usize) -> Summary {
                 *s.failure_features.entry(f).or_default() += 1;
             }
         }
+        if let Some(d) = r.declared {
+            s.declared.0 += 1;
+            s.declared.1 += d;
+        }
         if let Some(c) = &r.cyclic {
             s.momenta.systems += 1;
             match &c.refused {
@@ -230,6 +237,10 @@ impl Summary {
         for (why, n) in &m.refused {
             out.push_str(&format!("  momenta refused: {n} × {why}\n"));
         }
+        out.push_str(&format!(
+            "declared momenta: {} systems expanded with a `momenta` block along the directions their rows allow, {} momenta and rates compared\n",
+            self.declared.0, self.declared.1
+        ));
         out.push_str("features (systems, of them failing):\n");
         for (f, n) in &self.features {
             let failing = self.failure_features.get(f).copied().unwrap_or(0);

@@ -32,7 +32,7 @@ pub struct Cyclic {
 
 /// Why asking `momenta` of `sys` is out of the output's scope: speeds,
 /// holonomic or time-dependent rows, or asked already.
-fn out_of_scope(sys: &System) -> bool {
+pub(super) fn out_of_scope(sys: &System) -> bool {
     sys.speeds.is_some()
         || sys.timed_rows()
         || sys.outputs.contains(&"momenta")
