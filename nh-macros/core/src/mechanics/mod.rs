@@ -11,6 +11,7 @@ mod chains;
 mod composite;
 mod contacts;
 mod curvature;
+mod declared_momenta;
 mod energy;
 mod frames;
 mod integrability;

@@ -42,7 +42,7 @@ pub struct SymmetryMomentum {
 impl Scene<'_> {
     /// The time derivative along the motion, Σ_k ∂e/∂q_k q̇_k, of an
     /// expression `e` of the coordinates (q̇ as symbols).
-    fn along(&mut self, e: ExprId) -> ExprId {
+    pub(super) fn along(&mut self, e: ExprId) -> ExprId {
         let mut parts = Vec::new();
         for c in &self.model.coordinates {
             let d = self.engine.diff(e, c.position);
@@ -55,7 +55,7 @@ impl Scene<'_> {
     }
 
     /// Whether `e` vanishes: in canonical form, or at 16 random points.
-    fn vanishes(&self, e: ExprId) -> bool {
+    pub(super) fn vanishes(&self, e: ExprId) -> bool {
         e == ZERO || vanish_at_random_points(self.engine, self.model.pi, &[e])
     }
 
@@ -113,7 +113,7 @@ impl Scene<'_> {
     }
 
     /// ξ·∂e/∂q + ξ̇·∂e/∂q̇ (no velocity part when `xidot` is empty).
-    fn lie_derivative(&mut self, e: ExprId, xi: &[ExprId], xidot: &[ExprId]) -> ExprId {
+    pub(super) fn lie_derivative(&mut self, e: ExprId, xi: &[ExprId], xidot: &[ExprId]) -> ExprId {
         let q = &self.model.coordinates;
         let mut parts = Vec::new();
         for (k, c) in q.iter().enumerate() {
@@ -133,7 +133,7 @@ impl Scene<'_> {
 
     /// The constraint row ω^a in coordinate order: 1 at s_a, A^a_α at r_α
     /// (ṡ_a + Σ_α A^a_α ṙ_α = 0).
-    fn row(&mut self, a: usize) -> Vec<ExprId> {
+    pub(super) fn row(&mut self, a: usize) -> Vec<ExprId> {
         let m = self.model;
         let mut omega = vec![ZERO; m.n()];
         let c = &m.constraints[a];
@@ -247,7 +247,11 @@ impl Scene<'_> {
 
     /// J = ⟨∂L/∂q̇, X⟩ and its rate, `rate_parts` + ⟨Q, X⟩, at the
     /// constrained velocities, with the verdict on the rate.
-    fn momentum_with(&mut self, x: &[ExprId], mut rate_parts: Vec<ExprId>) -> SymmetryMomentum {
+    pub(super) fn momentum_with(
+        &mut self,
+        x: &[ExprId],
+        mut rate_parts: Vec<ExprId>,
+    ) -> SymmetryMomentum {
         let map = self.constrained_velocities();
         let mut j_parts = Vec::new();
         for (coord, &xj) in self.model.coordinates.iter().zip(x) {
@@ -267,37 +271,5 @@ impl Scene<'_> {
             rate,
             verdict,
         }
-    }
-
-    /// The first constraint row that the direction `x` leaves, ω^a(X) ≠ 0:
-    /// a momentum's direction must be a motion the constraints allow.
-    pub fn leaves_distribution(&mut self, x: &[ExprId]) -> Option<usize> {
-        (0..self.model.constraints.len()).find(|&a| {
-            let omega = self.row(a);
-            let parts: Vec<ExprId> = (omega.iter().zip(x))
-                .map(|(&w, &xj)| self.engine.mul(w, xj))
-                .collect();
-            let value = self.engine.sum(&parts);
-            !self.vanishes(value)
-        })
-    }
-
-    /// The declared momenta (`momenta { .. }`): along each direction X(q)
-    /// in the distribution, J = ⟨∂L/∂q̇, X⟩ and, by Lagrange–d'Alembert
-    /// (the constraint forces do no work along X), dJ/dt = ⟨∂L/∂q, X⟩ +
-    /// ⟨∂L/∂q̇, Ẋ⟩ + ⟨Q, X⟩ with Ẋ = (∂X/∂q) q̇: the derivative of L along
-    /// the motion's prolongation, zero when X's flow leaves L invariant.
-    pub fn declared_momenta(&mut self) -> Vec<SymmetryMomentum> {
-        let directions: Vec<Vec<ExprId>> = (self.model.momentum_directions.iter())
-            .map(|d| d.generator.clone())
-            .collect();
-        directions
-            .iter()
-            .map(|x| {
-                let xdot: Vec<ExprId> = x.iter().map(|&v| self.along(v)).collect();
-                let dl = self.lie_derivative(self.model.lagrangian, x, &xdot);
-                self.momentum_with(x, vec![dl])
-            })
-            .collect()
     }
 }
