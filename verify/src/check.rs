@@ -50,9 +50,10 @@ pub struct Report {
     /// The momenta's check, for a system with coordinates the plain
     /// derivation finds cyclic (`check/momenta.rs`).
     pub cyclic: Option<Cyclic>,
-    /// The declared momenta's check (`check/declared.rs`): the number of
-    /// momenta compared, for a system in its scope.
-    pub declared: Option<usize>,
+    /// The declared momenta's check (`check/declared.rs`): the numbers of
+    /// momenta and of rotations' turns among them compared, for a system in
+    /// its scope.
+    pub declared: Option<(usize, usize)>,
 }
 
 /// Relative tolerance between the generated code in `f64` and the plain

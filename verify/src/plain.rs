@@ -13,6 +13,8 @@
 mod declared;
 mod momenta;
 
+pub use declared::Direction;
+
 use crate::Scalar;
 use crate::jet::{Eps, Jet};
 use crate::linalg::{self, Matrix};

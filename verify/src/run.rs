@@ -36,8 +36,9 @@ pub struct Summary {
     /// finds cyclic, expanded again with `outputs { momenta }`.
     pub momenta: MomentaTally,
     /// The declared momenta's check (`momenta { .. }` along the directions
-    /// the rows allow): systems compared, and momenta compared in them.
-    pub declared: (usize, usize),
+    /// the rows allow, and rotations' turns): systems compared, momenta
+    /// compared in them, and turns among those.
+    pub declared: (usize, usize, usize),
     /// Wall time.
     pub elapsed: Duration,
 }
@@ -165,9 +166,10 @@ pub fn run(seeds: Range<u64>, threads: usize) -> Summary {
                 *s.failure_features.entry(f).or_default() += 1;
             }
         }
-        if let Some(d) = r.declared {
+        if let Some((momenta, turns)) = r.declared {
             s.declared.0 += 1;
-            s.declared.1 += d;
+            s.declared.1 += momenta;
+            s.declared.2 += turns;
         }
         if let Some(c) = &r.cyclic {
             s.momenta.systems += 1;
@@ -238,8 +240,8 @@ impl Summary {
             out.push_str(&format!("  momenta refused: {n} × {why}\n"));
         }
         out.push_str(&format!(
-            "declared momenta: {} systems expanded with a `momenta` block along the directions their rows allow, {} momenta and rates compared\n",
-            self.declared.0, self.declared.1
+            "declared momenta: {} systems expanded with a `momenta` block along the directions their rows allow and a rotation's turn, {} momenta and rates compared ({} turns)\n",
+            self.declared.0, self.declared.1, self.declared.2
         ));
         out.push_str("features (systems, of them failing):\n");
         for (f, n) in &self.features {

@@ -7,17 +7,22 @@
 //! own terms. The engine's `declared_momenta` and `declared_momentum_rates`
 //! must agree with the plain J = ⟨∂L/∂q̇, X⟩ and its total derivative along
 //! the plain motion (`plain/declared.rs`), and a verdict `Conserved` or
-//! `Undecided` needs a rate that vanishes at every state.
+//! `Undecided` needs a rate that vanishes at every state. A system without
+//! rows whose first rotation `let` is free of t also gets the turn of that
+//! rotation about the axis [1, -1, 2] (`R: [1, -1, 2]`), which the engine
+//! solves symbolically and the plain side numerically.
 
 use super::{CONDITION_GATE, EXACT_TOLERANCE, Finding, generated, plain, relative_dd, states};
 use super::{flat, relative, widen};
 use crate::interp::Expansion;
 use crate::model::{Constraint, Ex, LetValue, System};
-use crate::plain::Plain;
+use crate::plain::{Direction, Plain};
 use nh_core::sym::dd::Dd;
 
-/// Directions declared per system, at most.
+/// Directions declared per system, at most, along the rows.
 const DIRECTIONS: usize = 2;
+/// The axis of a rotation's turn.
+const TURN_AXIS: [i64; 3] = [1, -1, 2];
 
 /// Whether `e` is free of velocities (a `let` through its value; a
 /// vector's component, conservatively, never).
@@ -62,7 +67,7 @@ fn coefficient(sys: &System, e: &Ex, j: usize, independent: &[usize]) -> Option<
 /// The directions X_j (one expression per coordinate), or `None` when the
 /// rows are not all explicit, homogeneous and solved for the coordinates
 /// the engine made dependent.
-fn directions(sys: &System, exp: &Expansion) -> Option<Vec<Vec<Ex>>> {
+fn directions(sys: &System, exp: &Expansion) -> Option<Vec<Direction>> {
     let independent = exp.independent();
     let mut rows = Vec::new();
     for c in &sys.constraints {
@@ -85,20 +90,32 @@ fn directions(sys: &System, exp: &Expansion) -> Option<Vec<Vec<Ex>>> {
         for &(s, rhs) in &rows {
             x[s] = Ex::Mul(vec![weight.clone(), coefficient(sys, rhs, j, independent)?]);
         }
-        out.push(x);
+        out.push(Direction::Rates(x));
+    }
+    if rows.is_empty()
+        && let Some(r) = (sys.lets.iter()).position(|(_, v)| matches!(v, LetValue::Rotation(_)))
+        && let LetValue::Rotation(rx) = &sys.lets[r].1
+        && !sys.rx_timed(rx)
+    {
+        out.push(Direction::Turn(r, TURN_AXIS));
     }
     (!out.is_empty()).then_some(out)
 }
 
 /// `sys`'s text with a `momenta` block declaring `directions`.
-fn with_block(sys: &System, directions: &[Vec<Ex>]) -> String {
+fn with_block(sys: &System, directions: &[Direction]) -> String {
     let text = sys.text();
     let lines: Vec<String> = (directions.iter().enumerate())
-        .map(|(k, x)| {
-            let entries: Vec<String> = (x.iter().enumerate())
-                .filter(|(_, e)| !matches!(e, Ex::Num(0, _)))
-                .map(|(i, e)| format!("{}: {}", sys.coords[i], sys.ex(e)))
-                .collect();
+        .map(|(k, d)| {
+            let entries: Vec<String> = match d {
+                Direction::Rates(x) => (x.iter().enumerate())
+                    .filter(|(_, e)| !matches!(e, Ex::Num(0, _)))
+                    .map(|(i, e)| format!("{}: {}", sys.coords[i], sys.ex(e)))
+                    .collect(),
+                Direction::Turn(r, [a, b, c]) => {
+                    vec![format!("{}: [{a}, {b}, {c}]", sys.lets[*r].0)]
+                }
+            };
             format!("        J{k}({});", entries.join(", "))
         })
         .collect();
@@ -110,22 +127,48 @@ fn with_block(sys: &System, directions: &[Vec<Ex>]) -> String {
 }
 
 /// The declared momenta's check of `sys` (whose expansion `exp` agreed):
-/// the number of momenta compared, `None` when out of scope or refused, a
-/// disagreement as `Err`.
-pub(super) fn check(sys: &System, seed: u64, exp: &Expansion) -> Result<Option<usize>, Finding> {
+/// the numbers of momenta and of turns compared, `None` when out of scope
+/// or refused, a disagreement as `Err`. A turn the engine refuses (its
+/// rotation not turned by three angles) is dropped and the rest checked.
+pub(super) fn check(
+    sys: &System,
+    seed: u64,
+    exp: &Expansion,
+) -> Result<Option<(usize, usize)>, Finding> {
     if super::momenta::out_of_scope(sys) {
         return Ok(None);
     }
-    let Some(directions) = directions(sys, exp) else {
+    let Some(mut directions) = directions(sys, exp) else {
         return Ok(None);
     };
-    let text = with_block(sys, &directions);
+    loop {
+        match expanded(sys, &directions)? {
+            Some(with) => return compared(sys, seed, exp, &with, &directions),
+            None if matches!(directions.last(), Some(Direction::Turn(..))) => {
+                directions.pop();
+                if directions.is_empty() {
+                    return Ok(None);
+                }
+            }
+            None => return Ok(None),
+        }
+    }
+}
+
+/// `sys` expanded with a block of `directions`: `None` when the engine
+/// refuses the block (out of its scope, or a rotation not turned by three
+/// angles), any other error a disagreement.
+fn expanded(sys: &System, directions: &[Direction]) -> Result<Option<Expansion>, Finding> {
+    let text = with_block(sys, directions);
     let tokens: proc_macro2::TokenStream = (text.parse())
         .map_err(|e| Finding::Uninterpretable(format!("lexing with momenta: {e}")))?;
     let out = nh_core::expand(tokens);
     let errors = nh_core::reported_errors(&out);
     if let Some(e) = errors.first() {
-        return match e.message.starts_with("`momenta` is not available here: ") {
+        let refused = e.message.starts_with("`momenta` is not available here: ")
+            || e.message.contains(" turns with the rates of ")
+            || e.message.contains(" cannot turn about ");
+        return match refused {
             true if errors.len() == 1 => Ok(None),
             _ => Err(Finding::Disagree(format!(
                 "with a `momenta` block, the engine rejects the system: {}",
@@ -133,7 +176,20 @@ pub(super) fn check(sys: &System, seed: u64, exp: &Expansion) -> Result<Option<u
             ))),
         };
     }
-    let with = Expansion::new(&out).map_err(Finding::Uninterpretable)?;
+    Expansion::new(&out)
+        .map(Some)
+        .map_err(Finding::Uninterpretable)
+}
+
+/// The generated declared momenta and rates of `with` against the plain
+/// ones at the states of `seed`, and the verdicts.
+fn compared(
+    sys: &System,
+    seed: u64,
+    exp: &Expansion,
+    with: &Expansion,
+    directions: &[Direction],
+) -> Result<Option<(usize, usize)>, Finding> {
     let k = exp.independent().len();
     let mut rates: Vec<Vec<Dd>> = Vec::new();
     for p in states(sys, seed, k) {
@@ -149,9 +205,13 @@ pub(super) fn check(sys: &System, seed: u64, exp: &Expansion) -> Result<Option<u
         }
         let chart = exact.chart.max(1e-12);
         let plain_at = Plain::new(sys, &wide);
-        let (want_j, want_rate): (Vec<Dd>, Vec<Dd>) = (directions.iter())
-            .map(|x| plain_at.declared_momentum(&wide, &exact, x))
-            .unzip();
+        let Some(want): Option<Vec<(Dd, Dd)>> = (directions.iter())
+            .map(|d| plain_at.declared_momentum(&wide, &exact, d))
+            .collect()
+        else {
+            continue;
+        };
+        let (want_j, want_rate): (Vec<Dd>, Vec<Dd>) = want.into_iter().unzip();
         let mut bound = with
             .bind(&wide.params)
             .map_err(|e| Finding::Uninterpretable(format!("parameters: {e}")))?;
@@ -159,7 +219,7 @@ pub(super) fn check(sys: &System, seed: u64, exp: &Expansion) -> Result<Option<u
             ("declared_momenta", &want_j),
             ("declared_momentum_rates", &want_rate),
         ] {
-            let got = generated(&with, &mut bound, name, &wide)?;
+            let got = generated(with, &mut bound, name, &wide)?;
             let err = relative_dd(&got, want);
             let tol = EXACT_TOLERANCE + 1e-14 * exact.reduced_condition.min(1e16);
             if err.is_nan() || err > tol / chart {
@@ -172,8 +232,11 @@ pub(super) fn check(sys: &System, seed: u64, exp: &Expansion) -> Result<Option<u
         }
         rates.push(want_rate);
     }
-    verdicts(&with, &rates)?;
-    Ok((!rates.is_empty()).then_some(directions.len()))
+    verdicts(with, &rates)?;
+    let turns = (directions.iter())
+        .filter(|d| matches!(d, Direction::Turn(..)))
+        .count();
+    Ok((!rates.is_empty()).then_some((directions.len(), turns)))
 }
 
 /// A declared momentum called `Conserved` or `Undecided` has a plain rate

@@ -164,7 +164,11 @@ impl Lowerer<'_> {
             self.cx.error_at(name.span(), format!("`{name}` turns with the rates of {n} coordinates, so its turn about `{src}` does not fix them: give each coordinate's rate along `{along}` instead"));
             return None;
         }
-        let rows = self.largest_minor(&cols)?;
+        let Some(rows) = self.largest_minor(&cols) else {
+            let n = cols.len();
+            self.cx.error_at(name.span(), format!("`{name}` turns with the rates of {n} coordinates that turn it about fewer than {n} independent axes, so its turn about `{src}` does not fix them: give each coordinate's rate along `{along}` instead"));
+            return None;
+        };
         let block: Vec<Vec<ExprId>> = (rows.iter())
             .map(|&row| cols.iter().map(|c| c.1[row]).collect())
             .collect();
