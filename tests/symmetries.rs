@@ -41,6 +41,45 @@ nonholonomic_system! {
     }
 }
 
+nonholonomic_system! {
+    /// The same sleigh with its heading a rotation, the turn of the plane
+    /// written as the heading's turn about z: one angle, so the rate of
+    /// `theta` comes from a single row of ω(H) = [0, 0, 1].
+    pub struct SleighByHeading {
+        parameters { m, J }
+        coordinates { x, y, theta }
+        let H = rot_z(theta);
+        lagrangian = m/2*(dot(x)^2 + dot(y)^2) + J/2*dot(theta)^2;
+        constraints { dot(y) = tan(theta)*dot(x); }
+        symmetries {
+            turn(x: -y, y: x, H: [0, 0, 1]);
+            slide_x(x: 1);
+            slide_y(y: 1);
+        }
+    }
+}
+
+#[test]
+fn a_turn_of_one_angle_is_its_rate() {
+    // `H: [0, 0, 1]` with H = rot_z(theta) is `theta: 1`: the same
+    // momenta, rates and verdicts as the sleigh written with the rate
+    assert_eq!(
+        SleighByHeading::SYMMETRY_CONSERVED,
+        Sleigh::SYMMETRY_CONSERVED
+    );
+    let (a, b) = (Sleigh::new(2.0, 0.3), SleighByHeading::new(2.0, 0.3));
+    for (q, v) in [
+        ([0.1, 0.2, 0.4], [0.7, 1.3]),
+        ([-0.5, 1.1, -1.2], [0.3, -0.8]),
+    ] {
+        let (q, v) = (SVector::<f64, 3>::from(q), SVector::<f64, 2>::from(v));
+        let p = (a.symmetry_momenta(0.0, &q, &v) - b.symmetry_momenta(0.0, &q, &v)).amax();
+        let r = (a.symmetry_momentum_rates(0.0, &q, &v) - b.symmetry_momentum_rates(0.0, &q, &v))
+            .amax();
+        assert!(p < 1e-14 && r < 1e-14, "{p:e} {r:e}");
+    }
+}
+
 #[test]
 fn the_vertical_disc_conserves_its_heading_and_rolling_momenta() {
     // turn + y·slide_x − x·slide_y is the pure turn ∂/∂φ: J φ̇;
