@@ -1,5 +1,6 @@
 //! The planar chain of the scaling benchmark (issue 34;
-//! `nh-macros/core/tests/synthetic/mod.rs`, `planar`) with 2 and 3 links:
+//! `nh-macros/core/tests/synthetic/mod.rs`, `planar`) with 2, 3 and 10
+//! links:
 //!
 //! * the bodies expanded here are the benchmark's, token for token;
 //! * their `accelerations` agree to 1e-12 (relative to the largest
@@ -7,7 +8,7 @@
 //!   states each (`tests/data/chains_sympy.py`: the Euler–Lagrange equations
 //!   in the links' absolute angles, without rotations or bodies, solved at 50
 //!   digits; for 2 links it also checks them against the closed form of the
-//!   compound double pendulum).
+//!   compound double pendulum); for 10 links the energy too.
 use nonholonomic::prelude::*;
 
 #[path = "common/differences.rs"]
@@ -63,6 +64,56 @@ system_with_text! { PLANAR3:
     }
 }
 
+system_with_text! { PLANAR10:
+    pub struct Planar10 {
+        parameters { m, l, J, g }
+        coordinates { th1, th2, th3, th4, th5, th6, th7, th8, th9, th10 }
+        let R1 = rot_z(th1);
+        let C1 = R1*[l/2, 0, 0];
+        let E1 = R1*[l, 0, 0];
+        body b1 { mass: m, centre: C1, orientation: R1, inertia: diag(J, J, J) }
+        let R2 = R1*rot_z(th2);
+        let C2 = E1 + R2*[l/2, 0, 0];
+        let E2 = E1 + R2*[l, 0, 0];
+        body b2 { mass: m, centre: C2, orientation: R2, inertia: diag(J, J, J) }
+        let R3 = R2*rot_z(th3);
+        let C3 = E2 + R3*[l/2, 0, 0];
+        let E3 = E2 + R3*[l, 0, 0];
+        body b3 { mass: m, centre: C3, orientation: R3, inertia: diag(J, J, J) }
+        let R4 = R3*rot_z(th4);
+        let C4 = E3 + R4*[l/2, 0, 0];
+        let E4 = E3 + R4*[l, 0, 0];
+        body b4 { mass: m, centre: C4, orientation: R4, inertia: diag(J, J, J) }
+        let R5 = R4*rot_z(th5);
+        let C5 = E4 + R5*[l/2, 0, 0];
+        let E5 = E4 + R5*[l, 0, 0];
+        body b5 { mass: m, centre: C5, orientation: R5, inertia: diag(J, J, J) }
+        let R6 = R5*rot_z(th6);
+        let C6 = E5 + R6*[l/2, 0, 0];
+        let E6 = E5 + R6*[l, 0, 0];
+        body b6 { mass: m, centre: C6, orientation: R6, inertia: diag(J, J, J) }
+        let R7 = R6*rot_z(th7);
+        let C7 = E6 + R7*[l/2, 0, 0];
+        let E7 = E6 + R7*[l, 0, 0];
+        body b7 { mass: m, centre: C7, orientation: R7, inertia: diag(J, J, J) }
+        let R8 = R7*rot_z(th8);
+        let C8 = E7 + R8*[l/2, 0, 0];
+        let E8 = E7 + R8*[l, 0, 0];
+        body b8 { mass: m, centre: C8, orientation: R8, inertia: diag(J, J, J) }
+        let R9 = R8*rot_z(th9);
+        let C9 = E8 + R9*[l/2, 0, 0];
+        let E9 = E8 + R9*[l, 0, 0];
+        body b9 { mass: m, centre: C9, orientation: R9, inertia: diag(J, J, J) }
+        let R10 = R9*rot_z(th10);
+        let C10 = E9 + R10*[l/2, 0, 0];
+        let E10 = E9 + R10*[l, 0, 0];
+        body b10 { mass: m, centre: C10, orientation: R10, inertia: diag(J, J, J) }
+        lagrangian = kinetic_energy(b1) + kinetic_energy(b2) + kinetic_energy(b3) + kinetic_energy(b4) + kinetic_energy(b5) + kinetic_energy(b6) + kinetic_energy(b7) + kinetic_energy(b8) + kinetic_energy(b9) + kinetic_energy(b10)
+                   - m*g*(C1.y + C2.y + C3.y + C4.y + C5.y + C6.y + C7.y + C8.y + C9.y + C10.y);
+        outputs { energy }
+    }
+}
+
 /// `s` without whitespace.
 fn squeezed(s: &str) -> String {
     s.split_whitespace().collect()
@@ -74,6 +125,10 @@ fn the_systems_are_the_benchmarks() {
     assert_eq!(
         squeezed(PLANAR3),
         squeezed(&synthetic::planar(3, "jacobian"))
+    );
+    assert_eq!(
+        squeezed(PLANAR10),
+        squeezed(&synthetic::planar(10, "energy"))
     );
 }
 
@@ -158,6 +213,45 @@ fn double_pendulum_agrees_with_sympy() {
 #[test]
 fn triple_pendulum_agrees_with_sympy() {
     against_sympy!("planar3", Planar3, Planar3Parameters);
+}
+
+/// Ten links: the far links' kinetic energies are folded into symbols in
+/// the Lagrangian (their expansions are large, DESIGN §12.6) and Kane's
+/// form takes the bodies, with the weight along −y through the partial
+/// velocities; `energy` expands them again.
+#[test]
+fn ten_links_agree_with_sympy() {
+    against_sympy!("planar10", Planar10, Planar10Parameters);
+}
+
+/// The energy of the ten links, from the Lagrangian with the folded
+/// kinetic energies expanded, against SymPy's T + V at the same 8 states
+/// (1e-12 relative).
+#[test]
+fn ten_links_energy_agrees_with_sympy() {
+    let data: serde_json::Value =
+        serde_json::from_str(include_str!("data/chains.json")).expect("the reference lexes");
+    let (parameters, cases) = reference("planar10");
+    let [m, l, j, g] = parameters;
+    let sys = Planar10::from_parameters(Planar10Parameters { m, l, J: j, g });
+    let mut worst = 0.0_f64;
+    for (case, [q, rdot, _]) in data["planar10"]
+        .as_array()
+        .expect("cases")
+        .iter()
+        .zip(&cases)
+    {
+        let expected = case["energy"].as_f64().expect("an energy");
+        let (q, rdot) = (
+            SVector::from_column_slice(q),
+            SVector::from_column_slice(rdot),
+        );
+        let energy = sys.energy(&q, &rdot);
+        let err = (energy - expected).abs() / expected.abs();
+        assert!(err <= 1e-12, "{energy} against {expected} ({err:.1e})");
+        worst = worst.max(err);
+    }
+    eprintln!("planar10 energy: largest relative error {worst:.1e}");
 }
 
 /// `jacobian`, differentiated forward through the bodies' sums (Kane's

@@ -1,6 +1,6 @@
 """Reference accelerations for tests/chains.rs: the planar chain of rigid
 links of the scaling benchmark (nh-macros/core/tests/synthetic/mod.rs,
-`planar`) with N = 2 and N = 3, derived here with SymPy from scratch,
+`planar`) with N = 2, 3 and 10, derived here with SymPy from scratch,
 independently of the library:
 
 * positions in the links' absolute angles phi_i = th_1 + ... + th_i (the
@@ -17,7 +17,10 @@ At 8 fixed random states per N (seed 34; the states and parameters taken
 exactly as the doubles the test reads), it solves M q'' = Q - h at 50 digits and writes the parameters, the states and the
 accelerations to tests/data/chains.json.
 
-usage: python3 tests/data/chains_sympy.py   (a few seconds)"""
+For N = 10 it also writes the energy T + V at each state (the links'
+velocities from the absolute angles' rates, not by differentiation).
+
+usage: python3 tests/data/chains_sympy.py   (about eight minutes: N = 10)"""
 import json
 import os
 import random
@@ -91,6 +94,20 @@ def exact(x):
     return sp.Rational(float(x))
 
 
+def energy(n, th, thd):
+    """T + V of the n-link chain, in the relative angles."""
+    phi = [sum(th[: i + 1]) for i in range(n)]
+    phid = [sum(thd[: i + 1]) for i in range(n)]
+    e = [sp.Matrix([sp.cos(a), sp.sin(a)]) for a in phi]
+    de = [sp.Matrix([-sp.sin(a), sp.cos(a)]) * w for a, w in zip(phi, phid)]
+    total = 0
+    for i in range(n):
+        c = sum((l * e[j] for j in range(i)), sp.zeros(2, 1)) + l / 2 * e[i]
+        v = sum((l * de[j] for j in range(i)), sp.zeros(2, 1)) + l / 2 * de[i]
+        total += m * (v.T * v)[0] / 2 + J * phid[i] ** 2 / 2 + m * g * c[1]
+    return total
+
+
 def cases(n, M, rhs, th, thd, rng):
     subs = {m: exact(PARAMETERS["m"]), l: exact(PARAMETERS["l"]),
             J: exact(PARAMETERS["J"]), g: exact(PARAMETERS["g"])}
@@ -104,15 +121,17 @@ def cases(n, M, rhs, th, thd, rng):
         Mn = mpmath.matrix([[sp.N(M[i, j].subs(at), 60) for j in range(n)] for i in range(n)])
         bn = mpmath.matrix([sp.N(rhs[i].subs(at), 60) for i in range(n)])
         a = mpmath.lu_solve(Mn, bn)
-        out.append({"q": q, "rdot": v,
-                    "accelerations": [float(a[i]) for i in range(n)]})
+        case = {"q": q, "rdot": v, "accelerations": [float(a[i]) for i in range(n)]}
+        if n > 3:
+            case["energy"] = float(sp.N(energy(n, th, thd).subs(at), 60))
+        out.append(case)
     return out
 
 
 def main():
     rng = random.Random(34)
     data = {"parameters": {k: float(v) for k, v in PARAMETERS.items()}}
-    for n in (2, 3):
+    for n in (2, 3, 10):
         M, rhs, th, thd = equations(n)
         if n == 2:
             check_double(M, rhs)

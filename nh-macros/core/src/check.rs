@@ -432,7 +432,8 @@ fn not_cyclic(m: &mut Scene<'_>) -> String {
     let map = m.constrained_velocities();
     let model = m.model;
     let mut memo = rustc_hash::FxHashMap::default();
-    let lc = m.engine.subst(model.lagrangian, &map, &mut memo);
+    let l = m.lagrangian();
+    let lc = m.engine.subst(l, &map, &mut memo);
     let forces: Vec<_> = (model.coordinates.iter())
         .map(|c| (&c.name, m.engine.subst(c.force, &map, &mut memo)))
         .collect();

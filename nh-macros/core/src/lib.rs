@@ -37,6 +37,8 @@ mod words;
 pub use emit::with_text_parser;
 pub use errors::{ReportedError, reported_errors};
 pub use generate::{Route, Stats};
+#[doc(hidden)]
+pub use lower::bodies::with_fold_terms;
 pub use mechanics::Formulation;
 
 use proc_macro2::TokenStream;

@@ -4,7 +4,7 @@
 //! a name is reported at its token.
 
 pub(crate) mod atlas;
-mod bodies;
+pub(crate) mod bodies;
 pub(crate) mod constraints;
 mod contacts;
 pub(crate) mod euler_charts;
@@ -224,14 +224,32 @@ pub fn lower_in(def: &SystemDef, cx: &mut Ctxt, e: Engine) -> Option<(Model, Eng
         lagrangian: def.lagrangians[0].1.range(),
         constraints: def.keyword_range(def.constraints.as_ref()),
     };
-    let kinetic = lw.at(
+    let (lagrangian, kinetic) = lw.at(
         places.lagrangian,
         "splitting the Lagrangian into the bodies' kinetic energies",
         |lw| lw.kinetic_split(lagrangian),
     );
+    let folded = kinetic.iter().flat_map(|k| &k.bodies);
+    let folded = folded.filter(|b| b.folded.is_some());
+    // the poles of a folded kinetic energy are those of its body's terms
+    let bodies: Vec<ExprId> = folded
+        .flat_map(|b| {
+            let rotation = b
+                .rotation
+                .iter()
+                .flat_map(|(w, i)| w.iter().chain(i.iter().flatten()));
+            b.centre
+                .iter()
+                .chain(rotation)
+                .chain([&b.mass])
+                .copied()
+                .collect::<Vec<_>>()
+        })
+        .collect();
     let forces = lw.coords.iter().map(|c| c.force);
     let kinematics = speeds.iter().flat_map(|s| s.velocities.iter().copied());
     let written: Vec<ExprId> = std::iter::once(lagrangian)
+        .chain(bodies)
         .chain(forces)
         .chain(std::mem::take(&mut lw.written))
         .chain(kinematics)
@@ -250,7 +268,7 @@ pub fn lower_in(def: &SystemDef, cx: &mut Ctxt, e: Engine) -> Option<(Model, Eng
         inputs: lw.inputs,
         time: lw.t_sym,
         pi: lw.pi_sym,
-        lagrangian,
+        lagrangian_folded: lagrangian,
         constraints,
         partition,
         outputs,

@@ -190,8 +190,11 @@ pub struct Model {
     pub time: SymId,
     /// π.
     pub pi: SymId,
-    /// L(q, q̇, t).
-    pub lagrangian: ExprId,
+    /// L(q, q̇, t), with the kinetic energy of each body of
+    /// [`Model::kinetic`] whose expansion would be large folded into one
+    /// symbol ([`KineticBody::folded`]): `Scene::lagrangian` is L expanded.
+    /// The folded symbols are free of t and of the state.
+    pub lagrangian_folded: ExprId,
     /// The constraints, one per dependent coordinate, in coordinate order
     /// (the order of [`Model::dependent`]).
     pub constraints: Vec<Constraint>,
@@ -314,6 +317,11 @@ pub struct KineticBody {
     /// The elementary rotations (axis, angle) its orientation is the
     /// product of, left to right (empty for a point mass).
     pub factors: Vec<(usize, ExprId)>,
+    /// The symbol standing for its kinetic energy in
+    /// [`Model::lagrangian_folded`], when the expansion would be large (a
+    /// link of a chain): Kane's form of the multiplier route does not take
+    /// it, and what does expands it (`Scene::lagrangian`).
+    pub folded: Option<SymId>,
 }
 
 impl Model {

@@ -9,7 +9,7 @@ use crate::algebra;
 use super::nodes::{exprs, force_along, matrix};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::Scene;
-use crate::sym::ExprId;
+use crate::sym::{ExprId, ZERO};
 
 /// Cᵀ M C and −Cᵀ (M acc_bias + h) of (5.9) body by body (Kane's form,
 /// DESIGN §10): with the partial velocities V = J C and Ω = W C,
@@ -30,7 +30,9 @@ pub(crate) fn body_projection(
         *f = d.neg(*f);
     }
     let motion = super::motion::Motion::of(d, m, bt.heading_rate);
-    let gravity = bt.gravity.map(|g| d.expr(m.engine, g));
+    let gravity = bt
+        .gravity
+        .map(|g| g.map(|x| (x != ZERO).then(|| d.expr(m.engine, x))));
     for b in &bt.bodies {
         if let Some(jacobian) = &b.jacobian {
             let mass = d.expr(m.engine, b.mass);
@@ -41,9 +43,11 @@ pub(crate) fn body_projection(
                 (jacobian, &b.anchor),
                 (c, acc_bias, bt.planar),
             );
-            if let Some(g) = gravity {
-                // the weight through the partial velocities: m Vᵀ (a + γ e_z)
-                a[2] = d.add(a[2], g);
+            // the weight through the partial velocities: m Vᵀ (a + γ e_k)
+            for (x, g) in gravity.iter().flatten().enumerate() {
+                if let Some(g) = g {
+                    a[x] = d.add(a[x], *g);
+                }
             }
             // m VᵀV: the mass multiplies each sum, not each partial velocity
             for i in 0..mr.len() {

@@ -8,7 +8,7 @@ use super::values::{
 use super::{Binding, Lowerer, Place};
 use crate::ctxt::SpanRange;
 use crate::parse::{BodyDef, Expr, Field};
-use crate::sym::{ExprId, Rational, SymId, ZERO};
+use crate::sym::{Engine, ExprId, Rational, SymId, ZERO};
 use crate::words::{BodyField, Function, Word};
 use proc_macro2::Ident;
 use std::rc::Rc;
@@ -171,16 +171,10 @@ impl Lowerer<'_> {
 
     /// The total time derivative of a velocity-free expression: Σ ∂e/∂q_i q̇_i + ∂e/∂t.
     pub(super) fn time_derivative(&mut self, v: ExprId) -> ExprId {
-        let mut parts = Vec::new();
-        for i in 0..self.coords.len() {
-            let d = self.e.diff(v, self.coords[i].position);
-            if d != ZERO {
-                let vel = self.e.sym(self.coords[i].velocity);
-                parts.push(self.e.mul(d, vel));
-            }
-        }
-        parts.push(self.e.diff(v, self.t_sym));
-        self.e.sum(&parts)
+        let state: Vec<(SymId, SymId)> = (self.coords.iter())
+            .map(|c| (c.position, c.velocity))
+            .collect();
+        time_derivative(&mut self.e, &state, self.t_sym, v)
     }
 
     /// The angular velocity of a rotation, world (`world`) or body
@@ -471,7 +465,9 @@ impl Lowerer<'_> {
     }
 
     /// `kinetic_energy(body)`: ½ m |Ċ|² + ½ ω_bᵀ I ω_b, ω_b the body
-    /// components of the body's angular velocity.
+    /// components of the body's angular velocity. In the Lagrangian, a body
+    /// whose expansion would be large ([`FOLD_TERMS`]) stays one symbol
+    /// there (see [`KineticBody::folded`](crate::model::KineticBody)).
     fn kinetic_energy_of(&mut self, x: &Expr) -> Option<ExprId> {
         let Expr::Name(id) = x else {
             self.cx.error(
@@ -481,43 +477,60 @@ impl Lowerer<'_> {
             return None;
         };
         let b = self.body(id)?;
-        let v = b.centre.map(|c| self.time_derivative(c));
-        let v2 = dot3(&mut self.e, v, v);
-        let half = self.e.constant(Rational::new(1, 2)?);
-        let m_half = self.e.mul(half, b.mass);
-        let mut t = self.e.mul(m_half, v2);
-        if let Some((_, inertia)) = &b.rotation {
-            let w = b.omega_body;
-            let iw = mat_vec(&mut self.e, inertia, w);
-            let rot = dot3(&mut self.e, w, iw);
-            let rot = self.e.mul(half, rot);
-            t = self.e.add(t, rot);
-        }
-        if matches!(self.place, Place::Lagrangian) {
-            let body = crate::model::KineticBody {
-                mass: b.mass,
-                centre: b.centre,
-                rotation: b.rotation.as_ref().map(|(_, i)| (b.omega_body, *i)),
-                orientation: b.rotation.as_ref().map(|(r, _)| r.matrix),
-                heading: b
-                    .rotation
-                    .as_ref()
-                    .and_then(|(r, _)| match r.factors.first() {
-                        Some(&(2, angle)) => Some(angle),
-                        _ => None,
-                    }),
-                spin: b.rotation.as_ref().and_then(|(r, i)| {
-                    let &(k, angle) = r.factors.last()?;
-                    axisymmetric(i, k).then_some((k, angle))
+        let body = crate::model::KineticBody {
+            mass: b.mass,
+            centre: b.centre,
+            rotation: b.rotation.as_ref().map(|(_, i)| (b.omega_body, *i)),
+            orientation: b.rotation.as_ref().map(|(r, _)| r.matrix),
+            heading: b
+                .rotation
+                .as_ref()
+                .and_then(|(r, _)| match r.factors.first() {
+                    Some(&(2, angle)) => Some(angle),
+                    _ => None,
                 }),
-                factors: b
-                    .rotation
-                    .as_ref()
-                    .map_or(Vec::new(), |(r, _)| r.factors.clone()),
-            };
-            self.kinetic.push((body, t));
+            spin: b.rotation.as_ref().and_then(|(r, i)| {
+                let &(k, angle) = r.factors.last()?;
+                axisymmetric(i, k).then_some((k, angle))
+            }),
+            factors: b
+                .rotation
+                .as_ref()
+                .map_or(Vec::new(), |(r, _)| r.factors.clone()),
+            folded: None,
+        };
+        if !matches!(self.place, Place::Lagrangian) {
+            return self.kinetic_energy(&body);
         }
+        let (t, body) = match self.large(&body) {
+            true => {
+                let s = self.e.symbol(&format!("kinetic_energy({id})"));
+                let folded = Some(s);
+                (self.e.sym(s), crate::model::KineticBody { folded, ..body })
+            }
+            false => (self.kinetic_energy(&body)?, body),
+        };
+        self.kinetic.push((body, t));
         Some(t)
+    }
+
+    /// A body's kinetic energy, expanded.
+    fn kinetic_energy(&mut self, body: &crate::model::KineticBody) -> Option<ExprId> {
+        let state: Vec<(SymId, SymId)> = (self.coords.iter())
+            .map(|c| (c.position, c.velocity))
+            .collect();
+        kinetic_energy(&mut self.e, (&state, self.t_sym), body)
+    }
+
+    /// Whether a body's kinetic energy would be large expanded: its
+    /// centre's and angular velocity's components have more than
+    /// [`FOLD_TERMS`] terms together.
+    fn large(&self, body: &crate::model::KineticBody) -> bool {
+        let omega = body.rotation.iter().flat_map(|r| r.0);
+        let terms: usize = (body.centre.into_iter().chain(omega))
+            .map(|x| self.e.num_terms(x))
+            .sum();
+        terms > FOLD.with(|f| f.get())
     }
 
     /// L = Σ_b T_b + L_rest over the bodies whose kinetic energy the
@@ -525,11 +538,13 @@ impl Lowerer<'_> {
     /// form Kane's terms assume: its centre and every angle of its
     /// orientation free of t (Ċ = Σ ∂C/∂q q̇, each factor's rate Σ ∂θ/∂q q̇),
     /// its mass and inertia constant (free of the coordinates and t).
-    /// Otherwise the Lagrangian's own Euler–Lagrange terms are derived.
+    /// Otherwise the Lagrangian's own Euler–Lagrange terms are derived, and
+    /// the kinetic energies folded into symbols are expanded in it: the
+    /// Lagrangian returned is the one the model keeps.
     pub(super) fn kinetic_split(
         &mut self,
         lagrangian: ExprId,
-    ) -> Option<crate::model::KineticSplit> {
+    ) -> (ExprId, Option<crate::model::KineticSplit>) {
         let kinetic = std::mem::take(&mut self.kinetic);
         let t = self.t_sym;
         let state: Vec<SymId> = (self.coords.iter())
@@ -547,18 +562,106 @@ impl Lowerer<'_> {
             let inertia = b.rotation.iter().flat_map(|r| r.1.into_iter().flatten());
             timed || std::iter::once(b.mass).chain(inertia).any(varies)
         });
-        if kinetic.is_empty() || not_kane {
-            return None;
-        }
         let mut rest = lagrangian;
         for (_, t) in &kinetic {
             rest = self.e.sub(rest, *t);
         }
-        Some(crate::model::KineticSplit {
-            bodies: kinetic.into_iter().map(|(b, _)| b).collect(),
-            rest,
-        })
+        let folded: Vec<SymId> = kinetic.iter().filter_map(|(b, _)| b.folded).collect();
+        let stray = folded.iter().any(|&s| self.e.depends_on(rest, s));
+        if kinetic.is_empty() || not_kane || stray {
+            return (self.unfolded(lagrangian, &kinetic), None);
+        }
+        let bodies = kinetic.into_iter().map(|(b, _)| b).collect();
+        (
+            lagrangian,
+            Some(crate::model::KineticSplit { bodies, rest }),
+        )
     }
+
+    /// `lagrangian` with the kinetic energies folded into symbols expanded.
+    fn unfolded(
+        &mut self,
+        lagrangian: ExprId,
+        kinetic: &[(crate::model::KineticBody, ExprId)],
+    ) -> ExprId {
+        let mut map = rustc_hash::FxHashMap::default();
+        for (b, _) in kinetic {
+            if let Some(s) = b.folded {
+                let t = self.kinetic_energy(b).unwrap_or(ZERO);
+                map.insert(s, t);
+            }
+        }
+        match map.is_empty() {
+            true => lagrangian,
+            false => self.e.subst(lagrangian, &map, &mut Default::default()),
+        }
+    }
+}
+
+/// The total time derivative Σ ∂v/∂q_i q̇_i + ∂v/∂t of a velocity-free
+/// expression, with `state` the (position, velocity) symbols of the
+/// coordinates and `t` time's.
+pub(crate) fn time_derivative(
+    e: &mut Engine,
+    state: &[(SymId, SymId)],
+    t: SymId,
+    v: ExprId,
+) -> ExprId {
+    let mut parts = Vec::new();
+    for &(q, qdot) in state {
+        let d = e.diff(v, q);
+        if d != ZERO {
+            let vel = e.sym(qdot);
+            parts.push(e.mul(d, vel));
+        }
+    }
+    parts.push(e.diff(v, t));
+    e.sum(&parts)
+}
+
+/// A body's kinetic energy ½ m |Ċ|² + ½ ω_bᵀ I ω_b, expanded, with
+/// `(state, t)` as for [`time_derivative`].
+pub(crate) fn kinetic_energy(
+    e: &mut Engine,
+    (state, t): (&[(SymId, SymId)], SymId),
+    body: &crate::model::KineticBody,
+) -> Option<ExprId> {
+    let v = body.centre.map(|c| time_derivative(e, state, t, c));
+    let v2 = dot3(e, v, v);
+    let half = e.constant(Rational::new(1, 2)?);
+    let m_half = e.mul(half, body.mass);
+    let mut energy = e.mul(m_half, v2);
+    if let Some((w, inertia)) = &body.rotation {
+        let iw = mat_vec(e, inertia, *w);
+        let rot = dot3(e, *w, iw);
+        let rot = e.mul(half, rot);
+        energy = e.add(energy, rot);
+    }
+    Some(energy)
+}
+
+/// A body's kinetic energy stays one symbol in the Lagrangian when its
+/// centre's and angular velocity's components have more than this many
+/// terms together: the links of a chain, whose expanded kinetic energies
+/// grow with the square of their sizes and which Kane's form of the
+/// multiplier route (DESIGN §10) does not need. Expanded where an output
+/// or a route takes the Lagrangian itself (`Scene::lagrangian`).
+pub(crate) const FOLD_TERMS: usize = 256;
+
+std::thread_local! {
+    /// The threshold in force on this thread ([`with_fold_terms`]).
+    static FOLD: std::cell::Cell<usize> = const { std::cell::Cell::new(FOLD_TERMS) };
+}
+
+/// Runs `f` with kinetic energies folded above `terms` terms instead of
+/// [`FOLD_TERMS`] on this thread: with 0, every body's kinetic energy in
+/// the Lagrangian is folded, which the differential verifier uses to check
+/// the folded path on every random system with bodies.
+pub fn with_fold_terms<T>(terms: usize, f: impl FnOnce() -> T) -> T {
+    let before = FOLD.with(|c| c.replace(terms));
+    let out = f();
+    FOLD.with(|c| c.set(before));
+    out
 }
 
 /// Whether an inertia (body axes) is symmetric about axis k: it commutes

@@ -221,6 +221,9 @@ impl Scene<'_> {
     /// A chain to `target` from one of `roots`: one frame in which target −
     /// root is fixed, or two through a point of [`Model::points`] (a joint).
     fn chain_to(&mut self, target: Vec3, roots: &[Vec3], frame: &Option<Mat3>) -> Option<Chain> {
+        if roots.is_empty() {
+            return None;
+        }
         let frames = self.frames();
         for &root in roots {
             for f in &frames {
@@ -357,18 +360,37 @@ impl Scene<'_> {
     /// Whether Rᵀ(p − q) takes the same value at two states (the same
     /// parameters), in floating point: a quick test that spares forming the
     /// products symbolically for the pairs that are not fixed.
-    fn offset_may_be_fixed(&self, r: &Mat3, p: Vec3, q: Vec3) -> bool {
-        let [a, b] = self.two_states();
-        let offset = |vals: &[crate::sym::dd::Dd]| -> [f64; 3] {
-            let v = |x: ExprId| self.engine.eval_with_scale(x, vals).0.to_f64();
+    fn offset_may_be_fixed(&mut self, r: &Mat3, p: Vec3, q: Vec3) -> bool {
+        let [x, y] = [0, 1].map(|s| {
+            let mut v = |x: ExprId| self.sample(x, s);
             let rel = [0, 1, 2].map(|i| v(p[i]) - v(q[i]));
-            [0, 1, 2].map(|j| (0..3).map(|i| v(r[i][j]) * rel[i]).sum())
-        };
-        let (x, y) = (offset(&a), offset(&b));
+            let r = r.map(|row| row.map(&mut v));
+            [0, 1, 2].map(|j| (0..3).map(|i| r[i][j] * rel[i]).sum::<f64>())
+        });
         (0..3).all(|i| {
             let size = 1.0 + x[i].abs().max(y[i].abs());
             !(x[i] - y[i]).is_finite() || (x[i] - y[i]).abs() <= 1e-9 * size
         })
+    }
+
+    /// The value of `x` at state `s` (0 or 1) of [`Scene::two_states`],
+    /// memoised for the whole derivation.
+    fn sample(&mut self, x: ExprId, s: usize) -> f64 {
+        let symbols = self.engine.num_symbols();
+        if self
+            .samples
+            .as_ref()
+            .is_none_or(|m| m.states[0].len() != symbols)
+        {
+            let states = self.two_states();
+            self.samples = Some(Box::new(Samples {
+                states,
+                memos: Default::default(),
+            }));
+        }
+        let samples = self.samples.as_mut().expect("just filled");
+        let memo = &mut samples.memos[s];
+        self.engine.eval_memo(x, &samples.states[s], memo).to_f64()
     }
 
     /// The symbols' values at two states with the same parameters.
@@ -407,15 +429,47 @@ impl Scene<'_> {
         !self.engine.free_symbols(x).iter().any(moving)
     }
 
-    /// A uniform gravity in `rest` = L − Σ T_b: the γ (free of the state)
-    /// that leaves the fewest terms in rest + γ Σ m_b C_b,z, if that is
-    /// fewer than rest has, and that remainder. Its Euler–Lagrange terms
-    /// are then γ Σ m_b ∂C_b,z/∂q, projected γ Σ m_b V_b,z.
-    pub(super) fn gravity(&mut self, parts: &[Part], rest: ExprId) -> Option<(ExprId, ExprId)> {
+    /// A uniform gravity in `rest` = L − Σ T_b along a world axis: the
+    /// first of z, y, x along which [`Scene::gravity_along`] finds one (y
+    /// and x only without a block of rolling contacts), as γ e_k in the
+    /// axes of the centres' partial velocities (the heading's frame turns
+    /// e_x and e_y, and leaves e_z); and the rest of `rest`.
+    pub(super) fn gravity(&mut self, parts: &[Part], rest: ExprId) -> Option<(Vec3, ExprId)> {
+        let axes = match self.block.is_none() {
+            true => &[2, 1, 0][..],
+            false => &[2][..],
+        };
+        for &k in axes {
+            if let Some((g, rest)) = self.gravity_along(parts, rest, k) {
+                let frame = match k {
+                    2 => None,
+                    _ => self.heading_frame(),
+                };
+                let weight = [0, 1, 2].map(|x| match frame {
+                    Some(h) => self.engine.mul(g, h[x][k]),
+                    None if x == k => g,
+                    None => ZERO,
+                });
+                return Some((weight, rest));
+            }
+        }
+        None
+    }
+
+    /// A uniform gravity in `rest` along world axis k: the γ (free of the
+    /// state) that leaves the fewest terms in rest + γ Σ m_b C_b,k, if
+    /// that is fewer than rest has, and that remainder. Its Euler–Lagrange
+    /// terms are then γ Σ m_b ∂C_b,k/∂q, projected γ Σ m_b V_b,k.
+    fn gravity_along(
+        &mut self,
+        parts: &[Part],
+        rest: ExprId,
+        k: usize,
+    ) -> Option<(ExprId, ExprId)> {
         let e = &mut *self.engine;
         let heights: Vec<ExprId> = parts
             .iter()
-            .filter_map(|p| p.centre.map(|c| e.mul(p.mass, c[2])))
+            .filter_map(|p| p.centre.map(|c| e.mul(p.mass, c[k])))
             .collect();
         let weight = e.sum(&heights);
         if self.fixed(weight) || rest == ZERO {
@@ -475,6 +529,13 @@ impl Scene<'_> {
         let c = self.engine.constant(ratio);
         Some(self.engine.neg(c))
     }
+}
+
+/// The two states of the quick tests and the values found at them so far
+/// (see [`Scene::samples`]).
+pub(crate) struct Samples {
+    states: [Vec<crate::sym::dd::Dd>; 2],
+    memos: [crate::sym::EvalMemo<crate::sym::dd::Dd>; 2],
 }
 
 /// A wheel turning at θ̇ about axis k of the body that carries it, whose

@@ -127,7 +127,8 @@ impl Scene<'_> {
     /// The velocities in `vals` are overwritten.
     pub(crate) fn mass_sampled_along(&self, c: &[Dd], vals: &mut [Dd]) -> (Dd, Dd) {
         let Some(split) = &self.model.kinetic else {
-            return self.lagrangian_sampled_along(self.model.lagrangian, c, vals);
+            // without the split nothing is folded
+            return self.lagrangian_sampled_along(self.model.lagrangian_folded, c, vals);
         };
         let (mut value, mut scale) = self.lagrangian_sampled_along(split.rest, c, vals);
         for (coordinate, &ci) in self.model.coordinates.iter().zip(c) {
@@ -185,7 +186,7 @@ impl Scene<'_> {
         let (n, k) = (self.model.n(), self.model.k());
         let map = self.constrained_velocities();
         let qdot_c = self.constrained_qdot();
-        let l = self.model.lagrangian;
+        let l = self.lagrangian();
         let r_vel = self.model.independent_velocities();
         let r_pos = self.model.of_independent(|c| c.position);
         let r_force = self.model.of_independent(|c| c.force);

@@ -35,7 +35,8 @@ impl Scene<'_> {
             .iter()
             .map(|x| {
                 let xdot: Vec<ExprId> = x.iter().map(|&v| self.along(v)).collect();
-                let dl = self.lie_derivative(self.model.lagrangian, x, &xdot);
+                let l = self.lagrangian();
+                let dl = self.lie_derivative(l, x, &xdot);
                 self.momentum_with(x, vec![dl])
             })
             .collect()

@@ -13,7 +13,7 @@ impl Scene<'_> {
     /// to their solved values.
     pub fn energy(&mut self) -> ExprId {
         let map = self.constrained_velocities();
-        let l = self.model.lagrangian;
+        let l = self.lagrangian();
         let e = &mut *self.engine;
         let mut parts = Vec::new();
         for v in self.model.coordinates.iter().map(|c| c.velocity) {

@@ -18,9 +18,10 @@ pub struct BodyTerms {
     pub rest_mass: Vec<Vec<ExprId>>,
     /// See `rest_mass`.
     pub rest_bias: Vec<ExprId>,
-    /// γ of a uniform gravity −γ Σ m_b C_b,z taken out of L_rest: its
-    /// projected force is γ Σ m_b V_b,z.
-    pub gravity: Option<ExprId>,
+    /// A uniform gravity −γ Σ m_b C_b,k along world axis k taken out of
+    /// L_rest, as γ e_k in the axes of the centres' partial velocities:
+    /// its projected force is Σ m_b V_bᵀ γ e_k.
+    pub gravity: Option<[ExprId; 3]>,
     /// ψ̇ when the centres' Jacobians are in the heading's frame (see
     /// [`BlockTerms::heading_rate`]).
     pub heading_rate: Option<ExprId>,
@@ -277,5 +278,64 @@ mod tests {
         assert_eq!(terms.rest_mass.len(), 5);
         let (model, mut engine) = lowered(SLED);
         assert!(Scene::new(&model, &mut engine).body_terms().is_none());
+    }
+
+    /// A planar chain of `n` links, as the scaling benchmark writes it.
+    fn chain(n: usize) -> String {
+        let mut s = format!(
+            "pub struct Chain {{ parameters {{ m, l, J, g }} coordinates {{ {} }} ",
+            (1..=n)
+                .map(|i| format!("th{i}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        for i in 1..=n {
+            let (parent, start) = match i {
+                1 => (String::new(), String::new()),
+                _ => (format!("R{}*", i - 1), format!("E{} + ", i - 1)),
+            };
+            s += &format!(
+                "let R{i} = {parent}rot_z(th{i}); let C{i} = {start}R{i}*[l/2, 0, 0]; \
+                 let E{i} = {start}R{i}*[l, 0, 0]; \
+                 body b{i} {{ mass: m, centre: C{i}, orientation: R{i}, inertia: diag(J, J, J) }} "
+            );
+        }
+        let kinetic: Vec<String> = (1..=n).map(|i| format!("kinetic_energy(b{i})")).collect();
+        let heights: Vec<String> = (1..=n).map(|i| format!("C{i}.y")).collect();
+        s + &format!(
+            "lagrangian = {} - m*g*({}); }}",
+            kinetic.join(" + "),
+            heights.join(" + ")
+        )
+    }
+
+    /// The far links of a long chain keep their kinetic energies folded
+    /// (their expansions are large); a short chain and the disc fold none.
+    /// Expanded on demand, L holds none of the symbols (its values are
+    /// checked against SymPy's energy in the root crate's `tests/chains.rs`).
+    #[test]
+    fn large_kinetic_energies_are_folded_and_expanded_on_demand() {
+        let folded = |src: &str| {
+            let (model, _) = lowered(src);
+            let bodies = &model.kinetic.as_ref().expect("a split").bodies;
+            bodies.iter().filter(|b| b.folded.is_some()).count()
+        };
+        assert_eq!(folded(DISC), 0);
+        assert_eq!(folded(&chain(3)), 0);
+        let (model, mut engine) = lowered(&chain(10));
+        let bodies = &model.kinetic.as_ref().expect("a split").bodies;
+        let count = bodies.iter().filter(|b| b.folded.is_some()).count();
+        assert!((1..10).contains(&count), "{count} of 10 folded");
+        let folded_l = model.lagrangian_folded;
+        let mut scene = Scene::new(&model, &mut engine);
+        let l = scene.lagrangian();
+        assert_ne!(l, folded_l);
+        let symbols: Vec<_> = bodies.iter().filter_map(|b| b.folded).collect();
+        assert!(symbols.iter().all(|&s| !scene.engine.depends_on(l, s)));
+        assert!(
+            symbols
+                .iter()
+                .all(|&s| scene.engine.depends_on(folded_l, s))
+        );
     }
 }

@@ -51,13 +51,14 @@ impl Scene<'_> {
     /// is strictly cyclic, its heading φ only in Lc (ẋ = R cos φ θ̇).
     pub fn cyclic(&mut self) -> Vec<(usize, bool)> {
         let map = self.constrained_velocities();
+        let l = self.lagrangian();
         let m = self.model;
         let mut memo = HashMap::default();
-        let mut constrained = vec![self.engine.subst(m.lagrangian, &map, &mut memo)];
+        let mut constrained = vec![self.engine.subst(l, &map, &mut memo)];
         for c in &m.coordinates {
             constrained.push(self.engine.subst(c.force, &map, &mut memo));
         }
-        let mut written = vec![m.lagrangian];
+        let mut written = vec![l];
         written.extend(m.coordinates.iter().map(|c| c.force));
         for c in &m.constraints {
             written.push(c.velocity);
@@ -80,7 +81,8 @@ impl Scene<'_> {
     /// and the verdicts. For homogeneous, time-independent constraints.
     pub fn momenta(&mut self, cyclic: Vec<(usize, bool)>) -> Momenta {
         let map = self.constrained_velocities();
-        let (l, q) = (self.model.lagrangian, &self.model.coordinates);
+        let l = self.lagrangian();
+        let q = &self.model.coordinates;
         let r_vel = self.model.independent_velocities();
         let mut memo = HashMap::default();
         let lc = self.engine.subst(l, &map, &mut memo); // (5.12)

@@ -78,7 +78,8 @@ impl Scene<'_> {
         let (mass, bias) = if self.needs_lagrangian_terms(bodies.is_some()) {
             let task = "differentiating the Lagrangian (its mass matrix and Euler–Lagrange terms)";
             self.at(places.lagrangian, task, |m| {
-                m.euler_lagrange_terms(m.model.lagrangian, true)
+                let l = m.lagrangian();
+                m.euler_lagrange_terms(l, true)
             })
         } else {
             (Vec::new(), Vec::new())
@@ -114,6 +115,7 @@ impl Scene<'_> {
     /// velocities ([`velocity_degree`]: the reduced mass matrix cannot be
     /// sampled from it for [`Model::silent_velocities`]).
     pub(crate) fn needs_lagrangian_terms(&self, kane: bool) -> bool {
+        let l = self.model.lagrangian_folded;
         let used = [
             Output::Multipliers,
             Output::MassMatrix,
@@ -122,8 +124,18 @@ impl Scene<'_> {
         ];
         !kane
             || used.into_iter().any(|o| self.model.outputs.contains(o))
-            || self.engine.num_terms(self.model.lagrangian) <= LAGRANGIAN_TERMS_COMPARED
-            || !self.quadratic_in_velocities(self.model.lagrangian)
+            || (!self.folds() && self.engine.num_terms(l) <= LAGRANGIAN_TERMS_COMPARED)
+            || !self.quadratic_in_velocities(l)
+    }
+
+    /// Whether a body's kinetic energy is folded into a symbol in
+    /// [`Model::lagrangian_folded`](crate::model::Model): the Lagrangian is
+    /// then large, and its folded form is quadratic in the velocities
+    /// exactly when L is (a folded kinetic energy is a quadratic form in
+    /// them).
+    pub(crate) fn folds(&self) -> bool {
+        let bodies = self.model.kinetic.iter().flat_map(|k| &k.bodies);
+        bodies.into_iter().any(|b| b.folded.is_some())
     }
 
     /// Whether `l` is a polynomial of degree at most two in the velocities,

@@ -25,6 +25,13 @@ pub struct Scene<'a> {
     /// The velocity rows' terms for solving their block numerically (see
     /// [`BlockTerms`]).
     pub block: Option<BlockTerms>,
+    /// The values of the expressions already evaluated at the two states
+    /// of the quick tests of fixed offsets ([`Scene::two_states`]), kept
+    /// for the whole derivation: a chain's points share their subterms,
+    /// which a fresh evaluation of each would visit again and again.
+    pub(crate) samples: Option<Box<super::composite::Samples>>,
+    /// L expanded ([`Scene::lagrangian`]), once something asked for it.
+    lagrangian: Option<ExprId>,
 }
 
 impl Scene<'_> {
@@ -108,6 +115,8 @@ impl<'a> Scene<'a> {
             engine,
             contact_chains: Vec::new(),
             block: None,
+            samples: None,
+            lagrangian: None,
         };
         if model.speeds.is_none() {
             let task = "deriving the rolling contacts' kinematics";
@@ -137,6 +146,35 @@ impl<'a> Scene<'a> {
             .any(|c| self.engine.depends_on(c.velocity, m.time))
     }
 
+    /// The Lagrangian L(q, q̇, t), with the kinetic energies folded into
+    /// symbols in [`Model::lagrangian_folded`] expanded (once, on the first
+    /// call): for the outputs and routes that take L itself.
+    pub fn lagrangian(&mut self) -> ExprId {
+        if let Some(l) = self.lagrangian {
+            return l;
+        }
+        let folded = self.model.kinetic.iter().flat_map(|k| &k.bodies);
+        let folded: Vec<_> = folded.filter(|b| b.folded.is_some()).collect();
+        let l = match folded.is_empty() {
+            true => self.model.lagrangian_folded,
+            false => {
+                let state: Vec<(SymId, SymId)> = (self.model.coordinates.iter())
+                    .map(|c| (c.position, c.velocity))
+                    .collect();
+                let t = self.model.time;
+                let mut map = HashMap::default();
+                for b in folded {
+                    let energy = crate::lower::bodies::kinetic_energy(self.engine, (&state, t), b);
+                    map.insert(b.folded.expect("folded"), energy.unwrap_or(ZERO));
+                }
+                let l = self.model.lagrangian_folded;
+                self.engine.subst(l, &map, &mut HashMap::default())
+            }
+        };
+        self.lagrangian = Some(l);
+        l
+    }
+
     /// Whether nothing in the definition depends on t explicitly (the
     /// Lagrangian, the forces, the constraints, the kinematics), so that the
     /// right-hand side is autonomous.
@@ -149,7 +187,8 @@ impl<'a> Scene<'a> {
             .iter()
             .flat_map(|c| std::iter::once(c.velocity).chain(c.holonomic));
         let kinematics = m.speeds.iter().flat_map(|sp| sp.velocities.iter().copied());
-        !std::iter::once(m.lagrangian)
+        // a folded kinetic energy is free of t (`Model::lagrangian_folded`)
+        !std::iter::once(m.lagrangian_folded)
             .chain(forces)
             .chain(constraints)
             .chain(kinematics)

@@ -68,7 +68,7 @@ impl Scene<'_> {
         let xi = self.model.symmetries[i].generator.clone();
         let xidot: Vec<ExprId> = xi.iter().map(|&x| self.along(x)).collect();
         let q = &self.model.coordinates;
-        let l = self.model.lagrangian;
+        let l = self.lagrangian();
         let dl = self.lie_derivative(l, &xi, &xidot);
         if !self.vanishes(dl) {
             return Some(Broken::Lagrangian);
@@ -237,7 +237,8 @@ impl Scene<'_> {
         }
         let mut rate_parts = Vec::new();
         for (jdx, coord) in q.iter().enumerate() {
-            let p = self.engine.diff(self.model.lagrangian, coord.velocity);
+            let l = self.lagrangian();
+            let p = self.engine.diff(l, coord.velocity);
             rate_parts.push(self.engine.mul(p, turning[jdx]));
         }
         let mut out = self.momentum_with(&direction, rate_parts);
@@ -255,7 +256,8 @@ impl Scene<'_> {
         let map = self.constrained_velocities();
         let mut j_parts = Vec::new();
         for (coord, &xj) in self.model.coordinates.iter().zip(x) {
-            let p = self.engine.diff(self.model.lagrangian, coord.velocity);
+            let l = self.lagrangian();
+            let p = self.engine.diff(l, coord.velocity);
             j_parts.push(self.engine.mul(p, xj));
             rate_parts.push(self.engine.mul(coord.force, xj));
         }
