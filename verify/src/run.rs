@@ -39,6 +39,9 @@ pub struct Summary {
     /// the rows allow, and rotations' turns): systems compared, momenta
     /// compared in them, and turns among those.
     pub declared: (usize, usize, usize),
+    /// Systems with bodies that agreed again with every kinetic energy
+    /// folded into a symbol of the Lagrangian.
+    pub folded: usize,
     /// Wall time.
     pub elapsed: Duration,
 }
@@ -166,6 +169,7 @@ pub fn run(seeds: Range<u64>, threads: usize) -> Summary {
                 *s.failure_features.entry(f).or_default() += 1;
             }
         }
+        s.folded += usize::from(r.folded);
         if let Some((momenta, turns)) = r.declared {
             s.declared.0 += 1;
             s.declared.1 += momenta;
@@ -242,6 +246,10 @@ impl Summary {
         out.push_str(&format!(
             "declared momenta: {} systems expanded with a `momenta` block along the directions their rows allow and a rotation's turn, {} momenta and rates compared ({} turns)\n",
             self.declared.0, self.declared.1, self.declared.2
+        ));
+        out.push_str(&format!(
+            "folded kinetic energies: {} systems with bodies agreed again with every kinetic energy folded into a symbol\n",
+            self.folded
         ));
         out.push_str("features (systems, of them failing):\n");
         for (f, n) in &self.features {
