@@ -476,19 +476,17 @@ impl Scene<'_> {
             return None;
         }
         let mut candidates = self.gravity_candidates(weight, rest);
-        let matched = candidates
-            .iter()
-            .filter(|&&g| {
-                let [a, _] = self.two_states();
-                let value = |x: ExprId| self.engine.eval_with_scale(x, &a).0.to_f64();
-                let (g, w, r) = (value(g), value(weight), value(rest));
-                (r + g * w).abs() <= 1e-9 * (r.abs() + (g * w).abs())
-            })
-            .copied()
-            .collect::<Vec<_>>();
+        let (w, r) = (self.sample(weight, 0), self.sample(rest, 0));
+        let mut matched = Vec::new();
+        for &g in &candidates {
+            let g_value = self.sample(g, 0);
+            if (r + g_value * w).abs() <= 1e-9 * (r.abs() + (g_value * w).abs()) {
+                matched.push(g);
+            }
+        }
         if !matched.is_empty() {
             // rest is exactly −γ Σ m C_z at a random state: test only those
-            candidates = matched;
+            candidates = matched.clone();
         }
         let mut best = (self.engine.num_terms(rest), None);
         for g in candidates {
@@ -498,6 +496,20 @@ impl Scene<'_> {
             let n = e.num_terms(r);
             if n < best.0 {
                 best = (n, Some((g, r)));
+            }
+        }
+        if let Some((_, ZERO)) = best.1 {
+            return best.1;
+        }
+        // a remainder the canonical form does not cancel (long sums kept as
+        // atoms, `sym::SCALED_MIN`) but that vanishes at random points is
+        // zero: the whole rest was the weight
+        for &g in &matched {
+            let e = &mut *self.engine;
+            let w = e.mul(g, weight);
+            let r = e.add(rest, w);
+            if vanish_at_random_points(self.engine, self.model.pi, &[r]) {
+                return Some((g, ZERO));
             }
         }
         best.1

@@ -146,18 +146,21 @@ impl Scene<'_> {
                 x
             })
             .collect();
+        // one memo per point for all the bodies: a chain's centres share
+        // their subterms
+        let (mut memo, mut moving_memo) = (Default::default(), Default::default());
         for body in &split.bodies {
-            let m = self.engine.eval(body.mass, vals);
+            let m = self.engine.eval_memo(body.mass, vals, &mut memo);
             for x in body.centre {
-                let v = self.engine.eval(x, &moving).derivative;
+                let v = (self.engine.eval_memo(x, &moving, &mut moving_memo)).derivative;
                 value = value + m * v * v;
                 scale = scale + (m * v * v).abs();
             }
             if let Some((omega, inertia)) = &body.rotation {
-                let w = omega.map(|x| self.engine.eval(x, vals));
+                let w = omega.map(|x| self.engine.eval_memo(x, vals, &mut memo));
                 for (row, &wi) in inertia.iter().zip(&w) {
                     for (&i, &wj) in row.iter().zip(&w) {
-                        let t = wi * self.engine.eval(i, vals) * wj;
+                        let t = wi * self.engine.eval_memo(i, vals, &mut memo) * wj;
                         value = value + t;
                         scale = scale + t.abs();
                     }

@@ -169,10 +169,11 @@ impl Engine {
         let (la, lb) = (self.exprs[a.index()].len(), self.exprs[b.index()].len());
         // kept: at least one factor becomes an atom (longer than `atom_min`), so
         // the product of the parts is a monomial times a sum
-        let keep = la >= 2
+        let keep = (la >= 2
             && lb >= 2
             && la.max(lb) > self.atom_min
-            && la.saturating_mul(lb) > self.expand_limit;
+            && la.saturating_mul(lb) > self.expand_limit)
+            || (la.min(lb) == 1 && la.max(lb) > super::SCALED_MIN);
         // products nest (a kept product takes contents, a normalised monomial
         // multiplies its expansions): past MAX_NESTING the input is swell
         // beyond reason, reported as such rather than overflowing the stack

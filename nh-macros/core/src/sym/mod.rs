@@ -146,6 +146,14 @@ pub const EXPAND_LIMIT: usize = 64;
 /// distributed over the other factor.
 pub const ATOM_MIN: usize = 8;
 
+/// A sum longer than this times a single term is kept as one atom times
+/// that term, not distributed: a chain of rotations multiplies each
+/// entry of the last product by the next factor's sines and cosines, and
+/// distributed, the entries grow like the Fibonacci numbers (a chain of
+/// links on universal joints: 121,393 terms at the 13th link); kept, they
+/// grow by a few terms a link.
+pub const SCALED_MIN: usize = 256;
+
 impl Engine {
     /// A fresh engine with `0` and `1` interned.
     pub fn new() -> Engine {

@@ -122,3 +122,54 @@ fn one_minus_sin_squared_to_a_power_is_a_power_of_cos() {
     let four_over_c = e.scale(cinv, Rational::int(4));
     assert_eq!(r, four_over_c);
 }
+
+/// A sum of more than `SCALED_MIN` terms times a single term stays one
+/// atom times that term (it is not distributed), and still differentiates
+/// and evaluates as the distributed product: (Σ_i sin(x)^i/i)·cos(x)·y.
+#[test]
+fn a_long_sum_times_a_term_is_kept() {
+    let mut e = Engine::new();
+    let (x, y) = (e.symbol("x"), e.symbol("y"));
+    let (xe, ye) = (e.sym(x), e.sym(y));
+    let s = e.func(Fun::Sin, xe);
+    let terms: Vec<ExprId> = (1..=SCALED_MIN as u32 + 1)
+        .map(|i| {
+            let p = e.pow_int(s, i);
+            let c = e.constant(q(1, i128::from(i)));
+            e.mul(c, p)
+        })
+        .collect();
+    let long = e.sum(&terms);
+    assert_eq!(e.num_terms(long), SCALED_MIN + 1);
+    let c = e.func(Fun::Cos, xe);
+    let term = e.mul(c, ye);
+    let kept = e.mul(long, term);
+    assert_eq!(e.num_terms(kept), 1, "kept as one atom times the term");
+    let short = e.sum(&terms[..3]);
+    let distributed = e.mul(short, term);
+    assert_eq!(e.num_terms(distributed), 3, "a short sum is distributed");
+    // d/dx at a point, against the distributed product's derivative
+    let d = e.diff(kept, x);
+    let at = |v: f64, w: f64| {
+        let mut vals = vec![0.0; e.num_symbols()];
+        vals[x.index()] = v;
+        vals[y.index()] = w;
+        vals
+    };
+    for (v, w) in [(0.3, 1.7), (1.1, -0.4)] {
+        let (sv, cv) = (f64::sin(v), f64::cos(v));
+        let (mut sum, mut dsum) = (0.0, 0.0);
+        for i in 1..=SCALED_MIN as i32 + 1 {
+            sum += sv.powi(i) / f64::from(i);
+            dsum += sv.powi(i - 1) * cv;
+        }
+        let value = e.eval(kept, &at(v, w));
+        let slope = e.eval(d, &at(v, w));
+        assert!((value - sum * cv * w).abs() <= 1e-12 * sum.abs().max(1.0));
+        let want = (dsum * cv - sum * sv) * w;
+        assert!(
+            (slope - want).abs() <= 1e-12 * want.abs().max(1.0),
+            "{slope} {want}"
+        );
+    }
+}
