@@ -52,6 +52,10 @@ impl Dd {
 
     /// `n / d` correctly rounded to double-double.
     pub fn ratio(n: i128, d: i128) -> Dd {
+        if d == 1 {
+            // exactly nn / 1, without the division
+            return Dd::from_i128(n);
+        }
         let nn = Dd::from_i128(n);
         let dd = Dd::from_i128(d);
         nn / dd

@@ -271,6 +271,7 @@ impl Engine {
         for &(a, ex) in &self.monos[m.index()] {
             let b = self.eval_atom(a, vals, memo);
             t = t * match ex.to_integer() {
+                Some(1) => b,
                 Some(k) if k.abs() < i32::MAX as i64 => b.powi(k),
                 _ => b.powq(ex),
             };
