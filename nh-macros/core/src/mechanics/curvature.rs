@@ -6,7 +6,11 @@ use super::reduced::Reduced;
 use super::scene::Scene;
 use crate::algebra::ldlt::Updates;
 use crate::sym::dd::Dd;
-use crate::sym::dual::Dual;
+use crate::sym::dual::Duals;
+
+/// The columns one evaluation of the bodies' centres differentiates along
+/// ([`Scene::masses_sampled_along`]).
+const LANES: usize = 8;
 use crate::sym::{ExprId, ZERO};
 use rustc_hash::FxHashMap as HashMap;
 
@@ -81,14 +85,17 @@ impl Scene<'_> {
                 c
             };
             let columns: Vec<Vec<Dd>> = (0..k).map(&mut column).collect();
-            for (a, c) in columns.iter().enumerate() {
-                if !silent[a] {
-                    continue;
+            let open: Vec<usize> = (0..k).filter(|&a| silent[a]).collect();
+            let values = match mass.is_empty() {
+                false => (open.iter())
+                    .map(|&a| self.mass_along(mass, &columns[a], &vals, &mut memo))
+                    .collect(),
+                true => {
+                    let open: Vec<&[Dd]> = open.iter().map(|&a| &columns[a][..]).collect();
+                    self.masses_sampled_along(&open, &mut vals)
                 }
-                let (value, scale) = match mass.is_empty() {
-                    false => self.mass_along(mass, c, &vals, &mut memo),
-                    true => self.mass_sampled_along(c, &mut vals),
-                };
+            };
+            for (&a, (value, scale)) in open.iter().zip(values) {
                 if value.abs().to_f64() > 1e-24 * scale.to_f64() {
                     silent[a] = false;
                 }
@@ -118,56 +125,83 @@ impl Scene<'_> {
         (value, scale)
     }
 
-    /// cᵀ M c sampled from the Lagrangian, quadratic in the velocities:
-    /// L(q, c) + L(q, −c) − 2 L(q, 0), with the sum of the samples' sizes.
-    /// For a Lagrangian of bodies, Σ_b 2 T_b(q, c) from each body's
-    /// velocity and ω_b at q̇ = c (the centre's velocity J c by forward
-    /// differentiation of its position) and the rest sampled so: the
-    /// expanded kinetic energies, the largest part of L, are not evaluated.
-    /// The velocities in `vals` are overwritten.
-    pub(crate) fn mass_sampled_along(&self, c: &[Dd], vals: &mut [Dd]) -> (Dd, Dd) {
+    /// cᵀ M c sampled from the Lagrangian, quadratic in the velocities, for
+    /// each column c of `columns`: L(q, c) + L(q, −c) − 2 L(q, 0), with the
+    /// sum of the samples' sizes. For a Lagrangian of bodies, Σ_b 2 T_b(q, c)
+    /// from each body's velocity and ω_b at q̇ = c (the centre's velocity
+    /// J c by forward differentiation of its position, [`LANES`] columns
+    /// per evaluation) and the rest sampled so: the expanded kinetic
+    /// energies, the largest part of L, are not evaluated. The velocities in
+    /// `vals` are overwritten.
+    pub(crate) fn masses_sampled_along(&self, columns: &[&[Dd]], vals: &mut [Dd]) -> Vec<(Dd, Dd)> {
         let Some(split) = &self.model.kinetic else {
             // without the split nothing is folded
-            return self.lagrangian_sampled_along(self.model.lagrangian_folded, c, vals);
+            let l = self.model.lagrangian_folded;
+            return (columns.iter())
+                .map(|c| self.lagrangian_sampled_along(l, c, vals))
+                .collect();
         };
-        let (mut value, mut scale) = self.lagrangian_sampled_along(split.rest, c, vals);
-        for (coordinate, &ci) in self.model.coordinates.iter().zip(c) {
-            vals[coordinate.velocity.index()] = ci;
-        }
-        let moving: Vec<Dual> = (vals.iter().enumerate())
-            .map(|(i, &v)| {
-                let along = self.model.coordinates.iter().zip(c);
-                let mut x = Dual::constant(v);
-                for (coordinate, &ci) in along {
-                    if coordinate.position.index() == i {
-                        x.derivative = ci;
-                    }
-                }
-                x
-            })
-            .collect();
-        // one memo per point for all the bodies: a chain's centres share
-        // their subterms
-        let (mut memo, mut moving_memo) = (Default::default(), Default::default());
-        for body in &split.bodies {
-            let m = self.engine.eval_memo(body.mass, vals, &mut memo);
-            for x in body.centre {
-                let v = (self.engine.eval_memo(x, &moving, &mut moving_memo)).derivative;
-                value = value + m * v * v;
-                scale = scale + (m * v * v).abs();
+        let speeds = self.centre_speeds(columns, vals);
+        let mut out = Vec::with_capacity(columns.len());
+        for (a, c) in columns.iter().enumerate() {
+            let (mut value, mut scale) = self.lagrangian_sampled_along(split.rest, c, vals);
+            for (coordinate, &ci) in self.model.coordinates.iter().zip(c.iter()) {
+                vals[coordinate.velocity.index()] = ci;
             }
-            if let Some((omega, inertia)) = &body.rotation {
-                let w = omega.map(|x| self.engine.eval_memo(x, vals, &mut memo));
-                for (row, &wi) in inertia.iter().zip(&w) {
-                    for (&i, &wj) in row.iter().zip(&w) {
-                        let t = wi * self.engine.eval_memo(i, vals, &mut memo) * wj;
-                        value = value + t;
-                        scale = scale + t.abs();
+            let mut memo = Default::default();
+            for (body, speed) in split.bodies.iter().zip(&speeds) {
+                let m = self.engine.eval_memo(body.mass, vals, &mut memo);
+                for v in speed.iter().map(|v| v[a]) {
+                    value = value + m * v * v;
+                    scale = scale + (m * v * v).abs();
+                }
+                if let Some((omega, inertia)) = &body.rotation {
+                    let w = omega.map(|x| self.engine.eval_memo(x, vals, &mut memo));
+                    for (row, &wi) in inertia.iter().zip(&w) {
+                        for (&i, &wj) in row.iter().zip(&w) {
+                            let t = wi * self.engine.eval_memo(i, vals, &mut memo) * wj;
+                            value = value + t;
+                            scale = scale + t.abs();
+                        }
                     }
                 }
             }
+            out.push((value, scale));
         }
-        (value, scale)
+        out
+    }
+
+    /// Per body, the components of its centre's velocity J c for each
+    /// column c of `columns` (indexed [body][component][column]), by
+    /// forward differentiation of the positions, [`LANES`] columns per
+    /// evaluation with one memo for all the bodies (a chain's centres
+    /// share their subterms).
+    fn centre_speeds(&self, columns: &[&[Dd]], vals: &[Dd]) -> Vec<[Vec<Dd>; 3]> {
+        let bodies = self.model.kinetic.iter().flat_map(|k| &k.bodies);
+        let mut speeds: Vec<[Vec<Dd>; 3]> = bodies.clone().map(|_| Default::default()).collect();
+        for batch in columns.chunks(LANES) {
+            let moving: Vec<Duals<LANES>> = (vals.iter().enumerate())
+                .map(|(i, &v)| {
+                    let mut x = Duals::constant(v);
+                    for (k, coordinate) in self.model.coordinates.iter().enumerate() {
+                        if coordinate.position.index() == i {
+                            for (d, c) in x.derivatives.iter_mut().zip(batch) {
+                                *d = c[k];
+                            }
+                        }
+                    }
+                    x
+                })
+                .collect();
+            let mut memo = Default::default();
+            for (body, speed) in bodies.clone().zip(speeds.iter_mut()) {
+                for (x, out) in body.centre.iter().zip(speed.iter_mut()) {
+                    let v = self.engine.eval_memo(*x, &moving, &mut memo);
+                    out.extend_from_slice(&v.derivatives[..batch.len()]);
+                }
+            }
+        }
+        speeds
     }
 
     /// `l`(q, c) + `l`(q, −c) − 2 `l`(q, 0) for `l` quadratic in the

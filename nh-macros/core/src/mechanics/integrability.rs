@@ -103,7 +103,7 @@ impl CoefficientSample {
             let mut vals: Vec<Dual> = point.iter().map(|&v| Dual::constant(v)).collect();
             vals[c.position.index()] = Dual::variable(point[c.position.index()]);
             let mut memo = crate::sym::EvalMemo::default();
-            let mut at = |x: ExprId| e.eval_memo(x, &vals, &mut memo).derivative;
+            let mut at = |x: ExprId| e.eval_memo(x, &vals, &mut memo).derivative();
             coefficients
                 .iter()
                 .map(|row| row.iter().map(|&x| at(x)).collect())
