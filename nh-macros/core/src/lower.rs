@@ -229,23 +229,7 @@ pub fn lower_in(def: &SystemDef, cx: &mut Ctxt, e: Engine) -> Option<(Model, Eng
         "splitting the Lagrangian into the bodies' kinetic energies",
         |lw| lw.kinetic_split(lagrangian),
     );
-    let folded = kinetic.iter().flat_map(|k| &k.bodies);
-    let folded = folded.filter(|b| b.folded.is_some());
-    // the poles of a folded kinetic energy are those of its body's terms
-    let bodies: Vec<ExprId> = folded
-        .flat_map(|b| {
-            let rotation = b
-                .rotation
-                .iter()
-                .flat_map(|(w, i)| w.iter().chain(i.iter().flatten()));
-            b.centre
-                .iter()
-                .chain(rotation)
-                .chain([&b.mass])
-                .copied()
-                .collect::<Vec<_>>()
-        })
-        .collect();
+    let bodies = bodies::folded_terms(kinetic.as_ref());
     let forces = lw.coords.iter().map(|c| c.force);
     let kinematics = speeds.iter().flat_map(|s| s.velocities.iter().copied());
     let written: Vec<ExprId> = std::iter::once(lagrangian)

@@ -598,6 +598,23 @@ impl Lowerer<'_> {
     }
 }
 
+/// The terms of the bodies whose kinetic energies are folded: the poles of
+/// a folded kinetic energy are those of its mass, centre, ω_b and inertia.
+pub(crate) fn folded_terms(kinetic: Option<&crate::model::KineticSplit>) -> Vec<ExprId> {
+    let folded = kinetic.iter().flat_map(|k| &k.bodies);
+    let folded = folded.filter(|b| b.folded.is_some());
+    folded
+        .flat_map(|b| {
+            let rotation = b
+                .rotation
+                .iter()
+                .flat_map(|(w, i)| w.iter().chain(i.iter().flatten()));
+            let centre = b.centre.iter().chain(rotation).chain([&b.mass]);
+            centre.copied().collect::<Vec<_>>()
+        })
+        .collect()
+}
+
 /// The total time derivative Σ ∂v/∂q_i q̇_i + ∂v/∂t of a velocity-free
 /// expression, with `state` the (position, velocity) symbols of the
 /// coordinates and `t` time's.

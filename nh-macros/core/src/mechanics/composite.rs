@@ -383,7 +383,7 @@ impl Scene<'_> {
             .is_none_or(|m| m.states[0].len() != symbols)
         {
             let states = self.two_states();
-            self.samples = Some(Box::new(Samples {
+            self.samples = Some(Box::new(super::scene::Samples {
                 states,
                 memos: Default::default(),
             }));
@@ -541,13 +541,6 @@ impl Scene<'_> {
         let c = self.engine.constant(ratio);
         Some(self.engine.neg(c))
     }
-}
-
-/// The two states of the quick tests and the values found at them so far
-/// (see [`Scene::samples`]).
-pub(crate) struct Samples {
-    states: [Vec<crate::sym::dd::Dd>; 2],
-    memos: [crate::sym::EvalMemo<crate::sym::dd::Dd>; 2],
 }
 
 /// A wheel turning at θ̇ about axis k of the body that carries it, whose

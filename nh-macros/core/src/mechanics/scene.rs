@@ -29,9 +29,17 @@ pub struct Scene<'a> {
     /// of the quick tests of fixed offsets ([`Scene::two_states`]), kept
     /// for the whole derivation: a chain's points share their subterms,
     /// which a fresh evaluation of each would visit again and again.
-    pub(crate) samples: Option<Box<super::composite::Samples>>,
+    pub(crate) samples: Option<Box<Samples>>,
     /// L expanded ([`Scene::lagrangian`]), once something asked for it.
     lagrangian: Option<ExprId>,
+}
+
+/// The two states of the quick tests of fixed offsets and of the weight
+/// (`mechanics/composite.rs`) and the values found at them so far (see
+/// [`Scene::samples`]).
+pub(crate) struct Samples {
+    pub(crate) states: [Vec<crate::sym::dd::Dd>; 2],
+    pub(crate) memos: [crate::sym::EvalMemo<crate::sym::dd::Dd>; 2],
 }
 
 impl Scene<'_> {
