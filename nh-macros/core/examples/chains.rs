@@ -32,7 +32,9 @@
 //!   when other work shares the machine;
 //! * peak memory: the child's peak resident set (`VmHWM` of `/proc/self/status`
 //!   at its end), the whole process: token parsing and the output included;
-//! * operations of `accelerations` after CSE by the formulation it uses
+//! * operations of `accelerations` after CSE by the formulation it uses,
+//!   and of them those of Cᵀ M C and the right side of (5.9) before the
+//!   k × k solve (`nh_core::Stats::ops_projection`)
 //!   (and of `jacobian`, when the outputs derive it), and
 //!   the generated lines (`nh_core::Stats`).
 //!
@@ -110,6 +112,9 @@ struct Measured {
     cpu_ms: Option<f64>,
     hwm_kb: u64,
     ops: usize,
+    /// Of `ops`, those of Cᵀ M C and the right side before the solve
+    /// (multiplier route; 0 otherwise).
+    projection_ops: usize,
     /// The operations of `jacobian`, when it is derived.
     jacobian_ops: Option<usize>,
     formulation: String,
@@ -169,6 +174,7 @@ fn figures(out: &proc_macro2::TokenStream, stats: &nh_core::Stats) -> Measured {
             None => "—".into(),
         },
         lines: stats.lines,
+        projection_ops: if curvature { 0 } else { stats.ops_projection },
         jacobian_ops: stats.jacobian_ops,
         error: compile_error(&out.to_string()),
         ..Measured::default()
@@ -212,8 +218,8 @@ fn child(family: Family, links: usize, outputs: &str) {
     let cpu = m.cpu_ms.map_or("-".into(), |c| format!("{c:.3}"));
     let jacobian = m.jacobian_ops.map_or("-".into(), |j| j.to_string());
     println!(
-        "NH_RESULT runs={} ms={:.3} cpu_ms={cpu} hwm_kb={} ops={} jacobian_ops={jacobian} lines={} formulation={}",
-        m.runs, m.ms, m.hwm_kb, m.ops, m.lines, m.formulation
+        "NH_RESULT runs={} ms={:.3} cpu_ms={cpu} hwm_kb={} ops={} projection_ops={} jacobian_ops={jacobian} lines={} formulation={}",
+        m.runs, m.ms, m.hwm_kb, m.ops, m.projection_ops, m.lines, m.formulation
     );
     if let Some(e) = m.error {
         println!("NH_ERROR {e}");
@@ -233,6 +239,7 @@ fn parse_child(stdout: &str) -> Option<Measured> {
         cpu_ms: field("cpu_ms")?.parse().ok(),
         hwm_kb: field("hwm_kb")?.parse().ok()?,
         ops: field("ops")?.parse().ok()?,
+        projection_ops: field("projection_ops")?.parse().ok()?,
         jacobian_ops: field("jacobian_ops").and_then(|j| j.parse().ok()),
         lines: field("lines")?.parse().ok()?,
         formulation: field("formulation")?.to_string(),
@@ -400,8 +407,13 @@ fn markdown(row: &Row, opts: &Options) -> String {
             let (ops, formulation, lines, note) = match &m.error {
                 None => (
                     match m.jacobian_ops {
-                        Some(j) => format!("{} (`jacobian` {})", thousands(m.ops), thousands(j)),
-                        None => thousands(m.ops),
+                        Some(j) => format!(
+                            "{} [{}] (`jacobian` {})",
+                            thousands(m.ops),
+                            thousands(m.projection_ops),
+                            thousands(j)
+                        ),
+                        None => format!("{} [{}]", thousands(m.ops), thousands(m.projection_ops)),
                     },
                     m.formulation.clone(),
                     thousands(m.lines),
@@ -436,27 +448,28 @@ fn markdown(row: &Row, opts: &Options) -> String {
 /// The rows as CSV (empty fields where a size did not finish).
 fn csv(rows: &[Row]) -> String {
     let mut out = String::from(
-        "family,links,coordinates,independent,outputs,status,runs,ms,cpu_ms,peak_rss_kb,ops,jacobian_ops,formulation,lines,error\n",
+        "family,links,coordinates,independent,outputs,status,runs,ms,cpu_ms,peak_rss_kb,ops,projection_ops,jacobian_ops,formulation,lines,error\n",
     );
     for r in rows {
         let (n, k) = r.family.dimensions(r.links);
         let head = format!("{},{},{n},{k},\"{}\"", r.family.name(), r.links, r.outputs);
         let tail = match &r.outcome {
             Outcome::Done(m) => format!(
-                "done,{},{:.3},{},{},{},{},{},{},\"{}\"",
+                "done,{},{:.3},{},{},{},{},{},{},{},\"{}\"",
                 m.runs,
                 m.ms,
                 m.cpu_ms.map_or(String::new(), |c| format!("{c:.3}")),
                 m.hwm_kb,
                 m.ops,
+                m.projection_ops,
                 m.jacobian_ops.map_or(String::new(), |j| j.to_string()),
                 m.formulation,
                 m.lines,
                 m.error.as_deref().unwrap_or_default().replace('"', "'")
             ),
-            Outcome::TimedOut => "time limit,,,,,,,,,".into(),
-            Outcome::OutOfMemory => "memory cap,,,,,,,,,".into(),
-            Outcome::Crashed(why) => format!("crashed,,,,,,,,,\"{}\"", why.replace('"', "'")),
+            Outcome::TimedOut => "time limit,,,,,,,,,,".into(),
+            Outcome::OutOfMemory => "memory cap,,,,,,,,,,".into(),
+            Outcome::Crashed(why) => format!("crashed,,,,,,,,,,\"{}\"", why.replace('"', "'")),
         };
         out += &format!("{head},{tail}\n");
     }
@@ -479,7 +492,7 @@ fn parent(opts: &Options) -> Vec<Row> {
         fmt_mib(opts.mem_kb)
     );
     println!(
-        "| family | links | coordinates / independent | outputs | expansion (runs) | CPU | peak memory | ops of `accelerations` (of `jacobian`) | formulation | generated lines | note |"
+        "| family | links | coordinates / independent | outputs | expansion (runs) | CPU | peak memory | ops of `accelerations` [of them Cᵀ M C and its right side] (of `jacobian`) | formulation | generated lines | note |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     let mut rows = Vec::new();

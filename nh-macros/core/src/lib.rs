@@ -36,6 +36,8 @@ mod words;
 
 pub use emit::with_text_parser;
 pub use errors::{ReportedError, reported_errors};
+#[doc(hidden)]
+pub use generate::with_composite_inertias;
 pub use generate::{Route, Stats};
 #[doc(hidden)]
 pub use lower::bodies::with_fold_terms;

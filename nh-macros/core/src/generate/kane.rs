@@ -3,25 +3,59 @@
 //! inertia and wheels.
 
 use super::chains::chain_rate;
+use super::composite_inertia::{self, Composite};
 use super::nodes::{planar_columns, projection};
 use crate::algebra;
 
-use super::nodes::{exprs, force_along, matrix};
+use super::nodes::{exprs, force_along, inertia_nodes, matrix};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::Scene;
 use crate::sym::{ExprId, ZERO};
 
-/// Cᵀ M C and −Cᵀ (M acc_bias + h) of (5.9) body by body (Kane's form,
-/// DESIGN §10): with the partial velocities V = J C and Ω = W C,
-/// Cᵀ M C = Σ m VᵀV + Ωᵀ I Ω, and the inertia forces at r̈ = 0 are
-/// m Vᵀ a + Ωᵀ (I α + ω × I ω) with a = J acc_bias + J̇ q̇,
-/// α = W acc_bias + Ẇ q̇; the rest of the Lagrangian as in (5.9).
+/// Cᵀ M C and −Cᵀ (M acc_bias + h) of (5.9) by Kane's form
+/// ([`projection_of`]), the bodies on chains of frames summed body by body
+/// or as composite inertias, whichever [`composite_inertia::sums`] takes
+/// (when it compares them, both are built and the one with fewer
+/// operations kept).
 pub(crate) fn body_projection(
     d: &mut Dag,
     m: &Scene<'_>,
     bt: &crate::mechanics::BodyTerms,
     c: &[Vec<Node>],
     acc_bias: &[Node],
+) -> (Vec<Vec<Node>>, Vec<Node>) {
+    match composite_inertia::sums(bt, c) {
+        composite_inertia::Sums::ByBody => projection_of(d, m, bt, (c, acc_bias), false),
+        composite_inertia::Sums::Composite => projection_of(d, m, bt, (c, acc_bias), true),
+        composite_inertia::Sums::Compare => {
+            let ops = |d: &Dag, (mr, f): &(Vec<Vec<Node>>, Vec<Node>)| {
+                let all: Vec<Node> = mr.iter().flatten().chain(f).copied().collect();
+                d.op_count(&all)
+            };
+            let mut trial = d.clone();
+            let composite = projection_of(&mut trial, m, bt, (c, acc_bias), true);
+            let by_body = projection_of(d, m, bt, (c, acc_bias), false);
+            if ops(&trial, &composite) < ops(d, &by_body) {
+                *d = trial;
+                return composite;
+            }
+            by_body
+        }
+    }
+}
+
+/// Cᵀ M C and −Cᵀ (M acc_bias + h) of (5.9) body by body (Kane's form,
+/// DESIGN §10), the bodies on chains of frames as composite inertias
+/// (`composite_inertia.rs`) when `composite`: with the partial velocities V = J C and Ω = W C,
+/// Cᵀ M C = Σ m VᵀV + Ωᵀ I Ω, and the inertia forces at r̈ = 0 are
+/// m Vᵀ a + Ωᵀ (I α + ω × I ω) with a = J acc_bias + J̇ q̇,
+/// α = W acc_bias + Ẇ q̇; the rest of the Lagrangian as in (5.9).
+fn projection_of(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    bt: &crate::mechanics::BodyTerms,
+    (c, acc_bias): (&[Vec<Node>], &[Node]),
+    composite: bool,
 ) -> (Vec<Vec<Node>>, Vec<Node>) {
     let rest_mass = matrix(d, m, &bt.rest_mass);
     let rest_bias = exprs(d, m, &bt.rest_bias);
@@ -33,136 +67,199 @@ pub(crate) fn body_projection(
     let gravity = bt
         .gravity
         .map(|g| g.map(|x| (x != ZERO).then(|| d.expr(m.engine, x))));
-    for b in &bt.bodies {
-        if let Some(jacobian) = &b.jacobian {
-            let mass = d.expr(m.engine, b.mass);
-            let (v, mut a) = centre_partials(
-                d,
-                m,
-                &motion,
-                (jacobian, &b.anchor),
-                (c, acc_bias, bt.planar),
-            );
-            // the weight through the partial velocities: m Vᵀ (a + γ e_k)
-            for (x, g) in gravity.iter().flatten().enumerate() {
-                if let Some(g) = g {
-                    a[x] = d.add(a[x], *g);
-                }
+    let mut comp = match composite {
+        true => Composite::build(d, m, bt, (c, acc_bias), &mut mr),
+        false => Composite::none(bt.bodies.len()),
+    };
+    let sums = Sums {
+        motion: &motion,
+        gravity: &gravity,
+        c,
+        acc_bias,
+        planar: bt.planar,
+    };
+    for (at, b) in bt.bodies.iter().enumerate() {
+        let force = match comp.carried.centre[at] {
+            true => Some(carried_centre(d, m, &sums, b, at, &comp)),
+            false => {
+                body_centre(d, m, &sums, b, (&mut mr, &mut f));
+                None
             }
-            // m VᵀV: the mass multiplies each sum, not each partial velocity
-            for i in 0..mr.len() {
-                for j in i..mr.len() {
-                    let vv = algebra::dot(d, (0..3).map(|x| (v[x][i], v[x][j])));
-                    mr[i][j] = algebra::dot_from(d, mr[i][j], [(mass, vv)]);
-                    mr[j][i] = mr[i][j];
-                }
+        };
+        let torque = match &b.rotation {
+            Some(rot) if comp.carried.rotation[at] => {
+                Some(carried_rotation(d, m, &sums, rot, at, &comp))
             }
-            let ma: Vec<Node> = a.iter().map(|&x| d.mul(mass, x)).collect();
-            for (i, fi) in f.iter_mut().enumerate() {
-                *fi = force_along(d, *fi, &v, &ma, i);
+            Some(rot) => {
+                body_rotation(d, m, &sums, rot, (&mut mr, &mut f));
+                None
             }
-        }
-        if let Some(rot) = &b.rotation {
-            let (omega, om, alpha) = body_turning(d, m, &motion, rot, (c, acc_bias));
-            let inertia = inertia_nodes(d, m, &rot.inertia);
-            let i_om: Vec<Vec<Node>> = (0..3)
-                .map(|x| {
-                    (0..om[0].len())
-                        .map(|a| algebra::dot(d, (0..3).map(|y| (inertia[x][y], om[y][a]))))
-                        .collect()
-                })
-                .collect();
-            let i_alpha: Vec<Node> = (0..3)
-                .map(|x| algebra::dot(d, (0..3).map(|y| (inertia[x][y], alpha[y]))))
-                .collect();
-            let i_omega: Vec<Node> = (0..3)
-                .map(|x| algebra::dot(d, (0..3).map(|y| (inertia[x][y], omega[y]))))
-                .collect();
-            let gyro = algebra::cross(d, &omega, &i_omega);
-            let mut torque: Vec<Node> = (0..3).map(|x| d.add(i_alpha[x], gyro[x])).collect();
-            if let Some((k, rate)) = rot.spin {
-                // −θ̇ I (e_k × ω'), from turning α by R_k(θ)
-                let rate = d.expr(m.engine, rate);
-                let mut axis = [ZERO_NODE; 3];
-                axis[k] = ONE_NODE;
-                let ek_omega = algebra::cross(d, axis, &omega);
-                for (x, t) in torque.iter_mut().enumerate() {
-                    let i_e = algebra::dot(d, (0..3).map(|y| (inertia[x][y], ek_omega[y])));
-                    let s = d.mul(rate, i_e);
-                    *t = d.sub(*t, s);
-                }
-            }
-            add_inertia(d, &mut mr, &mut f, &om, &i_om, &torque);
-            for (wheel, jacobian) in &rot.wheels {
-                let turning = Turning {
-                    omega: &omega,
-                    om: &om,
-                    alpha: &alpha,
-                };
-                add_wheel(
-                    d,
-                    m,
-                    &motion,
-                    (wheel, jacobian),
-                    &turning,
-                    (c, acc_bias),
-                    (&mut mr, &mut f),
-                );
-            }
+            None => None,
+        };
+        if let Some(force) = force {
+            comp.add_force(d, at, force, torque);
         }
     }
+    comp.project_forces(d, &mut f);
     let f = f.into_iter().map(|x| d.neg(x)).collect();
     (mr, f)
 }
 
-/// A body's inertia T (I + Σ μ(|d|² 1 − d dᵀ)) Tᵀ from its parts
-/// ([`crate::mechanics::Inertia`]), symmetric.
-pub(crate) fn inertia_nodes(
+/// What every body's terms take in [`projection_of`].
+struct Sums<'a> {
+    motion: &'a super::motion::Motion,
+    gravity: &'a Option<[Option<Node>; 3]>,
+    c: &'a [Vec<Node>],
+    acc_bias: &'a [Node],
+    planar: Option<[usize; 2]>,
+}
+
+/// A body's centre body by body: m VᵀV into `mr`, Vᵀ m (a + γ e_k) into `f`.
+fn body_centre(
     d: &mut Dag,
     m: &Scene<'_>,
-    inertia: &crate::mechanics::Inertia,
-) -> Vec<Vec<Node>> {
-    let mut sum = matrix(d, m, &inertia.own.map(|r| r.to_vec()));
-    for (mu, offset) in &inertia.masses {
-        let mu = d.expr(m.engine, *mu);
-        let v = exprs(d, m, offset);
-        for a in 0..3 {
-            for b in a..3 {
-                // (|d|² 1 − d dᵀ)_ab: Σ_{k≠a} d_k² on the diagonal, −d_a d_b off it
-                let t = match a == b {
-                    true => (0..3).filter(|&k| k != a).fold(ZERO_NODE, |acc, k| {
-                        algebra::dot_from(d, acc, [(v[k], v[k])])
-                    }),
-                    false => {
-                        let p = d.mul(v[a], v[b]);
-                        d.neg(p)
-                    }
-                };
-                let t = d.mul(mu, t);
-                sum[a][b] = d.add(sum[a][b], t);
-                sum[b][a] = sum[a][b];
-            }
+    s: &Sums<'_>,
+    b: &crate::mechanics::BodyKinematics,
+    (mr, f): (&mut [Vec<Node>], &mut [Node]),
+) {
+    let Some(jacobian) = &b.jacobian else {
+        return;
+    };
+    let mass = d.expr(m.engine, b.mass);
+    let (v, mut a) = centre_partials(
+        d,
+        m,
+        s.motion,
+        (jacobian, &b.anchor),
+        (s.c, s.acc_bias, s.planar),
+    );
+    // the weight through the partial velocities: m Vᵀ (a + γ e_k)
+    for (x, g) in s.gravity.iter().flatten().enumerate() {
+        if let Some(g) = g {
+            a[x] = d.add(a[x], *g);
         }
     }
-    let Some(tail) = &inertia.tail else {
-        return sum;
+    // m VᵀV: the mass multiplies each sum, not each partial velocity
+    for i in 0..mr.len() {
+        for j in i..mr.len() {
+            let vv = algebra::dot(d, (0..3).map(|x| (v[x][i], v[x][j])));
+            mr[i][j] = algebra::dot_from(d, mr[i][j], [(mass, vv)]);
+            mr[j][i] = mr[i][j];
+        }
+    }
+    let ma: Vec<Node> = a.iter().map(|&x| d.mul(mass, x)).collect();
+    for (i, fi) in f.iter_mut().enumerate() {
+        *fi = force_along(d, *fi, &v, &ma, i);
+    }
+}
+
+/// A carried body's inertia force m (a + γ e_k) on its centre, its
+/// acceleration from its chain's rate at q̈ = 0 and the group's twists.
+fn carried_centre(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    s: &Sums<'_>,
+    b: &crate::mechanics::BodyKinematics,
+    at: usize,
+    comp: &Composite,
+) -> [Node; 3] {
+    let mass = d.expr(m.engine, b.mass);
+    let rate0 = match &b.anchor {
+        Some(chain) => chain_rate(d, m, s.motion, chain, s.planar),
+        None => [ZERO_NODE; 3],
     };
-    let t = matrix(d, m, &tail.map(|r| r.to_vec()));
-    let ts: Vec<Vec<Node>> = (0..3)
-        .map(|a| {
-            (0..3)
-                .map(|b| algebra::dot(d, (0..3).map(|k| (t[a][k], sum[k][b]))))
+    let given = comp.centre_acceleration(d, at).unwrap_or([ZERO_NODE; 3]);
+    let mut a = algebra::add3(d, rate0, given);
+    for (x, g) in s.gravity.iter().flatten().enumerate() {
+        if let Some(g) = g {
+            a[x] = d.add(a[x], *g);
+        }
+    }
+    algebra::scale3(d, mass, a)
+}
+
+/// A carried body's torque I α + ω × I ω, turned into the frame of J:
+/// α = α₀ + Rᵀ A_ω from its frame's steps and the group's twists.
+fn carried_rotation(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    s: &Sums<'_>,
+    rot: &crate::mechanics::BodyRotation,
+    at: usize,
+    comp: &Composite,
+) -> [Node; 3] {
+    let Some(frame) = &rot.frame else {
+        return [ZERO_NODE; 3];
+    };
+    let fm = super::frames::frame_motion(d, m, s.motion, frame);
+    let turn = super::frames::orientation(d, m, frame);
+    let given = comp.angular_acceleration(at).unwrap_or([ZERO_NODE; 3]);
+    let back = algebra::mat_t_vec(d, &turn, given);
+    let alpha = algebra::add3(d, fm.alpha0, back);
+    let inertia = inertia_nodes(d, m, &rot.inertia);
+    let i_alpha = [0, 1, 2].map(|x| algebra::dot(d, (0..3).map(|y| (inertia[x][y], alpha[y]))));
+    let i_omega = [0, 1, 2].map(|x| algebra::dot(d, (0..3).map(|y| (inertia[x][y], fm.omega[y]))));
+    let gyro = algebra::cross(d, fm.omega, i_omega);
+    let torque = algebra::add3(d, i_alpha, gyro);
+    algebra::mat_vec(d, &turn, torque)
+}
+
+/// A body's rotation body by body: Ωᵀ I Ω into `mr`, Ωᵀ (I α + ω × I ω)
+/// (and its spin's and wheels' terms) into `f`.
+fn body_rotation(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    s: &Sums<'_>,
+    rot: &crate::mechanics::BodyRotation,
+    (mr, f): (&mut [Vec<Node>], &mut [Node]),
+) {
+    let (c, acc_bias) = (s.c, s.acc_bias);
+    let (omega, om, alpha) = body_turning(d, m, s.motion, rot, (c, acc_bias));
+    let inertia = inertia_nodes(d, m, &rot.inertia);
+    let i_om: Vec<Vec<Node>> = (0..3)
+        .map(|x| {
+            (0..om[0].len())
+                .map(|a| algebra::dot(d, (0..3).map(|y| (inertia[x][y], om[y][a]))))
                 .collect()
         })
         .collect();
-    let mut out = vec![vec![ZERO_NODE; 3]; 3];
-    for a in 0..3 {
-        for b in a..3 {
-            out[a][b] = algebra::dot(d, (0..3).map(|k| (ts[a][k], t[b][k])));
-            out[b][a] = out[a][b];
+    let i_alpha: Vec<Node> = (0..3)
+        .map(|x| algebra::dot(d, (0..3).map(|y| (inertia[x][y], alpha[y]))))
+        .collect();
+    let i_omega: Vec<Node> = (0..3)
+        .map(|x| algebra::dot(d, (0..3).map(|y| (inertia[x][y], omega[y]))))
+        .collect();
+    let gyro = algebra::cross(d, &omega, &i_omega);
+    let mut torque: Vec<Node> = (0..3).map(|x| d.add(i_alpha[x], gyro[x])).collect();
+    if let Some((k, rate)) = rot.spin {
+        // −θ̇ I (e_k × ω'), from turning α by R_k(θ)
+        let rate = d.expr(m.engine, rate);
+        let mut axis = [ZERO_NODE; 3];
+        axis[k] = ONE_NODE;
+        let ek_omega = algebra::cross(d, axis, &omega);
+        for (x, t) in torque.iter_mut().enumerate() {
+            let i_e = algebra::dot(d, (0..3).map(|y| (inertia[x][y], ek_omega[y])));
+            let s = d.mul(rate, i_e);
+            *t = d.sub(*t, s);
         }
     }
-    out
+    add_inertia(d, mr, f, &om, &i_om, &torque);
+    for (wheel, jacobian) in &rot.wheels {
+        let turning = Turning {
+            omega: &omega,
+            om: &om,
+            alpha: &alpha,
+        };
+        add_wheel(
+            d,
+            m,
+            s.motion,
+            (wheel, jacobian),
+            &turning,
+            (c, acc_bias),
+            (mr, f),
+        );
+    }
 }
 
 /// A body centre's partial velocities V = J C and acceleration at r̈ = 0,

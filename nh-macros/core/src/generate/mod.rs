@@ -14,6 +14,8 @@ use proc_macro2::TokenStream;
 pub mod atlas;
 mod bodies;
 mod chains;
+mod composite_inertia;
+pub use composite_inertia::with_composite_inertias;
 mod contacts;
 mod curvature;
 mod derivatives;

@@ -80,3 +80,53 @@ pub(crate) fn planar_columns(j: &mut [Vec<Node>], planar: Option<[usize; 2]>, co
         }
     }
 }
+
+/// A body's inertia T (I + Σ μ(|d|² 1 − d dᵀ)) Tᵀ from its parts
+/// ([`crate::mechanics::Inertia`]), symmetric.
+pub(crate) fn inertia_nodes(
+    d: &mut Dag,
+    m: &Scene<'_>,
+    inertia: &crate::mechanics::Inertia,
+) -> Vec<Vec<Node>> {
+    let mut sum = matrix(d, m, &inertia.own.map(|r| r.to_vec()));
+    for (mu, offset) in &inertia.masses {
+        let mu = d.expr(m.engine, *mu);
+        let v = exprs(d, m, offset);
+        for a in 0..3 {
+            for b in a..3 {
+                // (|d|² 1 − d dᵀ)_ab: Σ_{k≠a} d_k² on the diagonal, −d_a d_b off it
+                let t = match a == b {
+                    true => (0..3).filter(|&k| k != a).fold(ZERO_NODE, |acc, k| {
+                        algebra::dot_from(d, acc, [(v[k], v[k])])
+                    }),
+                    false => {
+                        let p = d.mul(v[a], v[b]);
+                        d.neg(p)
+                    }
+                };
+                let t = d.mul(mu, t);
+                sum[a][b] = d.add(sum[a][b], t);
+                sum[b][a] = sum[a][b];
+            }
+        }
+    }
+    let Some(tail) = &inertia.tail else {
+        return sum;
+    };
+    let t = matrix(d, m, &tail.map(|r| r.to_vec()));
+    let ts: Vec<Vec<Node>> = (0..3)
+        .map(|a| {
+            (0..3)
+                .map(|b| algebra::dot(d, (0..3).map(|k| (t[a][k], sum[k][b]))))
+                .collect()
+        })
+        .collect();
+    let mut out = vec![vec![ZERO_NODE; 3]; 3];
+    for a in 0..3 {
+        for b in a..3 {
+            out[a][b] = algebra::dot(d, (0..3).map(|k| (ts[a][k], t[b][k])));
+            out[b][a] = out[a][b];
+        }
+    }
+    out
+}

@@ -40,6 +40,10 @@ pub struct Stats {
     pub ops_multiplier: usize,
     /// Operations of `accelerations` by the curvature route, after CSE.
     pub ops_curvature: usize,
+    /// Of the multiplier route's operations, those of Cᵀ M C and the right
+    /// side of (5.9), before the k × k factorisation and solve (whose
+    /// k³/3 operations are the rest, with the dependent velocities).
+    pub ops_projection: usize,
     /// Of the operations of the route `accelerations` uses, those on the
     /// parameters alone: computed once per parameter set into a cache, not
     /// per call.
@@ -210,6 +214,9 @@ pub(crate) struct ComparedRoutes {
     pub(crate) both_routes: bool,
     /// The pivots of both routes' factorisations of the reduced mass matrix.
     pub(crate) pivots: Vec<Node>,
+    /// Operations of the multiplier route's Cᵀ M C and right side of (5.9),
+    /// before their factorisation and solve.
+    pub(crate) projection_ops: usize,
 }
 
 /// Builds the graph of r̈ by each route (the curvature route's with the
@@ -222,6 +229,11 @@ pub(crate) fn compare_routes(
     let args_v = Args::vectors(m).moving();
     let mut d1 = bound_dag(m, &args_v);
     let mn = multiplier_nodes(&mut d1, m, &dv.multiplier_route, dv.kane.as_ref());
+    let projected: Vec<Node> = (mn.projected_mass.iter().flatten())
+        .chain(&mn.projected_rhs)
+        .copied()
+        .collect();
+    let projection_ops = d1.op_count(&projected);
     let mut d2 = bound_dag(m, &args_v);
     let (mut rdd2, piv2) = if both_routes {
         curvature_nodes(&mut d2, m, &dv.reduced)
@@ -236,6 +248,7 @@ pub(crate) fn compare_routes(
         curvature: (d2, rdd2),
         both_routes,
         pivots: mn.pivots.into_iter().chain(piv2).collect(),
+        projection_ops,
     }
 }
 
@@ -244,6 +257,7 @@ impl ComparedRoutes {
     pub(crate) fn choose(&self, stats: &mut Stats) -> Route {
         let ((d1, rdd1), (d2, rdd2)) = (&self.multiplier, &self.curvature);
         stats.ops_multiplier = d1.op_count(rdd1);
+        stats.ops_projection = self.projection_ops;
         stats.ops_curvature = d2.op_count(rdd2);
         stats.cost_multiplier = d1.cost_estimate(rdd1);
         stats.cost_curvature = d2.cost_estimate(rdd2);

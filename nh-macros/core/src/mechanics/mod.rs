@@ -27,7 +27,7 @@ mod tree;
 pub use block::{BlockTerms, ContactTerms, RowTerms};
 pub use chains::{Chain, Frame, FrameStep, Link};
 pub use composite::Wheel;
-pub use kane::{BodyRotation, BodyTerms, Inertia};
+pub use kane::{BodyKinematics, BodyRotation, BodyTerms, Inertia};
 pub use maggi::MaggiTerms;
 pub use momenta::{Momenta, Verdict};
 pub use multipliers::MultiplierRoute;
