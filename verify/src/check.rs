@@ -57,6 +57,9 @@ pub struct Report {
     /// Whether the system, which has bodies, was checked a second time
     /// with every kinetic energy folded into a symbol (and agreed).
     pub folded: bool,
+    /// Whether that second pass took the composite inertias of a group of
+    /// bodies on chains of frames (`nh_core::with_composite_inertias`).
+    pub composite: bool,
 }
 
 /// Relative tolerance between the generated code in `f64` and the plain
@@ -88,7 +91,8 @@ pub fn check_equations(sys: &System, seed: u64) -> Report {
 
 /// Checks `sys` at the states of `seed`, and each other chart of its
 /// atlas as a system of its own; a system with bodies again with every
-/// kinetic energy folded into a symbol of the Lagrangian.
+/// kinetic energy folded into a symbol of the Lagrangian and every group
+/// of bodies on chains of frames summed as composite inertias.
 pub fn check_system(sys: &System, seed: u64) -> Report {
     let first = check_one(sys, seed, true);
     if !matches!(first.finding, Finding::Agree { .. }) || !first.text.contains("kinetic_energy(") {
@@ -97,10 +101,13 @@ pub fn check_system(sys: &System, seed: u64) -> Report {
     // again with every kinetic energy folded into a symbol of the
     // Lagrangian (the path of a chain's far links): Kane's form, and the
     // Lagrangian expanded again where an output takes it
-    let folded = nh_core::with_fold_terms(0, || check_one(sys, seed, true));
+    let (folded, composite) = nh_core::with_fold_terms(0, || {
+        nh_core::with_composite_inertias(|| check_one(sys, seed, true))
+    });
     match folded.finding {
         Finding::Agree { .. } => Report {
             folded: true,
+            composite: composite > 0,
             ..first
         },
         Finding::Disagree(why) => Report {
@@ -232,6 +239,7 @@ fn report(seed: u64, text: String, finding: Finding, route: String) -> Report {
         cyclic: None,
         declared: None,
         folded: false,
+        composite: false,
     }
 }
 

@@ -125,6 +125,13 @@ struct Builder {
     /// the partial velocities), drawn from a sequence of its own so that the
     /// rest of every system is the one the seed gave before.
     weight_axis: usize,
+    /// Whether a family of bodies is a chain of 3–5 rigid bodies, each hung
+    /// from the last or now and then from an earlier one, its frames
+    /// turning with the state alone (a quarter of the seeds, from a
+    /// sequence of its own): the composite inertias of a tree's subtrees
+    /// need several bodies on chains of frames, which the free trees
+    /// rarely give.
+    serial: bool,
 }
 
 /// The system of a seed.
@@ -166,6 +173,7 @@ impl Builder {
             holonomic: false,
             affine: false,
             weight_axis: [2, 2, 1, 0][Rng::new(seed ^ 0x0A71_5EED_6A1A_0034).below(4)],
+            serial: Rng::new(seed ^ 0x5E41_A1C4_A125_0035).below(4) == 0,
         }
     }
 
@@ -422,7 +430,13 @@ impl Builder {
     fn angle(&mut self, own: &mut Vec<usize>) -> Ex {
         let n = self.sys.coords.len();
         let fresh = (0..n).find(|i| !own.contains(i));
-        match (self.rng.below(10), fresh) {
+        // a serial chain's frames turn with the state alone (a time in an
+        // angle takes the bodies off Kane's form)
+        let draw = match self.rng.below(10) {
+            1 | 2 if self.serial => 9,
+            x => x,
+        };
+        match (draw, fresh) {
             (0, _) => self.param(),
             (1, _) => {
                 self.timed = true;
@@ -525,7 +539,10 @@ impl Builder {
     fn bodies_family(&mut self) {
         let n = 2 + self.rng.below(5);
         self.coords(n);
-        let count = 1 + self.rng.below(4);
+        let count = match self.serial {
+            true => 3 + self.rng.below(3),
+            false => 1 + self.rng.below(4),
+        };
         let heading = self.rng.chance(0.3).then(|| self.coord());
         let mut own: Vec<usize> = heading.into_iter().collect();
         // (rotation let, centre let) of each body
@@ -533,8 +550,13 @@ impl Builder {
         let mut energy = Vec::new();
         let mut weight = Vec::new();
         for b in 0..count {
-            let parent = (b > 0 && self.rng.chance(0.6)).then(|| self.rng.below(b));
-            let rigid = self.rng.chance(0.8);
+            let parent = match self.serial {
+                // a branch off an earlier body now and then: a tree
+                true if b >= 2 && self.rng.chance(0.3) => Some(self.rng.below(b - 1)),
+                true => (b > 0).then(|| b - 1),
+                false => (b > 0 && self.rng.chance(0.6)).then(|| self.rng.below(b)),
+            };
+            let rigid = self.rng.chance(0.8) || self.serial;
             let rotation = rigid.then(|| {
                 let mut r = self.chain(&mut own);
                 if let Some(h) = heading.filter(|_| parent.is_none()) {

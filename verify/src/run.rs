@@ -42,6 +42,8 @@ pub struct Summary {
     /// Systems with bodies that agreed again with every kinetic energy
     /// folded into a symbol of the Lagrangian.
     pub folded: usize,
+    /// Of those, the systems whose second pass took the composite inertias.
+    pub composite: usize,
     /// Wall time.
     pub elapsed: Duration,
 }
@@ -170,6 +172,7 @@ pub fn run(seeds: Range<u64>, threads: usize) -> Summary {
             }
         }
         s.folded += usize::from(r.folded);
+        s.composite += usize::from(r.composite);
         if let Some((momenta, turns)) = r.declared {
             s.declared.0 += 1;
             s.declared.1 += momenta;
@@ -248,8 +251,8 @@ impl Summary {
             self.declared.0, self.declared.1, self.declared.2
         ));
         out.push_str(&format!(
-            "folded kinetic energies: {} systems with bodies agreed again with every kinetic energy folded into a symbol\n",
-            self.folded
+            "folded kinetic energies: {} systems with bodies agreed again with every kinetic energy folded into a symbol, {} of them with their bodies on chains of frames summed as composite inertias\n",
+            self.folded, self.composite
         ));
         out.push_str("features (systems, of them failing):\n");
         for (f, n) in &self.features {
