@@ -60,22 +60,36 @@ pub fn expand_with_stats(input: TokenStream) -> (TokenStream, Stats) {
 }
 
 fn expand_derivation(input: TokenStream) -> (TokenStream, Stats) {
-    expand_in(input, sym::Engine::new())
+    expand_in(input, sym::Engine::new)
 }
 
-/// The expansion, with the system derived in the fresh engine `engine`
+/// The expansion, with the system derived in a fresh engine from `engine`
 /// (with its limits set).
-fn expand_in(input: TokenStream, engine: sym::Engine) -> (TokenStream, Stats) {
+fn expand_in(input: TokenStream, engine: impl Fn() -> sym::Engine) -> (TokenStream, Stats) {
     let mut cx = ctxt::Ctxt::new();
     let def = parse::parse_system(input, &mut cx);
     let mut out = TokenStream::new();
     let mut stats = Stats::default();
     if let Some(def) = &def
-        && let Some((model, mut engine)) = lower::lower_in(def, &mut cx, engine)
+        && let Some((model, mut main)) = lower::lower_in(def, &mut cx, engine())
     {
-        let (atlas, charts, figures) = generate::atlas::charts(def, &model, &engine);
-        let (tokens, s) = generate::generate(def, &model, &mut engine, &mut cx, atlas);
-        out = quote!(#tokens #charts);
+        // the system's own chart first: its choice of route spares the
+        // other charts the curvature route when it was decisive
+        let charts = generate::atlas::Charts::lower(def, &model, &main);
+        let assumed = charts.shapes();
+        let (mut tokens, mut s) =
+            generate::generate(def, &model, &mut main, &mut cx, assumed.clone());
+        let decisive = s.route == Some(generate::Route::Multiplier)
+            && s.cost_curvature >= 2 * s.cost_multiplier;
+        let (atlas, code, figures) = charts.generate(decisive);
+        if atlas.len() != assumed.len() {
+            // a chart did not expand: the own chart again, with the others
+            cx = ctxt::Ctxt::new();
+            if let Some((model, mut fresh)) = lower::lower_in(def, &mut cx, engine()) {
+                (tokens, s) = generate::generate(def, &model, &mut fresh, &mut cx, atlas);
+            }
+        }
+        out = quote!(#tokens #code);
         stats = s;
         stats.charts = figures;
     }

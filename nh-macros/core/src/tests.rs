@@ -24,7 +24,7 @@ fn let_chain(n: usize, f: &str, rest: &str) -> String {
 /// The errors of `src` expanded in an engine that may do `max_work` units.
 fn errors_within(src: &str, max_work: usize) -> Vec<ReportedError> {
     let tokens = src.parse().expect("Rust tokens");
-    reported_errors(&crate::expand_in(tokens, Engine::with_work_limit(max_work)).0)
+    reported_errors(&crate::expand_in(tokens, || Engine::with_work_limit(max_work)).0)
 }
 
 /// The one error, as (line, first column, last column, message).

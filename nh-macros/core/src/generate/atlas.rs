@@ -9,61 +9,114 @@ use crate::parse::SystemDef;
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
-/// The charts of `model`'s atlas as the API sees them, the system's own
-/// first, and the hidden systems of the others; none for a system with
-/// one chart. A chart whose expansion fails is left out.
-pub fn charts(
-    def: &SystemDef,
-    model: &Model,
-    engine: &crate::sym::Engine,
-) -> (Vec<ChartShape>, TokenStream, Vec<(String, usize)>) {
-    if model.atlas.len() < 2 {
-        return (Vec::new(), TokenStream::new(), Vec::new());
-    }
-    let mut figures = Vec::new();
-    let jacobian = model.outputs.contains(Output::Jacobian);
-    let own = &model.atlas[0];
-    let mut shapes = vec![ChartShape {
-        system: None,
-        name: chart_name(model, own),
-        singular: own.singular.clone(),
-        independent: model.independent().to_vec(),
-        dependent: model.dependent().to_vec(),
-        rheonomic: rheonomic_of(model, engine),
-        jacobian,
-        euler: euler_shape(own),
-    }];
-    let mut tokens = TokenStream::new();
-    for (c, chart) in model.atlas.iter().enumerate().skip(1) {
-        let hidden = hidden_def(def, model, c, chart);
-        let mut cx = crate::ctxt::Ctxt::new();
-        let Some((hmodel, mut engine)) = crate::lower::lower(&hidden, &mut cx) else {
-            let _ = cx.finish();
-            continue;
+std::thread_local! {
+    /// Whether the charts being generated take the multiplier route
+    /// without deriving the curvature route ([`Charts::generate`]).
+    static MULTIPLIER_ONLY: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+/// Whether the system being generated is another chart of one whose own
+/// chart chose the multiplier route decisively ([`Charts::generate`]).
+pub(crate) fn multiplier_only() -> bool {
+    MULTIPLIER_ONLY.with(std::cell::Cell::get)
+}
+
+/// The other charts of a system, lowered: each its hidden definition, its
+/// model and engine, and its shape for the API.
+pub struct Charts {
+    own: Option<ChartShape>,
+    others: Vec<(SystemDef, Model, crate::sym::Engine, ChartShape)>,
+}
+
+impl Charts {
+    /// The other charts of `model`'s atlas lowered (a chart that does not
+    /// lower is left out); none for a system with one chart.
+    pub fn lower(def: &SystemDef, model: &Model, engine: &crate::sym::Engine) -> Charts {
+        let mut charts = Charts {
+            own: None,
+            others: Vec::new(),
         };
-        let rheonomic = rheonomic_of(&hmodel, &engine);
-        let (code, stats) = super::generate(&hidden, &hmodel, &mut engine, &mut cx, Vec::new());
-        if cx.finish().is_err() || code.is_empty() {
-            continue;
+        if model.atlas.len() < 2 {
+            return charts;
         }
-        let ops = stats.route.map_or(0, |r| stats.ops(r));
-        figures.push((chart_name(model, chart), ops));
-        tokens.extend(code);
-        shapes.push(ChartShape {
-            system: Some(hidden.name.clone()),
-            name: chart_name(model, chart),
-            singular: chart.singular.clone(),
-            independent: hmodel.independent().to_vec(),
-            dependent: hmodel.dependent().to_vec(),
-            rheonomic,
+        let jacobian = model.outputs.contains(Output::Jacobian);
+        let own = &model.atlas[0];
+        charts.own = Some(ChartShape {
+            system: None,
+            name: chart_name(model, own),
+            singular: own.singular.clone(),
+            independent: model.independent().to_vec(),
+            dependent: model.dependent().to_vec(),
+            rheonomic: rheonomic_of(model, engine),
             jacobian,
-            euler: euler_shape(chart),
+            euler: euler_shape(own),
         });
+        for (c, chart) in model.atlas.iter().enumerate().skip(1) {
+            let hidden = hidden_def(def, model, c, chart);
+            let mut cx = crate::ctxt::Ctxt::new();
+            let Some((hmodel, engine)) = crate::lower::lower(&hidden, &mut cx) else {
+                let _ = cx.finish();
+                continue;
+            };
+            let shape = ChartShape {
+                system: Some(hidden.name.clone()),
+                name: chart_name(model, chart),
+                singular: chart.singular.clone(),
+                independent: hmodel.independent().to_vec(),
+                dependent: hmodel.dependent().to_vec(),
+                rheonomic: rheonomic_of(&hmodel, &engine),
+                jacobian,
+                euler: euler_shape(chart),
+            };
+            let _ = cx.finish();
+            charts.others.push((hidden, hmodel, engine, shape));
+        }
+        charts
     }
-    if shapes.len() < 2 {
-        return (Vec::new(), TokenStream::new(), Vec::new());
+
+    /// The charts as the API sees them, the system's own first, if every
+    /// other chart lowered here expands; none with fewer than two.
+    pub fn shapes(&self) -> Vec<ChartShape> {
+        if self.others.is_empty() {
+            return Vec::new();
+        }
+        let others = self.others.iter().map(|x| x.3.clone());
+        self.own.iter().cloned().chain(others).collect()
     }
-    (shapes, tokens, figures)
+
+    /// Expands the other charts: the charts that expanded as the API sees
+    /// them (as [`Charts::shapes`], a chart whose expansion fails left
+    /// out), their hidden systems and each one's operations. With
+    /// `multiplier_only` (the system's own chart chose the multiplier
+    /// route at under half the curvature route's estimated cost) they take
+    /// the multiplier route without deriving the other: the same mechanics
+    /// in other coordinates, where the curvature route took about 40% of
+    /// the hand-written rattleback's expansion in its three other charts.
+    pub fn generate(
+        self,
+        multiplier_only: bool,
+    ) -> (Vec<ChartShape>, TokenStream, Vec<(String, usize)>) {
+        let before = MULTIPLIER_ONLY.with(|c| c.replace(multiplier_only));
+        let mut figures = Vec::new();
+        let mut shapes: Vec<ChartShape> = self.own.into_iter().collect();
+        let mut tokens = TokenStream::new();
+        for (hidden, hmodel, mut engine, shape) in self.others {
+            let mut cx = crate::ctxt::Ctxt::new();
+            let (code, stats) = super::generate(&hidden, &hmodel, &mut engine, &mut cx, Vec::new());
+            if cx.finish().is_err() || code.is_empty() {
+                continue;
+            }
+            let ops = stats.route.map_or(0, |r| stats.ops(r));
+            figures.push((shape.name.clone(), ops));
+            tokens.extend(code);
+            shapes.push(shape);
+        }
+        MULTIPLIER_ONLY.with(|c| c.set(before));
+        if shapes.len() < 2 {
+            return (Vec::new(), TokenStream::new(), Vec::new());
+        }
+        (shapes, tokens, figures)
+    }
 }
 
 /// "solved for `x`, `y`", or for a chart of a free rotation "the angles

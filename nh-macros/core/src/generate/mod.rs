@@ -64,8 +64,10 @@ pub fn generate(
     // CURVATURE_ROUTE_MAX_K independent coordinates it is derived only when
     // `routes` asks for it, and `accelerations` takes the multiplier route
     // (only for homogeneous, time-independent velocity constraints: DESIGN §9)
-    let both_routes =
-        m.homogeneous && (m.outputs.contains(Output::Routes) || m.k() <= CURVATURE_ROUTE_MAX_K);
+    // (and not for another chart whose system's own took the multiplier
+    // route decisively: `atlas::Charts::generate`)
+    let small = m.k() <= CURVATURE_ROUTE_MAX_K && !atlas::multiplier_only();
+    let both_routes = m.homogeneous && (m.outputs.contains(Output::Routes) || small);
     let mut dv = crate::mechanics::derive(&mut m, both_routes);
     stats.derived.extend([
         if both_routes {
