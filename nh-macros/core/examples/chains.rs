@@ -387,6 +387,15 @@ fn fmt_mib(kb: u64) -> String {
     format!("{:.0} MiB", kb as f64 / 1024.0)
 }
 
+/// The operations of Cᵀ M C and its right side, "—" where the
+/// multiplier route was not taken.
+fn projection(m: &Measured) -> String {
+    match m.projection_ops {
+        0 => "—".into(),
+        n => thousands(n),
+    }
+}
+
 /// The row's Markdown line.
 fn markdown(row: &Row, opts: &Options) -> String {
     let (n, k) = row.family.dimensions(row.links);
@@ -410,10 +419,10 @@ fn markdown(row: &Row, opts: &Options) -> String {
                         Some(j) => format!(
                             "{} [{}] (`jacobian` {})",
                             thousands(m.ops),
-                            thousands(m.projection_ops),
+                            projection(m),
                             thousands(j)
                         ),
-                        None => format!("{} [{}]", thousands(m.ops), thousands(m.projection_ops)),
+                        None => format!("{} [{}]", thousands(m.ops), projection(m)),
                     },
                     m.formulation.clone(),
                     thousands(m.lines),
