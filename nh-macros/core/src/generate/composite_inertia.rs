@@ -256,26 +256,16 @@ impl Composite {
     }
 }
 
-/// The wrench of `set` (ascending): its first member's plus the rest's,
-/// memoised like [`composite`].
+/// The wrench of `set` (ascending), memoised like [`composite`].
 fn wrench(
     d: &mut Dag,
     memo: &mut HashMap<Vec<usize>, Twist>,
     own: &[Twist],
     set: &[usize],
 ) -> Twist {
-    let start = (0..set.len())
-        .find(|&i| memo.contains_key(&set[i..]))
-        .unwrap_or(set.len());
-    for i in (0..start).rev() {
-        let (n, f) = own[set[i]];
-        let sum = match memo.get(&set[i + 1..]) {
-            Some(&(rn, rf)) => (algebra::add3(d, rn, n), algebra::add3(d, rf, f)),
-            None => (n, f),
-        };
-        memo.insert(set[i..].to_vec(), sum);
-    }
-    memo[set]
+    suffix_sum(d, memo, own, set, |d, (rn, rf), (n, f)| {
+        (algebra::add3(d, *rn, *n), algebra::add3(d, *rf, *f))
+    })
 }
 
 /// The bodies carried along chains of frames, grouped by root point: the
@@ -661,15 +651,7 @@ fn member_inertia(
     let mut j = [[ZERO_NODE; 3]; 3];
     for a in 0..3 {
         for c in a..3 {
-            let t = match a == c {
-                true => (0..3).filter(|&k| k != a).fold(ZERO_NODE, |acc, k| {
-                    algebra::dot_from(d, acc, [(r[k], r[k])])
-                }),
-                false => {
-                    let p = d.mul(r[a], r[c]);
-                    d.neg(p)
-                }
-            };
+            let t = super::nodes::point_inertia(d, &r, (a, c));
             j[a][c] = d.mul(mass, t);
         }
     }
@@ -693,14 +675,27 @@ fn member_inertia(
     Spatial { mass, h, j }
 }
 
-/// The composite inertia of `set` (ascending): its first member's plus the
-/// rest's, memoised, so that nested sets share their sums.
+/// The composite inertia of `set` (ascending), memoised so that nested
+/// sets share their sums.
 fn composite(
     d: &mut Dag,
     memo: &mut HashMap<Vec<usize>, Spatial>,
     own: &[Spatial],
     set: &[usize],
 ) -> Spatial {
+    suffix_sum(d, memo, own, set, add_spatial)
+}
+
+/// The sum over `set` (ascending) of `own`: its first member's plus the
+/// rest's, each suffix memoised, so that a chain's nested sets (suffixes
+/// of one another) share their nodes.
+fn suffix_sum<V: Copy>(
+    d: &mut Dag,
+    memo: &mut HashMap<Vec<usize>, V>,
+    own: &[V],
+    set: &[usize],
+    add: impl Fn(&mut Dag, &V, &V) -> V,
+) -> V {
     // the longest memoised suffix (or none), then the longer ones
     let start = (0..set.len())
         .find(|&i| memo.contains_key(&set[i..]))
@@ -708,7 +703,7 @@ fn composite(
     for i in (0..start).rev() {
         let x = own[set[i]];
         let sum = match memo.get(&set[i + 1..]) {
-            Some(rest) => add_spatial(d, rest, &x),
+            Some(rest) => add(d, rest, &x),
             None => x,
         };
         memo.insert(set[i..].to_vec(), sum);

@@ -134,11 +134,7 @@ fn body_centre(
         (s.c, s.acc_bias, s.planar),
     );
     // the weight through the partial velocities: m Vᵀ (a + γ e_k)
-    for (x, g) in s.gravity.iter().flatten().enumerate() {
-        if let Some(g) = g {
-            a[x] = d.add(a[x], *g);
-        }
-    }
+    with_weight(d, s, &mut a);
     // m VᵀV: the mass multiplies each sum, not each partial velocity
     for i in 0..mr.len() {
         for j in i..mr.len() {
@@ -170,12 +166,17 @@ fn carried_centre(
     };
     let given = comp.centre_acceleration(d, at).unwrap_or([ZERO_NODE; 3]);
     let mut a = algebra::add3(d, rate0, given);
+    with_weight(d, s, &mut a);
+    algebra::scale3(d, mass, a)
+}
+
+/// a + γ e_k: a centre's acceleration with the weight per unit mass.
+fn with_weight(d: &mut Dag, s: &Sums<'_>, a: &mut [Node]) {
     for (x, g) in s.gravity.iter().flatten().enumerate() {
         if let Some(g) = g {
             a[x] = d.add(a[x], *g);
         }
     }
-    algebra::scale3(d, mass, a)
 }
 
 /// A carried body's torque I α + ω × I ω, turned into the frame of J:

@@ -94,16 +94,7 @@ pub(crate) fn inertia_nodes(
         let v = exprs(d, m, offset);
         for a in 0..3 {
             for b in a..3 {
-                // (|d|² 1 − d dᵀ)_ab: Σ_{k≠a} d_k² on the diagonal, −d_a d_b off it
-                let t = match a == b {
-                    true => (0..3).filter(|&k| k != a).fold(ZERO_NODE, |acc, k| {
-                        algebra::dot_from(d, acc, [(v[k], v[k])])
-                    }),
-                    false => {
-                        let p = d.mul(v[a], v[b]);
-                        d.neg(p)
-                    }
-                };
+                let t = point_inertia(d, &v, (a, b));
                 let t = d.mul(mu, t);
                 sum[a][b] = d.add(sum[a][b], t);
                 sum[b][a] = sum[a][b];
@@ -129,4 +120,18 @@ pub(crate) fn inertia_nodes(
         }
     }
     out
+}
+
+/// (|r|² 1 − r rᵀ)_ab, a unit mass's inertia at r: Σ_{k≠a} r_k² on the
+/// diagonal, −r_a r_b off it.
+pub(crate) fn point_inertia(d: &mut Dag, r: &[Node], (a, b): (usize, usize)) -> Node {
+    match a == b {
+        true => (0..3).filter(|&k| k != a).fold(ZERO_NODE, |acc, k| {
+            algebra::dot_from(d, acc, [(r[k], r[k])])
+        }),
+        false => {
+            let p = d.mul(r[a], r[b]);
+            d.neg(p)
+        }
+    }
 }
