@@ -54,25 +54,15 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     root.fill(&WHITE)?;
     let x = 2.0..30.0;
     let top = rows.iter().map(|r| r.2).fold(1.0, f64::max) * 2.0;
-    let mut chart = ChartBuilder::on(&root)
-        .caption(
-            "Chains of bodies: operations of `accelerations` against links",
-            ("sans-serif", 20),
-        )
-        .margin(12)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(x.log_scale(), (50.0..top).log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc("links n (grey: slopes 2 and 3 from each projection's first point)")
-        .y_desc("operations after CSE")
-        .x_label_formatter(&|v| format!("{v:.0}"))
-        .y_label_formatter(&|v| format!("{v:.0}"))
-        .axis_desc_style(("sans-serif", 16))
-        .label_style(("sans-serif", 14))
-        .light_line_style(WHITE)
-        .draw()?;
+    let mut chart = nh_lab::report::log_log_chart(
+        &root,
+        "Chains of bodies: operations of `accelerations` against links",
+        (x, 50.0..top),
+        (
+            "links n (grey: slopes 2 and 3 from each projection's first point)",
+            "operations after CSE",
+        ),
+    )?;
     let families = [("planar", BLUE), ("spatial", RED)];
     for (family, colour) in families {
         let mine: Vec<_> = rows.iter().filter(|r| r.0 == family).collect();

@@ -164,6 +164,26 @@ pub fn log_log_axes<'a, 'b>(
     ChartContext<'a, SVGBackend<'b>, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>,
     DrawingAreaErrorKind<std::io::Error>,
 > {
+    log_log_chart(
+        root,
+        title,
+        (x, y),
+        (x_desc, "error at the final time (max abs)"),
+    )
+}
+
+/// Log–log axes on `root` with the given descriptions, labelled in powers
+/// of ten.
+#[allow(clippy::type_complexity)]
+pub fn log_log_chart<'a, 'b>(
+    root: &'a DrawingArea<SVGBackend<'b>, Shift>,
+    title: &str,
+    (x, y): (Range<f64>, Range<f64>),
+    (x_desc, y_desc): (&str, &str),
+) -> Result<
+    ChartContext<'a, SVGBackend<'b>, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>,
+    DrawingAreaErrorKind<std::io::Error>,
+> {
     let mut chart = ChartBuilder::on(root)
         .caption(title, ("sans-serif", 20))
         .margin(12)
@@ -173,7 +193,7 @@ pub fn log_log_axes<'a, 'b>(
     chart
         .configure_mesh()
         .x_desc(x_desc)
-        .y_desc("error at the final time (max abs)")
+        .y_desc(y_desc)
         .x_label_formatter(&|v| format!("{v:.0e}"))
         .y_label_formatter(&|v| format!("{v:.0e}"))
         .axis_desc_style(("sans-serif", 16))
