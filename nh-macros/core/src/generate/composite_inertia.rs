@@ -112,6 +112,12 @@ pub(crate) enum Sums {
     Compare,
 }
 
+/// Whether a group's composite sums, estimated at `composite` against
+/// `by_body`, are worth building (at most 3 times the estimate).
+fn worth_trying(by_body: usize, composite: usize) -> bool {
+    composite <= 3 * by_body
+}
+
 /// The way of [`Sums`] for the bodies of `bt` with reduced velocities `c`.
 pub(crate) fn sums(bt: &BodyTerms, c: &[Vec<Node>]) -> Sums {
     if bt.planar.is_some() {
@@ -127,7 +133,7 @@ pub(crate) fn sums(bt: &BodyTerms, c: &[Vec<Node>]) -> Sums {
         if 2 * composite < by_body {
             return Sums::Composite;
         }
-        if composite <= 3 * by_body {
+        if worth_trying(by_body, composite) {
             way = Sums::Compare;
         }
     }
@@ -185,6 +191,12 @@ impl Composite {
         let (always, _) = ALWAYS.with(std::cell::Cell::get);
         for group in groups(&bt.bodies, always) {
             let cols = rate_columns(&group, c);
+            // a group estimated at over 3 times stays body by body beside
+            // another that is taken
+            let (by_body, composite) = estimates(&group, &cols);
+            if !always && !worth_trying(by_body, composite) {
+                continue;
+            }
             let nodes = add_group(d, m, bt, (&group, cols), (c, acc_bias), mr);
             ALWAYS.with(|x| x.set((always, x.get().1 + 1)));
             for (i, member) in group.members.iter().enumerate() {
