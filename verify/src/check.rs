@@ -60,6 +60,9 @@ pub struct Report {
     /// Whether that second pass took the composite inertias of a group of
     /// bodies on chains of frames (`nh_core::with_composite_inertias`).
     pub composite: bool,
+    /// Whether it solved a reduced system by the articulated-body
+    /// recursion on the composite inertias' tree.
+    pub articulated: bool,
 }
 
 /// Relative tolerance between the generated code in `f64` and the plain
@@ -107,7 +110,8 @@ pub fn check_system(sys: &System, seed: u64) -> Report {
     match folded.finding {
         Finding::Agree { .. } => Report {
             folded: true,
-            composite: composite > 0,
+            composite: composite.groups > 0,
+            articulated: composite.articulated > 0,
             ..first
         },
         Finding::Disagree(why) => Report {
@@ -240,6 +244,7 @@ fn report(seed: u64, text: String, finding: Finding, route: String) -> Report {
         declared: None,
         folded: false,
         composite: false,
+        articulated: false,
     }
 }
 

@@ -44,6 +44,9 @@ pub struct Summary {
     pub folded: usize,
     /// Of those, the systems whose second pass took the composite inertias.
     pub composite: usize,
+    /// Of those, the systems whose second pass solved a reduced system by
+    /// the articulated-body recursion.
+    pub articulated: usize,
     /// Wall time.
     pub elapsed: Duration,
 }
@@ -173,6 +176,7 @@ pub fn run(seeds: Range<u64>, threads: usize) -> Summary {
         }
         s.folded += usize::from(r.folded);
         s.composite += usize::from(r.composite);
+        s.articulated += usize::from(r.articulated);
         if let Some((momenta, turns)) = r.declared {
             s.declared.0 += 1;
             s.declared.1 += momenta;
@@ -251,8 +255,8 @@ impl Summary {
             self.declared.0, self.declared.1, self.declared.2
         ));
         out.push_str(&format!(
-            "folded kinetic energies: {} systems with bodies agreed again with every kinetic energy folded into a symbol, {} of them with their bodies on chains of frames summed as composite inertias\n",
-            self.folded, self.composite
+            "folded kinetic energies: {} systems with bodies agreed again with every kinetic energy folded into a symbol, {} of them with their bodies on chains of frames summed as composite inertias, {} solved by the articulated-body recursion\n",
+            self.folded, self.composite, self.articulated
         ));
         out.push_str("features (systems, of them failing):\n");
         for (f, n) in &self.features {

@@ -26,13 +26,15 @@ fn param(i: usize) -> Ex {
 }
 
 /// The chain of `n` links turned by `turn(i)` (the coordinates it uses
-/// among `coords`), weight γ (parameter 3) along `axis` with `sign`.
+/// among `coords`), weight γ (parameter 3) along `axis` with `sign`, each
+/// link's principal moments J times `moments`.
 fn chain(
     name: &str,
     coords: Vec<String>,
     n: usize,
     turn: impl Fn(usize) -> Rx,
     (axis, sign): (usize, i64),
+    moments: [(i64, i64); 3],
 ) -> System {
     let mut lets: Vec<(String, LetValue)> = Vec::new();
     let mut bodies = Vec::new();
@@ -59,10 +61,14 @@ fn chain(
             LetValue::Vector(from(along(l.clone()))),
         ));
         let diag = |x: Ex| {
+            let d = |a: usize| {
+                let (p, q) = moments[a];
+                Ex::Mul(vec![num(p, q), x.clone()])
+            };
             [
-                [x.clone(), num(0, 1), num(0, 1)],
-                [num(0, 1), x.clone(), num(0, 1)],
-                [num(0, 1), num(0, 1), x],
+                [d(0), num(0, 1), num(0, 1)],
+                [num(0, 1), d(1), num(0, 1)],
+                [num(0, 1), num(0, 1), d(2)],
             ]
         };
         bodies.push((
@@ -96,9 +102,10 @@ fn chain(
     }
 }
 
-/// Requires agreement at one or more states, and prints the figures.
-fn agrees(sys: &System) {
-    let report = check_equations(sys, 34);
+/// Requires agreement at one or more states, and prints the figures;
+/// returns what the composite inertias took.
+fn agrees(sys: &System) -> nh_core::Taken {
+    let (report, taken) = nh_core::with_composite_inertias(|| check_equations(sys, 34));
     match report.finding {
         Finding::Agree {
             worst,
@@ -113,12 +120,13 @@ fn agrees(sys: &System) {
         }
         other => panic!("{}: {other:?}\n{}", sys.name, sys.text()),
     }
+    taken
 }
 
 #[test]
 fn a_long_chain_on_universal_joints_agrees_with_the_plain_derivation() {
     let n = 13;
-    let coords = (1..=n)
+    let coords: Vec<String> = (1..=n)
         .flat_map(|i| [format!("a{i}"), format!("b{i}")])
         .collect();
     let turn = |i: usize| {
@@ -126,7 +134,18 @@ fn a_long_chain_on_universal_joints_agrees_with_the_plain_derivation() {
         let y = Rx::Elem(1, Box::new(Ex::Coord(2 * i + 1)));
         Rx::Mul(Box::new(z), Box::new(y))
     };
-    agrees(&chain("Spatial13", coords, n, turn, (2, 1)));
+    // equal moments: each link symmetric about its last joint's axis (a
+    // spin, which its own sums turn out), carried in its full frame;
+    // unequal moments: carried in its frame. Either way every link is a
+    // composite inertia and the reduced system is solved by the
+    // articulated-body recursion.
+    for (name, moments) in [
+        ("Spatial13", [(1, 1); 3]),
+        ("Spatial13b", [(1, 1), (1, 2), (3, 4)]),
+    ] {
+        let taken = agrees(&chain(name, coords.clone(), n, turn, (2, 1), moments));
+        assert!(taken.groups >= 1 && taken.articulated >= 1, "{taken:?}");
+    }
 }
 
 #[test]
@@ -135,6 +154,7 @@ fn planar_chains_with_their_weight_along_y_and_x_agree_with_the_plain_derivation
     for (name, weight) in [("PlanarY", (1, 1)), ("PlanarX", (0, -1))] {
         let coords = (1..=n).map(|i| format!("th{i}")).collect();
         let turn = |i: usize| Rx::Elem(2, Box::new(Ex::Coord(i)));
-        agrees(&chain(name, coords, n, turn, weight));
+        let taken = agrees(&chain(name, coords, n, turn, weight, [(1, 1); 3]));
+        assert!(taken.groups >= 1 && taken.articulated >= 1, "{taken:?}");
     }
 }

@@ -34,7 +34,9 @@
 //!   at its end), the whole process: token parsing and the output included;
 //! * operations of `accelerations` after CSE by the formulation it uses,
 //!   and of them those of Cᵀ M C and the right side of (5.9) before the
-//!   k × k solve (`nh_core::Stats::ops_projection`)
+//!   k × k solve (`nh_core::Stats::ops_projection`; the right side alone
+//!   where the articulated-body recursion solves it, which does not form
+//!   Cᵀ M C: formulation `multipliers/articulated`)
 //!   (and of `jacobian`, when the outputs derive it), and
 //!   the generated lines (`nh_core::Stats`).
 //!
@@ -170,6 +172,10 @@ fn figures(out: &proc_macro2::TokenStream, stats: &nh_core::Stats) -> Measured {
             stats.ops_multiplier
         },
         formulation: match stats.formulation {
+            // (the articulated-body recursion solves the multiplier route's (5.9))
+            Some(f) if stats.articulated && !curvature => {
+                format!("{f:?}/articulated").to_lowercase()
+            }
             Some(f) => format!("{f:?}").to_lowercase(),
             None => "—".into(),
         },
@@ -501,7 +507,7 @@ fn parent(opts: &Options) -> Vec<Row> {
         fmt_mib(opts.mem_kb)
     );
     println!(
-        "| family | links | coordinates / independent | outputs | expansion (runs) | CPU | peak memory | ops of `accelerations` [of them Cᵀ M C and its right side] (of `jacobian`) | formulation | generated lines | note |"
+        "| family | links | coordinates / independent | outputs | expansion (runs) | CPU | peak memory | ops of `accelerations` [of them Cᵀ M C and its right side, or the right side alone where articulated] (of `jacobian`) | formulation | generated lines | note |"
     );
     println!("|---|---|---|---|---|---|---|---|---|---|---|");
     let mut rows = Vec::new();

@@ -36,9 +36,9 @@ mod words;
 
 pub use emit::with_text_parser;
 pub use errors::{ReportedError, reported_errors};
-#[doc(hidden)]
-pub use generate::with_composite_inertias;
 pub use generate::{Route, Stats};
+#[doc(hidden)]
+pub use generate::{Taken, with_composite_inertias};
 #[doc(hidden)]
 pub use lower::bodies::with_fold_terms;
 pub use mechanics::Formulation;

@@ -24,20 +24,44 @@ use crate::sym::{ExprId, ZERO};
 use rustc_hash::FxHashMap as HashMap;
 
 std::thread_local! {
-    /// Whether every group is carried, and the groups carried so far
+    /// Whether every group is carried, and what was taken so far
     /// ([`with_composite_inertias`]).
-    static ALWAYS: std::cell::Cell<(bool, usize)> = const { std::cell::Cell::new((false, 0)) };
+    static ALWAYS: std::cell::Cell<(bool, Taken)> = const { std::cell::Cell::new((false, Taken { groups: 0, articulated: 0 })) };
+}
+
+/// What the composite inertias took under [`with_composite_inertias`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Taken {
+    /// Groups of bodies summed as composite inertias.
+    pub groups: usize,
+    /// Reduced systems solved by the articulated-body recursion.
+    pub articulated: usize,
 }
 
 /// Runs `f` with the composite inertias taking every group of bodies on
 /// chains of frames, one body or more, whatever the estimate of
-/// [`cheaper`], and counts the groups they took: the differential verifier
-/// uses it to check them on every random system with such bodies.
-pub fn with_composite_inertias<T>(f: impl FnOnce() -> T) -> (T, usize) {
-    let before = ALWAYS.with(|c| c.replace((true, 0)));
+/// [`sums`], and the articulated-body recursion every tree it applies to
+/// (`articulated.rs`), and counts what they took: the differential
+/// verifier uses it to check them on every random system with such bodies.
+pub fn with_composite_inertias<T>(f: impl FnOnce() -> T) -> (T, Taken) {
+    let before = ALWAYS.with(|c| c.replace((true, Taken::default())));
     let out = f();
     let (_, taken) = ALWAYS.with(|c| c.replace(before));
     (out, taken)
+}
+
+/// Whether [`with_composite_inertias`] forces every group and tree.
+pub(crate) fn forced() -> bool {
+    ALWAYS.with(|c| c.get().0)
+}
+
+/// Counts a reduced system solved by the articulated-body recursion.
+pub(crate) fn count_articulated() {
+    ALWAYS.with(|c| {
+        let (always, mut taken) = c.get();
+        taken.articulated += 1;
+        c.set((always, taken));
+    });
 }
 
 /// Which bodies' terms of Cᵀ M C the composite inertias carry: their
@@ -93,10 +117,10 @@ struct Group<'a> {
 /// A spatial inertia about the root: mass, first moment h = Σ m r and
 /// second moment J = Σ m (|r|² 1 − r rᵀ) + R I Rᵀ.
 #[derive(Clone, Copy)]
-struct Spatial {
-    mass: Node,
-    h: [Node; 3],
-    j: [[Node; 3]; 3],
+pub(crate) struct Spatial {
+    pub(crate) mass: Node,
+    pub(crate) h: [Node; 3],
+    pub(crate) j: [[Node; 3]; 3],
 }
 
 /// How Cᵀ M C takes the bodies on chains of frames.
@@ -152,12 +176,15 @@ pub(crate) struct Composite {
     at: Vec<Option<(usize, usize)>>,
 }
 
-/// A group's nodes (see [`Composite`]).
-struct GroupNodes {
-    twists: Vec<Twist>,
-    rates: Vec<Vec<Node>>,
-    cols: Vec<Vec<usize>>,
-    sets: Vec<Vec<usize>>,
+/// A group's nodes (see [`Composite`]): per generator its twist, rates,
+/// the columns they reach and the members that move with it; per member
+/// its spatial inertia about the root, centre and acceleration twist.
+pub(crate) struct GroupNodes {
+    pub(crate) twists: Vec<Twist>,
+    pub(crate) rates: Vec<Vec<Node>>,
+    pub(crate) cols: Vec<Vec<usize>>,
+    pub(crate) sets: Vec<Vec<usize>>,
+    pub(crate) own: Vec<Spatial>,
     centres: Vec<[Node; 3]>,
     accels: Vec<Twist>,
     /// Per member, the force F = m a on its centre and the moment about
@@ -166,7 +193,7 @@ struct GroupNodes {
 }
 
 /// A twist (ω, v) at the root, or a wrench (N, F) about it.
-type Twist = ([Node; 3], [Node; 3]);
+pub(crate) type Twist = ([Node; 3], [Node; 3]);
 
 impl Composite {
     /// Nothing carried for `n` bodies.
@@ -198,7 +225,11 @@ impl Composite {
                 continue;
             }
             let nodes = add_group(d, m, bt, (&group, cols), (c, acc_bias), mr);
-            ALWAYS.with(|x| x.set((always, x.get().1 + 1)));
+            ALWAYS.with(|x| {
+                let (always, mut taken) = x.get();
+                taken.groups += 1;
+                x.set((always, taken));
+            });
             for (i, member) in group.members.iter().enumerate() {
                 out.carried.centre[member.body] = true;
                 out.carried.rotation[member.body] = member.rotation;
@@ -207,6 +238,11 @@ impl Composite {
             out.groups.push(nodes);
         }
         out
+    }
+
+    /// The groups taken, in the order built.
+    pub(crate) fn groups(&self) -> &[GroupNodes] {
+        &self.groups
     }
 
     /// A carried body's centre acceleration from the accelerations given,
@@ -285,7 +321,8 @@ fn wrench(
 fn groups(bodies: &[crate::mechanics::BodyKinematics], single: bool) -> Vec<Group<'_>> {
     let mut groups: Vec<Group<'_>> = Vec::new();
     for (i, b) in bodies.iter().enumerate() {
-        let (Some(_), Some(chain)) = (&b.jacobian, &b.anchor) else {
+        let (Some(_), Some(chain)) = (&b.jacobian, b.anchor.as_ref().or(b.short_chain.as_ref()))
+        else {
             continue;
         };
         let links: Option<Vec<Piece<'_>>> = chain
@@ -385,10 +422,10 @@ fn rotation_carried(
     let Some(rot) = &b.rotation else {
         return false;
     };
-    let Some(frame) = rot.frame.as_ref().filter(|f| f.heading_out == heading) else {
+    let Some(frame) = carried_frame(rot).filter(|f| f.heading_out == heading) else {
         return false;
     };
-    if rot.spin.is_some() || !rot.wheels.is_empty() {
+    if !rot.wheels.is_empty() {
         return false;
     }
     let mut own = Vec::new();
@@ -413,6 +450,14 @@ fn rotation_carried(
         .filter(|&x| matches!(g.gens[x], Source::Step { .. }))
         .collect();
     own == steps
+}
+
+/// The frame a carried rotation turns with: its own, or with its spin.
+pub(crate) fn carried_frame(rot: &crate::mechanics::BodyRotation) -> Option<&Frame> {
+    match rot.spin {
+        None => rot.frame.as_ref(),
+        Some(_) => rot.spun_frame.as_ref(),
+    }
 }
 
 fn has_prefix(frame: &Frame, prefix: &[FrameStep]) -> bool {
@@ -570,6 +615,7 @@ fn add_group(
     let zero = ([ZERO_NODE; 3], [ZERO_NODE; 3]);
     GroupNodes {
         wrenches: vec![zero; g.members.len()],
+        own,
         twists,
         rates,
         cols,
@@ -668,7 +714,7 @@ fn member_inertia(
         }
     }
     let carried = b.rotation.as_ref().filter(|_| x.rotation);
-    if let Some((rot, frame)) = carried.and_then(|r| Some((r, r.frame.as_ref()?))) {
+    if let Some((rot, frame)) = carried.and_then(|r| Some((r, carried_frame(r)?))) {
         let turn = super::frames::orientation(d, m, frame);
         let inertia = super::nodes::inertia_nodes(d, m, &rot.inertia);
         let ri = algebra::mat_mat(d, &turn, &inertia);
@@ -723,7 +769,7 @@ fn suffix_sum<V: Copy>(
     memo[set]
 }
 
-fn add_spatial(d: &mut Dag, a: &Spatial, b: &Spatial) -> Spatial {
+pub(crate) fn add_spatial(d: &mut Dag, a: &Spatial, b: &Spatial) -> Spatial {
     Spatial {
         mass: d.add(a.mass, b.mass),
         h: algebra::add3(d, a.h, b.h),

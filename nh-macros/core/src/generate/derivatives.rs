@@ -210,7 +210,7 @@ impl Derived<'_, '_> {
                 Residual::Regrouped => dr.to_vec(),
                 Residual::Projected => projected_rates(d, dr, &upper, &mn.rdd),
             };
-            let x = ldlt::solve(d, &mn.fac, &dr);
+            let x = mn.solve(d, &dr);
             for (i, &v) in dq.iter().enumerate() {
                 out[i][col] = v;
             }
@@ -275,7 +275,7 @@ impl Derived<'_, '_> {
                 let acc = algebra::dot(d, pairs);
                 rhs.push(d.neg(acc));
             }
-            let x = ldlt::solve(d, &mn.fac, &rhs);
+            let x = mn.solve(d, &rhs);
             for al in 0..k {
                 out[n + al][col] = x[al];
             }

@@ -2,6 +2,7 @@
 //! forces projected on the partial velocities, from its centre, rotation,
 //! inertia and wheels.
 
+use super::articulated::Articulated;
 use super::chains::chain_rate;
 use super::composite_inertia::{self, Composite};
 use super::nodes::{planar_columns, projection};
@@ -11,6 +12,25 @@ use super::nodes::{exprs, force_along, inertia_nodes, matrix};
 use crate::emit::{Dag, Node, ONE_NODE, ZERO_NODE};
 use crate::mechanics::Scene;
 use crate::sym::{ExprId, ZERO};
+
+/// Cᵀ M C and the right side of (5.9) by Kane's form, and the composite
+/// inertias they took.
+pub(crate) struct Projection {
+    pub(crate) mass: Vec<Vec<Node>>,
+    pub(crate) rhs: Vec<Node>,
+    /// The composite inertias, if taken, and whether they carry all of
+    /// Cᵀ M C (no other body's, wheel's or term's part added to it).
+    composite: Option<(Composite, bool)>,
+}
+
+impl Projection {
+    /// The articulated-body factors of Cᵀ M C (`articulated.rs`), where the
+    /// composite inertias carry all of it as a tree of generators.
+    pub(crate) fn articulated(&self, d: &mut Dag) -> Option<Articulated> {
+        let (comp, pure) = self.composite.as_ref()?;
+        Articulated::of(d, comp, self.rhs.len(), *pure)
+    }
+}
 
 /// Cᵀ M C and −Cᵀ (M acc_bias + h) of (5.9) by Kane's form
 /// ([`projection_of`]), the bodies on chains of frames summed body by body
@@ -23,13 +43,13 @@ pub(crate) fn body_projection(
     bt: &crate::mechanics::BodyTerms,
     c: &[Vec<Node>],
     acc_bias: &[Node],
-) -> (Vec<Vec<Node>>, Vec<Node>) {
+) -> Projection {
     match composite_inertia::sums(bt, c) {
         composite_inertia::Sums::ByBody => projection_of(d, m, bt, (c, acc_bias), false),
         composite_inertia::Sums::Composite => projection_of(d, m, bt, (c, acc_bias), true),
         composite_inertia::Sums::Compare => {
-            let ops = |d: &Dag, (mr, f): &(Vec<Vec<Node>>, Vec<Node>)| {
-                let all: Vec<Node> = mr.iter().flatten().chain(f).copied().collect();
+            let ops = |d: &Dag, p: &Projection| {
+                let all: Vec<Node> = p.mass.iter().flatten().chain(&p.rhs).copied().collect();
                 d.op_count(&all)
             };
             let mut trial = d.clone();
@@ -56,7 +76,7 @@ fn projection_of(
     bt: &crate::mechanics::BodyTerms,
     (c, acc_bias): (&[Vec<Node>], &[Node]),
     composite: bool,
-) -> (Vec<Vec<Node>>, Vec<Node>) {
+) -> Projection {
     let rest_mass = matrix(d, m, &bt.rest_mass);
     let rest_bias = exprs(d, m, &bt.rest_bias);
     let (mut mr, mut f) = projection(d, &rest_mass, &rest_bias, c, acc_bias);
@@ -102,7 +122,23 @@ fn projection_of(
     }
     comp.project_forces(d, &mut f);
     let f = f.into_iter().map(|x| d.neg(x)).collect();
-    (mr, f)
+    let pure = composite && carries_all(bt, &comp.carried);
+    Projection {
+        mass: mr,
+        rhs: f,
+        composite: composite.then_some((comp, pure)),
+    }
+}
+
+/// Whether the composite inertias' `carried` terms are all of Cᵀ M C: no
+/// rest of the Lagrangian with accelerations, every body's centre and
+/// rotation carried.
+fn carries_all(bt: &crate::mechanics::BodyTerms, carried: &composite_inertia::Carried) -> bool {
+    bt.rest_mass.iter().flatten().all(|&e| e == ZERO)
+        && bt.bodies.iter().enumerate().all(|(at, b)| {
+            (carried.centre[at] || b.jacobian.is_none())
+                && (b.rotation.is_none() || carried.rotation[at])
+        })
 }
 
 /// What every body's terms take in [`projection_of`].
@@ -160,7 +196,7 @@ fn carried_centre(
     comp: &Composite,
 ) -> [Node; 3] {
     let mass = d.expr(m.engine, b.mass);
-    let rate0 = match &b.anchor {
+    let rate0 = match b.anchor.as_ref().or(b.short_chain.as_ref()) {
         Some(chain) => chain_rate(d, m, s.motion, chain, s.planar),
         None => [ZERO_NODE; 3],
     };
@@ -189,7 +225,7 @@ fn carried_rotation(
     at: usize,
     comp: &Composite,
 ) -> [Node; 3] {
-    let Some(frame) = &rot.frame else {
+    let Some(frame) = composite_inertia::carried_frame(rot) else {
         return [ZERO_NODE; 3];
     };
     let fm = super::frames::frame_motion(d, m, s.motion, frame);

@@ -11,11 +11,12 @@ use crate::parse::SystemDef;
 use crate::sym::Engine;
 use proc_macro2::TokenStream;
 
+mod articulated;
 pub mod atlas;
 mod bodies;
 mod chains;
 mod composite_inertia;
-pub use composite_inertia::with_composite_inertias;
+pub use composite_inertia::{Taken, with_composite_inertias};
 mod contacts;
 mod curvature;
 mod derivatives;

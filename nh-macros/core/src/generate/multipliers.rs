@@ -2,6 +2,7 @@
 //! Cᵀ M C r̈ = −Cᵀ (h + M a) factored by LDLᵀ, with Kane's form of the
 //! bodies' terms when the derivation has it.
 
+use super::articulated::Articulated;
 use super::kane::body_projection;
 use super::nodes::{exprs, matrix, projection};
 use crate::algebra;
@@ -25,6 +26,12 @@ pub(crate) struct MultiplierNodes {
     pub(crate) projected_rhs: Vec<Node>,
     /// The LDLᵀ factorisation of Cᵀ M C, reused for derivatives.
     pub(crate) fac: ldlt::Ldlt<Node>,
+    /// Whether r̈ is the articulated-body solve.
+    pub(crate) by_tree: bool,
+    /// The articulated-body factors of Cᵀ M C, where they apply and solve
+    /// a right side in fewer operations than `fac` (the derivatives'
+    /// columns then take them).
+    pub(crate) tree: Option<Articulated>,
     /// The form the projection was built in, for [`MultiplierNodes::residual`].
     pub(crate) form: Projected,
 }
@@ -91,6 +98,7 @@ pub(crate) fn multiplier_nodes(
     // Kane's form where it is cheaper than the expanded Lagrangian's terms
     // (without the expanded terms, Kane's form alone: LAGRANGIAN_TERMS_COMPARED)
     let lagrange = (!r.mass.is_empty()).then(|| projection(d, &mass, &bias, &c, &acc_bias));
+    let mut articulated = None;
     let ((mr, f), form) = match kane {
         Some(bt) => {
             let ops = |d: &Dag, (mr, f): &(Vec<Vec<Node>>, Vec<Node>)| {
@@ -98,12 +106,16 @@ pub(crate) fn multiplier_nodes(
                 d.op_count(&all)
             };
             let (c, acc_bias) = in_heading(d, m, bt, (&c, &acc_bias));
-            let kane = body_projection(d, m, bt, &c, &acc_bias);
+            let sums = body_projection(d, m, bt, &c, &acc_bias);
+            let kane = (sums.mass.clone(), sums.rhs.clone());
             match lagrange {
                 Some(lagrange) if ops(d, &lagrange) <= ops(d, &kane) => {
                     (lagrange, Projected::Lagrange)
                 }
-                _ => (kane, Projected::Kane { c, acc_bias }),
+                _ => {
+                    articulated = sums.articulated(d);
+                    (kane, Projected::Kane { c, acc_bias })
+                }
             }
         }
         // without Kane's form the expanded terms are always derived
@@ -118,10 +130,8 @@ pub(crate) fn multiplier_nodes(
         }
     }
     let fac = ldlt::factor(d, &mr, Updates::Kept);
-    let rdd = ldlt::solve(d, &fac, &f);
-    for (a, &v) in rdd.iter().enumerate() {
-        d.label(v, format!("r̈{a}: (5.9) solved by LDLᵀ"));
-    }
+    let (rdd, by_tree) = solved(d, (&fac, articulated.as_ref()), &f);
+    let tree = articulated.filter(|a| a.solves_cheaper(d, &fac, k));
     MultiplierNodes {
         rdd,
         mass,
@@ -132,8 +142,36 @@ pub(crate) fn multiplier_nodes(
         projected_mass: mr,
         projected_rhs: f,
         fac,
+        by_tree,
+        tree,
         form,
     }
+}
+
+/// r̈ from (5.9): by the articulated-body recursion where it applies and
+/// takes fewer operations than the LDLᵀ solve (or, under
+/// [`super::with_composite_inertias`], wherever it applies), else by the
+/// LDLᵀ factors `fac`; each labelled. Whether it is the articulated one.
+fn solved(
+    d: &mut Dag,
+    (fac, articulated): (&ldlt::Ldlt<Node>, Option<&Articulated>),
+    f: &[Node],
+) -> (Vec<Node>, bool) {
+    let dense = ldlt::solve(d, fac, f);
+    let tree = articulated.map(|a| a.solve(d, f));
+    if let Some(tree) = tree.filter(|t| super::articulated::preferred(d, t, &dense)) {
+        for (a, &v) in tree.iter().enumerate() {
+            d.label(
+                v,
+                format!("r̈{a}: (5.9) solved by the articulated-body recursion"),
+            );
+        }
+        return (tree, true);
+    }
+    for (a, &v) in dense.iter().enumerate() {
+        d.label(v, format!("r̈{a}: (5.9) solved by LDLᵀ"));
+    }
+    (dense, false)
 }
 
 /// C and acc_bias for Kane's sums: with a planar pair (x, y), its rows
@@ -161,6 +199,15 @@ pub(crate) fn in_heading(
 }
 
 impl MultiplierNodes {
+    /// x with (Cᵀ M C) x = `rhs`, by the factors that solve it in fewer
+    /// operations (the derivatives' columns).
+    pub(crate) fn solve(&self, d: &mut Dag, rhs: &[Node]) -> Vec<Node> {
+        match &self.tree {
+            Some(tree) => tree.solve(d, rhs),
+            None => ldlt::solve(d, &self.fac, rhs),
+        }
+    }
+
     /// q̈ = C r̈ + acc_bias at these nodes' r̈.
     pub(crate) fn qdd(&self, d: &mut Dag) -> Vec<Node> {
         (0..self.c.len())
@@ -191,7 +238,7 @@ impl MultiplierNodes {
                         algebra::dot_from(d, acc_bias[i], pairs)
                     })
                     .collect();
-                body_projection(d, m, bt, c, &qdd).1
+                body_projection(d, m, bt, c, &qdd).rhs
             }
             _ => {
                 let qdd = self.qdd(d);

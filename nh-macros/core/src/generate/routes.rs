@@ -42,8 +42,14 @@ pub struct Stats {
     pub ops_curvature: usize,
     /// Of the multiplier route's operations, those of Cᵀ M C and the right
     /// side of (5.9), before the k × k factorisation and solve (whose
-    /// k³/3 operations are the rest, with the dependent velocities).
+    /// k³/3 operations are the rest, with the dependent velocities); of the
+    /// right side alone where the articulated-body recursion solves it
+    /// (`articulated`), which does not form Cᵀ M C.
     pub ops_projection: usize,
+    /// Whether the multiplier route solves (5.9) by the articulated-body
+    /// recursion on a tree of composite inertias (DESIGN §10.5) instead of
+    /// the LDLᵀ factorisation of Cᵀ M C.
+    pub articulated: bool,
     /// Of the operations of the route `accelerations` uses, those on the
     /// parameters alone: computed once per parameter set into a cache, not
     /// per call.
@@ -217,6 +223,8 @@ pub(crate) struct ComparedRoutes {
     /// Operations of the multiplier route's Cᵀ M C and right side of (5.9),
     /// before their factorisation and solve.
     pub(crate) projection_ops: usize,
+    /// Whether the multiplier route's r̈ is the articulated-body solve.
+    pub(crate) articulated: bool,
 }
 
 /// Builds the graph of r̈ by each route (the curvature route's with the
@@ -229,7 +237,8 @@ pub(crate) fn compare_routes(
     let args_v = Args::vectors(m).moving();
     let mut d1 = bound_dag(m, &args_v);
     let mn = multiplier_nodes(&mut d1, m, &dv.multiplier_route, dv.kane.as_ref());
-    let projected: Vec<Node> = (mn.projected_mass.iter().flatten())
+    let mass = mn.projected_mass.iter().flatten();
+    let projected: Vec<Node> = (mass.take(if mn.by_tree { 0 } else { usize::MAX }))
         .chain(&mn.projected_rhs)
         .copied()
         .collect();
@@ -249,6 +258,7 @@ pub(crate) fn compare_routes(
         both_routes,
         pivots: mn.pivots.into_iter().chain(piv2).collect(),
         projection_ops,
+        articulated: mn.by_tree,
     }
 }
 
@@ -258,6 +268,7 @@ impl ComparedRoutes {
         let ((d1, rdd1), (d2, rdd2)) = (&self.multiplier, &self.curvature);
         stats.ops_multiplier = d1.op_count(rdd1);
         stats.ops_projection = self.projection_ops;
+        stats.articulated = self.articulated;
         stats.ops_curvature = d2.op_count(rdd2);
         stats.cost_multiplier = d1.cost_estimate(rdd1);
         stats.cost_curvature = d2.cost_estimate(rdd2);

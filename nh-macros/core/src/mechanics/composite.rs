@@ -165,23 +165,30 @@ impl Scene<'_> {
     /// The chain of a body's centre from a contact's centre whose own rate
     /// is computed (a root, DESIGN §10), if the body does not spin.
     /// Else, the chain of its centre from a fixed point through any number
-    /// of links ([`Scene::tree_chain`]).
+    /// of links ([`Scene::tree_chain`]), or, for a chain too short to
+    /// anchor the body's own sums, in the second place.
     /// `tree` is built on the first call that needs it, from `centres`.
     pub(super) fn anchor(
         &mut self,
         part: &Part,
         frame: &Option<Mat3>,
         (tree, centres): (&mut Option<Tree>, &[Vec3]),
-    ) -> Option<Chain> {
-        let c = part.centre?;
+    ) -> (Option<Chain>, Option<Chain>) {
+        let Some(c) = part.centre else {
+            return (None, None);
+        };
         let spins = !matches!(part.rotation, Some((_, _, None)));
         if !spins && let Some(chain) = self.contact_anchor(c, frame) {
-            return Some(chain);
+            return (Some(chain), None);
         }
         if tree.is_none() {
             *tree = Some(self.tree(self.tree_frames(), centres));
         }
-        self.tree_chain(tree.as_ref()?, c, frame)
+        match tree.as_ref().and_then(|t| self.tree_chain(t, c, frame)) {
+            Some((chain, true)) => (None, Some(chain)),
+            Some((chain, false)) => (Some(chain), None),
+            None => (None, None),
+        }
     }
 
     /// The chain of a centre `c` from a contact's centre, if there is one.

@@ -44,6 +44,10 @@ pub struct BodyKinematics {
     /// The chain the centre's acceleration follows from a contact's centre,
     /// sparing its own J̇ q̇.
     pub anchor: Option<Chain>,
+    /// The chain of a centre one link from a fixed point, which does not
+    /// anchor the body's own sums (its expanded J is as cheap) but puts it
+    /// in its chain's composite inertias.
+    pub short_chain: Option<Chain>,
     /// Its rotation, unless it is a point mass.
     pub rotation: Option<BodyRotation>,
 }
@@ -64,6 +68,10 @@ pub struct BodyRotation {
     pub wheels: Vec<(Wheel, Vec<ExprId>)>,
     /// Its frame as elementary rotations (not for a wheel's spin).
     pub frame: Option<Frame>,
+    /// For a body with a spin, its frame with the spin's factor (its own
+    /// sums turn the spin out; the composite inertias take its inertia,
+    /// symmetric about the spin's axis, in these axes instead).
+    pub spun_frame: Option<Frame>,
 }
 
 /// A body's inertia about its centre of mass as it is built (DESIGN §10):
@@ -117,7 +125,7 @@ impl Scene<'_> {
         let bodies = parts
             .into_iter()
             .map(|part| {
-                let anchor = self.anchor(&part, &frame, (&mut tree, &centres));
+                let (anchor, short_chain) = self.anchor(&part, &frame, (&mut tree, &centres));
                 // a chain of frames gives the partial velocities as screws
                 let screwed = (anchor.as_ref())
                     .is_some_and(|chain| chain.links.iter().all(|l| l.frame.is_some()));
@@ -146,13 +154,17 @@ impl Scene<'_> {
                     };
                     match spin {
                         None => self.without_tail(rot, &part.factors, turned_out),
-                        Some(_) => rot,
+                        Some(_) => BodyRotation {
+                            spun_frame: self.frame_of(&part.factors, turned_out),
+                            ..rot
+                        },
                     }
                 });
                 BodyKinematics {
                     mass: part.mass,
                     jacobian,
                     anchor,
+                    short_chain,
                     rotation,
                 }
             })
@@ -216,6 +228,7 @@ impl Scene<'_> {
             spin,
             wheels: Vec::new(),
             frame: None,
+            spun_frame: None,
         }
     }
 

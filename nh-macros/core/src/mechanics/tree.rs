@@ -70,13 +70,15 @@ impl Scene<'_> {
 
     /// A chain to `target` (one of the tree's points) from a fixed point
     /// through links of the tree's frames, the fewest links first; `None`
-    /// if there is none or a link's offset is not confirmed constant.
+    /// if there is none or a link's offset is not confirmed constant. A
+    /// chain of fewer than [`MIN_LINKS`] links is returned too, marked:
+    /// only the composite inertias take it (its body's own sums do not).
     pub(super) fn tree_chain(
         &mut self,
         tree: &Tree,
         target: Vec3,
         heading: &Option<Mat3>,
-    ) -> Option<Chain> {
+    ) -> Option<(Chain, bool)> {
         let start = tree.points.iter().position(|&p| p == target)?;
         if tree.frames.is_empty() || self.fixed_point(target) {
             return None;
@@ -86,9 +88,6 @@ impl Scene<'_> {
         let short: Vec<bool> = (tree.points.iter()).map(|&p| self.short_point(p)).collect();
         let path = search(&tree.sampled, &tree.points, start, |p| fixed[p])
             .or_else(|| search(&tree.sampled, &tree.points, start, |p| fixed[p] || short[p]))?;
-        if path.len() < MIN_LINKS {
-            return None;
-        }
         let mut links = Vec::with_capacity(path.len());
         for &(from, to, f) in path.iter().rev() {
             let frame = &tree.frames[f];
@@ -96,7 +95,8 @@ impl Scene<'_> {
             links.push(self.link(frame, offset, heading));
         }
         let root = path.last().map(|&(from, _, _)| tree.points[from])?;
-        Some(self.chain(root, links, heading))
+        let short = links.len() < MIN_LINKS;
+        Some((self.chain(root, links, heading), short))
     }
 
     /// Whether `p` is short enough to be a root whose ∂p/∂q is taken from
