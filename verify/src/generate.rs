@@ -132,6 +132,17 @@ struct Builder {
     /// need several bodies on chains of frames, which the free trees
     /// rarely give.
     serial: bool,
+    /// Whether a serial chain is one the articulated-body recursion
+    /// solves (half the serial seeds, from a sequence of its own): its
+    /// root joint fixed or sliding along one axis, each child's joint at
+    /// its parent's end point, each body's centre and end point along its
+    /// own axes, each angle a coordinate of its own (or a constant) with one
+    /// at least per body, no two turns about one axis in a row, every other
+    /// term free of velocities, no constraints: all of Cᵀ M C from the
+    /// composite inertias of a tree.
+    articulated: bool,
+    /// The draw of `articulated`, taken by the bodies' family alone.
+    tree_draw: bool,
 }
 
 /// The system of a seed.
@@ -174,6 +185,8 @@ impl Builder {
             affine: false,
             weight_axis: [2, 2, 1, 0][Rng::new(seed ^ 0x0A71_5EED_6A1A_0034).below(4)],
             serial: Rng::new(seed ^ 0x5E41_A1C4_A125_0035).below(4) == 0,
+            articulated: false,
+            tree_draw: Rng::new(seed ^ 0x7AEE_ABA0_0035_0001).below(2) == 0,
         }
     }
 
@@ -436,6 +449,19 @@ impl Builder {
             1 | 2 if self.serial => 9,
             x => x,
         };
+        if self.articulated {
+            return match (draw, fresh) {
+                (_, None) | (0, _) => self.param(),
+                (d, Some(i)) => {
+                    own.push(i);
+                    if d == 4 {
+                        Ex::Neg(Box::new(Ex::Coord(i)))
+                    } else {
+                        Ex::Coord(i)
+                    }
+                }
+            };
+        }
         match (draw, fresh) {
             (0, _) => self.param(),
             (1, _) => {
@@ -461,12 +487,29 @@ impl Builder {
 
     /// A chain of 1–3 elementary rotations.
     fn chain(&mut self, own: &mut Vec<usize>) -> Rx {
+        let before = own.len();
         let len = 1 + self.rng.below(3);
-        let mut r = rot(self.rng.below(3), self.angle(own));
+        let mut axis = self.rng.below(3);
+        let mut r = rot(axis, self.angle(own));
         for _ in 1..len {
-            let k = self.rng.below(3);
+            let mut k = self.rng.below(3);
+            // (turns about one axis in a row would move as one: singular)
+            if self.articulated && k == axis {
+                k = (k + 1 + self.rng.below(2)) % 3;
+            }
+            axis = k;
             let a = self.angle(own);
             r = rmul(r, rot(k, a));
+        }
+        // a tree's body turns with a coordinate of its own (else it would
+        // be fixed to its parent, one body with it)
+        let fresh = (0..self.sys.coords.len()).find(|i| !own.contains(i));
+        if self.articulated
+            && own.len() == before
+            && let Some(i) = fresh
+        {
+            own.push(i);
+            r = rmul(r, rot((axis + 1) % 3, Ex::Coord(i)));
         }
         r
     }
@@ -543,13 +586,22 @@ impl Builder {
             true => 3 + self.rng.below(3),
             false => 1 + self.rng.below(4),
         };
-        let heading = self.rng.chance(0.3).then(|| self.coord());
+        self.articulated = self.serial && self.tree_draw;
+        let heading = match self.articulated {
+            true => None,
+            false => self.rng.chance(0.3).then(|| self.coord()),
+        };
         let mut own: Vec<usize> = heading.into_iter().collect();
         // (rotation let, centre let) of each body
         let mut frames: Vec<(Option<usize>, usize)> = Vec::new();
+        // (each body's end point, where a tree's children hang)
+        let mut ends: Vec<usize> = Vec::new();
         let mut energy = Vec::new();
         let mut weight = Vec::new();
         for b in 0..count {
+            if self.articulated && b > 0 && (0..n).all(|i| own.contains(&i)) {
+                break;
+            }
             let parent = match self.serial {
                 // a branch off an earlier body now and then: a tree
                 true if b >= 2 && self.rng.chance(0.3) => Some(self.rng.below(b - 1)),
@@ -567,8 +619,23 @@ impl Builder {
                 }
                 self.let_of("R", LetValue::Rotation(r))
             });
-            let centre = match parent {
-                Some(p) => {
+            let centre = match (parent, rotation) {
+                (_, Some(r)) if self.articulated => {
+                    // a joint at the root or at the parent's end point, the
+                    // centre and the end point along the body's own axes
+                    let joint = match parent {
+                        Some(p) => Vx::Let(ends[p]),
+                        None => {
+                            let root = self.fixed_or_sliding_root(&mut own);
+                            Vx::Let(self.let_of("P", LetValue::Vector(root)))
+                        }
+                    };
+                    let (arm, reach) = (self.small_vector(), self.small_vector());
+                    let end = vadd(joint.clone(), vrot(Rx::Let(r), reach));
+                    ends.push(self.let_of("E", LetValue::Vector(end)));
+                    vadd(joint, vrot(Rx::Let(r), arm))
+                }
+                (Some(p), _) => {
                     let (pr, pc) = frames[p];
                     let off = self.small_vector();
                     let arm = match (pr, rotation) {
@@ -578,7 +645,7 @@ impl Builder {
                     };
                     vadd(Vx::Let(pc), arm)
                 }
-                None => {
+                (None, _) => {
                     let xs: Vec<Ex> = (0..3)
                         .map(|_| match self.rng.below(3) {
                             0 => Ex::Coord(self.coord()),
@@ -594,6 +661,7 @@ impl Builder {
             let c = self.let_of("C", LetValue::Vector(centre));
             frames.push((rotation, c));
             let mass = match self.rng.below(12) {
+                _ if self.articulated => self.positive(),
                 0 => add(vec![
                     num(1, 1),
                     mul(vec![num(1, 2), pow(Ex::Coord(self.coord()), 2)]),
@@ -635,7 +703,7 @@ impl Builder {
         };
         let names = self.sys.coords.clone();
         let which: Vec<usize> = (0..n)
-            .filter(|&i| !moved(&names[i]) || self.rng.chance(0.3))
+            .filter(|&i| !moved(&names[i]) || (!self.articulated && self.rng.chance(0.3)))
             .collect();
         energy.extend(self.own_kinetic(&which));
         let mut v = vec![];
@@ -649,7 +717,21 @@ impl Builder {
         self.sys.lagrangian = Ex::Sub(Box::new(add(energy)), Box::new(v));
         self.forces_and_inputs();
         let p = self.rng.below(n.min(4));
-        self.constraints(p);
+        self.constraints(if self.articulated { 0 } else { p });
+    }
+
+    /// A root centre of constants, or sliding along one axis with a
+    /// coordinate of its own.
+    fn fixed_or_sliding_root(&mut self, own: &mut Vec<usize>) -> Vx {
+        let fresh = (0..self.sys.coords.len()).find(|i| !own.contains(i));
+        let Vx::Lit(mut xs) = self.small_vector() else {
+            unreachable!("a literal")
+        };
+        if let Some(i) = fresh.filter(|_| self.rng.chance(0.3)) {
+            own.push(i);
+            xs[self.rng.below(3)] = Ex::Coord(i);
+        }
+        Vx::Lit(xs)
     }
 
     fn rolling_family(&mut self) {
