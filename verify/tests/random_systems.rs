@@ -17,7 +17,7 @@
 //! the Lagrangian (the path a chain's far links take, DESIGN §12.6) and
 //! every group of bodies on chains of frames summed as composite inertias
 //! (DESIGN §10) and, where they carry all of Cᵀ M C as a tree, solved by
-//! the articulated-body recursion (§10.5).
+//! the articulated-body recursion (§10).
 //!
 //! Reproducible from a seed; more systems for a nightly run:
 //!

@@ -1,4 +1,4 @@
-//! The articulated-body inertias of a tree of generators (DESIGN §10.5):
+//! The articulated-body inertias of a tree of generators (DESIGN §10):
 //! Cᵀ M C r̈ = f solved by the recursion of Featherstone's
 //! articulated-body algorithm, in operations linear in the links where the
 //! LDLᵀ of the dense Cᵀ M C takes k³/3.

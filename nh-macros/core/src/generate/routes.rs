@@ -47,7 +47,7 @@ pub struct Stats {
     /// (`articulated`), which does not form Cᵀ M C.
     pub ops_projection: usize,
     /// Whether the multiplier route solves (5.9) by the articulated-body
-    /// recursion on a tree of composite inertias (DESIGN §10.5) instead of
+    /// recursion on a tree of composite inertias (DESIGN §10) instead of
     /// the LDLᵀ factorisation of Cᵀ M C.
     pub articulated: bool,
     /// Of the operations of the route `accelerations` uses, those on the
