@@ -1,5 +1,5 @@
 //! The planar chain of the scaling benchmark (issue 34;
-//! `nh-macros/core/tests/synthetic/mod.rs`, `planar`) with 2, 3 and 10
+//! `nh-macros/core/tests/synthetic/mod.rs`, `planar`) with 2, 3, 10 and 12
 //! links:
 //!
 //! * the bodies expanded here are the benchmark's, token for token;
@@ -114,6 +114,64 @@ system_with_text! { PLANAR10:
     }
 }
 
+system_with_text! { PLANAR12:
+    pub struct Planar12 {
+        parameters { m, l, J, g }
+        coordinates { th1, th2, th3, th4, th5, th6, th7, th8, th9, th10, th11, th12 }
+        let R1 = rot_z(th1);
+        let C1 = R1*[l/2, 0, 0];
+        let E1 = R1*[l, 0, 0];
+        body b1 { mass: m, centre: C1, orientation: R1, inertia: diag(J, J, J) }
+        let R2 = R1*rot_z(th2);
+        let C2 = E1 + R2*[l/2, 0, 0];
+        let E2 = E1 + R2*[l, 0, 0];
+        body b2 { mass: m, centre: C2, orientation: R2, inertia: diag(J, J, J) }
+        let R3 = R2*rot_z(th3);
+        let C3 = E2 + R3*[l/2, 0, 0];
+        let E3 = E2 + R3*[l, 0, 0];
+        body b3 { mass: m, centre: C3, orientation: R3, inertia: diag(J, J, J) }
+        let R4 = R3*rot_z(th4);
+        let C4 = E3 + R4*[l/2, 0, 0];
+        let E4 = E3 + R4*[l, 0, 0];
+        body b4 { mass: m, centre: C4, orientation: R4, inertia: diag(J, J, J) }
+        let R5 = R4*rot_z(th5);
+        let C5 = E4 + R5*[l/2, 0, 0];
+        let E5 = E4 + R5*[l, 0, 0];
+        body b5 { mass: m, centre: C5, orientation: R5, inertia: diag(J, J, J) }
+        let R6 = R5*rot_z(th6);
+        let C6 = E5 + R6*[l/2, 0, 0];
+        let E6 = E5 + R6*[l, 0, 0];
+        body b6 { mass: m, centre: C6, orientation: R6, inertia: diag(J, J, J) }
+        let R7 = R6*rot_z(th7);
+        let C7 = E6 + R7*[l/2, 0, 0];
+        let E7 = E6 + R7*[l, 0, 0];
+        body b7 { mass: m, centre: C7, orientation: R7, inertia: diag(J, J, J) }
+        let R8 = R7*rot_z(th8);
+        let C8 = E7 + R8*[l/2, 0, 0];
+        let E8 = E7 + R8*[l, 0, 0];
+        body b8 { mass: m, centre: C8, orientation: R8, inertia: diag(J, J, J) }
+        let R9 = R8*rot_z(th9);
+        let C9 = E8 + R9*[l/2, 0, 0];
+        let E9 = E8 + R9*[l, 0, 0];
+        body b9 { mass: m, centre: C9, orientation: R9, inertia: diag(J, J, J) }
+        let R10 = R9*rot_z(th10);
+        let C10 = E9 + R10*[l/2, 0, 0];
+        let E10 = E9 + R10*[l, 0, 0];
+        body b10 { mass: m, centre: C10, orientation: R10, inertia: diag(J, J, J) }
+        let R11 = R10*rot_z(th11);
+        let C11 = E10 + R11*[l/2, 0, 0];
+        let E11 = E10 + R11*[l, 0, 0];
+        body b11 { mass: m, centre: C11, orientation: R11, inertia: diag(J, J, J) }
+        let R12 = R11*rot_z(th12);
+        let C12 = E11 + R12*[l/2, 0, 0];
+        let E12 = E11 + R12*[l, 0, 0];
+        body b12 { mass: m, centre: C12, orientation: R12, inertia: diag(J, J, J) }
+        lagrangian = kinetic_energy(b1) + kinetic_energy(b2) + kinetic_energy(b3) + kinetic_energy(b4) + kinetic_energy(b5) + kinetic_energy(b6) + kinetic_energy(b7) + kinetic_energy(b8) + kinetic_energy(b9) + kinetic_energy(b10) + kinetic_energy(b11) + kinetic_energy(b12)
+                   - m*g*(C1.y + C2.y + C3.y + C4.y + C5.y + C6.y + C7.y + C8.y + C9.y + C10.y + C11.y + C12.y);
+        outputs { jacobian }
+    }
+}
+
 /// `s` without whitespace.
 fn squeezed(s: &str) -> String {
     s.split_whitespace().collect()
@@ -129,6 +187,10 @@ fn the_systems_are_the_benchmarks() {
     assert_eq!(
         squeezed(PLANAR10),
         squeezed(&synthetic::planar(10, "energy"))
+    );
+    assert_eq!(
+        squeezed(PLANAR12),
+        squeezed(&synthetic::planar(12, "jacobian"))
     );
 }
 
@@ -273,6 +335,38 @@ fn triple_pendulum_jacobian_matches_central_differences() {
         let x = SVector::<f64, 6>::from_fn(|_, _| uniform());
         let jac = sys.jacobian(0.0, &x);
         worst = worst.max(central::jacobian_deviation(|y| sys.rhs(0.0, y), &jac, &x));
+    }
+    eprintln!("jacobian against central differences: worst {worst:.1e}");
+    assert!(worst < 1e-6, "deviation {worst:.1e}");
+}
+
+/// The same for 12 links, whose accelerations and Jacobian columns are
+/// solved by the articulated-body recursion on the links' tree (DESIGN
+/// §10): at 8 states, with steps of 1e-4 (at these states the differences'
+/// rounding at steps of 1e-6 reaches 2e-6 and their truncation at 1e-3
+/// 2e-5, falling a hundredfold to 1e-4, where the worst deviation is
+/// 3.1e-7: the h² of the differences, not the Jacobian's).
+#[test]
+fn twelve_links_jacobian_matches_central_differences() {
+    use nonholonomic::runtime::OdeSystem;
+    let sys = Planar12::new(1.3, 0.7, 0.05, 9.81);
+    let mut seed = 0x5EED_1234_ABCD_0012_u64;
+    let mut uniform = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        -1.5 + 3.0 * (seed >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let mut worst = 0.0_f64;
+    for _ in 0..8 {
+        let x = SVector::<f64, 24>::from_fn(|_, _| uniform());
+        let jac = sys.jacobian(0.0, &x);
+        worst = worst.max(central::jacobian_deviation_with_step(
+            |y| sys.rhs(0.0, y),
+            &jac,
+            &x,
+            1e-4,
+        ));
     }
     eprintln!("jacobian against central differences: worst {worst:.1e}");
     assert!(worst < 1e-6, "deviation {worst:.1e}");

@@ -79,6 +79,11 @@ impl Articulated {
             let s = six(d, c, g.twists[p.x]);
             let u: Six = std::array::from_fn(|x| algebra::dot(d, (0..6).map(|y| (ia[x][y], s[y]))));
             let dd = algebra::dot(d, (0..6).map(|x| (s[x], u[x])));
+            if dd == ZERO_NODE {
+                // no inertia along the joint: structurally singular, which
+                // the LDLᵀ pivots report
+                return None;
+            }
             let inv_d = d.div(ONE_NODE, dd);
             let w: Six = std::array::from_fn(|x| d.mul(u[x], inv_d));
             if let Some(par) = p.parent {
