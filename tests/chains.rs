@@ -316,58 +316,55 @@ fn ten_links_energy_agrees_with_sympy() {
     eprintln!("planar10 energy: largest relative error {worst:.1e}");
 }
 
+/// The worst deviation of `sys`'s `jacobian` from central differences
+/// (steps `step` max(1, |x_c|)) of its right side at 8 states, each
+/// coordinate and speed drawn from (−`spread`, `spread`) by xorshift from
+/// `seed`.
+fn worst_jacobian_deviation<S, const D: usize>(
+    sys: &S,
+    mut seed: u64,
+    spread: f64,
+    step: f64,
+) -> f64
+where
+    S: nonholonomic::runtime::OdeJacobian<f64, D>,
+{
+    let mut uniform = || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        spread * (2.0 * (seed >> 11) as f64 / (1u64 << 53) as f64 - 1.0)
+    };
+    let mut worst = 0.0_f64;
+    for _ in 0..8 {
+        let x = SVector::<f64, D>::from_fn(|_, _| uniform());
+        let jac = sys.jacobian(0.0, &x);
+        let deviation = central::jacobian_deviation_with_step(|y| sys.rhs(0.0, y), &jac, &x, step);
+        worst = worst.max(deviation);
+    }
+    eprintln!("jacobian against central differences: worst {worst:.1e}");
+    worst
+}
+
 /// `jacobian`, differentiated forward through the bodies' sums (Kane's
 /// equations at the solved accelerations, DESIGN §8.1), against central
 /// differences of the right side at 8 states.
 #[test]
 fn triple_pendulum_jacobian_matches_central_differences() {
-    use nonholonomic::runtime::OdeSystem;
     let sys = Planar3::new(1.3, 0.7, 0.05, 9.81);
-    let mut seed = 0x5EED_1234_ABCD_0002_u64;
-    let mut uniform = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        -2.0 + 4.0 * (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let mut worst = 0.0_f64;
-    for _ in 0..8 {
-        let x = SVector::<f64, 6>::from_fn(|_, _| uniform());
-        let jac = sys.jacobian(0.0, &x);
-        worst = worst.max(central::jacobian_deviation(|y| sys.rhs(0.0, y), &jac, &x));
-    }
-    eprintln!("jacobian against central differences: worst {worst:.1e}");
+    let worst = worst_jacobian_deviation(&sys, 0x5EED_1234_ABCD_0002, 2.0, 1e-6);
     assert!(worst < 1e-6, "deviation {worst:.1e}");
 }
 
 /// The same for 12 links, whose accelerations and Jacobian columns are
 /// solved by the articulated-body recursion on the links' tree (DESIGN
-/// §10): at 8 states, with steps of 1e-4 (at these states the differences'
-/// rounding at steps of 1e-6 reaches 2e-6 and their truncation at 1e-3
-/// 2e-5, falling a hundredfold to 1e-4, where the worst deviation is
-/// 3.1e-7: the h² of the differences, not the Jacobian's).
+/// §10), with steps of 1e-4 (at these states the differences' rounding at
+/// steps of 1e-6 reaches 2e-6 and their truncation at 1e-3 2e-5, falling a
+/// hundredfold to 1e-4, where the worst deviation is 3.1e-7: the h² of the
+/// differences, not the Jacobian's).
 #[test]
 fn twelve_links_jacobian_matches_central_differences() {
-    use nonholonomic::runtime::OdeSystem;
     let sys = Planar12::new(1.3, 0.7, 0.05, 9.81);
-    let mut seed = 0x5EED_1234_ABCD_0012_u64;
-    let mut uniform = || {
-        seed ^= seed << 13;
-        seed ^= seed >> 7;
-        seed ^= seed << 17;
-        -1.5 + 3.0 * (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
-    let mut worst = 0.0_f64;
-    for _ in 0..8 {
-        let x = SVector::<f64, 24>::from_fn(|_, _| uniform());
-        let jac = sys.jacobian(0.0, &x);
-        worst = worst.max(central::jacobian_deviation_with_step(
-            |y| sys.rhs(0.0, y),
-            &jac,
-            &x,
-            1e-4,
-        ));
-    }
-    eprintln!("jacobian against central differences: worst {worst:.1e}");
+    let worst = worst_jacobian_deviation(&sys, 0x5EED_1234_ABCD_0012, 1.5, 1e-4);
     assert!(worst < 1e-6, "deviation {worst:.1e}");
 }

@@ -3,6 +3,7 @@ use nonholonomic::prelude::*;
 
 /// Max deviation of `jac` from central differences of `f` at `x`,
 /// relative to max(1, |column entry|), with steps 1e-6 max(1, |x_c|).
+#[allow(dead_code)]
 pub fn jacobian_deviation<const D: usize>(
     f: impl Fn(&SVector<f64, D>) -> SVector<f64, D>,
     jac: &SMatrix<f64, D, D>,
