@@ -84,6 +84,13 @@ impl Articulated {
                 // the LDLᵀ pivots report
                 return None;
             }
+            d.label(
+                dd,
+                format!(
+                    "articulated inertia along the joint of r̈{}: D = sᵀ Iᴬ s",
+                    p.coord
+                ),
+            );
             let inv_d = d.div(ONE_NODE, dd);
             let w: Six = std::array::from_fn(|x| d.mul(u[x], inv_d));
             if let Some(par) = p.parent {
